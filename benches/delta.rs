@@ -86,6 +86,29 @@ fn bench(c: &mut Criterion) {
             k::forward_dynamics_params(&s.position, &s.velocity, &torques[i], params).0
         })
     });
+    // The dynamics with their exact Jacobians (`derivatives`), what a planner calls per step.
+    g.throughput(ops(Kernel::InverseDynamicsDerivatives));
+    g.bench_function("inverse_dynamics_derivatives_params", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            let s = black_box(&cases[i]);
+            k::inverse_dynamics_derivatives_params(
+                &s.position,
+                &s.velocity,
+                &s.acceleration,
+                params,
+            )
+            .1
+        })
+    });
+    g.throughput(ops(Kernel::ForwardDynamicsDerivatives));
+    g.bench_function("forward_dynamics_derivatives_params", |b| {
+        b.iter(|| {
+            i = (i + 1) % cases.len();
+            let s = black_box(&cases[i]);
+            k::forward_dynamics_derivatives_params(&s.position, &s.velocity, &torques[i], params).1
+        })
+    });
     g.throughput(Throughput::Elements(1));
     g.bench_function("forward_dynamics_runtime", |b| {
         b.iter(|| {

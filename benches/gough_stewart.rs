@@ -132,6 +132,23 @@ fn bench(c: &mut Criterion) {
             k::forward_dynamics_params(x, v, &forces[i], params).0
         })
     });
+    // The dynamics with their exact Jacobians (`derivatives`), what a planner calls per step.
+    g.throughput(ops(Kernel::InverseDynamicsDerivatives, true));
+    g.bench_function("inverse_dynamics_derivatives_params", |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, a) = black_box(&arrays[i]);
+            k::inverse_dynamics_derivatives_params(x, v, a, params).1
+        })
+    });
+    g.throughput(ops(Kernel::ForwardDynamicsDerivatives, true));
+    g.bench_function("forward_dynamics_derivatives_params", |b| {
+        b.iter(|| {
+            i = (i + 1) % arrays.len();
+            let (x, v, _) = black_box(&arrays[i]);
+            k::forward_dynamics_derivatives_params(x, v, &forces[i], params).1
+        })
+    });
     // What a caller of the runtime pays: the checks, and the legs' hold (the singularity
     // terms' kernel) that the forward dynamics' own guard lacks.
     g.bench_function("forward_dynamics_runtime", |b| {

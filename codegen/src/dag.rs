@@ -600,6 +600,86 @@ impl Arena {
         d
     }
 
+    /// `∂id/∂x` for each input `x` of `wrt`, by reverse mode: one sweep from `id` back through
+    /// the nodes it is built from, each node's adjoint the sum of its users' adjoints times
+    /// their local partial derivatives, built through the same simplifying constructors.
+    pub fn gradient(&mut self, id: NodeId, wrt: &[u32]) -> Vec<NodeId> {
+        let mut reached = std::collections::BTreeSet::new();
+        let mut stack = vec![id];
+        while let Some(n) = stack.pop() {
+            if reached.insert(n) {
+                stack.extend(self.node(n).children());
+            }
+        }
+        let mut parts: HashMap<NodeId, Vec<NodeId>> = HashMap::default();
+        let one = self.constant(1.0);
+        parts.insert(id, vec![one]);
+        let mut at_inputs: HashMap<u32, NodeId> = HashMap::default();
+        for &n in reached.iter().rev() {
+            let Some(contributions) = parts.remove(&n) else {
+                continue;
+            };
+            let adjoint = contributions
+                .into_iter()
+                .reduce(|sum, c| self.add(sum, c))
+                .expect("one contribution at least");
+            match self.node(n).clone() {
+                Node::Const(_) => {}
+                Node::Input(i) => {
+                    at_inputs.insert(i, adjoint);
+                }
+                Node::Sum { terms, .. } => {
+                    for (t, c) in terms {
+                        let d = self.scale(adjoint, c.get());
+                        parts.entry(t).or_default().push(d);
+                    }
+                }
+                Node::Product(factors) => {
+                    for (k, &(base, exp)) in factors.iter().enumerate() {
+                        let rest = factors
+                            .iter()
+                            .enumerate()
+                            .map(|(j, &(b, e))| (b, if j == k { e - 1 } else { e }));
+                        let rest = self.make_product(rest);
+                        let local = self.mul(rest, adjoint);
+                        let d = self.scale(local, f64::from(exp));
+                        parts.entry(base).or_default().push(d);
+                    }
+                }
+                Node::Call(f, a) => {
+                    let outer = match f {
+                        Func::Sin => self.call(Func::Cos, a),
+                        Func::Cos => {
+                            let s = self.call(Func::Sin, a);
+                            self.neg(s)
+                        }
+                        Func::Sqrt => {
+                            let r = self.call(Func::Sqrt, a);
+                            let two_r = self.scale(r, 2.0);
+                            self.recip(two_r)
+                        }
+                        Func::Sign => continue,
+                        Func::Keep => self.constant(1.0),
+                        Func::Atan => {
+                            let square = self.mul(a, a);
+                            let one = self.constant(1.0);
+                            let denominator = self.add(one, square);
+                            self.recip(denominator)
+                        }
+                    };
+                    let d = self.mul(outer, adjoint);
+                    parts.entry(a).or_default().push(d);
+                }
+            }
+        }
+        wrt.iter()
+            .map(|i| match at_inputs.get(i) {
+                Some(&d) => d,
+                None => self.constant(0.0),
+            })
+            .collect()
+    }
+
     /// Renders a node as an infix expression (for tests and diagnostics).
     pub fn render(&self, id: NodeId, names: &dyn Fn(u32) -> String) -> String {
         match self.node(id) {
@@ -738,6 +818,25 @@ impl Graph {
                 let id = self.with(|a| a.derivative(e.id, wrt, &mut memo));
                 self.wrap(id)
             })
+            .collect()
+    }
+
+    /// `∂e/∂x` row-major (row `i` for `exprs[i]`, column `j` for `xs[j]`), by reverse mode.
+    ///
+    /// # Panics
+    /// If an `x` is not an input node (a bug in the model).
+    pub fn gradients<'g>(&'g self, exprs: &[Expr<'g>], xs: &[Expr<'g>]) -> Vec<Expr<'g>> {
+        let wrt: Vec<u32> = xs
+            .iter()
+            .map(|x| match *self.arena().node(x.id) {
+                Node::Input(i) => i,
+                _ => panic!("derivatives are taken with respect to an input"),
+            })
+            .collect();
+        exprs
+            .iter()
+            .flat_map(|e| self.with(|a| a.gradient(e.id, &wrt)))
+            .map(|id| self.wrap(id))
             .collect()
     }
 
@@ -949,21 +1048,71 @@ mod tests {
         assert_eq!(derivative_of(FLAT, |v| v[1] / v[0]), "-x^-2*y");
     }
 
+    type Build = for<'g> fn(&[Expr<'g>]) -> Expr<'g>;
+
+    /// Expressions of four inputs with every node kind and call the derivatives meet.
+    const CASES: [Build; 7] = [
+        |v| (v[0] / v[2]).atan() * v[1],
+        |v| v[0] / (v[0] + v[1]),
+        |v| (v[0] * v[1]).sin() * v[0].cos() + v[2] / (v[0] * v[0] + 1.0),
+        |v| (v[0] * v[0] + v[1]).sqrt() * v[3],
+        |v| (v[0] - v[1]) * (v[0] + v[2]) * (v[0] * 2.0 - v[3]),
+        |v| (v[1] * v[0].sin() + v[0]).recip(),
+        |v| (v[0] * v[1] + v[2]).keep() * (v[0] * v[1] + v[2]).keep() * v[3] + v[1].sign() * v[0],
+    ];
+    const POINT: [f64; 4] = [0.7, -0.4, 1.3, 0.25];
+
+    /// `∂f/∂x_wrt` of `f` at [`POINT`] by central differences.
+    fn central_difference(program: &crate::lower::Program, wrt: usize) -> f64 {
+        let h = 1e-6;
+        let (mut up, mut down) = (POINT, POINT);
+        up[wrt] += h;
+        down[wrt] -= h;
+        (program.eval(&up)[0] - program.eval(&down)[0]) / (2.0 * h)
+    }
+
+    /// Reverse mode's gradient against forward mode's derivatives and central differences:
+    /// one sweep from the output gives every input's derivative.
+    #[test]
+    fn gradients_match_forward_mode_and_finite_differences() {
+        use crate::lower::{factor, lower};
+        for (n, f) in CASES.into_iter().enumerate() {
+            let g = Graph::new(FLAT);
+            let ids: Vec<NodeId> = {
+                let v = [g.input(0), g.input(1), g.input(2), g.input(3)];
+                let e = f(&v);
+                let forward = (0..4).map(|k| g.derivatives(&[e], v[k])[0]);
+                let reverse = g.gradients(&[e], &v);
+                [e].into_iter()
+                    .chain(forward)
+                    .chain(reverse)
+                    .map(|x| x.id)
+                    .collect()
+            };
+            let mut arena = g.into_arena();
+            let outs = factor(&mut arena, &ids);
+            let program = lower(&arena, &outs, true);
+            let values = program.eval(&POINT);
+            for wrt in 0..4 {
+                let (forward, reverse) = (values[1 + wrt], values[5 + wrt]);
+                let fd = central_difference(&program, wrt);
+                assert!(
+                    (forward - reverse).abs() <= 1e-14 * forward.abs().max(1.0),
+                    "case {n}, ∂/∂x{wrt}: forward {forward} vs reverse {reverse}"
+                );
+                assert!(
+                    (reverse - fd).abs() < 1e-8 * reverse.abs().max(1.0),
+                    "case {n}, ∂/∂x{wrt}: {reverse} vs {fd}"
+                );
+            }
+        }
+    }
+
     /// Exact derivatives against central differences of the evaluated expression.
     #[test]
     fn derivatives_match_finite_differences() {
         use crate::lower::{factor, lower};
-        type Build = for<'g> fn(&[Expr<'g>]) -> Expr<'g>;
-        let cases: [Build; 6] = [
-            |v| (v[0] / v[2]).atan() * v[1],
-            |v| v[0] / (v[0] + v[1]),
-            |v| (v[0] * v[1]).sin() * v[0].cos() + v[2] / (v[0] * v[0] + 1.0),
-            |v| (v[0] * v[0] + v[1]).sqrt() * v[3],
-            |v| (v[0] - v[1]) * (v[0] + v[2]) * (v[0] * 2.0 - v[3]),
-            |v| (v[1] * v[0].sin() + v[0]).recip(),
-        ];
-        let point = [0.7, -0.4, 1.3, 0.25];
-        for (n, f) in cases.into_iter().enumerate() {
+        for (n, f) in CASES.into_iter().enumerate() {
             for wrt in 0..4 {
                 let g = Graph::new(FLAT);
                 let ids = {
@@ -975,13 +1124,8 @@ mod tests {
                 let mut arena = g.into_arena();
                 let outs = factor(&mut arena, &ids);
                 let program = lower(&arena, &outs, true);
-                let at = |x: &[f64]| program.eval(x);
-                let exact = at(&point)[1];
-                let h = 1e-6;
-                let (mut up, mut down) = (point, point);
-                up[wrt] += h;
-                down[wrt] -= h;
-                let fd = (at(&up)[0] - at(&down)[0]) / (2.0 * h);
+                let exact = program.eval(&POINT)[1];
+                let fd = central_difference(&program, wrt);
                 assert!(
                     (exact - fd).abs() < 1e-8 * exact.abs().max(1.0),
                     "case {n}, ∂/∂x{wrt}: {exact} vs {fd}"

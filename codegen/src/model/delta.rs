@@ -23,7 +23,7 @@
 
 use super::bodies::{Dynamics, Inertial};
 use super::calibration;
-use super::derivatives;
+use super::derivatives::{self, Differentiation};
 use super::geometry::{Motion, Posed};
 use super::kernels::{Build, Cite, Context, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg, LegState};
@@ -824,9 +824,11 @@ const fn jacobian(name: &'static str, doc: &'static str) -> Output {
 }
 
 /// The Delta's derivative kernels (feature `derivatives` of `c5-generated`): the inverse
-/// dynamics differentiated directly, forward mode through the same constructors; the forward
-/// dynamics by the implicit function theorem on `ID(C, v_C, a_C) = Γ`
-/// ([`super::derivatives::Implicit`]), `∂a_C/∂Γ` the exact derivative of its own solve.
+/// dynamics by the implicit function theorem on `J⁻ᵀ Γ = W` ([`derivatives::by_wrench_residual`],
+/// through its own solve, `M_x` for `∂W/∂a_C`), in reverse mode (4 090 multiplications, 5 335
+/// in forward mode); the forward dynamics by the implicit function theorem on
+/// `ID(C, v_C, a_C) = Γ` ([`super::derivatives::Implicit`]), `∂a_C/∂Γ` the exact derivative of
+/// its own solve, in forward mode (5 546, 5 868 in reverse mode).
 const DERIVATIVE_KERNELS: &[Decl] = &[
     decl(
         Kernel::InverseDynamicsDerivatives,
@@ -843,15 +845,26 @@ const DERIVATIVE_KERNELS: &[Decl] = &[
         ],
         |cx| {
             let at = Translation::of(cx);
-            let gamma = inverse_dynamics(cx.geometry, cx.dynamics, &at).0.to_vec();
-            let mut out = vec![gamma.clone()];
-            for &kind in MOTION {
-                out.push(derivatives::jacobian_rows(
-                    cx.graph(),
-                    &gamma,
-                    &cx.input(kind),
-                ));
-            }
+            let states = arm_states(cx.geometry, Some(cx.dynamics), &at);
+            let wrench = task_force(cx.dynamics, &at, &states).to_vec();
+            let jinv_t = inverse_jacobian(&states).transpose();
+            let gamma = jinv_t.solve(&vec3(&wrench)).to_vec();
+            let inertia = task_inertia(cx, &at.position);
+            let wrt: Vec<Vec<Expr>> = MOTION.iter().map(|&kind| cx.input(kind)).collect();
+            let jacobians = derivatives::by_wrench_residual(
+                &wrench,
+                |x| (jinv_t * vec3(x)).to_vec(),
+                &gamma,
+                |w| jinv_t.solve(&vec3(w)).to_vec(),
+                |x| {
+                    let k = at.accel.0.iter().position(|a| a.id == x.id)?;
+                    Some(inertia.column(k).to_vec())
+                },
+                &wrt,
+                Differentiation::Reverse,
+            );
+            let mut out = vec![gamma];
+            out.extend(jacobians);
             out.push(solve_terms(cx.geometry, &at.position));
             out
         },
@@ -874,7 +887,7 @@ const DERIVATIVE_KERNELS: &[Decl] = &[
             let at = Translation::of(cx);
             let forces = cx.input(Input::Gamma);
             let accel = forward_dynamics(cx, &at, &vec3(&forces)).to_vec();
-            let d_gamma = derivatives::jacobian_rows(g, &accel, &forces);
+            let d_gamma = derivatives::jacobian_rows(g, &accel, &forces, Differentiation::Forward);
             let unknown: Vec3 = Vector::from_fn(|k| g.input(INTERNAL_INPUTS + k as u32));
             let probe = Translation {
                 accel: unknown,
@@ -888,6 +901,7 @@ const DERIVATIVE_KERNELS: &[Decl] = &[
                 gamma: &gamma,
                 unknown: &unknown.to_vec(),
                 accel: &accel,
+                mode: Differentiation::Forward,
             };
             let d_pose = implicit.jacobian(&cx.input(Input::Position));
             let d_twist = implicit.jacobian(&cx.input(Input::Velocity));

@@ -32,25 +32,113 @@ pub fn is_derivative(kernel: Kernel) -> bool {
     )
 }
 
+/// How the engine takes a Jacobian. Both build exact derivatives through the simplifying
+/// constructors on the value's graph; they differ in what they share, and so in cost.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Differentiation {
+    /// One sweep per input (tangents): the cheaper for the C5's small closed forms, which the
+    /// constructors keep folded.
+    Forward,
+    /// One sweep per output (adjoints): the cheaper where long chains of leg bodies feed a few
+    /// outputs, the legged mechanisms' (the hexapod's forward dynamics' Jacobians 29 % fewer
+    /// multiplications; docs/derivatives.md).
+    Reverse,
+}
+
 /// `∂f/∂x` row-major: row `i` for `f[i]`, column `j` for `x[j]`.
-pub(crate) fn jacobian_rows<'g>(g: &'g Graph, f: &[Expr<'g>], x: &[Expr<'g>]) -> Vec<Expr<'g>> {
+pub(crate) fn jacobian_rows<'g>(
+    g: &'g Graph,
+    f: &[Expr<'g>],
+    x: &[Expr<'g>],
+    mode: Differentiation,
+) -> Vec<Expr<'g>> {
+    if mode == Differentiation::Reverse {
+        return g.gradients(f, x);
+    }
     let columns: Vec<Vec<Expr<'g>>> = x.iter().map(|&u| g.derivatives(f, u)).collect();
     (0..f.len())
         .flat_map(|i| columns.iter().map(move |c| c[i]))
         .collect()
 }
 
-/// `Γ` and its Jacobians with respect to each of the kernel's inputs, in their order.
+/// `Γ` and its Jacobians with respect to each of the kernel's inputs, in their order, by the
+/// model's own method ([`Mechanics::inverse_dynamics_jacobians`]).
 fn inverse_dynamics_and_jacobians<'g>(
     cx: &Context<'_, 'g>,
     inputs: &[Input],
 ) -> Vec<Vec<Expr<'g>>> {
-    let gamma = cx.inverse_dynamics().to_vec();
-    let mut out = vec![gamma.clone()];
-    for &kind in inputs {
-        out.push(jacobian_rows(cx.graph(), &gamma, &cx.input(kind)));
-    }
-    out
+    let (posed, motion) = (cx.posed(), cx.motion());
+    let gamma = cx.mech.inverse_dynamics(cx.dynamics, &posed, &motion);
+    let wrt: Vec<Vec<Expr<'g>>> = inputs.iter().map(|&kind| cx.input(kind)).collect();
+    let jacobians = cx
+        .mech
+        .inverse_dynamics_jacobians(cx.dynamics, &posed, &motion, &gamma, &wrt);
+    std::iter::once(gamma.to_vec()).chain(jacobians).collect()
+}
+
+/// `∂Γ/∂x` (row-major, `n × xs.len()` for each of `wrt`) of an inverse dynamics that solves
+/// `J⁻ᵀ(X) Γ = W(X, V, a)`, by the implicit function theorem on the task-space residual
+/// `r = W - J⁻ᵀ Γ̃`: `∂Γ/∂x = J⁻ᵀ⁻¹ ∂r/∂x` at `Γ̃ = Γ`, every column through `solve`, the
+/// kernel's own solve of `J⁻ᵀ` (its factorisation shared). Differentiating `Γ` directly
+/// differentiates the factorisation too. `known` gives `∂r/∂x` for an input `x` where the
+/// model builds it more cheaply than the engine differentiates it (`M_x`, for the
+/// acceleration).
+pub fn by_wrench_residual<'g>(
+    wrench: &[Expr<'g>],
+    inverse_jacobian_transposed: impl Fn(&[Expr<'g>]) -> Vec<Expr<'g>>,
+    gamma: &[Expr<'g>],
+    solve: impl Fn(&[Expr<'g>]) -> Vec<Expr<'g>>,
+    known: impl Fn(Expr<'g>) -> Option<Vec<Expr<'g>>>,
+    wrt: &[Vec<Expr<'g>>],
+    mode: Differentiation,
+) -> Vec<Vec<Expr<'g>>> {
+    let g = gamma[0].graph();
+    let n = gamma.len();
+    // Past the accelerations' unknowns, which `known`'s `M_x` may be built with.
+    let unknown: Vec<Expr<'g>> = (0..n)
+        .map(|k| g.input(INTERNAL_INPUTS + 64 + k as u32))
+        .collect();
+    let held = inverse_jacobian_transposed(&unknown);
+    let residual: Vec<Expr<'g>> = wrench.iter().zip(&held).map(|(&w, &h)| w - h).collect();
+    let at_solution: Vec<(Expr<'g>, Expr<'g>)> =
+        unknown.iter().copied().zip(gamma.iter().copied()).collect();
+    let differentiated: Vec<Expr<'g>> = wrt
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|&x| known(x).is_none())
+        .collect();
+    let mut partials = columns_at(&residual, &differentiated, &at_solution, mode).into_iter();
+    wrt.iter()
+        .map(|xs| {
+            let columns: Vec<Vec<Expr<'g>>> = xs
+                .iter()
+                .map(|&x| solve(&known(x).unwrap_or_else(|| partials.next().expect("a column"))))
+                .collect();
+            (0..n)
+                .flat_map(|i| columns.iter().map(move |c| c[i]))
+                .collect()
+        })
+        .collect()
+}
+
+/// The columns `∂f/∂x` for each of `xs`, with the free unknowns then replaced by their values
+/// `at_solution`.
+fn columns_at<'g>(
+    f: &[Expr<'g>],
+    xs: &[Expr<'g>],
+    at_solution: &[(Expr<'g>, Expr<'g>)],
+    mode: Differentiation,
+) -> Vec<Vec<Expr<'g>>> {
+    let Some(&first) = f.first() else {
+        return vec![];
+    };
+    let g = first.graph();
+    let rows = g.substitute(&jacobian_rows(g, f, xs, mode), at_solution);
+    let m = xs.len();
+    (0..m)
+        .map(|j| (0..f.len()).map(|i| rows[i * m + j]).collect())
+        .collect()
 }
 
 /// The inputs the forward dynamics' Jacobians are taken with respect to: the elements of the
@@ -83,14 +171,19 @@ pub fn by_task_residual<'g, M: Mechanics + ?Sized>(
     let residual = (mech.task_wrench(dynamics, posed, &Motion::new(*twist, unknown))
         - jinv_t * *gamma)
         .to_vec();
-    let at_solution: Vec<(Expr<'g>, Expr<'g>)> = unknown.0.into_iter().zip(accel.0).collect();
+    let at_solution: Vec<(Expr<'g>, Expr<'g>)> =
+        unknown.0.into_iter().zip(accel.0.map(Expr::keep)).collect();
     let inertia = mech.task_inertia(dynamics, posed);
-    let sensitivity = |x: Expr<'g>| -> Vec6<'g> {
-        let dr = g.substitute(&g.derivatives(&residual, x), &at_solution);
-        -inertia.ldlt_solve(&Vector(std::array::from_fn(|i| dr[i])))
+    let sensitivity =
+        |dr: &[Expr<'g>]| -> Vec6<'g> { -inertia.ldlt_solve(&Vector::from_fn(|i| dr[i])) };
+    let columns = |xs: &[Expr<'g>]| {
+        from_columns(
+            &columns_at(&residual, xs, &at_solution, mech.differentiation())
+                .iter()
+                .map(|dr| sensitivity(dr))
+                .collect::<Vec<_>>(),
+        )
     };
-    let columns =
-        |xs: &[Expr<'g>]| from_columns(&xs.iter().map(|&x| sensitivity(x)).collect::<Vec<_>>());
     let d_gamma: Vec<Vec6<'g>> = (0..6)
         .map(|j| inertia.ldlt_solve(&jinv_t.column(j)))
         .collect();
@@ -115,7 +208,8 @@ pub fn by_inverse_dynamics<'g, M: Mechanics + ?Sized>(
     wrt: &ForwardInputs<'_, 'g>,
 ) -> [Vec<Expr<'g>>; 3] {
     let g = accel[0].graph();
-    let d_gamma = jacobian_rows(g, &accel.to_vec(), wrt.forces);
+    let mode = mech.differentiation();
+    let d_gamma = jacobian_rows(g, &accel.to_vec(), wrt.forces, mode);
     let unknown = free_acceleration(g);
     let gamma = mech
         .inverse_dynamics(dynamics, posed, &Motion::new(*twist, unknown))
@@ -125,6 +219,7 @@ pub fn by_inverse_dynamics<'g, M: Mechanics + ?Sized>(
         gamma: &gamma,
         unknown: &unknown.to_vec(),
         accel: &accel.to_vec(),
+        mode,
     };
     [
         implicit.jacobian(wrt.pose),
@@ -143,6 +238,8 @@ pub(crate) struct Implicit<'a, 'g> {
     pub unknown: &'a [Expr<'g>],
     /// The forward dynamics' acceleration, put in for the unknowns after differentiating.
     pub accel: &'a [Expr<'g>],
+    /// How `∂ID/∂x` is taken.
+    pub mode: Differentiation,
 }
 
 impl<'g> Implicit<'_, 'g> {
@@ -156,7 +253,7 @@ impl<'g> Implicit<'_, 'g> {
             .copied()
             .zip(self.accel.iter().copied())
             .collect();
-        let partial = g.substitute(&jacobian_rows(g, self.gamma, xs), &at_solution);
+        let partial = g.substitute(&jacobian_rows(g, self.gamma, xs, self.mode), &at_solution);
         let m = xs.len();
         (0..n * m)
             .map(|ij| {

@@ -193,6 +193,28 @@ pub trait Mechanics: Sync {
         derivatives::by_task_residual(self, dynamics, posed, twist, gamma, accel, wrt)
     }
 
+    /// How the engine takes this model's Jacobians (the derivative kernels'). Default:
+    /// forward mode.
+    fn differentiation(&self) -> derivatives::Differentiation {
+        derivatives::Differentiation::Forward
+    }
+
+    /// `∂Γ/∂x` (row-major, `6 × xs.len()`) of `gamma`, this model's inverse dynamics at the
+    /// state, for each of the kernel inputs `wrt`. Default: `Γ` differentiated directly.
+    fn inverse_dynamics_jacobians<'g>(
+        &self,
+        _dynamics: &Dynamics<'g>,
+        _posed: &Posed<'g>,
+        _motion: &Motion<'g>,
+        gamma: &Vec6<'g>,
+        wrt: &[Vec<crate::Expr<'g>>],
+    ) -> Vec<Vec<crate::Expr<'g>>> {
+        let g = gamma[0].graph();
+        wrt.iter()
+            .map(|xs| derivatives::jacobian_rows(g, &gamma.to_vec(), xs, self.differentiation()))
+            .collect()
+    }
+
     /// The platform's motion from the actuators' (the joint setting): `V = J Q̇_a` and
     /// `(ω̇; a_C) = J (Q̈_a - h)`, where `h` is `Q̈_a` at zero platform acceleration (`Q̈_a` is
     /// affine in it, with `J⁻¹` its linear part); the actuators' motion is kept beside.

@@ -2,7 +2,7 @@
 // model: delta; robot: the example of docs/delta.toml (Delta::example())
 //
 // Kernel operation counts (mul, div, add, neg, calls):
-//   inverse_dynamics_derivatives_params  5342   20  3115   49  6 sqrt
+//   inverse_dynamics_derivatives_params  4070   20  2638   91  6 sqrt
 //   forward_dynamics_derivatives_params  5523   23  3221   69  6 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
@@ -32,7 +32,7 @@
 /// - `d_accel`: `∂Γ/∂a_C` (N·m·s²/m)
 /// - `singular`: `|u_i × r_i|` for each arm, `1 - (K/ρ)²` for each arm, then the arms' hold `det(J⁻¹)² / Π |row_i|²` in `[0, 1]` (zero where they cannot hold the platform): the other results are meaningless where one is near zero or negative
 ///
-/// Operations: 5342 mul, 20 div, 3115 add, 49 neg, 6 sqrt (chapter convention: 5362m + 3115a).
+/// Operations: 4070 mul, 20 div, 2638 add, 91 neg, 6 sqrt (chapter convention: 4090m + 2638a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -96,16 +96,13 @@ pub fn inverse_dynamics_derivatives_params_separate(
         t47,
         t52,
         t55,
-        t56,
         t59,
         t62,
         t66,
         t69,
-        t70,
         t73,
         t77,
         t80,
-        t81,
         t84,
         t88,
         t89,
@@ -127,16 +124,13 @@ pub fn inverse_dynamics_derivatives_params_separate(
         t138,
         t143,
         t146,
-        t147,
         t150,
         t153,
-        t154,
         t157,
         t160,
         t164,
         t168,
         t171,
-        t172,
         t175,
         t179,
         t180,
@@ -158,15 +152,12 @@ pub fn inverse_dynamics_derivatives_params_separate(
         t229,
         t234,
         t237,
-        t238,
         t241,
         t244,
-        t245,
         t248,
         t251,
         t255,
         t258,
-        t259,
         t262,
         t266,
         t270,
@@ -183,183 +174,220 @@ pub fn inverse_dynamics_derivatives_params_separate(
         t286,
         t289,
         t293,
-        t301,
-        t307,
+        t294,
+        t295,
+        t297,
+        t299,
+        t300,
+        t303,
+        t308,
         t312,
+        t313,
+        t314,
         t316,
-        t320,
-        t325,
-        t336,
-        t337,
-        t345,
-        t351,
-        t356,
-        t360,
-        t364,
+        t318,
+        t319,
+        t322,
+        t324,
+        t328,
+        t331,
+        t332,
+        t333,
+        t335,
+        t340,
+        t341,
+        t346,
+        t349,
+        t353,
+        t357,
+        t362,
+        t363,
+        t366,
+        t367,
         t369,
-        t380,
-        t381,
-        t389,
+        t371,
+        t372,
+        t374,
+        t376,
+        t382,
+        t390,
+        t391,
+        t394,
         t395,
         t400,
-        t404,
-        t408,
-        t413,
-        t424,
+        t401,
+        t406,
+        t407,
+        t422,
+        t423,
         t425,
-        t427,
-        t428,
+        t426,
         t429,
-        t431,
+        t430,
         t433,
         t434,
+        t435,
+        t436,
         t437,
-        t442,
-        t446,
-        t447,
-        t448,
-        t450,
-        t452,
+        t451,
         t456,
-        t458,
+        t459,
+        t460,
+        t461,
         t462,
-        t465,
+        t464,
         t466,
         t467,
-        t469,
+        t470,
         t475,
-        t476,
-        t478,
+        t479,
+        t480,
         t481,
         t483,
+        t485,
         t486,
-        t488,
+        t489,
         t491,
-        t496,
-        t497,
+        t495,
         t498,
-        t510,
-        t515,
+        t499,
+        t500,
+        t502,
+        t507,
+        t508,
+        t513,
+        t516,
         t520,
-        t525,
+        t524,
+        t529,
+        t530,
+        t533,
+        t534,
         t536,
         t538,
         t539,
-        t544,
-        t548,
+        t541,
+        t543,
+        t549,
+        t557,
+        t558,
         t561,
         t562,
-        t563,
-        t564,
-        t566,
+        t567,
         t568,
-        t569,
-        t572,
-        t577,
-        t581,
-        t582,
-        t583,
-        t585,
-        t587,
-        t591,
+        t573,
+        t574,
+        t589,
+        t590,
+        t592,
         t593,
+        t596,
         t597,
         t600,
         t601,
         t602,
+        t603,
         t604,
-        t610,
-        t611,
-        t613,
-        t616,
         t618,
-        t621,
         t623,
         t626,
+        t627,
+        t628,
+        t629,
         t631,
-        t632,
         t633,
-        t645,
+        t634,
+        t637,
+        t642,
+        t646,
+        t647,
+        t648,
         t650,
-        t655,
-        t660,
-        t671,
-        t673,
+        t652,
+        t653,
+        t656,
+        t658,
+        t662,
+        t665,
+        t666,
+        t667,
+        t669,
         t674,
-        t679,
+        t675,
+        t680,
         t683,
+        t687,
+        t691,
         t696,
         t697,
-        t698,
-        t699,
+        t700,
         t701,
         t703,
-        t704,
-        t707,
-        t712,
+        t705,
+        t706,
+        t708,
+        t710,
         t716,
-        t717,
-        t718,
-        t720,
-        t722,
-        t726,
+        t724,
+        t725,
         t728,
-        t732,
+        t729,
+        t734,
         t735,
-        t736,
-        t737,
-        t739,
-        t745,
-        t746,
-        t748,
-        t751,
-        t753,
+        t740,
+        t741,
         t756,
-        t758,
-        t761,
-        t766,
+        t757,
+        t759,
+        t760,
+        t763,
+        t764,
         t767,
         t768,
-        t780,
+        t769,
+        t770,
+        t771,
         t785,
         t790,
-        t795,
-        t806,
-        t808,
-        t809,
-        t814,
-        t818,
+        t793,
+        t794,
+        t799,
+        t812,
+        t819,
+        t824,
         t831,
-        t832,
-        t836,
-        t850,
-        t857,
-        t866,
-        t871,
-        t872,
-        t874,
-        t877,
-        t883,
+        t834,
+        t848,
+        t858,
+        t864,
+        t865,
+        t867,
+        t870,
+        t873,
+        t879,
+        t892,
+        t899,
         t904,
-        t907,
-        t908,
-        t912,
-        t926,
-        t933,
-        t942,
+        t911,
+        t914,
+        t928,
+        t938,
+        t944,
+        t945,
         t947,
-        t948,
         t950,
         t953,
-        t959,
+        t955,
+        t960,
+        t973,
         t980,
-        t983,
-        t984,
+        t985,
         t988,
-        t989,
-        t994,
+        t992,
         t995,
         t996,
+        t997,
+        t998,
         t999,
     ) = {
         let t0: f64 = xc - arm1_base_x;
@@ -418,8 +446,8 @@ pub fn inverse_dynamics_derivatives_params_separate(
         let t53: f64 = t28 * t52;
         let t54: f64 = t14 * t53;
         let t55: f64 = t49.plus(t54);
-        let t56: f64 = arm1_crank_length * t55;
-        let t57: f64 = arm1_base_x + t56;
+        let t56 = product(arm1_crank_length, t55);
+        let t57: f64 = t56.added_to(arm1_base_x);
         let t58: f64 = xc + arm1_platform_x;
         let t59: f64 = t58 - t57;
         let t60 = product(t14, t48);
@@ -432,8 +460,8 @@ pub fn inverse_dynamics_derivatives_params_separate(
         let t67 = product(arm1_zero_y, t48);
         let t68: f64 = t18 * t53;
         let t69: f64 = t67.plus(t68);
-        let t70: f64 = arm1_crank_length * t69;
-        let t71: f64 = arm1_base_y + t70;
+        let t70 = product(arm1_crank_length, t69);
+        let t71: f64 = t70.added_to(arm1_base_y);
         let t72: f64 = yc + arm1_platform_y;
         let t73: f64 = t72 - t71;
         let t74: f64 = t66 * t73;
@@ -443,8 +471,8 @@ pub fn inverse_dynamics_derivatives_params_separate(
         let t78 = product(arm1_zero_z, t48);
         let t79: f64 = t22 * t53;
         let t80: f64 = t78.plus(t79);
-        let t81: f64 = arm1_crank_length * t80;
-        let t82: f64 = arm1_base_z + t81;
+        let t81 = product(arm1_crank_length, t80);
+        let t82: f64 = t81.added_to(arm1_base_z);
         let t83: f64 = zc + arm1_platform_z;
         let t84: f64 = t83 - t82;
         let t85 = product(t77, t84);
@@ -509,15 +537,15 @@ pub fn inverse_dynamics_derivatives_params_separate(
         let t144: f64 = t119 * t143;
         let t145: f64 = t109 * t144;
         let t146: f64 = t140.plus(t145);
-        let t147: f64 = arm2_crank_length * t146;
-        let t148: f64 = arm2_base_y + t147;
+        let t147 = product(arm2_crank_length, t146);
+        let t148: f64 = t147.added_to(arm2_base_y);
         let t149: f64 = yc + arm2_platform_y;
         let t150: f64 = t149 - t148;
         let t151 = product(arm2_zero_x, t139);
         let t152: f64 = t105 * t144;
         let t153: f64 = t151.plus(t152);
-        let t154: f64 = arm2_crank_length * t153;
-        let t155: f64 = arm2_base_x + t154;
+        let t154 = product(arm2_crank_length, t153);
+        let t155: f64 = t154.added_to(arm2_base_x);
         let t156: f64 = xc + arm2_platform_x;
         let t157: f64 = t156 - t155;
         let t158 = product(t105, t139);
@@ -534,8 +562,8 @@ pub fn inverse_dynamics_derivatives_params_separate(
         let t169 = product(arm2_zero_z, t139);
         let t170: f64 = t113 * t144;
         let t171: f64 = t169.plus(t170);
-        let t172: f64 = arm2_crank_length * t171;
-        let t173: f64 = arm2_base_z + t172;
+        let t172 = product(arm2_crank_length, t171);
+        let t173: f64 = t172.added_to(arm2_base_z);
         let t174: f64 = zc + arm2_platform_z;
         let t175: f64 = t174 - t173;
         let t176 = product(t168, t175);
@@ -600,15 +628,15 @@ pub fn inverse_dynamics_derivatives_params_separate(
         let t235: f64 = t210 * t234;
         let t236: f64 = t204 * t235;
         let t237: f64 = t231.plus(t236);
-        let t238: f64 = arm3_crank_length * t237;
-        let t239: f64 = arm3_base_z + t238;
+        let t238 = product(arm3_crank_length, t237);
+        let t239: f64 = t238.added_to(arm3_base_z);
         let t240: f64 = zc + arm3_platform_z;
         let t241: f64 = t240 - t239;
         let t242 = product(arm3_zero_x, t230);
         let t243: f64 = t196 * t235;
         let t244: f64 = t242.plus(t243);
-        let t245: f64 = arm3_crank_length * t244;
-        let t246: f64 = arm3_base_x + t245;
+        let t245 = product(arm3_crank_length, t244);
+        let t246: f64 = t245.added_to(arm3_base_x);
         let t247: f64 = xc + arm3_platform_x;
         let t248: f64 = t247 - t246;
         let t249 = product(t196, t230);
@@ -621,8 +649,8 @@ pub fn inverse_dynamics_derivatives_params_separate(
         let t256 = product(arm3_zero_y, t230);
         let t257: f64 = t200 * t235;
         let t258: f64 = t256.plus(t257);
-        let t259: f64 = arm3_crank_length * t258;
-        let t260: f64 = arm3_base_y + t259;
+        let t259 = product(arm3_crank_length, t258);
+        let t260: f64 = t259.added_to(arm3_base_y);
         let t261: f64 = yc + arm3_platform_y;
         let t262: f64 = t261 - t260;
         let t263: f64 = t255 * t262;
@@ -656,712 +684,712 @@ pub fn inverse_dynamics_derivatives_params_separate(
         let t291: f64 = t290.added_to(t278);
         let t292: f64 = t285.subtracted_from(t291);
         let t293: f64 = 1.0 / t292;
-        let t294 = product(ax, t90);
-        let t295: f64 = ay * t280;
-        let t296 = product(az, t282);
-        let t297 = product(vx, t90);
-        let t298: f64 = vy * t280;
-        let t299 = product(vz, t282);
-        let t300: f64 = t297.plus(t298);
-        let t301: f64 = t299.plus(t300);
-        let t302: f64 = t301 * t301;
-        let t303 = product(t55, t59);
-        let t304: f64 = t69 * t73;
-        let t305 = product(t80, t84);
-        let t306: f64 = t303.plus(t304);
-        let t307: f64 = t305.plus(t306);
-        let t308: f64 = arm1_crank_length * t302;
-        let t309 = product(t307, t308);
-        let t310: f64 = arm1_crank_length * t62;
-        let t311 = product(t301, t310);
-        let t312: f64 = t311.subtracted_from(vx);
-        let t313: f64 = t312 * t312;
-        let t314: f64 = arm1_crank_length * t66;
-        let t315 = product(t301, t314);
-        let t316: f64 = t315.subtracted_from(vy);
-        let t317 = product(t316, t316);
-        let t318: f64 = arm1_crank_length * t77;
-        let t319 = product(t301, t318);
-        let t320: f64 = t319.subtracted_from(vz);
-        let t321: f64 = t320 * t320;
-        let t322: f64 = t309.plus(t313);
-        let t323: f64 = t317.plus(t321);
-        let t324: f64 = t322 + t323;
-        let t325: f64 = t89 * t324;
-        let t326: f64 = t294.plus(t295);
-        let t327: f64 = t296.plus(t325);
-        let t328: f64 = t326 + t327;
-        let t329 = product(arm1_crank_izz, t328);
-        let t330 = product(gravity_x, t62);
-        let t331: f64 = gravity_y * t66;
-        let t332 = product(gravity_z, t77);
-        let t333: f64 = t330.plus(t331);
-        let t334: f64 = t332.plus(t333);
-        let t335: f64 = arm1_crank_mx * t334;
-        let t336: f64 = t329.minus(t335);
-        let t337 = product(t90, t336);
-        let t338 = product(ax, t279);
-        let t339: f64 = ay * t181;
-        let t340 = product(az, t274);
-        let t341 = product(vx, t279);
-        let t342: f64 = vy * t181;
-        let t343 = product(vz, t274);
-        let t344: f64 = t341.plus(t342);
-        let t345: f64 = t343.plus(t344);
-        let t346: f64 = t345 * t345;
-        let t347 = product(t153, t157);
-        let t348: f64 = t146 * t150;
-        let t349 = product(t171, t175);
-        let t350: f64 = t347.plus(t348);
-        let t351: f64 = t349.plus(t350);
-        let t352: f64 = arm2_crank_length * t346;
-        let t353 = product(t351, t352);
-        let t354: f64 = arm2_crank_length * t160;
-        let t355 = product(t345, t354);
-        let t356: f64 = t355.subtracted_from(vx);
-        let t357: f64 = t356 * t356;
-        let t358: f64 = arm2_crank_length * t164;
-        let t359 = product(t345, t358);
-        let t360: f64 = t359.subtracted_from(vy);
-        let t361 = product(t360, t360);
-        let t362: f64 = arm2_crank_length * t168;
-        let t363 = product(t345, t362);
-        let t364: f64 = t363.subtracted_from(vz);
-        let t365: f64 = t364 * t364;
-        let t366: f64 = t353.plus(t357);
-        let t367: f64 = t361.plus(t365);
-        let t368: f64 = t366 + t367;
-        let t369: f64 = t180 * t368;
-        let t370: f64 = t338.plus(t339);
-        let t371: f64 = t340.plus(t369);
-        let t372: f64 = t370 + t371;
-        let t373 = product(arm2_crank_izz, t372);
-        let t374 = product(gravity_x, t160);
-        let t375: f64 = gravity_y * t164;
-        let t376 = product(gravity_z, t168);
-        let t377: f64 = t374.plus(t375);
-        let t378: f64 = t376.plus(t377);
-        let t379: f64 = arm2_crank_mx * t378;
-        let t380: f64 = t373.minus(t379);
-        let t381: f64 = t279 * t380;
-        let t382 = product(ax, t286);
-        let t383: f64 = ay * t275;
-        let t384 = product(az, t272);
-        let t385 = product(vx, t286);
-        let t386: f64 = vy * t275;
-        let t387 = product(vz, t272);
-        let t388: f64 = t385.plus(t386);
-        let t389: f64 = t387.plus(t388);
-        let t390: f64 = t389 * t389;
-        let t391 = product(t244, t248);
-        let t392: f64 = t258 * t262;
-        let t393 = product(t237, t241);
-        let t394: f64 = t391.plus(t392);
-        let t395: f64 = t393.plus(t394);
-        let t396: f64 = arm3_crank_length * t390;
-        let t397 = product(t395, t396);
-        let t398: f64 = arm3_crank_length * t251;
-        let t399 = product(t389, t398);
-        let t400: f64 = t399.subtracted_from(vx);
-        let t401: f64 = t400 * t400;
-        let t402: f64 = arm3_crank_length * t255;
-        let t403 = product(t389, t402);
-        let t404: f64 = t403.subtracted_from(vy);
-        let t405 = product(t404, t404);
-        let t406: f64 = arm3_crank_length * t266;
-        let t407 = product(t389, t406);
-        let t408: f64 = t407.subtracted_from(vz);
-        let t409: f64 = t408 * t408;
-        let t410: f64 = t397.plus(t401);
-        let t411: f64 = t405.plus(t409);
-        let t412: f64 = t410 + t411;
-        let t413: f64 = t271 * t412;
-        let t414: f64 = t382.plus(t383);
-        let t415: f64 = t384.plus(t413);
-        let t416: f64 = t414 + t415;
-        let t417 = product(arm3_crank_izz, t416);
-        let t418 = product(gravity_x, t251);
-        let t419: f64 = gravity_y * t255;
-        let t420 = product(gravity_z, t266);
+        let t294: f64 = 1.0 / arm1_rod_length;
+        let t295: f64 = t84 * t294;
+        let t296 = product(arm1_axis_x, t295);
+        let t297: f64 = t59 * t294;
+        let t298: f64 = arm1_axis_z * t297;
+        let t299: f64 = t296.minus(t298);
+        let t300: f64 = t73 * t294;
+        let t301 = product(arm1_axis_z, t300);
+        let t302: f64 = arm1_axis_y * t295;
+        let t303: f64 = t301.minus(t302);
+        let t304 = product(t303, t303);
+        let t305: f64 = t299 * t299;
+        let t306 = product(arm1_axis_y, t297);
+        let t307: f64 = arm1_axis_x * t300;
+        let t308: f64 = t306.minus(t307);
+        let t309 = product(t308, t308);
+        let t310: f64 = t304.plus(t305);
+        let t311: f64 = t309.plus(t310);
+        let t312: f64 = sqrt(t311);
+        let t313: f64 = 1.0 / t312;
+        let t314: f64 = t299 * t313;
+        let t315 = product(t295, t314);
+        let t316: f64 = t308 * t313;
+        let t317: f64 = t300 * t316;
+        let t318: f64 = t315.minus(t317);
+        let t319: f64 = t294 * t318;
+        let t320 = product(t62, t318);
+        let t321 = product(t297, t316);
+        let t322: f64 = t303 * t313;
+        let t323: f64 = t295 * t322;
+        let t324: f64 = t321.minus(t323);
+        let t325: f64 = t66 * t324;
+        let t326 = product(t300, t322);
+        let t327: f64 = t297 * t314;
+        let t328: f64 = t326.minus(t327);
+        let t329 = product(t77, t328);
+        let t330: f64 = t320.plus(t325);
+        let t331: f64 = t329.plus(t330);
+        let t332: f64 = t294 * t331;
+        let t333: f64 = arm1_crank_length * t90;
+        let t334 = product(t332, t333);
+        let t335: f64 = t334.subtracted_from(t319);
+        let t336 = product(arm1_axis_x, t297);
+        let t337: f64 = arm1_axis_y * t300;
+        let t338 = product(arm1_axis_z, t295);
+        let t339: f64 = t336.plus(t337);
+        let t340: f64 = t338.plus(t339);
+        let t341: f64 = t313 * t340;
+        let t342 = product(vx, t90);
+        let t343: f64 = vy * t280;
+        let t344 = product(vz, t282);
+        let t345: f64 = t342.plus(t343);
+        let t346: f64 = t344.plus(t345);
+        let t347: f64 = arm1_crank_length * t62;
+        let t348 = product(t346, t347);
+        let t349: f64 = t348.subtracted_from(vx);
+        let t350 = product(t322, t349);
+        let t351: f64 = arm1_crank_length * t66;
+        let t352 = product(t346, t351);
+        let t353: f64 = t352.subtracted_from(vy);
+        let t354: f64 = t314 * t353;
+        let t355: f64 = arm1_crank_length * t77;
+        let t356 = product(t346, t355);
+        let t357: f64 = t356.subtracted_from(vz);
+        let t358 = product(t316, t357);
+        let t359: f64 = t350.plus(t354);
+        let t360: f64 = t358.plus(t359);
+        let t361: f64 = t294 * t341;
+        let t362: f64 = t360 * t361;
+        let t363: f64 = t294 * t360;
+        let t364 = product(t362, t363);
+        let t365 = product(ax, t335);
+        let t366: f64 = t294 * t324;
+        let t367: f64 = arm1_crank_length * t280;
+        let t368 = product(t332, t367);
+        let t369: f64 = t368.subtracted_from(t366);
+        let t370: f64 = ay * t369;
+        let t371: f64 = t294 * t328;
+        let t372: f64 = arm1_crank_length * t282;
+        let t373 = product(t332, t372);
+        let t374: f64 = t373.subtracted_from(t371);
+        let t375 = product(az, t374);
+        let t376: f64 = t346 * t346;
+        let t377 = product(t80, t376);
+        let t378 = product(t55, t59);
+        let t379: f64 = t69 * t73;
+        let t380 = product(t80, t84);
+        let t381: f64 = t378.plus(t379);
+        let t382: f64 = t380.plus(t381);
+        let t383: f64 = arm1_crank_length * t376;
+        let t384 = product(t382, t383);
+        let t385: f64 = t349 * t349;
+        let t386 = product(t353, t353);
+        let t387: f64 = t357 * t357;
+        let t388: f64 = t384.plus(t385);
+        let t389: f64 = t386.plus(t387);
+        let t390: f64 = t388 + t389;
+        let t391: f64 = t89 * t390;
+        let t392: f64 = t77 * t391;
+        let t393: f64 = t377.minus(t392);
+        let t394: f64 = arm1_crank_length * t393;
+        let t395: f64 = -t394;
+        let t396 = product(t328, t395);
+        let t397 = product(t55, t376);
+        let t398: f64 = t62 * t391;
+        let t399: f64 = t397.minus(t398);
+        let t400: f64 = arm1_crank_length * t399;
+        let t401: f64 = -t400;
+        let t402 = product(t318, t401);
+        let t403 = product(t69, t376);
+        let t404: f64 = t66 * t391;
+        let t405: f64 = t403.minus(t404);
+        let t406: f64 = arm1_crank_length * t405;
+        let t407: f64 = -t406;
+        let t408: f64 = t324 * t407;
+        let t409: f64 = t402.plus(t408);
+        let t410: f64 = t396.plus(t409);
+        let t411: f64 = t294 * t410;
+        let t412: f64 = t364.plus(t411);
+        let t413: f64 = t365.plus(t370);
+        let t414: f64 = t375.plus(t413);
+        let t415: f64 = t412 - t414;
+        let t416 = product(arm1_rod_ixx, t415);
+        let t417 = product(t294, t316);
+        let t418 = product(t62, t322);
+        let t419: f64 = t66 * t314;
+        let t420 = product(t77, t316);
         let t421: f64 = t418.plus(t419);
         let t422: f64 = t420.plus(t421);
-        let t423: f64 = arm3_crank_mx * t422;
-        let t424: f64 = t417.minus(t423);
-        let t425 = product(t286, t424);
-        let t426: f64 = ax - gravity_x;
-        let t427: f64 = platform_mass * t426;
-        let t428: f64 = 1.0 / arm1_rod_length;
-        let t429: f64 = t84 * t428;
-        let t430 = product(arm1_axis_x, t429);
-        let t431: f64 = t59 * t428;
-        let t432: f64 = arm1_axis_z * t431;
-        let t433: f64 = t430.minus(t432);
-        let t434: f64 = t73 * t428;
-        let t435 = product(arm1_axis_z, t434);
-        let t436: f64 = arm1_axis_y * t429;
-        let t437: f64 = t435.minus(t436);
-        let t438 = product(t437, t437);
-        let t439: f64 = t433 * t433;
-        let t440 = product(arm1_axis_y, t431);
-        let t441: f64 = arm1_axis_x * t434;
-        let t442: f64 = t440.minus(t441);
-        let t443 = product(t442, t442);
-        let t444: f64 = t438.plus(t439);
-        let t445: f64 = t443.plus(t444);
-        let t446: f64 = sqrt(t445);
-        let t447: f64 = 1.0 / t446;
-        let t448: f64 = t433 * t447;
-        let t449 = product(t429, t448);
-        let t450: f64 = t442 * t447;
-        let t451: f64 = t434 * t450;
-        let t452: f64 = t449.minus(t451);
-        let t453 = product(t428, t452);
-        let t454 = product(t62, t452);
-        let t455 = product(t431, t450);
-        let t456: f64 = t437 * t447;
-        let t457: f64 = t429 * t456;
-        let t458: f64 = t455.minus(t457);
-        let t459: f64 = t66 * t458;
-        let t460 = product(t434, t456);
-        let t461: f64 = t431 * t448;
-        let t462: f64 = t460.minus(t461);
-        let t463 = product(t77, t462);
-        let t464: f64 = t454.plus(t459);
-        let t465: f64 = t463.plus(t464);
-        let t466: f64 = t428 * t465;
-        let t467: f64 = arm1_crank_length * t90;
-        let t468: f64 = t466 * t467;
-        let t469: f64 = t453.minus(t468);
-        let t470 = product(t428, t456);
-        let t471 = product(t62, t456);
-        let t472: f64 = t66 * t448;
-        let t473 = product(t77, t450);
-        let t474: f64 = t471.plus(t472);
-        let t475: f64 = t473.plus(t474);
-        let t476: f64 = t428 * t475;
-        let t477: f64 = t467 * t476;
-        let t478: f64 = t470.minus(t477);
-        let t479 = product(vx, t478);
-        let t480 = product(t428, t448);
-        let t481: f64 = arm1_crank_length * t280;
-        let t482: f64 = t476 * t481;
-        let t483: f64 = t480.minus(t482);
-        let t484: f64 = vy * t483;
-        let t485 = product(t428, t450);
-        let t486: f64 = arm1_crank_length * t282;
-        let t487: f64 = t476 * t486;
-        let t488: f64 = t485.minus(t487);
-        let t489 = product(vz, t488);
-        let t490: f64 = t479.plus(t484);
-        let t491: f64 = t489.plus(t490);
-        let t492 = product(arm1_axis_x, t431);
-        let t493: f64 = arm1_axis_y * t434;
-        let t494 = product(arm1_axis_z, t429);
-        let t495: f64 = t492.plus(t493);
-        let t496: f64 = t494.plus(t495);
-        let t497: f64 = t447 * t496;
-        let t498: f64 = t491 * t497;
-        let t499: f64 = arm1_rod_izz * t491;
-        let t500 = product(t498, t499);
-        let t501 = product(gravity_x, t452);
-        let t502: f64 = gravity_y * t458;
-        let t503 = product(gravity_z, t462);
-        let t504: f64 = t501.plus(t502);
-        let t505: f64 = t503.plus(t504);
-        let t506 = product(ax, t467);
-        let t507: f64 = ay * t481;
-        let t508 = product(az, t486);
-        let t509: f64 = t506.plus(t507);
-        let t510: f64 = t508.plus(t509);
-        let t511 = product(t465, t510);
-        let t512 = product(t77, t325);
-        let t513: f64 = t80 * t302;
-        let t514: f64 = t512.minus(t513);
-        let t515: f64 = arm1_crank_length * t514;
-        let t516 = product(t462, t515);
-        let t517 = product(t62, t325);
-        let t518: f64 = t55 * t302;
-        let t519: f64 = t517.minus(t518);
-        let t520: f64 = arm1_crank_length * t519;
-        let t521 = product(t452, t520);
-        let t522 = product(t66, t325);
-        let t523: f64 = t69 * t302;
-        let t524: f64 = t522.minus(t523);
-        let t525: f64 = arm1_crank_length * t524;
-        let t526: f64 = t458 * t525;
-        let t527: f64 = t521.plus(t526);
-        let t528: f64 = t516.plus(t527);
-        let t529: f64 = t511.plus(t528);
-        let t530: f64 = t529 - t505;
-        let t531: f64 = arm1_rod_mz * t530;
-        let t532 = product(t312, t456);
-        let t533: f64 = t316 * t448;
-        let t534 = product(t320, t450);
-        let t535: f64 = t532.plus(t533);
-        let t536: f64 = t534.plus(t535);
-        let t537: f64 = t428 * t497;
-        let t538: f64 = t536 * t537;
-        let t539: f64 = t428 * t536;
-        let t540 = product(t538, t539);
-        let t541 = product(ax, t469);
-        let t542 = product(t428, t458);
-        let t543: f64 = t466 * t481;
-        let t544: f64 = t542.minus(t543);
-        let t545: f64 = ay * t544;
-        let t546 = product(t428, t462);
-        let t547: f64 = t466 * t486;
-        let t548: f64 = t546.minus(t547);
-        let t549 = product(az, t548);
-        let t550: f64 = t428 * t528;
-        let t551: f64 = t540.plus(t550);
-        let t552: f64 = t541.plus(t545);
-        let t553: f64 = t549.plus(t552);
-        let t554: f64 = t551 - t553;
-        let t555 = product(t491, t498);
-        let t556: f64 = t555.subtracted_from(t554);
-        let t557: f64 = t556 * 2.0;
-        let t558 = product(arm1_rod_ixx, t557);
-        let t559: f64 = t500.minus(t531);
-        let t560: f64 = t559 * 2.0;
-        let t561: f64 = t558.plus(t560);
-        let t562 = product(t469, t561);
-        let t563: f64 = 1.0 / arm2_rod_length;
-        let t564: f64 = t175 * t563;
-        let t565 = product(arm2_axis_x, t564);
-        let t566: f64 = t157 * t563;
-        let t567: f64 = arm2_axis_z * t566;
-        let t568: f64 = t565.minus(t567);
-        let t569: f64 = t150 * t563;
-        let t570 = product(arm2_axis_z, t569);
-        let t571: f64 = arm2_axis_y * t564;
+        let t423: f64 = t294 * t422;
+        let t424: f64 = t372 * t423;
+        let t425: f64 = t417.minus(t424);
+        let t426: f64 = vz * t425;
+        let t427 = product(t294, t322);
+        let t428: f64 = t333 * t423;
+        let t429: f64 = t427.minus(t428);
+        let t430: f64 = vx * t429;
+        let t431 = product(t294, t314);
+        let t432: f64 = t367 * t423;
+        let t433: f64 = t431.minus(t432);
+        let t434: f64 = vy * t433;
+        let t435: f64 = t430 + t434;
+        let t436: f64 = t426 + t435;
+        let t437: f64 = t341 * t436;
+        let t438: f64 = arm1_rod_ixx * t436;
+        let t439 = product(t437, t438);
+        let t440: f64 = arm1_rod_izz * t436;
+        let t441 = product(t437, t440);
+        let t442 = product(gravity_x, t318);
+        let t443: f64 = gravity_y * t324;
+        let t444 = product(gravity_z, t328);
+        let t445: f64 = t442.plus(t443);
+        let t446: f64 = t444.plus(t445);
+        let t447 = product(az, t372);
+        let t448 = product(ax, t333);
+        let t449: f64 = ay * t367;
+        let t450: f64 = t448.plus(t449);
+        let t451: f64 = t447.plus(t450);
+        let t452 = product(t331, t451);
+        let t453: f64 = t452.added_to(t410);
+        let t454: f64 = t453 - t446;
+        let t455: f64 = arm1_rod_mz * t454;
+        let t456: f64 = t441.minus(t455);
+        let t457: f64 = t416.plus(t456);
+        let t458: f64 = t439.subtracted_from(t457);
+        let t459: f64 = t458 * 2.0;
+        let t460 = product(t335, t459);
+        let t461: f64 = 1.0 / arm2_rod_length;
+        let t462: f64 = t175 * t461;
+        let t463 = product(arm2_axis_x, t462);
+        let t464: f64 = t157 * t461;
+        let t465: f64 = arm2_axis_z * t464;
+        let t466: f64 = t463.minus(t465);
+        let t467: f64 = t150 * t461;
+        let t468 = product(arm2_axis_z, t467);
+        let t469: f64 = arm2_axis_y * t462;
+        let t470: f64 = t468.minus(t469);
+        let t471 = product(t470, t470);
+        let t472: f64 = t466 * t466;
+        let t473 = product(arm2_axis_y, t464);
+        let t474: f64 = arm2_axis_x * t467;
+        let t475: f64 = t473.minus(t474);
+        let t476 = product(t475, t475);
+        let t477: f64 = t471.plus(t472);
+        let t478: f64 = t476.plus(t477);
+        let t479: f64 = sqrt(t478);
+        let t480: f64 = 1.0 / t479;
+        let t481: f64 = t466 * t480;
+        let t482 = product(t462, t481);
+        let t483: f64 = t475 * t480;
+        let t484: f64 = t467 * t483;
+        let t485: f64 = t482.minus(t484);
+        let t486: f64 = t461 * t485;
+        let t487 = product(t160, t485);
+        let t488 = product(t464, t483);
+        let t489: f64 = t470 * t480;
+        let t490: f64 = t462 * t489;
+        let t491: f64 = t488.minus(t490);
+        let t492: f64 = t164 * t491;
+        let t493 = product(t467, t489);
+        let t494: f64 = t464 * t481;
+        let t495: f64 = t493.minus(t494);
+        let t496 = product(t168, t495);
+        let t497: f64 = t487.plus(t492);
+        let t498: f64 = t496.plus(t497);
+        let t499: f64 = t461 * t498;
+        let t500: f64 = arm2_crank_length * t279;
+        let t501 = product(t499, t500);
+        let t502: f64 = t501.subtracted_from(t486);
+        let t503 = product(arm2_axis_x, t464);
+        let t504: f64 = arm2_axis_y * t467;
+        let t505 = product(arm2_axis_z, t462);
+        let t506: f64 = t503.plus(t504);
+        let t507: f64 = t505.plus(t506);
+        let t508: f64 = t480 * t507;
+        let t509 = product(vx, t279);
+        let t510: f64 = vy * t181;
+        let t511 = product(vz, t274);
+        let t512: f64 = t509.plus(t510);
+        let t513: f64 = t511.plus(t512);
+        let t514: f64 = arm2_crank_length * t160;
+        let t515 = product(t513, t514);
+        let t516: f64 = t515.subtracted_from(vx);
+        let t517 = product(t489, t516);
+        let t518: f64 = arm2_crank_length * t164;
+        let t519 = product(t513, t518);
+        let t520: f64 = t519.subtracted_from(vy);
+        let t521: f64 = t481 * t520;
+        let t522: f64 = arm2_crank_length * t168;
+        let t523 = product(t513, t522);
+        let t524: f64 = t523.subtracted_from(vz);
+        let t525 = product(t483, t524);
+        let t526: f64 = t517.plus(t521);
+        let t527: f64 = t525.plus(t526);
+        let t528: f64 = t461 * t508;
+        let t529: f64 = t527 * t528;
+        let t530: f64 = t461 * t527;
+        let t531 = product(t529, t530);
+        let t532 = product(ax, t502);
+        let t533: f64 = t461 * t491;
+        let t534: f64 = arm2_crank_length * t181;
+        let t535 = product(t499, t534);
+        let t536: f64 = t535.subtracted_from(t533);
+        let t537: f64 = ay * t536;
+        let t538: f64 = t461 * t495;
+        let t539: f64 = arm2_crank_length * t274;
+        let t540 = product(t499, t539);
+        let t541: f64 = t540.subtracted_from(t538);
+        let t542 = product(az, t541);
+        let t543: f64 = t513 * t513;
+        let t544 = product(t171, t543);
+        let t545 = product(t153, t157);
+        let t546: f64 = t146 * t150;
+        let t547 = product(t171, t175);
+        let t548: f64 = t545.plus(t546);
+        let t549: f64 = t547.plus(t548);
+        let t550: f64 = arm2_crank_length * t543;
+        let t551 = product(t549, t550);
+        let t552: f64 = t516 * t516;
+        let t553 = product(t520, t520);
+        let t554: f64 = t524 * t524;
+        let t555: f64 = t551.plus(t552);
+        let t556: f64 = t553.plus(t554);
+        let t557: f64 = t555 + t556;
+        let t558: f64 = t180 * t557;
+        let t559: f64 = t168 * t558;
+        let t560: f64 = t544.minus(t559);
+        let t561: f64 = arm2_crank_length * t560;
+        let t562: f64 = -t561;
+        let t563 = product(t495, t562);
+        let t564 = product(t153, t543);
+        let t565: f64 = t160 * t558;
+        let t566: f64 = t564.minus(t565);
+        let t567: f64 = arm2_crank_length * t566;
+        let t568: f64 = -t567;
+        let t569 = product(t485, t568);
+        let t570 = product(t146, t543);
+        let t571: f64 = t164 * t558;
         let t572: f64 = t570.minus(t571);
-        let t573 = product(t572, t572);
-        let t574: f64 = t568 * t568;
-        let t575 = product(arm2_axis_y, t566);
-        let t576: f64 = arm2_axis_x * t569;
-        let t577: f64 = t575.minus(t576);
-        let t578 = product(t577, t577);
-        let t579: f64 = t573.plus(t574);
-        let t580: f64 = t578.plus(t579);
-        let t581: f64 = sqrt(t580);
-        let t582: f64 = 1.0 / t581;
-        let t583: f64 = t568 * t582;
-        let t584 = product(t564, t583);
-        let t585: f64 = t577 * t582;
-        let t586: f64 = t569 * t585;
-        let t587: f64 = t584.minus(t586);
-        let t588 = product(t563, t587);
-        let t589 = product(t160, t587);
-        let t590 = product(t566, t585);
-        let t591: f64 = t572 * t582;
-        let t592: f64 = t564 * t591;
-        let t593: f64 = t590.minus(t592);
-        let t594: f64 = t164 * t593;
-        let t595 = product(t569, t591);
-        let t596: f64 = t566 * t583;
-        let t597: f64 = t595.minus(t596);
-        let t598 = product(t168, t597);
-        let t599: f64 = t589.plus(t594);
-        let t600: f64 = t598.plus(t599);
-        let t601: f64 = t563 * t600;
-        let t602: f64 = arm2_crank_length * t279;
-        let t603: f64 = t601 * t602;
-        let t604: f64 = t588.minus(t603);
-        let t605 = product(t563, t591);
-        let t606 = product(t160, t591);
-        let t607: f64 = t164 * t583;
-        let t608 = product(t168, t585);
-        let t609: f64 = t606.plus(t607);
-        let t610: f64 = t608.plus(t609);
-        let t611: f64 = t563 * t610;
-        let t612: f64 = t602 * t611;
-        let t613: f64 = t605.minus(t612);
-        let t614 = product(vx, t613);
-        let t615 = product(t563, t583);
-        let t616: f64 = arm2_crank_length * t181;
-        let t617: f64 = t611 * t616;
-        let t618: f64 = t615.minus(t617);
-        let t619: f64 = vy * t618;
-        let t620 = product(t563, t585);
-        let t621: f64 = arm2_crank_length * t274;
-        let t622: f64 = t611 * t621;
-        let t623: f64 = t620.minus(t622);
-        let t624 = product(vz, t623);
-        let t625: f64 = t614.plus(t619);
-        let t626: f64 = t624.plus(t625);
-        let t627 = product(arm2_axis_x, t566);
-        let t628: f64 = arm2_axis_y * t569;
-        let t629 = product(arm2_axis_z, t564);
-        let t630: f64 = t627.plus(t628);
-        let t631: f64 = t629.plus(t630);
-        let t632: f64 = t582 * t631;
-        let t633: f64 = t626 * t632;
-        let t634: f64 = arm2_rod_izz * t626;
-        let t635 = product(t633, t634);
-        let t636 = product(gravity_x, t587);
-        let t637: f64 = gravity_y * t593;
-        let t638 = product(gravity_z, t597);
-        let t639: f64 = t636.plus(t637);
-        let t640: f64 = t638.plus(t639);
-        let t641 = product(ax, t602);
-        let t642: f64 = ay * t616;
-        let t643 = product(az, t621);
-        let t644: f64 = t641.plus(t642);
+        let t573: f64 = arm2_crank_length * t572;
+        let t574: f64 = -t573;
+        let t575: f64 = t491 * t574;
+        let t576: f64 = t569.plus(t575);
+        let t577: f64 = t563.plus(t576);
+        let t578: f64 = t461 * t577;
+        let t579: f64 = t531.plus(t578);
+        let t580: f64 = t532.plus(t537);
+        let t581: f64 = t542.plus(t580);
+        let t582: f64 = t579 - t581;
+        let t583 = product(arm2_rod_ixx, t582);
+        let t584 = product(t461, t483);
+        let t585 = product(t160, t489);
+        let t586: f64 = t164 * t481;
+        let t587 = product(t168, t483);
+        let t588: f64 = t585.plus(t586);
+        let t589: f64 = t587.plus(t588);
+        let t590: f64 = t461 * t589;
+        let t591: f64 = t539 * t590;
+        let t592: f64 = t584.minus(t591);
+        let t593: f64 = vz * t592;
+        let t594 = product(t461, t489);
+        let t595: f64 = t500 * t590;
+        let t596: f64 = t594.minus(t595);
+        let t597: f64 = vx * t596;
+        let t598 = product(t461, t481);
+        let t599: f64 = t534 * t590;
+        let t600: f64 = t598.minus(t599);
+        let t601: f64 = vy * t600;
+        let t602: f64 = t597 + t601;
+        let t603: f64 = t593 + t602;
+        let t604: f64 = t508 * t603;
+        let t605: f64 = arm2_rod_ixx * t603;
+        let t606 = product(t604, t605);
+        let t607: f64 = arm2_rod_izz * t603;
+        let t608 = product(t604, t607);
+        let t609 = product(gravity_x, t485);
+        let t610: f64 = gravity_y * t491;
+        let t611 = product(gravity_z, t495);
+        let t612: f64 = t609.plus(t610);
+        let t613: f64 = t611.plus(t612);
+        let t614 = product(az, t539);
+        let t615 = product(ax, t500);
+        let t616: f64 = ay * t534;
+        let t617: f64 = t615.plus(t616);
+        let t618: f64 = t614.plus(t617);
+        let t619 = product(t498, t618);
+        let t620: f64 = t619.added_to(t577);
+        let t621: f64 = t620 - t613;
+        let t622: f64 = arm2_rod_mz * t621;
+        let t623: f64 = t608.minus(t622);
+        let t624: f64 = t583.plus(t623);
+        let t625: f64 = t606.subtracted_from(t624);
+        let t626: f64 = t625 * 2.0;
+        let t627: f64 = t502 * t626;
+        let t628: f64 = 1.0 / arm3_rod_length;
+        let t629: f64 = t241 * t628;
+        let t630 = product(arm3_axis_x, t629);
+        let t631: f64 = t248 * t628;
+        let t632: f64 = arm3_axis_z * t631;
+        let t633: f64 = t630.minus(t632);
+        let t634: f64 = t262 * t628;
+        let t635 = product(arm3_axis_z, t634);
+        let t636: f64 = arm3_axis_y * t629;
+        let t637: f64 = t635.minus(t636);
+        let t638 = product(t637, t637);
+        let t639: f64 = t633 * t633;
+        let t640 = product(arm3_axis_y, t631);
+        let t641: f64 = arm3_axis_x * t634;
+        let t642: f64 = t640.minus(t641);
+        let t643 = product(t642, t642);
+        let t644: f64 = t638.plus(t639);
         let t645: f64 = t643.plus(t644);
-        let t646 = product(t600, t645);
-        let t647 = product(t168, t369);
-        let t648: f64 = t171 * t346;
-        let t649: f64 = t647.minus(t648);
-        let t650: f64 = arm2_crank_length * t649;
-        let t651 = product(t597, t650);
-        let t652 = product(t160, t369);
-        let t653: f64 = t153 * t346;
-        let t654: f64 = t652.minus(t653);
-        let t655: f64 = arm2_crank_length * t654;
-        let t656 = product(t587, t655);
-        let t657 = product(t164, t369);
-        let t658: f64 = t146 * t346;
-        let t659: f64 = t657.minus(t658);
-        let t660: f64 = arm2_crank_length * t659;
-        let t661: f64 = t593 * t660;
-        let t662: f64 = t656.plus(t661);
-        let t663: f64 = t651.plus(t662);
-        let t664: f64 = t646.plus(t663);
-        let t665: f64 = t664 - t640;
-        let t666: f64 = arm2_rod_mz * t665;
-        let t667 = product(t356, t591);
-        let t668: f64 = t360 * t583;
-        let t669 = product(t364, t585);
-        let t670: f64 = t667.plus(t668);
-        let t671: f64 = t669.plus(t670);
-        let t672: f64 = t563 * t632;
-        let t673: f64 = t671 * t672;
-        let t674: f64 = t563 * t671;
-        let t675 = product(t673, t674);
-        let t676 = product(ax, t604);
-        let t677 = product(t563, t593);
-        let t678: f64 = t601 * t616;
-        let t679: f64 = t677.minus(t678);
-        let t680: f64 = ay * t679;
-        let t681 = product(t563, t597);
-        let t682: f64 = t601 * t621;
-        let t683: f64 = t681.minus(t682);
-        let t684 = product(az, t683);
-        let t685: f64 = t563 * t663;
-        let t686: f64 = t675.plus(t685);
-        let t687: f64 = t676.plus(t680);
-        let t688: f64 = t684.plus(t687);
-        let t689: f64 = t686 - t688;
-        let t690 = product(t626, t633);
-        let t691: f64 = t690.subtracted_from(t689);
-        let t692: f64 = t691 * 2.0;
-        let t693 = product(arm2_rod_ixx, t692);
-        let t694: f64 = t635.minus(t666);
-        let t695: f64 = t694 * 2.0;
-        let t696: f64 = t693.plus(t695);
-        let t697: f64 = t604 * t696;
-        let t698: f64 = 1.0 / arm3_rod_length;
-        let t699: f64 = t241 * t698;
-        let t700 = product(arm3_axis_x, t699);
-        let t701: f64 = t248 * t698;
-        let t702: f64 = arm3_axis_z * t701;
-        let t703: f64 = t700.minus(t702);
-        let t704: f64 = t262 * t698;
-        let t705 = product(arm3_axis_z, t704);
-        let t706: f64 = arm3_axis_y * t699;
-        let t707: f64 = t705.minus(t706);
-        let t708 = product(t707, t707);
-        let t709: f64 = t703 * t703;
-        let t710 = product(arm3_axis_y, t701);
-        let t711: f64 = arm3_axis_x * t704;
-        let t712: f64 = t710.minus(t711);
-        let t713 = product(t712, t712);
-        let t714: f64 = t708.plus(t709);
-        let t715: f64 = t713.plus(t714);
-        let t716: f64 = sqrt(t715);
-        let t717: f64 = 1.0 / t716;
-        let t718: f64 = t703 * t717;
-        let t719 = product(t699, t718);
-        let t720: f64 = t712 * t717;
-        let t721: f64 = t704 * t720;
-        let t722: f64 = t719.minus(t721);
-        let t723 = product(t698, t722);
-        let t724 = product(t251, t722);
-        let t725 = product(t701, t720);
-        let t726: f64 = t707 * t717;
-        let t727: f64 = t699 * t726;
-        let t728: f64 = t725.minus(t727);
-        let t729: f64 = t255 * t728;
-        let t730 = product(t704, t726);
-        let t731: f64 = t701 * t718;
-        let t732: f64 = t730.minus(t731);
-        let t733 = product(t266, t732);
-        let t734: f64 = t724.plus(t729);
-        let t735: f64 = t733.plus(t734);
-        let t736: f64 = t698 * t735;
-        let t737: f64 = arm3_crank_length * t286;
-        let t738: f64 = t736 * t737;
-        let t739: f64 = t723.minus(t738);
-        let t740 = product(t698, t726);
-        let t741 = product(t251, t726);
-        let t742: f64 = t255 * t718;
-        let t743 = product(t266, t720);
-        let t744: f64 = t741.plus(t742);
-        let t745: f64 = t743.plus(t744);
-        let t746: f64 = t698 * t745;
-        let t747: f64 = t737 * t746;
-        let t748: f64 = t740.minus(t747);
-        let t749 = product(vx, t748);
-        let t750 = product(t698, t718);
-        let t751: f64 = arm3_crank_length * t275;
-        let t752: f64 = t746 * t751;
-        let t753: f64 = t750.minus(t752);
-        let t754: f64 = vy * t753;
-        let t755 = product(t698, t720);
-        let t756: f64 = arm3_crank_length * t272;
-        let t757: f64 = t746 * t756;
-        let t758: f64 = t755.minus(t757);
-        let t759 = product(vz, t758);
-        let t760: f64 = t749.plus(t754);
-        let t761: f64 = t759.plus(t760);
-        let t762 = product(arm3_axis_x, t701);
-        let t763: f64 = arm3_axis_y * t704;
-        let t764 = product(arm3_axis_z, t699);
-        let t765: f64 = t762.plus(t763);
-        let t766: f64 = t764.plus(t765);
-        let t767: f64 = t717 * t766;
-        let t768: f64 = t761 * t767;
-        let t769: f64 = arm3_rod_izz * t761;
-        let t770 = product(t768, t769);
-        let t771 = product(gravity_x, t722);
-        let t772: f64 = gravity_y * t728;
-        let t773 = product(gravity_z, t732);
-        let t774: f64 = t771.plus(t772);
-        let t775: f64 = t773.plus(t774);
-        let t776 = product(ax, t737);
-        let t777: f64 = ay * t751;
-        let t778 = product(az, t756);
+        let t646: f64 = sqrt(t645);
+        let t647: f64 = 1.0 / t646;
+        let t648: f64 = t633 * t647;
+        let t649 = product(t629, t648);
+        let t650: f64 = t642 * t647;
+        let t651: f64 = t634 * t650;
+        let t652: f64 = t649.minus(t651);
+        let t653: f64 = t628 * t652;
+        let t654 = product(t251, t652);
+        let t655 = product(t631, t650);
+        let t656: f64 = t637 * t647;
+        let t657: f64 = t629 * t656;
+        let t658: f64 = t655.minus(t657);
+        let t659: f64 = t255 * t658;
+        let t660 = product(t634, t656);
+        let t661: f64 = t631 * t648;
+        let t662: f64 = t660.minus(t661);
+        let t663 = product(t266, t662);
+        let t664: f64 = t654.plus(t659);
+        let t665: f64 = t663.plus(t664);
+        let t666: f64 = t628 * t665;
+        let t667: f64 = arm3_crank_length * t286;
+        let t668 = product(t666, t667);
+        let t669: f64 = t668.subtracted_from(t653);
+        let t670 = product(arm3_axis_x, t631);
+        let t671: f64 = arm3_axis_y * t634;
+        let t672 = product(arm3_axis_z, t629);
+        let t673: f64 = t670.plus(t671);
+        let t674: f64 = t672.plus(t673);
+        let t675: f64 = t647 * t674;
+        let t676 = product(vx, t286);
+        let t677: f64 = vy * t275;
+        let t678 = product(vz, t272);
+        let t679: f64 = t676.plus(t677);
+        let t680: f64 = t678.plus(t679);
+        let t681: f64 = arm3_crank_length * t251;
+        let t682 = product(t680, t681);
+        let t683: f64 = t682.subtracted_from(vx);
+        let t684 = product(t656, t683);
+        let t685: f64 = arm3_crank_length * t255;
+        let t686 = product(t680, t685);
+        let t687: f64 = t686.subtracted_from(vy);
+        let t688: f64 = t648 * t687;
+        let t689: f64 = arm3_crank_length * t266;
+        let t690 = product(t680, t689);
+        let t691: f64 = t690.subtracted_from(vz);
+        let t692 = product(t650, t691);
+        let t693: f64 = t684.plus(t688);
+        let t694: f64 = t692.plus(t693);
+        let t695: f64 = t628 * t675;
+        let t696: f64 = t694 * t695;
+        let t697: f64 = t628 * t694;
+        let t698 = product(t696, t697);
+        let t699 = product(ax, t669);
+        let t700: f64 = t628 * t658;
+        let t701: f64 = arm3_crank_length * t275;
+        let t702 = product(t666, t701);
+        let t703: f64 = t702.subtracted_from(t700);
+        let t704: f64 = ay * t703;
+        let t705: f64 = t628 * t662;
+        let t706: f64 = arm3_crank_length * t272;
+        let t707 = product(t666, t706);
+        let t708: f64 = t707.subtracted_from(t705);
+        let t709 = product(az, t708);
+        let t710: f64 = t680 * t680;
+        let t711 = product(t237, t710);
+        let t712 = product(t244, t248);
+        let t713: f64 = t258 * t262;
+        let t714 = product(t237, t241);
+        let t715: f64 = t712.plus(t713);
+        let t716: f64 = t714.plus(t715);
+        let t717: f64 = arm3_crank_length * t710;
+        let t718 = product(t716, t717);
+        let t719: f64 = t683 * t683;
+        let t720 = product(t687, t687);
+        let t721: f64 = t691 * t691;
+        let t722: f64 = t718.plus(t719);
+        let t723: f64 = t720.plus(t721);
+        let t724: f64 = t722 + t723;
+        let t725: f64 = t271 * t724;
+        let t726: f64 = t266 * t725;
+        let t727: f64 = t711.minus(t726);
+        let t728: f64 = arm3_crank_length * t727;
+        let t729: f64 = -t728;
+        let t730 = product(t662, t729);
+        let t731 = product(t244, t710);
+        let t732: f64 = t251 * t725;
+        let t733: f64 = t731.minus(t732);
+        let t734: f64 = arm3_crank_length * t733;
+        let t735: f64 = -t734;
+        let t736 = product(t652, t735);
+        let t737 = product(t258, t710);
+        let t738: f64 = t255 * t725;
+        let t739: f64 = t737.minus(t738);
+        let t740: f64 = arm3_crank_length * t739;
+        let t741: f64 = -t740;
+        let t742: f64 = t658 * t741;
+        let t743: f64 = t736.plus(t742);
+        let t744: f64 = t730.plus(t743);
+        let t745: f64 = t628 * t744;
+        let t746: f64 = t698.plus(t745);
+        let t747: f64 = t699.plus(t704);
+        let t748: f64 = t709.plus(t747);
+        let t749: f64 = t746 - t748;
+        let t750 = product(arm3_rod_ixx, t749);
+        let t751 = product(t628, t650);
+        let t752 = product(t251, t656);
+        let t753: f64 = t255 * t648;
+        let t754 = product(t266, t650);
+        let t755: f64 = t752.plus(t753);
+        let t756: f64 = t754.plus(t755);
+        let t757: f64 = t628 * t756;
+        let t758: f64 = t706 * t757;
+        let t759: f64 = t751.minus(t758);
+        let t760: f64 = vz * t759;
+        let t761 = product(t628, t656);
+        let t762: f64 = t667 * t757;
+        let t763: f64 = t761.minus(t762);
+        let t764: f64 = vx * t763;
+        let t765 = product(t628, t648);
+        let t766: f64 = t701 * t757;
+        let t767: f64 = t765.minus(t766);
+        let t768: f64 = vy * t767;
+        let t769: f64 = t764 + t768;
+        let t770: f64 = t760 + t769;
+        let t771: f64 = t675 * t770;
+        let t772: f64 = arm3_rod_ixx * t770;
+        let t773 = product(t771, t772);
+        let t774: f64 = arm3_rod_izz * t770;
+        let t775 = product(t771, t774);
+        let t776 = product(gravity_x, t652);
+        let t777: f64 = gravity_y * t658;
+        let t778 = product(gravity_z, t662);
         let t779: f64 = t776.plus(t777);
         let t780: f64 = t778.plus(t779);
-        let t781 = product(t735, t780);
-        let t782 = product(t266, t413);
-        let t783: f64 = t237 * t390;
-        let t784: f64 = t782.minus(t783);
-        let t785: f64 = arm3_crank_length * t784;
-        let t786 = product(t732, t785);
-        let t787 = product(t251, t413);
-        let t788: f64 = t244 * t390;
-        let t789: f64 = t787.minus(t788);
-        let t790: f64 = arm3_crank_length * t789;
-        let t791 = product(t722, t790);
-        let t792 = product(t255, t413);
-        let t793: f64 = t258 * t390;
-        let t794: f64 = t792.minus(t793);
-        let t795: f64 = arm3_crank_length * t794;
-        let t796: f64 = t728 * t795;
-        let t797: f64 = t791.plus(t796);
-        let t798: f64 = t786.plus(t797);
-        let t799: f64 = t781.plus(t798);
-        let t800: f64 = t799 - t775;
-        let t801: f64 = arm3_rod_mz * t800;
-        let t802 = product(t400, t726);
-        let t803: f64 = t404 * t718;
-        let t804 = product(t408, t720);
-        let t805: f64 = t802.plus(t803);
-        let t806: f64 = t804.plus(t805);
-        let t807: f64 = t698 * t767;
-        let t808: f64 = t806 * t807;
-        let t809: f64 = t698 * t806;
-        let t810 = product(t808, t809);
-        let t811 = product(ax, t739);
-        let t812 = product(t698, t728);
-        let t813: f64 = t736 * t751;
-        let t814: f64 = t812.minus(t813);
-        let t815: f64 = ay * t814;
-        let t816 = product(t698, t732);
-        let t817: f64 = t736 * t756;
-        let t818: f64 = t816.minus(t817);
-        let t819 = product(az, t818);
-        let t820: f64 = t698 * t798;
-        let t821: f64 = t810.plus(t820);
-        let t822: f64 = t811.plus(t815);
-        let t823: f64 = t819.plus(t822);
-        let t824: f64 = t821 - t823;
-        let t825 = product(t761, t768);
-        let t826: f64 = t825.subtracted_from(t824);
-        let t827: f64 = t826 * 2.0;
-        let t828 = product(arm3_rod_ixx, t827);
-        let t829: f64 = t770.minus(t801);
-        let t830: f64 = t829 * 2.0;
-        let t831: f64 = t828.plus(t830);
-        let t832 = product(t739, t831);
-        let t833: f64 = arm1_rod_mass * t530;
-        let t834 = product(arm1_rod_mz, t557);
-        let t835: f64 = t833 * 2.0;
-        let t836: f64 = t834.subtracted_from(t835);
-        let t837 = product(t465, t836);
-        let t838 = product(gravity_x, t456);
-        let t839: f64 = gravity_y * t448;
-        let t840 = product(gravity_z, t450);
-        let t841: f64 = t838.plus(t839);
-        let t842: f64 = t840.plus(t841);
-        let t843 = product(t475, t510);
-        let t844 = product(t450, t515);
-        let t845 = product(t456, t520);
-        let t846: f64 = t448 * t525;
-        let t847: f64 = t845.plus(t846);
-        let t848: f64 = t844.plus(t847);
-        let t849: f64 = t843.plus(t848);
-        let t850: f64 = t849 - t842;
-        let t851: f64 = arm1_rod_mass * t850;
-        let t852 = product(t312, t452);
-        let t853: f64 = t316 * t458;
-        let t854 = product(t320, t462);
-        let t855: f64 = t852.plus(t853);
-        let t856: f64 = t854.plus(t855);
-        let t857: f64 = t428 * t856;
-        let t858 = product(t538, t857);
-        let t859: f64 = ax * t478;
-        let t860 = product(ay, t483);
-        let t861: f64 = az * t488;
-        let t862 = product(t428, t848);
-        let t863: f64 = t858.plus(t859);
-        let t864: f64 = t860.plus(t861);
-        let t865: f64 = t863 + t864;
-        let t866: f64 = t862.subtracted_from(t865);
-        let t867 = product(vx, t469);
-        let t868: f64 = vy * t544;
-        let t869 = product(vz, t548);
-        let t870: f64 = t867.plus(t868);
-        let t871: f64 = t869.plus(t870);
-        let t872: f64 = t498 * t871;
-        let t873: f64 = t866 - t872;
-        let t874: f64 = t873 * 2.0;
-        let t875 = product(arm1_rod_mz, t874);
-        let t876: f64 = t851 * 2.0;
-        let t877: f64 = t875.plus(t876);
-        let t878: f64 = t475 * t877;
-        let t879 = product(t62, t431);
-        let t880: f64 = t66 * t434;
-        let t881 = product(t77, t429);
-        let t882: f64 = t879.plus(t880);
-        let t883: f64 = t881.plus(t882);
-        let t884 = product(gravity_x, t431);
-        let t885: f64 = gravity_y * t434;
-        let t886 = product(gravity_z, t429);
-        let t887: f64 = t884.plus(t885);
-        let t888: f64 = t886.plus(t887);
-        let t889 = product(t431, t520);
-        let t890: f64 = t434 * t525;
-        let t891 = product(t429, t515);
-        let t892: f64 = t510 * t883;
-        let t893: f64 = t889.plus(t890);
-        let t894: f64 = t891.plus(t892);
-        let t895: f64 = t893 + t894;
-        let t896: f64 = t895 - t888;
-        let t897: f64 = arm1_rod_mass * t896;
-        let t898 = product(t491, t491);
-        let t899: f64 = t871 * t871;
-        let t900: f64 = t898.plus(t899);
-        let t901: f64 = t900 * 2.0;
-        let t902 = product(arm1_rod_mz, t901);
-        let t903: f64 = t897 * 2.0;
-        let t904: f64 = t902.subtracted_from(t903);
-        let t905 = product(t883, t904);
-        let t906: f64 = t837.plus(t878);
-        let t907: f64 = t905.plus(t906);
-        let t908 = product(t467, t907);
-        let t909: f64 = arm2_rod_mass * t665;
-        let t910 = product(arm2_rod_mz, t692);
-        let t911: f64 = t909 * 2.0;
-        let t912: f64 = t910.subtracted_from(t911);
-        let t913 = product(t600, t912);
-        let t914 = product(gravity_x, t591);
-        let t915: f64 = gravity_y * t583;
-        let t916 = product(gravity_z, t585);
-        let t917: f64 = t914.plus(t915);
-        let t918: f64 = t916.plus(t917);
-        let t919 = product(t610, t645);
-        let t920 = product(t585, t650);
-        let t921 = product(t591, t655);
-        let t922: f64 = t583 * t660;
-        let t923: f64 = t921.plus(t922);
-        let t924: f64 = t920.plus(t923);
-        let t925: f64 = t919.plus(t924);
-        let t926: f64 = t925 - t918;
-        let t927: f64 = arm2_rod_mass * t926;
-        let t928 = product(t356, t587);
-        let t929: f64 = t360 * t593;
-        let t930 = product(t364, t597);
-        let t931: f64 = t928.plus(t929);
+        let t781 = product(az, t706);
+        let t782 = product(ax, t667);
+        let t783: f64 = ay * t701;
+        let t784: f64 = t782.plus(t783);
+        let t785: f64 = t781.plus(t784);
+        let t786 = product(t665, t785);
+        let t787: f64 = t786.added_to(t744);
+        let t788: f64 = t787 - t780;
+        let t789: f64 = arm3_rod_mz * t788;
+        let t790: f64 = t775.minus(t789);
+        let t791: f64 = t750.plus(t790);
+        let t792: f64 = t773.subtracted_from(t791);
+        let t793: f64 = t792 * 2.0;
+        let t794 = product(t669, t793);
+        let t795 = product(t62, t297);
+        let t796: f64 = t66 * t300;
+        let t797 = product(t77, t295);
+        let t798: f64 = t795.plus(t796);
+        let t799: f64 = t797.plus(t798);
+        let t800 = product(gravity_x, t297);
+        let t801: f64 = gravity_y * t300;
+        let t802 = product(gravity_z, t295);
+        let t803: f64 = t800.plus(t801);
+        let t804: f64 = t802.plus(t803);
+        let t805 = product(t297, t401);
+        let t806: f64 = t300 * t407;
+        let t807 = product(t295, t395);
+        let t808: f64 = t451 * t799;
+        let t809: f64 = t805.plus(t806);
+        let t810: f64 = t807.plus(t808);
+        let t811: f64 = t809 + t810;
+        let t812: f64 = t804 - t811;
+        let t813: f64 = -t812;
+        let t814: f64 = arm1_rod_mass * t813;
+        let t815 = product(vx, t335);
+        let t816: f64 = vy * t369;
+        let t817 = product(vz, t374);
+        let t818: f64 = t815.plus(t816);
+        let t819: f64 = t817.plus(t818);
+        let t820 = product(t819, t819);
+        let t821: f64 = t436 * t436;
+        let t822: f64 = t820.plus(t821);
+        let t823: f64 = t822 * 2.0;
+        let t824: f64 = arm1_rod_mz * t823;
+        let t825 = product(t814, 2.0);
+        let t826: f64 = t825.minus(t824);
+        let t827 = product(t799, t826);
+        let t828: f64 = arm1_rod_mass * t454;
+        let t829 = product(t436, t437);
+        let t830: f64 = t829.subtracted_from(t415);
+        let t831: f64 = t830 * 2.0;
+        let t832 = product(arm1_rod_mz, t831);
+        let t833: f64 = t828 * 2.0;
+        let t834: f64 = t832.subtracted_from(t833);
+        let t835 = product(t331, t834);
+        let t836 = product(gravity_x, t322);
+        let t837: f64 = gravity_y * t314;
+        let t838 = product(gravity_z, t316);
+        let t839: f64 = t836.plus(t837);
+        let t840: f64 = t838.plus(t839);
+        let t841 = product(t422, t451);
+        let t842 = product(t316, t395);
+        let t843 = product(t322, t401);
+        let t844: f64 = t314 * t407;
+        let t845: f64 = t843.plus(t844);
+        let t846: f64 = t842.plus(t845);
+        let t847: f64 = t841.plus(t846);
+        let t848: f64 = t847 - t840;
+        let t849: f64 = arm1_rod_mass * t848;
+        let t850 = product(ay, t433);
+        let t851: f64 = az * t425;
+        let t852: f64 = t850.plus(t851);
+        let t853 = product(t318, t349);
+        let t854: f64 = t324 * t353;
+        let t855 = product(t328, t357);
+        let t856: f64 = t853.plus(t854);
+        let t857: f64 = t855.plus(t856);
+        let t858: f64 = t294 * t857;
+        let t859 = product(t362, t858);
+        let t860: f64 = ax * t429;
+        let t861: f64 = t859.plus(t860);
+        let t862 = product(t294, t846);
+        let t863: f64 = t862.subtracted_from(t861);
+        let t864: f64 = t852 + t863;
+        let t865: f64 = t437 * t819;
+        let t866: f64 = t864 - t865;
+        let t867: f64 = t866 * 2.0;
+        let t868 = product(arm1_rod_mz, t867);
+        let t869: f64 = t849 * 2.0;
+        let t870: f64 = t868.plus(t869);
+        let t871: f64 = t422 * t870;
+        let t872: f64 = t835.plus(t871);
+        let t873: f64 = t827.plus(t872);
+        let t874 = product(t333, t873);
+        let t875 = product(t160, t464);
+        let t876: f64 = t164 * t467;
+        let t877 = product(t168, t462);
+        let t878: f64 = t875.plus(t876);
+        let t879: f64 = t877.plus(t878);
+        let t880 = product(gravity_x, t464);
+        let t881: f64 = gravity_y * t467;
+        let t882 = product(gravity_z, t462);
+        let t883: f64 = t880.plus(t881);
+        let t884: f64 = t882.plus(t883);
+        let t885 = product(t464, t568);
+        let t886: f64 = t467 * t574;
+        let t887 = product(t462, t562);
+        let t888: f64 = t618 * t879;
+        let t889: f64 = t885.plus(t886);
+        let t890: f64 = t887.plus(t888);
+        let t891: f64 = t889 + t890;
+        let t892: f64 = t884 - t891;
+        let t893: f64 = -t892;
+        let t894: f64 = arm2_rod_mass * t893;
+        let t895 = product(vx, t502);
+        let t896: f64 = vy * t536;
+        let t897 = product(vz, t541);
+        let t898: f64 = t895.plus(t896);
+        let t899: f64 = t897.plus(t898);
+        let t900 = product(t899, t899);
+        let t901: f64 = t603 * t603;
+        let t902: f64 = t900.plus(t901);
+        let t903: f64 = t902 * 2.0;
+        let t904: f64 = arm2_rod_mz * t903;
+        let t905 = product(t894, 2.0);
+        let t906: f64 = t905.minus(t904);
+        let t907 = product(t879, t906);
+        let t908: f64 = arm2_rod_mass * t621;
+        let t909 = product(t603, t604);
+        let t910: f64 = t909.subtracted_from(t582);
+        let t911: f64 = t910 * 2.0;
+        let t912 = product(arm2_rod_mz, t911);
+        let t913: f64 = t908 * 2.0;
+        let t914: f64 = t912.subtracted_from(t913);
+        let t915 = product(t498, t914);
+        let t916 = product(gravity_x, t489);
+        let t917: f64 = gravity_y * t481;
+        let t918 = product(gravity_z, t483);
+        let t919: f64 = t916.plus(t917);
+        let t920: f64 = t918.plus(t919);
+        let t921 = product(t589, t618);
+        let t922 = product(t483, t562);
+        let t923 = product(t489, t568);
+        let t924: f64 = t481 * t574;
+        let t925: f64 = t923.plus(t924);
+        let t926: f64 = t922.plus(t925);
+        let t927: f64 = t921.plus(t926);
+        let t928: f64 = t927 - t920;
+        let t929: f64 = arm2_rod_mass * t928;
+        let t930 = product(ay, t600);
+        let t931: f64 = az * t592;
         let t932: f64 = t930.plus(t931);
-        let t933: f64 = t563 * t932;
-        let t934 = product(t673, t933);
-        let t935: f64 = ax * t613;
-        let t936 = product(ay, t618);
-        let t937: f64 = az * t623;
-        let t938 = product(t563, t924);
-        let t939: f64 = t934.plus(t935);
-        let t940: f64 = t936.plus(t937);
-        let t941: f64 = t939 + t940;
-        let t942: f64 = t938.subtracted_from(t941);
-        let t943 = product(vx, t604);
-        let t944: f64 = vy * t679;
-        let t945 = product(vz, t683);
-        let t946: f64 = t943.plus(t944);
-        let t947: f64 = t945.plus(t946);
-        let t948: f64 = t633 * t947;
-        let t949: f64 = t942 - t948;
-        let t950: f64 = t949 * 2.0;
-        let t951 = product(arm2_rod_mz, t950);
-        let t952: f64 = t927 * 2.0;
-        let t953: f64 = t951.plus(t952);
-        let t954: f64 = t610 * t953;
-        let t955 = product(t160, t566);
-        let t956: f64 = t164 * t569;
-        let t957 = product(t168, t564);
-        let t958: f64 = t955.plus(t956);
-        let t959: f64 = t957.plus(t958);
-        let t960 = product(gravity_x, t566);
-        let t961: f64 = gravity_y * t569;
-        let t962 = product(gravity_z, t564);
-        let t963: f64 = t960.plus(t961);
-        let t964: f64 = t962.plus(t963);
-        let t965 = product(t566, t655);
-        let t966: f64 = t569 * t660;
-        let t967 = product(t564, t650);
-        let t968: f64 = t645 * t959;
-        let t969: f64 = t965.plus(t966);
-        let t970: f64 = t967.plus(t968);
-        let t971: f64 = t969 + t970;
-        let t972: f64 = t971 - t964;
-        let t973: f64 = arm2_rod_mass * t972;
-        let t974 = product(t626, t626);
-        let t975: f64 = t947 * t947;
-        let t976: f64 = t974.plus(t975);
-        let t977: f64 = t976 * 2.0;
-        let t978 = product(arm2_rod_mz, t977);
-        let t979: f64 = t973 * 2.0;
-        let t980: f64 = t978.subtracted_from(t979);
-        let t981 = product(t959, t980);
-        let t982: f64 = t913.plus(t954);
+        let t933 = product(t485, t516);
+        let t934: f64 = t491 * t520;
+        let t935 = product(t495, t524);
+        let t936: f64 = t933.plus(t934);
+        let t937: f64 = t935.plus(t936);
+        let t938: f64 = t461 * t937;
+        let t939 = product(t529, t938);
+        let t940: f64 = ax * t596;
+        let t941: f64 = t939.plus(t940);
+        let t942 = product(t461, t926);
+        let t943: f64 = t942.subtracted_from(t941);
+        let t944: f64 = t932 + t943;
+        let t945: f64 = t604 * t899;
+        let t946: f64 = t944 - t945;
+        let t947: f64 = t946 * 2.0;
+        let t948 = product(arm2_rod_mz, t947);
+        let t949: f64 = t929 * 2.0;
+        let t950: f64 = t948.plus(t949);
+        let t951: f64 = t589 * t950;
+        let t952: f64 = t915.plus(t951);
+        let t953: f64 = t907.plus(t952);
+        let t954: f64 = t500 * t953;
+        let t955: f64 = t874.plus(t954);
+        let t956 = product(t251, t631);
+        let t957: f64 = t255 * t634;
+        let t958 = product(t266, t629);
+        let t959: f64 = t956.plus(t957);
+        let t960: f64 = t958.plus(t959);
+        let t961 = product(gravity_x, t631);
+        let t962: f64 = gravity_y * t634;
+        let t963 = product(gravity_z, t629);
+        let t964: f64 = t961.plus(t962);
+        let t965: f64 = t963.plus(t964);
+        let t966 = product(t631, t735);
+        let t967: f64 = t634 * t741;
+        let t968 = product(t629, t729);
+        let t969: f64 = t785 * t960;
+        let t970: f64 = t966.plus(t967);
+        let t971: f64 = t968.plus(t969);
+        let t972: f64 = t970 + t971;
+        let t973: f64 = t965 - t972;
+        let t974: f64 = -t973;
+        let t975: f64 = arm3_rod_mass * t974;
+        let t976 = product(vx, t669);
+        let t977: f64 = vy * t703;
+        let t978 = product(vz, t708);
+        let t979: f64 = t976.plus(t977);
+        let t980: f64 = t978.plus(t979);
+        let t981 = product(t980, t980);
+        let t982: f64 = t770 * t770;
         let t983: f64 = t981.plus(t982);
-        let t984: f64 = t602 * t983;
-        let t985: f64 = arm3_rod_mass * t800;
-        let t986 = product(arm3_rod_mz, t827);
-        let t987: f64 = t985 * 2.0;
-        let t988: f64 = t986.subtracted_from(t987);
-        let t989 = product(t735, t988);
-        let t990 = product(gravity_x, t726);
-        let t991: f64 = gravity_y * t718;
-        let t992 = product(gravity_z, t720);
-        let t993: f64 = t990.plus(t991);
-        let t994: f64 = t992.plus(t993);
-        let t995 = product(t745, t780);
-        let t996 = product(t720, t785);
-        let t997 = product(t726, t790);
-        let t998: f64 = t718 * t795;
-        let t999: f64 = t997.plus(t998);
+        let t984: f64 = t983 * 2.0;
+        let t985: f64 = arm3_rod_mz * t984;
+        let t986 = product(t975, 2.0);
+        let t987: f64 = t986.minus(t985);
+        let t988 = product(t960, t987);
+        let t989: f64 = arm3_rod_mass * t788;
+        let t990 = product(t770, t771);
+        let t991: f64 = t990.subtracted_from(t749);
+        let t992: f64 = t991 * 2.0;
+        let t993 = product(arm3_rod_mz, t992);
+        let t994: f64 = t989 * 2.0;
+        let t995: f64 = t993.subtracted_from(t994);
+        let t996 = product(t665, t995);
+        let t997 = product(gravity_x, t656);
+        let t998: f64 = gravity_y * t648;
+        let t999 = product(gravity_z, t650);
         (
             t1,
             t4,
@@ -1380,16 +1408,13 @@ pub fn inverse_dynamics_derivatives_params_separate(
             t47,
             t52,
             t55,
-            t56,
             t59,
             t62,
             t66,
             t69,
-            t70,
             t73,
             t77,
             t80,
-            t81,
             t84,
             t88,
             t89,
@@ -1411,16 +1436,13 @@ pub fn inverse_dynamics_derivatives_params_separate(
             t138,
             t143,
             t146,
-            t147,
             t150,
             t153,
-            t154,
             t157,
             t160,
             t164,
             t168,
             t171,
-            t172,
             t175,
             t179,
             t180,
@@ -1442,15 +1464,12 @@ pub fn inverse_dynamics_derivatives_params_separate(
             t229,
             t234,
             t237,
-            t238,
             t241,
             t244,
-            t245,
             t248,
             t251,
             t255,
             t258,
-            t259,
             t262,
             t266,
             t270,
@@ -1467,8932 +1486,7228 @@ pub fn inverse_dynamics_derivatives_params_separate(
             t286,
             t289,
             t293,
-            t301,
-            t307,
+            t294,
+            t295,
+            t297,
+            t299,
+            t300,
+            t303,
+            t308,
             t312,
+            t313,
+            t314,
             t316,
-            t320,
-            t325,
-            t336,
-            t337,
-            t345,
-            t351,
-            t356,
-            t360,
-            t364,
+            t318,
+            t319,
+            t322,
+            t324,
+            t328,
+            t331,
+            t332,
+            t333,
+            t335,
+            t340,
+            t341,
+            t346,
+            t349,
+            t353,
+            t357,
+            t362,
+            t363,
+            t366,
+            t367,
             t369,
-            t380,
-            t381,
-            t389,
+            t371,
+            t372,
+            t374,
+            t376,
+            t382,
+            t390,
+            t391,
+            t394,
             t395,
             t400,
-            t404,
-            t408,
-            t413,
-            t424,
+            t401,
+            t406,
+            t407,
+            t422,
+            t423,
             t425,
-            t427,
-            t428,
+            t426,
             t429,
-            t431,
+            t430,
             t433,
             t434,
+            t435,
+            t436,
             t437,
-            t442,
-            t446,
-            t447,
-            t448,
-            t450,
-            t452,
+            t451,
             t456,
-            t458,
+            t459,
+            t460,
+            t461,
             t462,
-            t465,
+            t464,
             t466,
             t467,
-            t469,
+            t470,
             t475,
-            t476,
-            t478,
+            t479,
+            t480,
             t481,
             t483,
+            t485,
             t486,
-            t488,
+            t489,
             t491,
-            t496,
-            t497,
+            t495,
             t498,
-            t510,
-            t515,
+            t499,
+            t500,
+            t502,
+            t507,
+            t508,
+            t513,
+            t516,
             t520,
-            t525,
+            t524,
+            t529,
+            t530,
+            t533,
+            t534,
             t536,
             t538,
             t539,
-            t544,
-            t548,
+            t541,
+            t543,
+            t549,
+            t557,
+            t558,
             t561,
             t562,
-            t563,
-            t564,
-            t566,
+            t567,
             t568,
-            t569,
-            t572,
-            t577,
-            t581,
-            t582,
-            t583,
-            t585,
-            t587,
-            t591,
+            t573,
+            t574,
+            t589,
+            t590,
+            t592,
             t593,
+            t596,
             t597,
             t600,
             t601,
             t602,
+            t603,
             t604,
-            t610,
-            t611,
-            t613,
-            t616,
             t618,
-            t621,
             t623,
             t626,
+            t627,
+            t628,
+            t629,
             t631,
-            t632,
             t633,
-            t645,
+            t634,
+            t637,
+            t642,
+            t646,
+            t647,
+            t648,
             t650,
-            t655,
-            t660,
-            t671,
-            t673,
+            t652,
+            t653,
+            t656,
+            t658,
+            t662,
+            t665,
+            t666,
+            t667,
+            t669,
             t674,
-            t679,
+            t675,
+            t680,
             t683,
+            t687,
+            t691,
             t696,
             t697,
-            t698,
-            t699,
+            t700,
             t701,
             t703,
-            t704,
-            t707,
-            t712,
+            t705,
+            t706,
+            t708,
+            t710,
             t716,
-            t717,
-            t718,
-            t720,
-            t722,
-            t726,
+            t724,
+            t725,
             t728,
-            t732,
+            t729,
+            t734,
             t735,
-            t736,
-            t737,
-            t739,
-            t745,
-            t746,
-            t748,
-            t751,
-            t753,
+            t740,
+            t741,
             t756,
-            t758,
-            t761,
-            t766,
+            t757,
+            t759,
+            t760,
+            t763,
+            t764,
             t767,
             t768,
-            t780,
+            t769,
+            t770,
+            t771,
             t785,
             t790,
-            t795,
-            t806,
-            t808,
-            t809,
-            t814,
-            t818,
+            t793,
+            t794,
+            t799,
+            t812,
+            t819,
+            t824,
             t831,
-            t832,
-            t836,
-            t850,
-            t857,
-            t866,
-            t871,
-            t872,
-            t874,
-            t877,
-            t883,
+            t834,
+            t848,
+            t858,
+            t864,
+            t865,
+            t867,
+            t870,
+            t873,
+            t879,
+            t892,
+            t899,
             t904,
-            t907,
-            t908,
-            t912,
-            t926,
-            t933,
-            t942,
+            t911,
+            t914,
+            t928,
+            t938,
+            t944,
+            t945,
             t947,
-            t948,
             t950,
             t953,
-            t959,
+            t955,
+            t960,
+            t973,
             t980,
-            t983,
-            t984,
+            t985,
             t988,
-            t989,
-            t994,
+            t992,
             t995,
             t996,
+            t997,
+            t998,
             t999,
         )
     };
     let (
-        t1009,
-        t1018,
-        t1023,
-        t1029,
-        t1035,
+        t1019,
+        t1031,
+        t1034,
+        t1038,
+        t1042,
+        t1048,
+        t1049,
         t1056,
-        t1059,
-        t1063,
-        t1065,
-        t1068,
-        t1069,
-        t1079,
-        t1081,
-        t1084,
-        t1085,
-        t1095,
-        t1097,
+        t1060,
+        t1066,
+        t1067,
+        t1082,
+        t1083,
         t1100,
-        t1101,
-        t1120,
-        t1124,
-        t1150,
-        t1154,
-        t1180,
-        t1184,
-        t1188,
-        t1192,
-        t1196,
-        t1197,
-        t1201,
+        t1115,
+        t1145,
+        t1175,
         t1205,
         t1209,
-        t1215,
+        t1213,
+        t1218,
+        t1222,
         t1226,
-        t1235,
-        t1241,
-        t1250,
-        t1251,
-        t1256,
-        t1260,
-        t1264,
-        t1268,
-        t1273,
-        t1275,
-        t1281,
-        t1283,
-        t1285,
+        t1230,
+        t1231,
+        t1232,
+        t1236,
+        t1240,
+        t1249,
+        t1253,
+        t1257,
+        t1259,
+        t1270,
+        t1279,
+        t1291,
         t1292,
-        t1303,
-        t1312,
-        t1318,
+        t1293,
+        t1294,
+        t1295,
+        t1296,
+        t1299,
+        t1300,
+        t1304,
+        t1307,
+        t1310,
+        t1311,
+        t1313,
+        t1314,
+        t1317,
+        t1319,
+        t1321,
+        t1323,
         t1327,
         t1328,
-        t1333,
-        t1337,
+        t1330,
+        t1331,
+        t1332,
+        t1334,
+        t1339,
+        t1340,
         t1341,
-        t1345,
+        t1343,
+        t1348,
         t1349,
-        t1352,
+        t1350,
+        t1355,
+        t1356,
+        t1357,
         t1358,
+        t1359,
         t1360,
-        t1362,
-        t1366,
+        t1363,
+        t1364,
+        t1365,
+        t1367,
         t1368,
-        t1372,
+        t1370,
+        t1371,
         t1374,
-        t1379,
+        t1375,
+        t1377,
+        t1378,
+        t1381,
         t1383,
-        t1386,
-        t1390,
-        t1393,
-        t1399,
+        t1385,
+        t1387,
+        t1391,
+        t1392,
+        t1394,
+        t1395,
+        t1396,
+        t1398,
+        t1403,
+        t1404,
+        t1405,
         t1407,
+        t1412,
         t1413,
+        t1414,
+        t1419,
+        t1420,
+        t1421,
+        t1422,
+        t1423,
         t1424,
-        t1433,
-        t1439,
-        t1449,
-        t1454,
-        t1458,
-        t1462,
-        t1481,
-        t1484,
+        t1427,
+        t1428,
+        t1432,
+        t1434,
+        t1441,
+        t1445,
+        t1450,
+        t1461,
+        t1472,
+        t1475,
+        t1477,
+        t1478,
+        t1479,
         t1490,
-        t1492,
-        t1497,
-        t1499,
-        t1504,
+        t1501,
+        t1505,
+        t1506,
+        t1509,
         t1513,
-        t1519,
-        t1520,
-        t1525,
-        t1529,
-        t1547,
+        t1514,
+        t1517,
+        t1533,
+        t1538,
+        t1540,
+        t1542,
         t1548,
-        t1551,
-        t1552,
-        t1559,
-        t1562,
-        t1564,
-        t1567,
-        t1574,
-        t1575,
-        t1579,
-        t1580,
+        t1566,
+        t1584,
+        t1585,
+        t1588,
         t1589,
-        t1604,
-        t1613,
-        t1619,
-        t1624,
-        t1629,
-        t1633,
-        t1639,
-        t1651,
-        t1652,
-        t1655,
-        t1656,
-        t1663,
-        t1666,
-        t1668,
-        t1671,
-        t1678,
-        t1679,
-        t1683,
-        t1684,
-        t1693,
-        t1708,
-        t1717,
-        t1723,
-        t1727,
-        t1728,
-        t1733,
-        t1737,
-        t1743,
-        t1755,
-        t1756,
-        t1759,
-        t1760,
-        t1767,
-        t1770,
-        t1772,
-        t1775,
+        t1596,
+        t1603,
+        t1610,
+        t1615,
+        t1622,
+        t1631,
+        t1643,
+        t1674,
+        t1682,
+        t1754,
+        t1758,
+        t1766,
+        t1776,
         t1782,
-        t1783,
-        t1787,
-        t1788,
-        t1797,
-        t1812,
-        t1821,
-        t1827,
-        t1831,
-        t1832,
-        t1833,
-        t1834,
-        t1844,
-        t1853,
-        t1857,
-        t1861,
-        t1887,
-        t1896,
-        t1906,
-        t1916,
-        t1918,
-        t1920,
-        t1928,
-        t1936,
-        t1945,
-        t1949,
-        t1953,
+        t1799,
+        t1801,
+        t1811,
+        t1820,
+        t1829,
+        t1835,
+        t1851,
+        t1868,
+        t1885,
+        t1893,
+        t1922,
+        t1927,
+        t1929,
+        t1930,
+        t1932,
+        t1934,
+        t1947,
+        t1948,
+        t1955,
+        t1956,
         t1957,
-        t1960,
-        t1968,
-        t1975,
+        t1958,
+        t1961,
+        t1962,
+        t1964,
+        t1965,
+        t1967,
+        t1974,
         t1978,
-        t1985,
-        t1986,
-        t1987,
-        t1988,
+        t1979,
+        t1982,
         t1989,
-        t1990,
-        t1991,
-        t1992,
-        t1996,
-        t1997,
+        t1993,
+        t1998,
         t1999,
     ) = {
-        let t1000: f64 = t996.plus(t999);
-        let t1001: f64 = t995.plus(t1000);
-        let t1002: f64 = t1001 - t994;
-        let t1003: f64 = arm3_rod_mass * t1002;
-        let t1004 = product(t400, t722);
-        let t1005: f64 = t404 * t728;
-        let t1006 = product(t408, t732);
-        let t1007: f64 = t1004.plus(t1005);
-        let t1008: f64 = t1006.plus(t1007);
-        let t1009: f64 = t698 * t1008;
-        let t1010 = product(t808, t1009);
-        let t1011: f64 = ax * t748;
-        let t1012 = product(ay, t753);
-        let t1013: f64 = az * t758;
-        let t1014 = product(t698, t1000);
-        let t1015: f64 = t1010.plus(t1011);
-        let t1016: f64 = t1012.plus(t1013);
-        let t1017: f64 = t1015 + t1016;
-        let t1018: f64 = t1014.subtracted_from(t1017);
-        let t1019 = product(vx, t739);
-        let t1020: f64 = vy * t814;
-        let t1021 = product(vz, t818);
-        let t1022: f64 = t1019.plus(t1020);
-        let t1023: f64 = t1021.plus(t1022);
-        let t1024: f64 = t768 * t1023;
-        let t1025: f64 = t1018 - t1024;
-        let t1026: f64 = t1025 * 2.0;
-        let t1027 = product(arm3_rod_mz, t1026);
-        let t1028: f64 = t1003 * 2.0;
-        let t1029: f64 = t1027.plus(t1028);
-        let t1030: f64 = t745 * t1029;
-        let t1031 = product(t251, t701);
-        let t1032: f64 = t255 * t704;
-        let t1033 = product(t266, t699);
-        let t1034: f64 = t1031.plus(t1032);
-        let t1035: f64 = t1033.plus(t1034);
-        let t1036 = product(gravity_x, t701);
-        let t1037: f64 = gravity_y * t704;
-        let t1038 = product(gravity_z, t699);
-        let t1039: f64 = t1036.plus(t1037);
-        let t1040: f64 = t1038.plus(t1039);
-        let t1041 = product(t701, t790);
-        let t1042: f64 = t704 * t795;
-        let t1043 = product(t699, t785);
-        let t1044: f64 = t780 * t1035;
-        let t1045: f64 = t1041.plus(t1042);
-        let t1046: f64 = t1043.plus(t1044);
-        let t1047: f64 = t1045 + t1046;
-        let t1048: f64 = t1047 - t1040;
-        let t1049: f64 = arm3_rod_mass * t1048;
-        let t1050 = product(t761, t761);
-        let t1051: f64 = t1023 * t1023;
-        let t1052: f64 = t1050.plus(t1051);
-        let t1053: f64 = t1052 * 2.0;
-        let t1054 = product(arm3_rod_mz, t1053);
-        let t1055: f64 = t1049 * 2.0;
-        let t1056: f64 = t1054.subtracted_from(t1055);
-        let t1057 = product(t1035, t1056);
-        let t1058: f64 = t989.plus(t1030);
-        let t1059: f64 = t1057.plus(t1058);
-        let t1060 = product(t737, t1059);
-        let t1061: f64 = arm1_rod_mz * t850;
-        let t1062: f64 = arm1_rod_ixx * t874;
-        let t1063: f64 = t447 * t447;
-        let t1064: f64 = t857 * t1063;
-        let t1065: f64 = t539 * t1064;
-        let t1066 = product(t497, t866);
-        let t1067: f64 = t1066.added_to(t1065);
-        let t1068: f64 = -t1067;
-        let t1069: f64 = t497 * t1068;
-        let t1070: f64 = t872 - t1069;
-        let t1071: f64 = t1070 * 2.0;
-        let t1072 = product(arm1_rod_izz, t1071);
-        let t1073 = product(t1061, 2.0);
-        let t1074: f64 = t1073.added_to(t1062);
-        let t1075: f64 = t1072.plus(t1074);
-        let t1076: f64 = t478 * t1075;
-        let t1077: f64 = arm2_rod_mz * t926;
-        let t1078: f64 = arm2_rod_ixx * t950;
-        let t1079: f64 = t582 * t582;
-        let t1080: f64 = t933 * t1079;
-        let t1081: f64 = t674 * t1080;
-        let t1082 = product(t632, t942);
-        let t1083: f64 = t1082.added_to(t1081);
-        let t1084: f64 = -t1083;
-        let t1085: f64 = t632 * t1084;
-        let t1086: f64 = t948 - t1085;
-        let t1087: f64 = t1086 * 2.0;
-        let t1088 = product(arm2_rod_izz, t1087);
-        let t1089 = product(t1077, 2.0);
-        let t1090: f64 = t1089.added_to(t1078);
-        let t1091: f64 = t1088.plus(t1090);
-        let t1092 = product(t613, t1091);
-        let t1093: f64 = arm3_rod_mz * t1002;
-        let t1094: f64 = arm3_rod_ixx * t1026;
-        let t1095: f64 = t717 * t717;
-        let t1096: f64 = t1009 * t1095;
-        let t1097: f64 = t809 * t1096;
-        let t1098 = product(t767, t1018);
-        let t1099: f64 = t1098.added_to(t1097);
-        let t1100: f64 = -t1099;
-        let t1101: f64 = t767 * t1100;
-        let t1102: f64 = t1024 - t1101;
-        let t1103: f64 = t1102 * 2.0;
-        let t1104 = product(arm3_rod_izz, t1103);
-        let t1105 = product(t1093, 2.0);
-        let t1106: f64 = t1105.added_to(t1094);
-        let t1107: f64 = t1104.plus(t1106);
-        let t1108: f64 = t748 * t1107;
-        let t1109: f64 = t337.plus(t381);
-        let t1110: f64 = t425.plus(t427);
-        let t1111: f64 = t908.plus(t984);
-        let t1112: f64 = t1060.plus(t1076);
-        let t1113: f64 = t1092.plus(t1108);
-        let t1114: f64 = t1109 + t1110;
-        let t1115: f64 = t1111 + t1112;
-        let t1116: f64 = t1114 + t1115;
-        let t1117: f64 = t1113 + t1116;
-        let t1118: f64 = t562.plus(t697);
-        let t1119: f64 = t832.plus(t1118);
-        let t1120: f64 = t1117 - t1119;
-        let t1121 = product(t277, t1120);
-        let t1122 = product(t274, t286);
-        let t1123: f64 = t272 * t279;
-        let t1124: f64 = t1122.minus(t1123);
-        let t1125 = product(t280, t336);
-        let t1126: f64 = t181 * t380;
-        let t1127 = product(t275, t424);
-        let t1128: f64 = ay - gravity_y;
-        let t1129: f64 = platform_mass * t1128;
-        let t1130 = product(t544, t561);
-        let t1131: f64 = t679 * t696;
-        let t1132 = product(t814, t831);
-        let t1133 = product(t481, t907);
-        let t1134: f64 = t616 * t983;
-        let t1135 = product(t751, t1059);
-        let t1136: f64 = t483 * t1075;
-        let t1137 = product(t618, t1091);
-        let t1138: f64 = t753 * t1107;
-        let t1139: f64 = t1125.plus(t1126);
-        let t1140: f64 = t1127.plus(t1129);
-        let t1141: f64 = t1133.plus(t1134);
-        let t1142: f64 = t1135.plus(t1136);
-        let t1143: f64 = t1137.plus(t1138);
-        let t1144: f64 = t1139 + t1140;
-        let t1145: f64 = t1141 + t1142;
-        let t1146: f64 = t1144 + t1145;
-        let t1147: f64 = t1143 + t1146;
-        let t1148: f64 = t1130.plus(t1131);
-        let t1149: f64 = t1132.plus(t1148);
-        let t1150: f64 = t1147 - t1149;
-        let t1151: f64 = t1124 * t1150;
-        let t1152 = product(t275, t279);
-        let t1153: f64 = t181 * t286;
-        let t1154: f64 = t1152.minus(t1153);
-        let t1155 = product(t282, t336);
-        let t1156: f64 = t274 * t380;
-        let t1157 = product(t272, t424);
-        let t1158: f64 = az - gravity_z;
-        let t1159: f64 = platform_mass * t1158;
-        let t1160 = product(t548, t561);
-        let t1161: f64 = t683 * t696;
-        let t1162 = product(t818, t831);
-        let t1163 = product(t486, t907);
-        let t1164: f64 = t621 * t983;
-        let t1165 = product(t756, t1059);
-        let t1166: f64 = t488 * t1075;
-        let t1167 = product(t623, t1091);
-        let t1168: f64 = t758 * t1107;
-        let t1169: f64 = t1155.plus(t1156);
-        let t1170: f64 = t1157.plus(t1159);
-        let t1171: f64 = t1163.plus(t1164);
-        let t1172: f64 = t1165.plus(t1166);
-        let t1173: f64 = t1167.plus(t1168);
-        let t1174: f64 = t1169 + t1170;
-        let t1175: f64 = t1171 + t1172;
-        let t1176: f64 = t1174 + t1175;
-        let t1177: f64 = t1173 + t1176;
-        let t1178: f64 = t1160.plus(t1161);
-        let t1179: f64 = t1162.plus(t1178);
-        let t1180: f64 = t1177 - t1179;
-        let t1181 = product(t1154, t1180);
-        let t1182: f64 = t1121.plus(t1151);
-        let t1183: f64 = t1181.plus(t1182);
-        let t1184: f64 = t293 * t1183;
-        let t1185 = product(t284, t1120);
-        let t1186 = product(t90, t272);
-        let t1187: f64 = t282 * t286;
-        let t1188: f64 = t1186.minus(t1187);
-        let t1189 = product(t1150, t1188);
-        let t1190 = product(t280, t286);
-        let t1191: f64 = t90 * t275;
-        let t1192: f64 = t1190.minus(t1191);
-        let t1193: f64 = t1180 * t1192;
-        let t1194: f64 = t1189.plus(t1193);
-        let t1195: f64 = t1185.minus(t1194);
-        let t1196: f64 = t293 * t1195;
-        let t1197: f64 = -t1196;
-        let t1198 = product(t289, t1120);
-        let t1199 = product(t279, t282);
-        let t1200: f64 = t90 * t274;
-        let t1201: f64 = t1199.minus(t1200);
-        let t1202: f64 = t1150 * t1201;
-        let t1203 = product(t90, t181);
-        let t1204: f64 = t279 * t280;
-        let t1205: f64 = t1203.minus(t1204);
-        let t1206 = product(t1180, t1205);
-        let t1207: f64 = t1198.plus(t1202);
-        let t1208: f64 = t1206.plus(t1207);
-        let t1209: f64 = t293 * t1208;
-        let t1210: f64 = t119 * t119;
-        let t1211 = product(arm2_zero_x, t101);
-        let t1212: f64 = t105 * t116;
-        let t1213: f64 = t1211.plus(t1212);
-        let t1214: f64 = t1213 * 2.0;
-        let t1215: f64 = t138 * t1210;
-        let t1216 = product(t1214, t1215);
-        let t1217 = product(arm2_zero_x, t131);
-        let t1218: f64 = t92 * t120;
-        let t1219: f64 = t101 * t1218;
-        let t1220 = product(t105, t136);
-        let t1221: f64 = 1.0 / t135;
-        let t1222 = product(t131, t1218);
-        let t1223: f64 = t1222.subtracted_from(t1213);
-        let t1224: f64 = t1223 * 2.0;
-        let t1225: f64 = arm2_branch * t116;
-        let t1226: f64 = t1221 * t1225;
-        let t1227: f64 = t1224 * t1226;
-        let t1228: f64 = t1227 * 0.5;
-        let t1229: f64 = t1217.plus(t1219);
-        let t1230: f64 = t1220.plus(t1228);
-        let t1231: f64 = t1229 - t1230;
-        let t1232: f64 = t119 * t1231;
-        let t1233: f64 = t1216.minus(t1232);
-        let t1234 = product(arm2_zero_y, t1233);
-        let t1235: f64 = t143 * t1210;
-        let t1236 = product(t1214, t1235);
-        let t1237 = product(t105, t131);
-        let t1238: f64 = t116 * t1218;
-        let t1239 = product(arm2_zero_x, t136);
-        let t1240: f64 = arm2_branch * t101;
-        let t1241: f64 = t1221 * t1240;
-        let t1242: f64 = t1224 * t1241;
-        let t1243: f64 = t1242 * 0.5;
-        let t1244: f64 = t1237.plus(t1238);
-        let t1245: f64 = t1239.plus(t1243);
-        let t1246: f64 = t1244 + t1245;
-        let t1247: f64 = t119 * t1246;
-        let t1248: f64 = t1236.minus(t1247);
-        let t1249: f64 = t109 * t1248;
-        let t1250: f64 = t1234.plus(t1249);
-        let t1251: f64 = arm2_crank_length * t180;
-        let t1252 = product(t1250, t1251);
-        let t1253: f64 = t179 * t179;
-        let t1254 = product(t105, t1233);
-        let t1255: f64 = arm2_zero_x * t1248;
-        let t1256: f64 = t1254.minus(t1255);
-        let t1257 = product(t157, t1256);
-        let t1258 = product(t109, t1233);
-        let t1259: f64 = arm2_zero_y * t1248;
-        let t1260: f64 = t1258.minus(t1259);
-        let t1261: f64 = t150 * t1260;
-        let t1262 = product(t113, t1233);
-        let t1263: f64 = arm2_zero_z * t1248;
-        let t1264: f64 = t1262.minus(t1263);
-        let t1265 = product(t175, t1264);
-        let t1266 = product(arm2_zero_x, t1233);
-        let t1267: f64 = t105 * t1248;
-        let t1268: f64 = t1266.plus(t1267);
-        let t1269 = product(t160, t1268);
-        let t1270 = product(t164, t1250);
-        let t1271 = product(arm2_zero_z, t1233);
-        let t1272: f64 = t113 * t1248;
-        let t1273: f64 = t1271.plus(t1272);
-        let t1274: f64 = t168 * t1273;
-        let t1275: f64 = t1270.plus(t1274);
-        let t1276: f64 = t1269.plus(t1275);
-        let t1277 = product(arm2_crank_length, t1276);
-        let t1278: f64 = t1277.added_to(t160);
-        let t1279: f64 = t1257.plus(t1261);
-        let t1280: f64 = t1265.plus(t1279);
-        let t1281: f64 = t1278 - t1280;
-        let t1282: f64 = t120 * t150;
-        let t1283: f64 = t1253 * t1282;
-        let t1284: f64 = t1281 * t1283;
-        let t1285: f64 = t1252.minus(t1284);
-        let t1286 = product(t272, t1285);
-        let t1287: f64 = t210 * t210;
-        let t1288 = product(arm3_zero_x, t192);
-        let t1289: f64 = t196 * t207;
-        let t1290: f64 = t1288.plus(t1289);
-        let t1291: f64 = t1290 * 2.0;
-        let t1292: f64 = t229 * t1287;
-        let t1293 = product(t1291, t1292);
-        let t1294 = product(arm3_zero_x, t222);
-        let t1295: f64 = t183 * t211;
-        let t1296: f64 = t192 * t1295;
-        let t1297 = product(t196, t227);
-        let t1298: f64 = 1.0 / t226;
-        let t1299 = product(t222, t1295);
-        let t1300: f64 = t1299.subtracted_from(t1290);
-        let t1301: f64 = t1300 * 2.0;
-        let t1302: f64 = arm3_branch * t207;
-        let t1303: f64 = t1298 * t1302;
-        let t1304: f64 = t1301 * t1303;
-        let t1305: f64 = t1304 * 0.5;
-        let t1306: f64 = t1294.plus(t1296);
-        let t1307: f64 = t1297.plus(t1305);
-        let t1308: f64 = t1306 - t1307;
-        let t1309: f64 = t210 * t1308;
-        let t1310: f64 = t1293.minus(t1309);
-        let t1311 = product(arm3_zero_z, t1310);
-        let t1312: f64 = t234 * t1287;
-        let t1313 = product(t1291, t1312);
-        let t1314 = product(t196, t222);
-        let t1315: f64 = t207 * t1295;
-        let t1316 = product(arm3_zero_x, t227);
-        let t1317: f64 = arm3_branch * t192;
-        let t1318: f64 = t1298 * t1317;
-        let t1319: f64 = t1301 * t1318;
-        let t1320: f64 = t1319 * 0.5;
-        let t1321: f64 = t1314.plus(t1315);
-        let t1322: f64 = t1316.plus(t1320);
-        let t1323: f64 = t1321 + t1322;
-        let t1324: f64 = t210 * t1323;
-        let t1325: f64 = t1313.minus(t1324);
-        let t1326: f64 = t204 * t1325;
-        let t1327: f64 = t1311.plus(t1326);
-        let t1328: f64 = arm3_crank_length * t271;
-        let t1329 = product(t1327, t1328);
-        let t1330: f64 = t270 * t270;
-        let t1331 = product(t196, t1310);
-        let t1332: f64 = arm3_zero_x * t1325;
-        let t1333: f64 = t1331.minus(t1332);
-        let t1334 = product(t248, t1333);
-        let t1335 = product(t200, t1310);
-        let t1336: f64 = arm3_zero_y * t1325;
-        let t1337: f64 = t1335.minus(t1336);
-        let t1338: f64 = t262 * t1337;
-        let t1339 = product(t204, t1310);
-        let t1340: f64 = arm3_zero_z * t1325;
-        let t1341: f64 = t1339.minus(t1340);
-        let t1342 = product(t241, t1341);
-        let t1343 = product(arm3_zero_x, t1310);
-        let t1344: f64 = t196 * t1325;
-        let t1345: f64 = t1343.plus(t1344);
-        let t1346 = product(t251, t1345);
-        let t1347 = product(arm3_zero_y, t1310);
-        let t1348: f64 = t200 * t1325;
-        let t1349: f64 = t1347.plus(t1348);
-        let t1350 = product(t255, t1349);
-        let t1351: f64 = t266 * t1327;
-        let t1352: f64 = t1350.plus(t1351);
-        let t1353: f64 = t1346.plus(t1352);
-        let t1354 = product(arm3_crank_length, t1353);
-        let t1355: f64 = t1354.added_to(t251);
-        let t1356: f64 = t1334.plus(t1338);
-        let t1357: f64 = t1342.plus(t1356);
-        let t1358: f64 = t1355 - t1357;
-        let t1359: f64 = t211 * t241;
-        let t1360: f64 = t1330 * t1359;
-        let t1361: f64 = t1358 * t1360;
-        let t1362: f64 = t1329.minus(t1361);
-        let t1363: f64 = t181 * t1362;
-        let t1364 = product(t1251, t1273);
-        let t1365: f64 = t120 * t175;
-        let t1366: f64 = t1253 * t1365;
-        let t1367: f64 = t1281 * t1366;
-        let t1368: f64 = t1364.minus(t1367);
-        let t1369 = product(t275, t1368);
-        let t1370 = product(t1328, t1349);
-        let t1371: f64 = t211 * t262;
-        let t1372: f64 = t1330 * t1371;
-        let t1373: f64 = t1358 * t1372;
-        let t1374: f64 = t1370.minus(t1373);
-        let t1375: f64 = t274 * t1374;
-        let t1376: f64 = t1286.plus(t1363);
-        let t1377: f64 = t1369.plus(t1375);
-        let t1378: f64 = t1376 - t1377;
-        let t1379 = product(t1120, t1378);
-        let t1380 = product(t286, t1368);
-        let t1381 = product(t1328, t1345);
-        let t1382: f64 = t211 * t248;
-        let t1383: f64 = t1330 * t1382;
-        let t1384 = product(t1358, t1383);
-        let t1385: f64 = t1381.added_to(t271);
-        let t1386: f64 = t1384.subtracted_from(t1385);
-        let t1387: f64 = t274 * t1386;
-        let t1388 = product(t1251, t1268);
-        let t1389: f64 = t120 * t157;
-        let t1390: f64 = t1253 * t1389;
-        let t1391 = product(t1281, t1390);
-        let t1392: f64 = t1388.added_to(t180);
-        let t1393: f64 = t1391.subtracted_from(t1392);
-        let t1394 = product(t272, t1393);
-        let t1395: f64 = t279 * t1362;
-        let t1396: f64 = t1380.plus(t1387);
-        let t1397: f64 = t1394.plus(t1395);
-        let t1398: f64 = t1396 - t1397;
-        let t1399: f64 = t1150 * t1398;
-        let t1400 = product(t275, t1393);
-        let t1401: f64 = t279 * t1374;
-        let t1402 = product(t286, t1285);
-        let t1403: f64 = t181 * t1386;
-        let t1404: f64 = t1400.plus(t1401);
-        let t1405: f64 = t1402.plus(t1403);
-        let t1406: f64 = t1404 - t1405;
-        let t1407 = product(t1180, t1406);
-        let t1408: f64 = t28 * t28;
-        let t1409 = product(arm1_zero_x, t10);
-        let t1410: f64 = t14 * t25;
-        let t1411: f64 = t1409.plus(t1410);
-        let t1412: f64 = t1411 * 2.0;
-        let t1413: f64 = t47 * t1408;
-        let t1414 = product(t1412, t1413);
-        let t1415 = product(arm1_zero_x, t40);
-        let t1416: f64 = t1 * t29;
-        let t1417: f64 = t10 * t1416;
-        let t1418 = product(t14, t45);
-        let t1419: f64 = 1.0 / t44;
-        let t1420 = product(t40, t1416);
-        let t1421: f64 = t1420.subtracted_from(t1411);
-        let t1422: f64 = t1421 * 2.0;
-        let t1423: f64 = arm1_branch * t25;
-        let t1424: f64 = t1419 * t1423;
-        let t1425: f64 = t1422 * t1424;
-        let t1426: f64 = t1425 * 0.5;
-        let t1427: f64 = t1415.plus(t1417);
-        let t1428: f64 = t1418.plus(t1426);
-        let t1429: f64 = t1427 - t1428;
-        let t1430: f64 = t28 * t1429;
-        let t1431: f64 = t1414.minus(t1430);
-        let t1432 = product(arm1_zero_x, t1431);
-        let t1433: f64 = t52 * t1408;
-        let t1434 = product(t1412, t1433);
-        let t1435 = product(t14, t40);
-        let t1436: f64 = t25 * t1416;
-        let t1437 = product(arm1_zero_x, t45);
-        let t1438: f64 = arm1_branch * t10;
-        let t1439: f64 = t1419 * t1438;
-        let t1440: f64 = t1422 * t1439;
-        let t1441: f64 = t1440 * 0.5;
-        let t1442: f64 = t1435.plus(t1436);
-        let t1443: f64 = t1437.plus(t1441);
-        let t1444: f64 = t1442 + t1443;
-        let t1445: f64 = t28 * t1444;
-        let t1446: f64 = t1434.minus(t1445);
-        let t1447: f64 = t14 * t1446;
-        let t1448: f64 = t1432.plus(t1447);
-        let t1449: f64 = arm1_crank_length * t89;
-        let t1450 = product(t1448, t1449);
-        let t1451: f64 = t88 * t88;
-        let t1452 = product(t14, t1431);
-        let t1453: f64 = arm1_zero_x * t1446;
-        let t1454: f64 = t1452.minus(t1453);
-        let t1455 = product(t59, t1454);
-        let t1456 = product(t18, t1431);
-        let t1457: f64 = arm1_zero_y * t1446;
-        let t1458: f64 = t1456.minus(t1457);
-        let t1459: f64 = t73 * t1458;
-        let t1460 = product(t22, t1431);
-        let t1461: f64 = arm1_zero_z * t1446;
-        let t1462: f64 = t1460.minus(t1461);
-        let t1463 = product(t84, t1462);
-        let t1464 = product(t62, t1448);
-        let t1465 = product(arm1_zero_y, t1431);
-        let t1466: f64 = t18 * t1446;
-        let t1467: f64 = t1465.plus(t1466);
-        let t1468 = product(t66, t1467);
-        let t1469 = product(arm1_zero_z, t1431);
-        let t1470: f64 = t22 * t1446;
-        let t1471: f64 = t1469.plus(t1470);
-        let t1472: f64 = t77 * t1471;
-        let t1473: f64 = t1468.plus(t1472);
-        let t1474: f64 = t1464.plus(t1473);
-        let t1475 = product(arm1_crank_length, t1474);
-        let t1476: f64 = t1475.added_to(t62);
-        let t1477: f64 = t1455.plus(t1459);
-        let t1478: f64 = t1463.plus(t1477);
-        let t1479: f64 = t1476 - t1478;
-        let t1480: f64 = t29 * t59;
-        let t1481: f64 = t1451 * t1480;
-        let t1482 = product(t1479, t1481);
-        let t1483: f64 = t1450.added_to(t89);
-        let t1484: f64 = t1482.subtracted_from(t1483);
-        let t1485 = product(t277, t1484);
-        let t1486: f64 = t90 * t1378;
-        let t1487 = product(t284, t1393);
-        let t1488 = product(t1449, t1467);
-        let t1489: f64 = t29 * t73;
-        let t1490: f64 = t1451 * t1489;
-        let t1491: f64 = t1479 * t1490;
-        let t1492: f64 = t1488.minus(t1491);
-        let t1493 = product(t272, t1492);
-        let t1494: f64 = t280 * t1362;
-        let t1495 = product(t1449, t1471);
-        let t1496: f64 = t29 * t84;
-        let t1497: f64 = t1451 * t1496;
-        let t1498: f64 = t1479 * t1497;
-        let t1499: f64 = t1495.minus(t1498);
-        let t1500 = product(t275, t1499);
-        let t1501: f64 = t282 * t1374;
-        let t1502: f64 = t1493.plus(t1494);
-        let t1503: f64 = t1500.plus(t1501);
-        let t1504: f64 = t1502 - t1503;
-        let t1505: f64 = t279 * t1504;
-        let t1506 = product(t289, t1386);
-        let t1507 = product(t274, t1492);
-        let t1508: f64 = t280 * t1368;
-        let t1509 = product(t181, t1499);
-        let t1510: f64 = t282 * t1285;
-        let t1511: f64 = t1507.plus(t1508);
-        let t1512: f64 = t1509.plus(t1510);
-        let t1513: f64 = t1511 - t1512;
-        let t1514: f64 = t286 * t1513;
-        let t1515: f64 = t1485.plus(t1486);
-        let t1516: f64 = t1506.plus(t1514);
-        let t1517: f64 = t1515 + t1516;
-        let t1518: f64 = t1487.plus(t1505);
-        let t1519: f64 = t1517 - t1518;
-        let t1520 = product(t1184, t1519);
-        let t1521: f64 = arm1_rod_izz * t871;
-        let t1522 = product(t498, t1521);
-        let t1523: f64 = t1522.added_to(t1061);
-        let t1524 = product(t1523, 2.0);
-        let t1525: f64 = t1524.added_to(t1062);
-        let t1526 = product(arm1_axis_z, t1467);
-        let t1527: f64 = arm1_axis_y * t1471;
-        let t1528: f64 = t1526.minus(t1527);
-        let t1529: f64 = arm1_crank_length * t428;
-        let t1530 = product(t1528, t1529);
-        let t1531: f64 = arm1_axis_x * arm1_crank_length;
-        let t1532: f64 = t428 * t1531;
-        let t1533 = product(t1471, t1532);
-        let t1534 = product(t1448, t1529);
-        let t1535: f64 = t1534.added_to(t428);
-        let t1536: f64 = arm1_axis_z * t1535;
-        let t1537: f64 = t1533.minus(t1536);
-        let t1538 = product(t433, t1537);
-        let t1539 = product(arm1_axis_y, t1535);
-        let t1540: f64 = t1467 * t1532;
-        let t1541: f64 = t1539.minus(t1540);
-        let t1542: f64 = t442 * t1541;
-        let t1543: f64 = t437 * t1529;
-        let t1544 = product(t1528, t1543);
-        let t1545: f64 = t1538.plus(t1542);
-        let t1546: f64 = t1544.plus(t1545);
-        let t1547: f64 = t1546 * 2.0;
-        let t1548: f64 = t447 * t456;
-        let t1549: f64 = t1547 * t1548;
-        let t1550: f64 = t1549 * 0.5;
-        let t1551: f64 = t1530.minus(t1550);
-        let t1552: f64 = t428 * t447;
-        let t1553 = product(t1551, t1552);
-        let t1554 = product(t476, t1484);
-        let t1555 = product(t456, t1454);
-        let t1556: f64 = t448 * t1458;
-        let t1557 = product(t450, t1462);
-        let t1558 = product(t62, t1551);
-        let t1559: f64 = t447 * t448;
-        let t1560: f64 = t1547 * t1559;
-        let t1561 = product(t1560, 0.5);
-        let t1562: f64 = t1561.subtracted_from(t1537);
-        let t1563: f64 = t66 * t1562;
-        let t1564: f64 = t447 * t450;
-        let t1565: f64 = t1547 * t1564;
-        let t1566 = product(t1565, 0.5);
-        let t1567: f64 = t1566.subtracted_from(t1541);
-        let t1568 = product(t77, t1567);
-        let t1569: f64 = t1558.plus(t1563);
-        let t1570: f64 = t1568.plus(t1569);
-        let t1571 = product(t447, t1570);
-        let t1572: f64 = t1555.plus(t1556);
-        let t1573: f64 = t1557.plus(t1572);
-        let t1574: f64 = t1571.subtracted_from(t1573);
-        let t1575: f64 = t90 * t428;
-        let t1576: f64 = t1574 * t1575;
-        let t1577: f64 = t1554.minus(t1576);
-        let t1578: f64 = arm1_crank_length * t1577;
-        let t1579: f64 = t1553.minus(t1578);
-        let t1580 = product(t1525, t1579);
-        let t1581 = product(t448, t1471);
-        let t1582: f64 = t450 * t1467;
-        let t1583: f64 = t1581.minus(t1582);
-        let t1584 = product(t1529, t1583);
-        let t1585 = product(t429, t1562);
-        let t1586: f64 = t434 * t1567;
-        let t1587: f64 = t1585.minus(t1586);
-        let t1588: f64 = t447 * t1587;
-        let t1589: f64 = t1584.plus(t1588);
-        let t1590 = product(t428, t1589);
-        let t1591 = product(t466, t1484);
-        let t1592 = product(t452, t1454);
-        let t1593: f64 = t458 * t1458;
-        let t1594 = product(t462, t1462);
-        let t1595 = product(t62, t1589);
-        let t1596 = product(t450, t1535);
-        let t1597: f64 = t456 * t1529;
-        let t1598 = product(t1471, t1597);
-        let t1599 = product(t431, t1567);
-        let t1600: f64 = t429 * t1551;
-        let t1601: f64 = t1599.minus(t1600);
-        let t1602: f64 = t447 * t1601;
-        let t1603: f64 = t1596.plus(t1602);
-        let t1604: f64 = t1598.subtracted_from(t1603);
-        let t1605: f64 = t66 * t1604;
-        let t1606 = product(t1467, t1597);
-        let t1607 = product(t448, t1535);
-        let t1608 = product(t434, t1551);
-        let t1609: f64 = t431 * t1562;
-        let t1610: f64 = t1608.minus(t1609);
-        let t1611: f64 = t447 * t1610;
-        let t1612: f64 = t1606.plus(t1611);
-        let t1613: f64 = t1607.subtracted_from(t1612);
-        let t1614 = product(t77, t1613);
-        let t1615: f64 = t1592.plus(t1593);
-        let t1616: f64 = t1594.plus(t1615);
-        let t1617: f64 = t1595.plus(t1605);
-        let t1618: f64 = t1614.plus(t1617);
-        let t1619: f64 = t1616 - t1618;
-        let t1620: f64 = t1575 * t1619;
-        let t1621: f64 = t1591.minus(t1620);
-        let t1622: f64 = arm1_crank_length * t1621;
-        let t1623: f64 = t1590.minus(t1622);
-        let t1624 = product(t561, t1623);
-        let t1625: f64 = arm2_rod_izz * t947;
-        let t1626 = product(t633, t1625);
-        let t1627: f64 = t1626.added_to(t1077);
-        let t1628 = product(t1627, 2.0);
-        let t1629: f64 = t1628.added_to(t1078);
-        let t1630 = product(arm2_axis_z, t1250);
-        let t1631: f64 = arm2_axis_y * t1273;
-        let t1632: f64 = t1630.minus(t1631);
-        let t1633: f64 = arm2_crank_length * t563;
-        let t1634 = product(t1632, t1633);
-        let t1635: f64 = arm2_axis_x * arm2_crank_length;
-        let t1636: f64 = t563 * t1635;
-        let t1637 = product(t1273, t1636);
-        let t1638 = product(t1268, t1633);
-        let t1639: f64 = t1638.added_to(t563);
-        let t1640: f64 = arm2_axis_z * t1639;
-        let t1641: f64 = t1637.minus(t1640);
-        let t1642 = product(t568, t1641);
-        let t1643 = product(arm2_axis_y, t1639);
-        let t1644: f64 = t1250 * t1636;
-        let t1645: f64 = t1643.minus(t1644);
-        let t1646: f64 = t577 * t1645;
-        let t1647: f64 = t572 * t1633;
-        let t1648 = product(t1632, t1647);
-        let t1649: f64 = t1642.plus(t1646);
-        let t1650: f64 = t1648.plus(t1649);
-        let t1651: f64 = t1650 * 2.0;
-        let t1652: f64 = t582 * t591;
-        let t1653: f64 = t1651 * t1652;
-        let t1654: f64 = t1653 * 0.5;
-        let t1655: f64 = t1634.minus(t1654);
-        let t1656: f64 = t563 * t582;
-        let t1657 = product(t1655, t1656);
-        let t1658 = product(t611, t1393);
-        let t1659 = product(t591, t1256);
-        let t1660: f64 = t583 * t1260;
-        let t1661 = product(t585, t1264);
-        let t1662 = product(t160, t1655);
-        let t1663: f64 = t582 * t583;
-        let t1664: f64 = t1651 * t1663;
-        let t1665 = product(t1664, 0.5);
-        let t1666: f64 = t1665.subtracted_from(t1641);
-        let t1667: f64 = t164 * t1666;
-        let t1668: f64 = t582 * t585;
-        let t1669: f64 = t1651 * t1668;
-        let t1670 = product(t1669, 0.5);
-        let t1671: f64 = t1670.subtracted_from(t1645);
-        let t1672 = product(t168, t1671);
-        let t1673: f64 = t1662.plus(t1667);
-        let t1674: f64 = t1672.plus(t1673);
-        let t1675 = product(t582, t1674);
-        let t1676: f64 = t1659.plus(t1660);
-        let t1677: f64 = t1661.plus(t1676);
-        let t1678: f64 = t1675.subtracted_from(t1677);
-        let t1679: f64 = t279 * t563;
-        let t1680: f64 = t1678 * t1679;
-        let t1681: f64 = t1658.minus(t1680);
-        let t1682: f64 = arm2_crank_length * t1681;
-        let t1683: f64 = t1657.minus(t1682);
-        let t1684: f64 = t1629 * t1683;
-        let t1685 = product(t583, t1273);
-        let t1686: f64 = t585 * t1250;
-        let t1687: f64 = t1685.minus(t1686);
-        let t1688 = product(t1633, t1687);
-        let t1689 = product(t564, t1666);
-        let t1690: f64 = t569 * t1671;
-        let t1691: f64 = t1689.minus(t1690);
-        let t1692: f64 = t582 * t1691;
-        let t1693: f64 = t1688.plus(t1692);
-        let t1694 = product(t563, t1693);
-        let t1695 = product(t601, t1393);
-        let t1696 = product(t587, t1256);
-        let t1697: f64 = t593 * t1260;
-        let t1698 = product(t597, t1264);
-        let t1699 = product(t160, t1693);
-        let t1700 = product(t585, t1639);
-        let t1701: f64 = t591 * t1633;
-        let t1702 = product(t1273, t1701);
-        let t1703 = product(t566, t1671);
-        let t1704: f64 = t564 * t1655;
+        let t1000: f64 = t997.plus(t998);
+        let t1001: f64 = t999.plus(t1000);
+        let t1002 = product(t756, t785);
+        let t1003 = product(t650, t729);
+        let t1004 = product(t656, t735);
+        let t1005: f64 = t648 * t741;
+        let t1006: f64 = t1004.plus(t1005);
+        let t1007: f64 = t1003.plus(t1006);
+        let t1008: f64 = t1002.plus(t1007);
+        let t1009: f64 = t1008 - t1001;
+        let t1010: f64 = arm3_rod_mass * t1009;
+        let t1011 = product(ay, t767);
+        let t1012: f64 = az * t759;
+        let t1013: f64 = t1011.plus(t1012);
+        let t1014 = product(t652, t683);
+        let t1015: f64 = t658 * t687;
+        let t1016 = product(t662, t691);
+        let t1017: f64 = t1014.plus(t1015);
+        let t1018: f64 = t1016.plus(t1017);
+        let t1019: f64 = t628 * t1018;
+        let t1020 = product(t696, t1019);
+        let t1021: f64 = ax * t763;
+        let t1022: f64 = t1020.plus(t1021);
+        let t1023 = product(t628, t1007);
+        let t1024: f64 = t1023.subtracted_from(t1022);
+        let t1025: f64 = t1013 + t1024;
+        let t1026: f64 = t771 * t980;
+        let t1027: f64 = t1025 - t1026;
+        let t1028: f64 = t1027 * 2.0;
+        let t1029 = product(arm3_rod_mz, t1028);
+        let t1030: f64 = t1010 * 2.0;
+        let t1031: f64 = t1029.plus(t1030);
+        let t1032: f64 = t756 * t1031;
+        let t1033: f64 = t996.plus(t1032);
+        let t1034: f64 = t988.plus(t1033);
+        let t1035 = product(t667, t1034);
+        let t1036: f64 = arm1_rod_mz * t848;
+        let t1037 = product(arm1_rod_ixx, t867);
+        let t1038: f64 = t313 * t313;
+        let t1039: f64 = t858 * t1038;
+        let t1040 = product(t363, t1039);
+        let t1041: f64 = t341 * t864;
+        let t1042: f64 = t1040.plus(t1041);
+        let t1043: f64 = -t1042;
+        let t1044 = product(t341, t1043);
+        let t1045: f64 = t1044.subtracted_from(t865);
+        let t1046: f64 = t1045 * 2.0;
+        let t1047: f64 = arm1_rod_izz * t1046;
+        let t1048: f64 = t1037.plus(t1047);
+        let t1049: f64 = t1036 * 2.0;
+        let t1050: f64 = t1048 + t1049;
+        let t1051: f64 = t429 * t1050;
+        let t1052: f64 = t1035.plus(t1051);
+        let t1053: f64 = t955 + t1052;
+        let t1054: f64 = arm2_rod_mz * t928;
+        let t1055 = product(arm2_rod_ixx, t947);
+        let t1056: f64 = t480 * t480;
+        let t1057: f64 = t938 * t1056;
+        let t1058 = product(t530, t1057);
+        let t1059: f64 = t508 * t944;
+        let t1060: f64 = t1058.plus(t1059);
+        let t1061: f64 = -t1060;
+        let t1062 = product(t508, t1061);
+        let t1063: f64 = t1062.subtracted_from(t945);
+        let t1064: f64 = t1063 * 2.0;
+        let t1065: f64 = arm2_rod_izz * t1064;
+        let t1066: f64 = t1055.plus(t1065);
+        let t1067: f64 = t1054 * 2.0;
+        let t1068: f64 = t1066 + t1067;
+        let t1069 = product(t596, t1068);
+        let t1070: f64 = arm3_rod_mz * t1009;
+        let t1071 = product(arm3_rod_ixx, t1028);
+        let t1072: f64 = t647 * t647;
+        let t1073: f64 = t1019 * t1072;
+        let t1074 = product(t697, t1073);
+        let t1075: f64 = t675 * t1025;
+        let t1076: f64 = t1074.plus(t1075);
+        let t1077: f64 = -t1076;
+        let t1078 = product(t675, t1077);
+        let t1079: f64 = t1078.subtracted_from(t1026);
+        let t1080: f64 = t1079 * 2.0;
+        let t1081: f64 = arm3_rod_izz * t1080;
+        let t1082: f64 = t1071.plus(t1081);
+        let t1083: f64 = t1070 * 2.0;
+        let t1084: f64 = t1082 + t1083;
+        let t1085: f64 = t763 * t1084;
+        let t1086: f64 = t1069.plus(t1085);
+        let t1087 = product(ax, t90);
+        let t1088: f64 = ay * t280;
+        let t1089 = product(az, t282);
+        let t1090: f64 = t1087.plus(t1088);
+        let t1091: f64 = t1089.added_to(t391);
+        let t1092: f64 = t1090 + t1091;
+        let t1093 = product(arm1_crank_izz, t1092);
+        let t1094 = product(gravity_x, t62);
+        let t1095: f64 = gravity_y * t66;
+        let t1096 = product(gravity_z, t77);
+        let t1097: f64 = t1094.plus(t1095);
+        let t1098: f64 = t1096.plus(t1097);
+        let t1099: f64 = arm1_crank_mx * t1098;
+        let t1100: f64 = t1093.minus(t1099);
+        let t1101 = product(t90, t1100);
+        let t1102 = product(ax, t279);
+        let t1103: f64 = ay * t181;
+        let t1104 = product(az, t274);
+        let t1105: f64 = t1102.plus(t1103);
+        let t1106: f64 = t1104.added_to(t558);
+        let t1107: f64 = t1105 + t1106;
+        let t1108 = product(arm2_crank_izz, t1107);
+        let t1109 = product(gravity_x, t160);
+        let t1110: f64 = gravity_y * t164;
+        let t1111 = product(gravity_z, t168);
+        let t1112: f64 = t1109.plus(t1110);
+        let t1113: f64 = t1111.plus(t1112);
+        let t1114: f64 = arm2_crank_mx * t1113;
+        let t1115: f64 = t1108.minus(t1114);
+        let t1116: f64 = t279 * t1115;
+        let t1117: f64 = t1101.plus(t1116);
+        let t1118 = product(ax, t286);
+        let t1119: f64 = ay * t275;
+        let t1120 = product(az, t272);
+        let t1121: f64 = t1118.plus(t1119);
+        let t1122: f64 = t1120.added_to(t725);
+        let t1123: f64 = t1121 + t1122;
+        let t1124 = product(arm3_crank_izz, t1123);
+        let t1125 = product(gravity_x, t251);
+        let t1126: f64 = gravity_y * t255;
+        let t1127 = product(gravity_z, t266);
+        let t1128: f64 = t1125.plus(t1126);
+        let t1129: f64 = t1127.plus(t1128);
+        let t1130: f64 = arm3_crank_mx * t1129;
+        let t1131: f64 = t1124.minus(t1130);
+        let t1132 = product(t286, t1131);
+        let t1133: f64 = ax - gravity_x;
+        let t1134: f64 = platform_mass * t1133;
+        let t1135: f64 = t1132.plus(t1134);
+        let t1136: f64 = t1117 + t1135;
+        let t1137: f64 = t1086 + t1136;
+        let t1138: f64 = t1053 + t1137;
+        let t1139: f64 = t460.plus(t627);
+        let t1140: f64 = t794.plus(t1139);
+        let t1141: f64 = t1138 - t1140;
+        let t1142 = product(t277, t1141);
+        let t1143 = product(t274, t286);
+        let t1144: f64 = t272 * t279;
+        let t1145: f64 = t1143.minus(t1144);
+        let t1146 = product(t369, t459);
+        let t1147: f64 = t536 * t626;
+        let t1148 = product(t703, t793);
+        let t1149 = product(t367, t873);
+        let t1150: f64 = t534 * t953;
+        let t1151: f64 = t1149.plus(t1150);
+        let t1152 = product(t701, t1034);
+        let t1153: f64 = t433 * t1050;
+        let t1154: f64 = t1152.plus(t1153);
+        let t1155: f64 = t1151 + t1154;
+        let t1156 = product(t600, t1068);
+        let t1157: f64 = t767 * t1084;
+        let t1158: f64 = t1156.plus(t1157);
+        let t1159 = product(t280, t1100);
+        let t1160: f64 = t181 * t1115;
+        let t1161: f64 = t1159.plus(t1160);
+        let t1162 = product(t275, t1131);
+        let t1163: f64 = ay - gravity_y;
+        let t1164: f64 = platform_mass * t1163;
+        let t1165: f64 = t1162.plus(t1164);
+        let t1166: f64 = t1161 + t1165;
+        let t1167: f64 = t1158 + t1166;
+        let t1168: f64 = t1155 + t1167;
+        let t1169: f64 = t1146.plus(t1147);
+        let t1170: f64 = t1148.plus(t1169);
+        let t1171: f64 = t1168 - t1170;
+        let t1172: f64 = t1145 * t1171;
+        let t1173 = product(t275, t279);
+        let t1174: f64 = t181 * t286;
+        let t1175: f64 = t1173.minus(t1174);
+        let t1176 = product(t374, t459);
+        let t1177: f64 = t541 * t626;
+        let t1178 = product(t708, t793);
+        let t1179 = product(t372, t873);
+        let t1180: f64 = t539 * t953;
+        let t1181: f64 = t1179.plus(t1180);
+        let t1182 = product(t706, t1034);
+        let t1183: f64 = t425 * t1050;
+        let t1184: f64 = t1182.plus(t1183);
+        let t1185: f64 = t1181 + t1184;
+        let t1186 = product(t592, t1068);
+        let t1187: f64 = t759 * t1084;
+        let t1188: f64 = t1186.plus(t1187);
+        let t1189 = product(t282, t1100);
+        let t1190: f64 = t274 * t1115;
+        let t1191: f64 = t1189.plus(t1190);
+        let t1192 = product(t272, t1131);
+        let t1193: f64 = az - gravity_z;
+        let t1194: f64 = platform_mass * t1193;
+        let t1195: f64 = t1192.plus(t1194);
+        let t1196: f64 = t1191 + t1195;
+        let t1197: f64 = t1188 + t1196;
+        let t1198: f64 = t1185 + t1197;
+        let t1199: f64 = t1176.plus(t1177);
+        let t1200: f64 = t1178.plus(t1199);
+        let t1201: f64 = t1198 - t1200;
+        let t1202 = product(t1175, t1201);
+        let t1203: f64 = t1142.plus(t1172);
+        let t1204: f64 = t1202.plus(t1203);
+        let t1205: f64 = t293 * t1204;
+        let t1206 = product(t284, t1141);
+        let t1207 = product(t90, t272);
+        let t1208: f64 = t282 * t286;
+        let t1209: f64 = t1207.minus(t1208);
+        let t1210 = product(t1171, t1209);
+        let t1211 = product(t280, t286);
+        let t1212: f64 = t90 * t275;
+        let t1213: f64 = t1211.minus(t1212);
+        let t1214: f64 = t1201 * t1213;
+        let t1215: f64 = t1210.plus(t1214);
+        let t1216: f64 = t1206.minus(t1215);
+        let t1217: f64 = t293 * t1216;
+        let t1218: f64 = -t1217;
+        let t1219 = product(t289, t1141);
+        let t1220 = product(t279, t282);
+        let t1221: f64 = t90 * t274;
+        let t1222: f64 = t1220.minus(t1221);
+        let t1223: f64 = t1171 * t1222;
+        let t1224 = product(t90, t181);
+        let t1225: f64 = t279 * t280;
+        let t1226: f64 = t1224.minus(t1225);
+        let t1227 = product(t1201, t1226);
+        let t1228: f64 = t1219.plus(t1223);
+        let t1229: f64 = t1227.plus(t1228);
+        let t1230: f64 = t293 * t1229;
+        let t1231: f64 = arm3_crank_izz * t286;
+        let t1232: f64 = arm3_rod_mass * t629;
+        let t1233: f64 = t667 * t1232;
+        let t1234: f64 = t960 * t1233;
+        let t1235: f64 = arm3_rod_mass * t667;
+        let t1236: f64 = t665 * t1235;
+        let t1237: f64 = t669 * 2.0;
+        let t1238 = product(arm3_rod_mz, t1237);
+        let t1239: f64 = arm3_rod_mz * t667;
+        let t1240: f64 = t665 * t1239;
+        let t1241 = product(arm3_rod_ixx, t1237);
+        let t1242: f64 = t1240 * 2.0;
+        let t1243: f64 = t1241.plus(t1242);
+        let t1244 = product(t628, t1243);
+        let t1245: f64 = t1236 * 2.0;
+        let t1246: f64 = t1238.plus(t1245);
+        let t1247: f64 = t1244.subtracted_from(t1246);
+        let t1248 = product(t662, t1247);
+        let t1249: f64 = t675 * t675;
+        let t1250: f64 = arm3_rod_izz * t763;
+        let t1251 = product(t1249, t1250);
+        let t1252 = product(arm3_rod_ixx, t763);
+        let t1253: f64 = arm3_rod_mz * t756;
+        let t1254: f64 = t667 * t1253;
+        let t1255: f64 = t1252.plus(t1254);
+        let t1256: f64 = t1251.plus(t1255);
+        let t1257: f64 = t1256 * 2.0;
+        let t1258 = product(t628, t1257);
+        let t1259: f64 = arm3_rod_mass * t756;
+        let t1260 = product(t667, t1259);
+        let t1261: f64 = arm3_rod_mz * t763;
+        let t1262: f64 = t1260.plus(t1261);
+        let t1263: f64 = t1262 * 2.0;
+        let t1264: f64 = t1258.subtracted_from(t1263);
+        let t1265: f64 = t650 * t1264;
+        let t1266: f64 = t1248.plus(t1265);
+        let t1267: f64 = t1234 * 2.0;
+        let t1268: f64 = t1266 + t1267;
+        let t1269 = product(t266, t1268);
+        let t1270: f64 = arm3_rod_mass * t634;
+        let t1271: f64 = t667 * t1270;
+        let t1272: f64 = t960 * t1271;
+        let t1273 = product(t658, t1247);
+        let t1274: f64 = t648 * t1264;
+        let t1275: f64 = t1273.plus(t1274);
+        let t1276: f64 = t1272 * 2.0;
+        let t1277: f64 = t1275 + t1276;
+        let t1278: f64 = t255 * t1277;
+        let t1279: f64 = arm3_rod_mass * t631;
+        let t1280: f64 = t667 * t1279;
+        let t1281: f64 = t960 * t1280;
+        let t1282 = product(t652, t1247);
+        let t1283: f64 = t656 * t1264;
+        let t1284: f64 = t1282.plus(t1283);
+        let t1285: f64 = t1281 * 2.0;
+        let t1286: f64 = t1284 + t1285;
+        let t1287 = product(t251, t1286);
+        let t1288: f64 = t1269.plus(t1278);
+        let t1289: f64 = t1287.plus(t1288);
+        let t1290 = product(arm3_crank_length, t1289);
+        let t1291: f64 = t1290.added_to(t1231);
+        let t1292: f64 = t244 * t270;
+        let t1293: f64 = t710 * t1292;
+        let t1294 = product(t1291, t1293);
+        let t1295: f64 = arm2_crank_izz * t279;
+        let t1296: f64 = arm2_rod_mass * t462;
+        let t1297: f64 = t500 * t1296;
+        let t1298: f64 = t879 * t1297;
+        let t1299: f64 = arm2_rod_mass * t500;
+        let t1300: f64 = t498 * t1299;
+        let t1301: f64 = t502 * 2.0;
+        let t1302 = product(arm2_rod_mz, t1301);
+        let t1303: f64 = arm2_rod_mz * t500;
+        let t1304: f64 = t498 * t1303;
+        let t1305 = product(arm2_rod_ixx, t1301);
+        let t1306: f64 = t1304 * 2.0;
+        let t1307: f64 = t1305.plus(t1306);
+        let t1308 = product(t461, t1307);
+        let t1309: f64 = t1300 * 2.0;
+        let t1310: f64 = t1302.plus(t1309);
+        let t1311: f64 = t1308.subtracted_from(t1310);
+        let t1312 = product(t495, t1311);
+        let t1313: f64 = t508 * t508;
+        let t1314: f64 = arm2_rod_izz * t596;
+        let t1315 = product(t1313, t1314);
+        let t1316 = product(arm2_rod_ixx, t596);
+        let t1317: f64 = arm2_rod_mz * t589;
+        let t1318: f64 = t500 * t1317;
+        let t1319: f64 = t1316.plus(t1318);
+        let t1320: f64 = t1315.plus(t1319);
+        let t1321: f64 = t1320 * 2.0;
+        let t1322 = product(t461, t1321);
+        let t1323: f64 = arm2_rod_mass * t589;
+        let t1324 = product(t500, t1323);
+        let t1325: f64 = arm2_rod_mz * t596;
+        let t1326: f64 = t1324.plus(t1325);
+        let t1327: f64 = t1326 * 2.0;
+        let t1328: f64 = t1322.subtracted_from(t1327);
+        let t1329: f64 = t483 * t1328;
+        let t1330: f64 = t1312.plus(t1329);
+        let t1331: f64 = t1298 * 2.0;
+        let t1332: f64 = t1330 + t1331;
+        let t1333 = product(t168, t1332);
+        let t1334: f64 = arm2_rod_mass * t467;
+        let t1335: f64 = t500 * t1334;
+        let t1336: f64 = t879 * t1335;
+        let t1337 = product(t491, t1311);
+        let t1338: f64 = t481 * t1328;
+        let t1339: f64 = t1337.plus(t1338);
+        let t1340: f64 = t1336 * 2.0;
+        let t1341: f64 = t1339 + t1340;
+        let t1342: f64 = t164 * t1341;
+        let t1343: f64 = arm2_rod_mass * t464;
+        let t1344: f64 = t500 * t1343;
+        let t1345: f64 = t879 * t1344;
+        let t1346 = product(t485, t1311);
+        let t1347: f64 = t489 * t1328;
+        let t1348: f64 = t1346.plus(t1347);
+        let t1349: f64 = t1345 * 2.0;
+        let t1350: f64 = t1348 + t1349;
+        let t1351 = product(t160, t1350);
+        let t1352: f64 = t1333.plus(t1342);
+        let t1353: f64 = t1351.plus(t1352);
+        let t1354 = product(arm2_crank_length, t1353);
+        let t1355: f64 = t1354.added_to(t1295);
+        let t1356: f64 = t153 * t179;
+        let t1357: f64 = t543 * t1356;
+        let t1358: f64 = t1355 * t1357;
+        let t1359: f64 = arm1_crank_izz * t90;
+        let t1360: f64 = arm1_rod_mass * t295;
+        let t1361: f64 = t333 * t1360;
+        let t1362: f64 = t799 * t1361;
+        let t1363: f64 = arm1_rod_mass * t333;
+        let t1364: f64 = t331 * t1363;
+        let t1365: f64 = t335 * 2.0;
+        let t1366 = product(arm1_rod_mz, t1365);
+        let t1367: f64 = arm1_rod_mz * t333;
+        let t1368: f64 = t331 * t1367;
+        let t1369 = product(arm1_rod_ixx, t1365);
+        let t1370: f64 = t1368 * 2.0;
+        let t1371: f64 = t1369.plus(t1370);
+        let t1372 = product(t294, t1371);
+        let t1373: f64 = t1364 * 2.0;
+        let t1374: f64 = t1366.plus(t1373);
+        let t1375: f64 = t1372.subtracted_from(t1374);
+        let t1376 = product(t328, t1375);
+        let t1377: f64 = t341 * t341;
+        let t1378: f64 = arm1_rod_izz * t429;
+        let t1379 = product(t1377, t1378);
+        let t1380 = product(arm1_rod_ixx, t429);
+        let t1381: f64 = arm1_rod_mz * t422;
+        let t1382: f64 = t333 * t1381;
+        let t1383: f64 = t1380.plus(t1382);
+        let t1384: f64 = t1379.plus(t1383);
+        let t1385: f64 = t1384 * 2.0;
+        let t1386 = product(t294, t1385);
+        let t1387: f64 = arm1_rod_mass * t422;
+        let t1388 = product(t333, t1387);
+        let t1389: f64 = arm1_rod_mz * t429;
+        let t1390: f64 = t1388.plus(t1389);
+        let t1391: f64 = t1390 * 2.0;
+        let t1392: f64 = t1386.subtracted_from(t1391);
+        let t1393: f64 = t316 * t1392;
+        let t1394: f64 = t1376.plus(t1393);
+        let t1395: f64 = t1362 * 2.0;
+        let t1396: f64 = t1394 + t1395;
+        let t1397 = product(t77, t1396);
+        let t1398: f64 = arm1_rod_mass * t300;
+        let t1399: f64 = t333 * t1398;
+        let t1400: f64 = t799 * t1399;
+        let t1401 = product(t324, t1375);
+        let t1402: f64 = t314 * t1392;
+        let t1403: f64 = t1401.plus(t1402);
+        let t1404: f64 = t1400 * 2.0;
+        let t1405: f64 = t1403 + t1404;
+        let t1406: f64 = t66 * t1405;
+        let t1407: f64 = arm1_rod_mass * t297;
+        let t1408: f64 = t333 * t1407;
+        let t1409: f64 = t799 * t1408;
+        let t1410 = product(t318, t1375);
+        let t1411: f64 = t322 * t1392;
+        let t1412: f64 = t1410.plus(t1411);
+        let t1413: f64 = t1409 * 2.0;
+        let t1414: f64 = t1412 + t1413;
+        let t1415 = product(t62, t1414);
+        let t1416: f64 = t1397.plus(t1406);
+        let t1417: f64 = t1415.plus(t1416);
+        let t1418 = product(arm1_crank_length, t1417);
+        let t1419: f64 = t1418.added_to(t1359);
+        let t1420: f64 = t55 * t88;
+        let t1421: f64 = t376 * t1420;
+        let t1422 = product(t1419, t1421);
+        let t1423: f64 = t1131 - t1230;
+        let t1424: f64 = t960 * t960;
+        let t1425: f64 = t1235 * t1424;
+        let t1426 = product(t665, t1246);
+        let t1427: f64 = t756 * t1263;
+        let t1428: f64 = t1425 * 2.0;
+        let t1429: f64 = t1426.plus(t1428);
+        let t1430: f64 = t1427 + t1429;
+        let t1431 = product(ax, t1430);
+        let t1432: f64 = arm3_rod_ixx * t992;
+        let t1433 = product(ax, t1243);
+        let t1434: f64 = arm3_rod_mz * t980;
+        let t1435: f64 = t667 * t1434;
+        let t1436: f64 = t960 * t1435;
+        let t1437: f64 = t1250 - t1255;
+        let t1438: f64 = t1437 * 2.0;
+        let t1439 = product(t771, t1438);
+        let t1440: f64 = t1436 * 4.0;
+        let t1441: f64 = t1439.subtracted_from(t1440);
+        let t1442: f64 = vx * t1441;
+        let t1443: f64 = t1433.minus(t1442);
+        let t1444: f64 = t1432 - t1443;
+        let t1445: f64 = t790 * 2.0;
+        let t1446: f64 = t1444 + t1445;
+        let t1447: f64 = t666 * t1446;
+        let t1448: f64 = t770 * t1239;
+        let t1449: f64 = t960 * t1448;
+        let t1450: f64 = arm3_rod_ixx - arm3_rod_izz;
+        let t1451 = product(t1237, t1450);
+        let t1452: f64 = t1451.added_to(t1242);
+        let t1453 = product(t771, t1452);
+        let t1454 = product(t980, t1438);
+        let t1455: f64 = t770 * t1452;
+        let t1456: f64 = t1454.plus(t1455);
+        let t1457: f64 = -t1456;
+        let t1458 = product(t675, t1457);
+        let t1459: f64 = t1449 * 4.0;
+        let t1460: f64 = t1458.plus(t1459);
+        let t1461: f64 = t1453.subtracted_from(t1460);
+        let t1462 = product(vx, t1461);
+        let t1463 = product(ax, t1257);
+        let t1464: f64 = t1463.added_to(t1083);
+        let t1465: f64 = t1082 + t1464;
+        let t1466: f64 = t1462.subtracted_from(t1465);
+        let t1467 = product(t757, t1466);
+        let t1468: f64 = t1431.plus(t1447);
+        let t1469: f64 = t1034 + t1468;
+        let t1470: f64 = t1467.subtracted_from(t1469);
+        let t1471 = product(arm3_crank_length, t1470);
+        let t1472: f64 = ax * arm3_crank_izz;
+        let t1473 = product(t286, t1472);
+        let t1474: f64 = t270 * t680;
+        let t1475: f64 = t716 * t1474;
+        let t1476: f64 = t1291 * t1475;
+        let t1477: f64 = t271 * t691;
+        let t1478: f64 = t1291 * t1477;
+        let t1479: f64 = arm3_rod_izz * t1072;
+        let t1480: f64 = t763 * t1479;
+        let t1481: f64 = t675 * t1480;
+        let t1482: f64 = t697 * t1481;
+        let t1483 = product(t696, t1257);
+        let t1484: f64 = t1482 * 2.0;
+        let t1485: f64 = t1483.plus(t1484);
+        let t1486 = product(t705, t1485);
+        let t1487 = product(t696, t1243);
+        let t1488: f64 = t697 * t1243;
+        let t1489: f64 = t1072 + t1249;
+        let t1490: f64 = t1489 * 2.0;
+        let t1491 = product(t1250, t1490);
+        let t1492: f64 = t1255 * 2.0;
+        let t1493: f64 = t1491.plus(t1492);
+        let t1494 = product(t1019, t1493);
+        let t1495: f64 = t1494.subtracted_from(t1488);
+        let t1496: f64 = t675 * t1495;
+        let t1497: f64 = t1487.plus(t1496);
+        let t1498: f64 = t628 * t1497;
+        let t1499: f64 = -t1498;
+        let t1500: f64 = t650 * t1499;
+        let t1501: f64 = t1486.plus(t1500);
+        let t1502 = product(t1478, 2.0);
+        let t1503: f64 = t1502.added_to(t1501);
+        let t1504 = product(t266, t1503);
+        let t1505: f64 = t271 * t687;
+        let t1506: f64 = t1291 * t1505;
+        let t1507 = product(t700, t1485);
+        let t1508: f64 = t648 * t1499;
+        let t1509: f64 = t1507.plus(t1508);
+        let t1510 = product(t1506, 2.0);
+        let t1511: f64 = t1510.added_to(t1509);
+        let t1512: f64 = t255 * t1511;
+        let t1513: f64 = t271 * t683;
+        let t1514: f64 = t1291 * t1513;
+        let t1515 = product(t653, t1485);
+        let t1516: f64 = t656 * t1499;
+        let t1517: f64 = t1515.plus(t1516);
+        let t1518 = product(t1514, 2.0);
+        let t1519: f64 = t1518.added_to(t1517);
+        let t1520 = product(t251, t1519);
+        let t1521 = product(t237, t1268);
+        let t1522: f64 = t258 * t1277;
+        let t1523 = product(t244, t1286);
+        let t1524: f64 = t1521.plus(t1522);
+        let t1525: f64 = t1523.plus(t1524);
+        let t1526: f64 = t1525 * 2.0;
+        let t1527: f64 = t680 * t1526;
+        let t1528: f64 = t1504.plus(t1512);
+        let t1529: f64 = t1520.plus(t1527);
+        let t1530: f64 = t1528 + t1529;
+        let t1531 = product(arm3_crank_length, t1530);
+        let t1532: f64 = t1476 * 2.0;
+        let t1533: f64 = t1531.minus(t1532);
+        let t1534: f64 = vx * t1533;
+        let t1535: f64 = t1473.minus(t1534);
+        let t1536: f64 = t1471.plus(t1535);
+        let t1537: f64 = t1423 + t1536;
+        let t1538: f64 = t271 * t1537;
+        let t1539: f64 = t241 * t270;
+        let t1540: f64 = t710 * t1539;
+        let t1541 = product(t1291, t1540);
+        let t1542: f64 = t237 * t270;
+        let t1543 = product(t1291, t1542);
+        let t1544: f64 = t1543.added_to(t1267);
+        let t1545: f64 = t1266 + t1544;
+        let t1546 = product(t710, t1545);
+        let t1547: f64 = t270 * t270;
+        let t1548: f64 = az * arm3_crank_izz;
+        let t1549 = product(t286, t1548);
+        let t1550 = product(vz, t1533);
+        let t1551 = product(az, t1430);
+        let t1552 = product(az, t1243);
+        let t1553: f64 = vz * t1441;
+        let t1554: f64 = t1552.minus(t1553);
+        let t1555 = product(t666, t1554);
+        let t1556 = product(vz, t1461);
+        let t1557: f64 = az * t1257;
+        let t1558: f64 = t1556.subtracted_from(t1557);
+        let t1559: f64 = t757 * t1558;
+        let t1560: f64 = t1555.plus(t1559);
+        let t1561: f64 = t1551.minus(t1560);
+        let t1562: f64 = arm3_crank_length * t1561;
+        let t1563: f64 = t1549.plus(t1562);
+        let t1564: f64 = t1550.minus(t1563);
+        let t1565 = product(t241, t1564);
+        let t1566: f64 = ay * arm3_crank_izz;
+        let t1567 = product(t286, t1566);
+        let t1568 = product(vy, t1533);
+        let t1569 = product(ay, t1430);
+        let t1570 = product(ay, t1243);
+        let t1571: f64 = vy * t1441;
+        let t1572: f64 = t1570.minus(t1571);
+        let t1573 = product(t666, t1572);
+        let t1574 = product(vy, t1461);
+        let t1575: f64 = ay * t1257;
+        let t1576: f64 = t1574.subtracted_from(t1575);
+        let t1577: f64 = t757 * t1576;
+        let t1578: f64 = t1573.plus(t1577);
+        let t1579: f64 = t1569.minus(t1578);
+        let t1580: f64 = arm3_crank_length * t1579;
+        let t1581: f64 = t1567.plus(t1580);
+        let t1582: f64 = t1568.minus(t1581);
+        let t1583: f64 = t262 * t1582;
+        let t1584: f64 = arm1_rod_ixx * t831;
+        let t1585: f64 = t456 * 2.0;
+        let t1586: f64 = t1584 + t1585;
+        let t1587 = product(t335, t1586);
+        let t1588: f64 = arm2_rod_ixx * t911;
+        let t1589: f64 = t623 * 2.0;
+        let t1590: f64 = t1588 + t1589;
+        let t1591: f64 = t502 * t1590;
+        let t1592: f64 = t1432 + t1445;
+        let t1593 = product(t669, t1592);
+        let t1594: f64 = t1587.plus(t1591);
+        let t1595: f64 = t1593.plus(t1594);
+        let t1596: f64 = t1138 - t1595;
+        let t1597 = product(t289, t1596);
+        let t1598 = product(t369, t1586);
+        let t1599: f64 = t536 * t1590;
+        let t1600 = product(t703, t1592);
+        let t1601: f64 = t1598.plus(t1599);
+        let t1602: f64 = t1600.plus(t1601);
+        let t1603: f64 = t1168 - t1602;
+        let t1604: f64 = t1222 * t1603;
+        let t1605 = product(t374, t1586);
+        let t1606: f64 = t541 * t1590;
+        let t1607 = product(t708, t1592);
+        let t1608: f64 = t1605.plus(t1606);
+        let t1609: f64 = t1607.plus(t1608);
+        let t1610: f64 = t1198 - t1609;
+        let t1611 = product(t1226, t1610);
+        let t1612: f64 = t1597.plus(t1604);
+        let t1613: f64 = t1611.plus(t1612);
+        let t1614 = product(t293, t1613);
+        let t1615: f64 = t1614.subtracted_from(t1131);
+        let t1616: f64 = t1536 + t1615;
+        let t1617 = product(t248, t1616);
+        let t1618: f64 = t724 * t1291;
+        let t1619: f64 = t1565.plus(t1583);
+        let t1620: f64 = t1617.plus(t1618);
+        let t1621: f64 = t1619 - t1620;
+        let t1622: f64 = t211 * t1547;
+        let t1623: f64 = t1621 * t1622;
+        let t1624: f64 = -t1623;
+        let t1625 = product(t266, t1624);
+        let t1626: f64 = t785 * 2.0;
+        let t1627 = product(t960, t1626);
+        let t1628: f64 = t973 * 2.0;
+        let t1629: f64 = t1627.subtracted_from(t1628);
+        let t1630 = product(arm3_rod_mass, t1629);
+        let t1631: f64 = t1630.added_to(t985);
+        let t1632: f64 = t667 * t1631;
+        let t1633: f64 = -t1632;
+        let t1634 = product(t266, t1633);
+        let t1635 = product(gravity_y, t1246);
+        let t1636 = product(t741, t1247);
+        let t1637 = product(t667, t995);
+        let t1638 = product(t272, t1554);
+        let t1639: f64 = t275 * t1572;
+        let t1640 = product(t286, t1446);
+        let t1641: f64 = t1638.plus(t1639);
+        let t1642: f64 = t1640.subtracted_from(t1641);
+        let t1643: f64 = arm3_crank_length * t628;
+        let t1644 = product(t1642, t1643);
+        let t1645: f64 = t785 * t1246;
+        let t1646: f64 = t1637.plus(t1645);
+        let t1647: f64 = t1644.subtracted_from(t1646);
+        let t1648: f64 = t255 * t1647;
+        let t1649 = product(t687, t1485);
+        let t1650: f64 = t1649.added_to(t1572);
+        let t1651 = product(t628, t1650);
+        let t1652: f64 = t1636.plus(t1648);
+        let t1653: f64 = t1651.plus(t1652);
+        let t1654: f64 = t1635.minus(t1653);
+        let t1655: f64 = t656 * t1654;
+        let t1656 = product(gravity_x, t1246);
+        let t1657 = product(t735, t1247);
+        let t1658: f64 = t251 * t1647;
+        let t1659 = product(t683, t1485);
+        let t1660: f64 = t1659.minus(t1446);
+        let t1661 = product(t628, t1660);
+        let t1662: f64 = t1657.plus(t1658);
+        let t1663: f64 = t1661.plus(t1662);
+        let t1664: f64 = t1656.minus(t1663);
+        let t1665 = product(t648, t1664);
+        let t1666 = product(t1019, t1257);
+        let t1667: f64 = t1666.subtracted_from(t1488);
+        let t1668 = product(t697, t1667);
+        let t1669 = product(vx, t1457);
+        let t1670: f64 = t1025 * 2.0;
+        let t1671 = product(t675, t1670);
+        let t1672: f64 = t1076 * 2.0;
+        let t1673: f64 = t1671.plus(t1672);
+        let t1674: f64 = arm3_rod_izz * t1673;
+        let t1675: f64 = t1669.minus(t1674);
+        let t1676: f64 = t763 * t1675;
+        let t1677: f64 = t760 + t768;
+        let t1678 = product(t1457, t1677);
+        let t1679: f64 = t1668.plus(t1676);
+        let t1680: f64 = t1678.plus(t1679);
+        let t1681 = product(arm3_axis_z, t1680);
+        let t1682: f64 = arm3_rod_izz * t647;
+        let t1683: f64 = t763 * t1682;
+        let t1684: f64 = t1019 * t1683;
+        let t1685: f64 = t675 * t1684;
+        let t1686: f64 = t697 * t1685;
+        let t1687 = product(t674, t1680);
+        let t1688 = product(gravity_z, t1263);
+        let t1689: f64 = t628 * t1558;
+        let t1690: f64 = t1688.minus(t1689);
+        let t1691 = product(t667, t1031);
+        let t1692 = product(t272, t1558);
+        let t1693: f64 = t275 * t1576;
+        let t1694 = product(t286, t1466);
+        let t1695: f64 = t1692.plus(t1693);
+        let t1696: f64 = t1694.plus(t1695);
+        let t1697 = product(t1643, t1696);
+        let t1698: f64 = t785 * t1263;
+        let t1699: f64 = t1691.plus(t1698);
+        let t1700: f64 = t1697.subtracted_from(t1699);
+        let t1701 = product(t266, t1700);
+        let t1702: f64 = t1701.subtracted_from(t1690);
+        let t1703 = product(t631, t1654);
+        let t1704: f64 = t634 * t1664;
         let t1705: f64 = t1703.minus(t1704);
-        let t1706: f64 = t582 * t1705;
-        let t1707: f64 = t1700.plus(t1706);
-        let t1708: f64 = t1702.subtracted_from(t1707);
-        let t1709: f64 = t164 * t1708;
-        let t1710 = product(t1250, t1701);
-        let t1711 = product(t583, t1639);
-        let t1712 = product(t569, t1655);
-        let t1713: f64 = t566 * t1666;
+        let t1706 = product(t729, t1264);
+        let t1707: f64 = t691 * t1499;
+        let t1708: f64 = t1706.plus(t1707);
+        let t1709: f64 = t1705 - t1708;
+        let t1710: f64 = t1702 + t1709;
+        let t1711: f64 = t642 * t1710;
+        let t1712 = product(gravity_y, t1263);
+        let t1713: f64 = t628 * t1576;
         let t1714: f64 = t1712.minus(t1713);
-        let t1715: f64 = t582 * t1714;
-        let t1716: f64 = t1710.plus(t1715);
-        let t1717: f64 = t1711.subtracted_from(t1716);
-        let t1718 = product(t168, t1717);
-        let t1719: f64 = t1696.plus(t1697);
-        let t1720: f64 = t1698.plus(t1719);
-        let t1721: f64 = t1699.plus(t1709);
-        let t1722: f64 = t1718.plus(t1721);
-        let t1723: f64 = t1720 - t1722;
-        let t1724: f64 = t1679 * t1723;
-        let t1725: f64 = t1695.minus(t1724);
-        let t1726: f64 = arm2_crank_length * t1725;
-        let t1727: f64 = t1694.minus(t1726);
-        let t1728: f64 = t696 * t1727;
-        let t1729: f64 = arm3_rod_izz * t1023;
-        let t1730 = product(t768, t1729);
-        let t1731: f64 = t1730.added_to(t1093);
-        let t1732 = product(t1731, 2.0);
-        let t1733: f64 = t1732.added_to(t1094);
-        let t1734 = product(arm3_axis_z, t1349);
-        let t1735: f64 = arm3_axis_y * t1327;
-        let t1736: f64 = t1734.minus(t1735);
-        let t1737: f64 = arm3_crank_length * t698;
-        let t1738 = product(t1736, t1737);
-        let t1739: f64 = arm3_axis_x * arm3_crank_length;
-        let t1740: f64 = t698 * t1739;
-        let t1741 = product(t1327, t1740);
-        let t1742 = product(t1345, t1737);
-        let t1743: f64 = t1742.added_to(t698);
-        let t1744: f64 = arm3_axis_z * t1743;
-        let t1745: f64 = t1741.minus(t1744);
-        let t1746 = product(t703, t1745);
-        let t1747 = product(arm3_axis_y, t1743);
-        let t1748: f64 = t1349 * t1740;
-        let t1749: f64 = t1747.minus(t1748);
-        let t1750: f64 = t712 * t1749;
-        let t1751: f64 = t707 * t1737;
-        let t1752 = product(t1736, t1751);
-        let t1753: f64 = t1746.plus(t1750);
-        let t1754: f64 = t1752.plus(t1753);
-        let t1755: f64 = t1754 * 2.0;
-        let t1756: f64 = t717 * t726;
-        let t1757: f64 = t1755 * t1756;
-        let t1758: f64 = t1757 * 0.5;
-        let t1759: f64 = t1738.minus(t1758);
-        let t1760: f64 = t698 * t717;
-        let t1761 = product(t1759, t1760);
-        let t1762 = product(t746, t1386);
-        let t1763 = product(t726, t1333);
-        let t1764: f64 = t718 * t1337;
-        let t1765 = product(t720, t1341);
-        let t1766 = product(t251, t1759);
-        let t1767: f64 = t717 * t718;
-        let t1768: f64 = t1755 * t1767;
-        let t1769 = product(t1768, 0.5);
-        let t1770: f64 = t1769.subtracted_from(t1745);
-        let t1771: f64 = t255 * t1770;
-        let t1772: f64 = t717 * t720;
-        let t1773: f64 = t1755 * t1772;
-        let t1774 = product(t1773, 0.5);
-        let t1775: f64 = t1774.subtracted_from(t1749);
-        let t1776 = product(t266, t1775);
-        let t1777: f64 = t1766.plus(t1771);
-        let t1778: f64 = t1776.plus(t1777);
-        let t1779 = product(t717, t1778);
-        let t1780: f64 = t1763.plus(t1764);
-        let t1781: f64 = t1765.plus(t1780);
-        let t1782: f64 = t1779.subtracted_from(t1781);
-        let t1783: f64 = t286 * t698;
-        let t1784: f64 = t1782 * t1783;
-        let t1785: f64 = t1762.minus(t1784);
-        let t1786: f64 = arm3_crank_length * t1785;
-        let t1787: f64 = t1761.minus(t1786);
-        let t1788 = product(t1733, t1787);
-        let t1789 = product(t718, t1327);
-        let t1790: f64 = t720 * t1349;
-        let t1791: f64 = t1789.minus(t1790);
-        let t1792 = product(t1737, t1791);
-        let t1793 = product(t699, t1770);
-        let t1794: f64 = t704 * t1775;
-        let t1795: f64 = t1793.minus(t1794);
-        let t1796: f64 = t717 * t1795;
-        let t1797: f64 = t1792.plus(t1796);
-        let t1798 = product(t698, t1797);
-        let t1799 = product(t736, t1386);
-        let t1800 = product(t722, t1333);
-        let t1801: f64 = t728 * t1337;
-        let t1802 = product(t732, t1341);
-        let t1803 = product(t251, t1797);
-        let t1804 = product(t720, t1743);
-        let t1805: f64 = t726 * t1737;
-        let t1806 = product(t1327, t1805);
-        let t1807 = product(t701, t1775);
-        let t1808: f64 = t699 * t1759;
-        let t1809: f64 = t1807.minus(t1808);
-        let t1810: f64 = t717 * t1809;
-        let t1811: f64 = t1804.plus(t1810);
-        let t1812: f64 = t1806.subtracted_from(t1811);
-        let t1813: f64 = t255 * t1812;
-        let t1814 = product(t1349, t1805);
-        let t1815 = product(t718, t1743);
-        let t1816 = product(t704, t1759);
-        let t1817: f64 = t701 * t1770;
-        let t1818: f64 = t1816.minus(t1817);
-        let t1819: f64 = t717 * t1818;
-        let t1820: f64 = t1814.plus(t1819);
-        let t1821: f64 = t1815.subtracted_from(t1820);
-        let t1822 = product(t266, t1821);
-        let t1823: f64 = t1800.plus(t1801);
-        let t1824: f64 = t1802.plus(t1823);
-        let t1825: f64 = t1803.plus(t1813);
-        let t1826: f64 = t1822.plus(t1825);
-        let t1827: f64 = t1824 - t1826;
-        let t1828: f64 = t1783 * t1827;
-        let t1829: f64 = t1799.minus(t1828);
-        let t1830: f64 = arm3_crank_length * t1829;
-        let t1831: f64 = t1798.minus(t1830);
-        let t1832 = product(t831, t1831);
-        let t1833 = product(t836, t1619);
-        let t1834: f64 = t877 * t1574;
-        let t1835 = product(t431, t1454);
-        let t1836 = product(t62, t1535);
-        let t1837: f64 = t434 * t1458;
-        let t1838 = product(t429, t1462);
-        let t1839: f64 = t1473 * t1529;
-        let t1840: f64 = t1835.plus(t1837);
-        let t1841: f64 = t1838.plus(t1840);
-        let t1842: f64 = t1836.plus(t1839);
-        let t1843: f64 = t1841 - t1842;
-        let t1844 = product(t904, t1843);
-        let t1845 = product(t325, t1454);
-        let t1846 = product(t301, t1454);
-        let t1847 = product(vx, t1484);
-        let t1848: f64 = vy * t1492;
-        let t1849 = product(vz, t1499);
-        let t1850: f64 = t1847.plus(t1848);
-        let t1851: f64 = t1849.plus(t1850);
-        let t1852: f64 = t62 * t1851;
-        let t1853: f64 = t1846.minus(t1852);
-        let t1854 = product(t312, t1853);
-        let t1855 = product(t301, t1458);
-        let t1856: f64 = t66 * t1851;
-        let t1857: f64 = t1855.minus(t1856);
-        let t1858: f64 = t316 * t1857;
-        let t1859 = product(t301, t1462);
-        let t1860: f64 = t77 * t1851;
-        let t1861: f64 = t1859.minus(t1860);
-        let t1862 = product(t320, t1861);
-        let t1863: f64 = t307 * t1851;
-        let t1864 = product(t59, t1448);
-        let t1865: f64 = t73 * t1467;
-        let t1866 = product(t84, t1471);
-        let t1867 = product(t55, t1448);
-        let t1868: f64 = t69 * t1467;
-        let t1869 = product(t80, t1471);
-        let t1870: f64 = t1867.plus(t1868);
-        let t1871: f64 = t1869.plus(t1870);
-        let t1872 = product(arm1_crank_length, t1871);
-        let t1873: f64 = t1872.added_to(t55);
-        let t1874: f64 = t1864.plus(t1865);
-        let t1875: f64 = t1866.plus(t1874);
-        let t1876: f64 = t1873 - t1875;
-        let t1877 = product(t301, t1876);
-        let t1878: f64 = t1863 * 2.0;
-        let t1879: f64 = t1877.plus(t1878);
-        let t1880 = product(t301, t1879);
-        let t1881 = product(t325, t1479);
-        let t1882: f64 = t1854.plus(t1858);
-        let t1883: f64 = t1862.plus(t1882);
-        let t1884: f64 = t1883 * 2.0;
-        let t1885: f64 = t1880.plus(t1884);
-        let t1886: f64 = t1881.subtracted_from(t1885);
-        let t1887: f64 = t88 * t1886;
-        let t1888: f64 = -t1887;
-        let t1889: f64 = t62 * t1888;
-        let t1890 = product(t301, t1448);
-        let t1891: f64 = t55 * t1851;
-        let t1892: f64 = t1891 * 2.0;
-        let t1893: f64 = t1890.minus(t1892);
-        let t1894 = product(t301, t1893);
-        let t1895: f64 = t1845.plus(t1889);
-        let t1896: f64 = t1894.subtracted_from(t1895);
-        let t1897 = product(t431, t1896);
-        let t1898 = product(t325, t1458);
-        let t1899: f64 = t66 * t1888;
-        let t1900 = product(t301, t1467);
-        let t1901: f64 = t69 * t1851;
-        let t1902: f64 = t1901 * 2.0;
-        let t1903: f64 = t1900.minus(t1902);
-        let t1904 = product(t301, t1903);
-        let t1905: f64 = t1898.plus(t1899);
-        let t1906: f64 = t1904.subtracted_from(t1905);
-        let t1907: f64 = t434 * t1906;
-        let t1908 = product(t325, t1462);
-        let t1909: f64 = t77 * t1888;
-        let t1910 = product(t301, t1471);
-        let t1911: f64 = t80 * t1851;
-        let t1912: f64 = t1911 * 2.0;
-        let t1913: f64 = t1910.minus(t1912);
-        let t1914 = product(t301, t1913);
-        let t1915: f64 = t1908.plus(t1909);
-        let t1916: f64 = t1914.subtracted_from(t1915);
-        let t1917 = product(t429, t1916);
-        let t1918: f64 = gravity_y - t525;
-        let t1919 = product(t1467, t1918);
-        let t1920: f64 = gravity_z - t515;
-        let t1921: f64 = t1471 * t1920;
-        let t1922: f64 = t1919.plus(t1921);
-        let t1923: f64 = t428 * t1922;
-        let t1924 = product(az, t1499);
-        let t1925 = product(ax, t1484);
-        let t1926: f64 = ay * t1492;
-        let t1927: f64 = t1925.plus(t1926);
-        let t1928: f64 = t1924.plus(t1927);
-        let t1929 = product(t883, t1928);
-        let t1930: f64 = t1897.plus(t1907);
-        let t1931: f64 = t1917.plus(t1923);
-        let t1932: f64 = t1930 + t1931;
-        let t1933: f64 = t1929.subtracted_from(t1932);
-        let t1934 = product(arm1_crank_length, t1933);
-        let t1935: f64 = t510 * t1843;
-        let t1936: f64 = gravity_x - t520;
-        let t1937 = product(t1535, t1936);
-        let t1938: f64 = t1934.plus(t1935);
-        let t1939: f64 = t1937.plus(t1938);
-        let t1940: f64 = -t1939;
-        let t1941: f64 = arm1_rod_mass * t1940;
-        let t1942 = product(vx, t1579);
-        let t1943 = product(t1552, t1562);
-        let t1944 = product(t476, t1492);
-        let t1945: f64 = t280 * t428;
-        let t1946: f64 = t1574 * t1945;
-        let t1947: f64 = t1944.minus(t1946);
-        let t1948: f64 = arm1_crank_length * t1947;
-        let t1949: f64 = t1943.minus(t1948);
-        let t1950: f64 = vy * t1949;
-        let t1951 = product(t1552, t1567);
-        let t1952 = product(t476, t1499);
-        let t1953: f64 = t282 * t428;
-        let t1954: f64 = t1574 * t1953;
-        let t1955: f64 = t1952.minus(t1954);
-        let t1956: f64 = arm1_crank_length * t1955;
-        let t1957: f64 = t1951.minus(t1956);
-        let t1958 = product(vz, t1957);
-        let t1959: f64 = t1942.plus(t1950);
-        let t1960: f64 = t1958.plus(t1959);
-        let t1961 = product(t491, t1960);
-        let t1962 = product(vx, t1623);
-        let t1963 = product(t428, t1604);
-        let t1964 = product(t466, t1492);
-        let t1965: f64 = t1619 * t1945;
-        let t1966: f64 = t1964.minus(t1965);
-        let t1967: f64 = arm1_crank_length * t1966;
-        let t1968: f64 = t1963.minus(t1967);
-        let t1969: f64 = vy * t1968;
-        let t1970 = product(t428, t1613);
-        let t1971 = product(t466, t1499);
-        let t1972: f64 = t1619 * t1953;
-        let t1973: f64 = t1971.minus(t1972);
-        let t1974: f64 = arm1_crank_length * t1973;
-        let t1975: f64 = t1970.minus(t1974);
-        let t1976 = product(vz, t1975);
-        let t1977: f64 = t1962.plus(t1969);
-        let t1978: f64 = t1976.plus(t1977);
-        let t1979: f64 = t871 * t1978;
-        let t1980: f64 = t1961.plus(t1979);
-        let t1981: f64 = t1980 * 4.0;
-        let t1982 = product(arm1_rod_mz, t1981);
-        let t1983: f64 = t1941 * 2.0;
-        let t1984: f64 = t1982.subtracted_from(t1983);
-        let t1985 = product(t883, t1984);
-        let t1986 = product(ax, t1623);
-        let t1987: f64 = ay * t1968;
-        let t1988 = product(az, t1975);
-        let t1989 = product(t520, t1589);
-        let t1990: f64 = t525 * t1604;
-        let t1991 = product(t515, t1613);
-        let t1992 = product(arm1_axis_x, t1535);
-        let t1993 = product(arm1_axis_y, t1467);
-        let t1994: f64 = arm1_axis_z * t1471;
-        let t1995: f64 = t1993.plus(t1994);
-        let t1996: f64 = t1529 * t1995;
-        let t1997: f64 = t496 * t1063;
-        let t1998: f64 = t1547 * t1997;
-        let t1999 = product(t1998, 0.5);
+        let t1715 = product(t255, t1700);
+        let t1716: f64 = t1715.subtracted_from(t1714);
+        let t1717 = product(t629, t1664);
+        let t1718 = product(gravity_z, t1246);
+        let t1719 = product(t729, t1247);
+        let t1720: f64 = t266 * t1647;
+        let t1721 = product(t691, t1485);
+        let t1722: f64 = t1721.added_to(t1554);
+        let t1723 = product(t628, t1722);
+        let t1724: f64 = t1719.plus(t1720);
+        let t1725: f64 = t1723.plus(t1724);
+        let t1726: f64 = t1718.minus(t1725);
+        let t1727: f64 = t631 * t1726;
+        let t1728: f64 = t1717.minus(t1727);
+        let t1729 = product(t741, t1264);
+        let t1730: f64 = t687 * t1499;
+        let t1731: f64 = t1729.plus(t1730);
+        let t1732: f64 = t1728 - t1731;
+        let t1733: f64 = t1716 + t1732;
+        let t1734 = product(t633, t1733);
+        let t1735 = product(gravity_x, t1263);
+        let t1736: f64 = t735 * t1264;
+        let t1737: f64 = t1735.minus(t1736);
+        let t1738 = product(t628, t1466);
+        let t1739: f64 = t1738.subtracted_from(t1737);
+        let t1740 = product(t634, t1726);
+        let t1741: f64 = t683 * t1499;
+        let t1742: f64 = t1740.minus(t1741);
+        let t1743 = product(t629, t1654);
+        let t1744: f64 = t251 * t1700;
+        let t1745: f64 = t1743.plus(t1744);
+        let t1746: f64 = t1742 - t1745;
+        let t1747: f64 = t1739 + t1746;
+        let t1748: f64 = t637 * t1747;
+        let t1749 = product(t1686, 4.0);
+        let t1750: f64 = t1687.plus(t1711);
+        let t1751: f64 = t1734.plus(t1748);
+        let t1752: f64 = t1750 + t1751;
+        let t1753: f64 = t1749.minus(t1752);
+        let t1754: f64 = t647 * t648;
+        let t1755 = product(t1753, t1754);
+        let t1756: f64 = t1755.added_to(t1733);
+        let t1757: f64 = arm3_axis_x * t1756;
+        let t1758: f64 = t647 * t656;
+        let t1759 = product(t1753, t1758);
+        let t1760: f64 = t1759.added_to(t1747);
+        let t1761 = product(arm3_axis_y, t1760);
+        let t1762: f64 = t1681.plus(t1757);
+        let t1763: f64 = t1761.subtracted_from(t1762);
+        let t1764: f64 = t647 * t1763;
+        let t1765: f64 = gravity_z + t728;
+        let t1766: f64 = t1765 * 2.0;
+        let t1767: f64 = t960 * t1235;
+        let t1768 = product(t1766, t1767);
+        let t1769: f64 = t1665.plus(t1764);
+        let t1770: f64 = t1768.plus(t1769);
+        let t1771: f64 = t1634.plus(t1655);
+        let t1772: f64 = t1770 - t1771;
+        let t1773 = product(t628, t1772);
+        let t1774: f64 = t271 * t1564;
+        let t1775: f64 = t1773.plus(t1774);
+        let t1776: f64 = t1625.plus(t1775);
+        let t1777: f64 = t1546.subtracted_from(t1776);
+        let t1778: f64 = arm3_crank_length * t1777;
+        let t1779: f64 = t1541.plus(t1778);
+        let t1780: f64 = -t1779;
+        let t1781 = product(arm3_zero_z, t1780);
+        let t1782: f64 = gravity_z * arm3_crank_mx;
+        let t1783 = product(t286, t1782);
+        let t1784 = product(t629, t1633);
+        let t1785: f64 = t662 * t1647;
+        let t1786 = product(t650, t1700);
+        let t1787: f64 = t241 * t1624;
+        let t1788 = product(t725, t1268);
+        let t1789: f64 = t680 * t1503;
+        let t1790: f64 = t1788.minus(t1789);
+        let t1791: f64 = arm3_crank_length * t1790;
+        let t1792: f64 = t1784.plus(t1785);
+        let t1793: f64 = t1786.plus(t1791);
+        let t1794: f64 = t1792 + t1793;
+        let t1795: f64 = t1783.plus(t1787);
+        let t1796: f64 = t1794 - t1795;
+        let t1797 = product(t204, t1796);
+        let t1798: f64 = t262 * t270;
+        let t1799: f64 = t710 * t1798;
+        let t1800 = product(t1291, t1799);
+        let t1801: f64 = t258 * t270;
+        let t1802 = product(t1291, t1801);
+        let t1803: f64 = t1802.added_to(t1276);
+        let t1804: f64 = t1275 + t1803;
+        let t1805 = product(t710, t1804);
+        let t1806 = product(t255, t1624);
+        let t1807 = product(t255, t1633);
+        let t1808 = product(t656, t1726);
+        let t1809: f64 = t650 * t1664;
+        let t1810 = product(arm3_axis_y, t1680);
+        let t1811: f64 = t647 * t650;
+        let t1812 = product(t1753, t1811);
+        let t1813: f64 = t1812.added_to(t1710);
+        let t1814 = product(arm3_axis_x, t1813);
+        let t1815: f64 = arm3_axis_z * t1760;
+        let t1816: f64 = t1810.plus(t1815);
+        let t1817: f64 = t1814.subtracted_from(t1816);
+        let t1818: f64 = t647 * t1817;
+        let t1819: f64 = gravity_y + t740;
+        let t1820: f64 = t1819 * 2.0;
+        let t1821 = product(t1767, t1820);
+        let t1822: f64 = t1808.plus(t1818);
+        let t1823: f64 = t1821.plus(t1822);
+        let t1824: f64 = t1807.plus(t1809);
+        let t1825: f64 = t1823 - t1824;
+        let t1826 = product(t628, t1825);
+        let t1827: f64 = t271 * t1582;
+        let t1828: f64 = t1826.plus(t1827);
+        let t1829: f64 = t1806.plus(t1828);
+        let t1830: f64 = t1805.subtracted_from(t1829);
+        let t1831: f64 = arm3_crank_length * t1830;
+        let t1832: f64 = t1800.plus(t1831);
+        let t1833: f64 = -t1832;
+        let t1834: f64 = arm3_zero_y * t1833;
+        let t1835: f64 = gravity_y * arm3_crank_mx;
+        let t1836 = product(t286, t1835);
+        let t1837 = product(t634, t1633);
+        let t1838: f64 = t658 * t1647;
+        let t1839 = product(t648, t1700);
+        let t1840: f64 = t262 * t1624;
+        let t1841 = product(t725, t1277);
+        let t1842: f64 = t680 * t1511;
+        let t1843: f64 = t1841.minus(t1842);
+        let t1844: f64 = arm3_crank_length * t1843;
+        let t1845: f64 = t1837.plus(t1838);
+        let t1846: f64 = t1839.plus(t1844);
+        let t1847: f64 = t1845 + t1846;
+        let t1848: f64 = t1836.plus(t1840);
+        let t1849: f64 = t1847 - t1848;
+        let t1850: f64 = t200 * t1849;
+        let t1851: f64 = gravity_x * arm3_crank_mx;
+        let t1852 = product(t286, t1851);
+        let t1853 = product(t631, t1633);
+        let t1854: f64 = t652 * t1647;
+        let t1855 = product(t656, t1700);
+        let t1856: f64 = t248 * t1624;
+        let t1857 = product(t725, t1286);
+        let t1858: f64 = t680 * t1519;
+        let t1859: f64 = t1857.minus(t1858);
+        let t1860: f64 = arm3_crank_length * t1859;
+        let t1861: f64 = t1853.plus(t1854);
+        let t1862: f64 = t1855.plus(t1860);
+        let t1863: f64 = t1861 + t1862;
+        let t1864: f64 = t1852.plus(t1856);
+        let t1865: f64 = t1863 - t1864;
+        let t1866 = product(t196, t1865);
+        let t1867: f64 = t248 * t270;
+        let t1868: f64 = t710 * t1867;
+        let t1869 = product(t1291, t1868);
+        let t1870 = product(t271, t1616);
+        let t1871 = product(t1291, t1292);
+        let t1872: f64 = t1871.added_to(t1285);
+        let t1873: f64 = t1284 + t1872;
+        let t1874: f64 = t710 * t1873;
+        let t1875 = product(t251, t1633);
+        let t1876: f64 = t648 * t1726;
+        let t1877 = product(t650, t1654);
+        let t1878 = product(arm3_axis_x, t1680);
+        let t1879: f64 = arm3_axis_y * t1813;
+        let t1880 = product(arm3_axis_z, t1756);
+        let t1881: f64 = t1878.plus(t1879);
+        let t1882: f64 = t1880.subtracted_from(t1881);
+        let t1883: f64 = t647 * t1882;
+        let t1884: f64 = gravity_x + t734;
+        let t1885: f64 = t1884 * 2.0;
+        let t1886 = product(t1767, t1885);
+        let t1887: f64 = t1877.plus(t1883);
+        let t1888: f64 = t1886.plus(t1887);
+        let t1889: f64 = t1875.plus(t1876);
+        let t1890: f64 = t1888 - t1889;
+        let t1891 = product(t628, t1890);
+        let t1892: f64 = t251 * t1624;
+        let t1893: f64 = t1891.plus(t1892);
+        let t1894: f64 = t1870.plus(t1874);
+        let t1895: f64 = t1893 - t1894;
+        let t1896: f64 = arm3_crank_length * t1895;
+        let t1897: f64 = t1869.plus(t1896);
+        let t1898: f64 = -t1897;
+        let t1899 = product(arm3_zero_x, t1898);
+        let t1900: f64 = t1781.plus(t1834);
+        let t1901: f64 = t1899.plus(t1900);
+        let t1902: f64 = t1797.plus(t1850);
+        let t1903: f64 = t1866.plus(t1902);
+        let t1904: f64 = t1901 - t1903;
+        let t1905 = product(t192, t1904);
+        let t1906: f64 = 1.0 / t226;
+        let t1907 = product(t207, t1904);
+        let t1908 = product(t204, t1780);
+        let t1909: f64 = arm3_zero_z * t1796;
+        let t1910 = product(t200, t1833);
+        let t1911: f64 = arm3_zero_y * t1849;
+        let t1912 = product(arm3_zero_x, t1865);
+        let t1913: f64 = t196 * t1898;
+        let t1914: f64 = t1908.plus(t1909);
+        let t1915: f64 = t1910.plus(t1911);
+        let t1916: f64 = t1912.plus(t1913);
+        let t1917: f64 = t1914 + t1915;
+        let t1918: f64 = t1916 + t1917;
+        let t1919: f64 = t192 * t1918;
+        let t1920: f64 = t1907.minus(t1919);
+        let t1921: f64 = arm3_branch * t222;
+        let t1922: f64 = t1906 * t1921;
+        let t1923: f64 = t1920 * t1922;
+        let t1924 = product(t207, t1918);
+        let t1925: f64 = t1905.plus(t1923);
+        let t1926: f64 = t1924.plus(t1925);
+        let t1927: f64 = t1926 * 0.5;
+        let t1928: f64 = t183 * t211;
+        let t1929: f64 = t210 * t1928;
+        let t1930 = product(t1927, t1929);
+        let t1931: f64 = arm3_branch * t210;
+        let t1932: f64 = t1906 * t1931;
+        let t1933: f64 = t1920 * t1932;
+        let t1934: f64 = t210 * t210;
+        let t1935 = product(t229, t1904);
+        let t1936: f64 = t234 * t1918;
+        let t1937: f64 = t1935.plus(t1936);
+        let t1938 = product(t1934, t1937);
+        let t1939: f64 = t1933 * 0.5;
+        let t1940: f64 = t1938.plus(t1939);
+        let t1941: f64 = t207 * t1940;
+        let t1942 = product(t227, t1904);
+        let t1943: f64 = t222 * t1918;
+        let t1944: f64 = t1942.minus(t1943);
+        let t1945 = product(t210, t1944);
+        let t1946: f64 = t1941 * 2.0;
+        let t1947: f64 = t1945.plus(t1946);
+        let t1948 = product(t196, t1947);
+        let t1949: f64 = t192 * t1940;
+        let t1950 = product(t222, t1904);
+        let t1951: f64 = t227 * t1918;
+        let t1952: f64 = t1950.plus(t1951);
+        let t1953 = product(t210, t1952);
+        let t1954: f64 = t1949 * 2.0;
+        let t1955: f64 = t1953.minus(t1954);
+        let t1956 = product(arm3_zero_x, t1955);
+        let t1957: f64 = t1115 + t1217;
+        let t1958: f64 = t879 * t879;
+        let t1959: f64 = t1299 * t1958;
+        let t1960 = product(t498, t1310);
+        let t1961: f64 = t589 * t1327;
+        let t1962: f64 = t1959 * 2.0;
+        let t1963: f64 = t1960.plus(t1962);
+        let t1964: f64 = t1961 + t1963;
+        let t1965 = product(ax, t1964);
+        let t1966 = product(ax, t1307);
+        let t1967: f64 = arm2_rod_mz * t899;
+        let t1968: f64 = t500 * t1967;
+        let t1969: f64 = t879 * t1968;
+        let t1970: f64 = t1314 - t1319;
+        let t1971: f64 = t1970 * 2.0;
+        let t1972 = product(t604, t1971);
+        let t1973: f64 = t1969 * 4.0;
+        let t1974: f64 = t1972.subtracted_from(t1973);
+        let t1975: f64 = vx * t1974;
+        let t1976: f64 = t1966.minus(t1975);
+        let t1977: f64 = t1588 - t1976;
+        let t1978: f64 = t1589 + t1977;
+        let t1979: f64 = t499 * t1978;
+        let t1980: f64 = t603 * t1303;
+        let t1981: f64 = t879 * t1980;
+        let t1982: f64 = arm2_rod_ixx - arm2_rod_izz;
+        let t1983 = product(t1301, t1982);
+        let t1984: f64 = t1983.added_to(t1306);
+        let t1985 = product(t604, t1984);
+        let t1986 = product(t899, t1971);
+        let t1987: f64 = t603 * t1984;
+        let t1988: f64 = t1986.plus(t1987);
+        let t1989: f64 = -t1988;
+        let t1990 = product(t508, t1989);
+        let t1991: f64 = t1981 * 4.0;
+        let t1992: f64 = t1990.plus(t1991);
+        let t1993: f64 = t1985.subtracted_from(t1992);
+        let t1994 = product(vx, t1993);
+        let t1995 = product(ax, t1321);
+        let t1996: f64 = t1995.added_to(t1067);
+        let t1997: f64 = t1066 + t1996;
+        let t1998: f64 = t1994.subtracted_from(t1997);
+        let t1999 = product(t590, t1998);
         (
-            t1009,
-            t1018,
-            t1023,
-            t1029,
-            t1035,
+            t1019,
+            t1031,
+            t1034,
+            t1038,
+            t1042,
+            t1048,
+            t1049,
             t1056,
-            t1059,
-            t1063,
-            t1065,
-            t1068,
-            t1069,
-            t1079,
-            t1081,
-            t1084,
-            t1085,
-            t1095,
-            t1097,
+            t1060,
+            t1066,
+            t1067,
+            t1082,
+            t1083,
             t1100,
-            t1101,
-            t1120,
-            t1124,
-            t1150,
-            t1154,
-            t1180,
-            t1184,
-            t1188,
-            t1192,
-            t1196,
-            t1197,
-            t1201,
+            t1115,
+            t1145,
+            t1175,
             t1205,
             t1209,
-            t1215,
+            t1213,
+            t1218,
+            t1222,
             t1226,
-            t1235,
-            t1241,
-            t1250,
-            t1251,
-            t1256,
-            t1260,
-            t1264,
-            t1268,
-            t1273,
-            t1275,
-            t1281,
-            t1283,
-            t1285,
+            t1230,
+            t1231,
+            t1232,
+            t1236,
+            t1240,
+            t1249,
+            t1253,
+            t1257,
+            t1259,
+            t1270,
+            t1279,
+            t1291,
             t1292,
-            t1303,
-            t1312,
-            t1318,
+            t1293,
+            t1294,
+            t1295,
+            t1296,
+            t1299,
+            t1300,
+            t1304,
+            t1307,
+            t1310,
+            t1311,
+            t1313,
+            t1314,
+            t1317,
+            t1319,
+            t1321,
+            t1323,
             t1327,
             t1328,
-            t1333,
-            t1337,
+            t1330,
+            t1331,
+            t1332,
+            t1334,
+            t1339,
+            t1340,
             t1341,
-            t1345,
+            t1343,
+            t1348,
             t1349,
-            t1352,
+            t1350,
+            t1355,
+            t1356,
+            t1357,
             t1358,
+            t1359,
             t1360,
-            t1362,
-            t1366,
+            t1363,
+            t1364,
+            t1365,
+            t1367,
             t1368,
-            t1372,
+            t1370,
+            t1371,
             t1374,
-            t1379,
+            t1375,
+            t1377,
+            t1378,
+            t1381,
             t1383,
-            t1386,
-            t1390,
-            t1393,
-            t1399,
+            t1385,
+            t1387,
+            t1391,
+            t1392,
+            t1394,
+            t1395,
+            t1396,
+            t1398,
+            t1403,
+            t1404,
+            t1405,
             t1407,
+            t1412,
             t1413,
+            t1414,
+            t1419,
+            t1420,
+            t1421,
+            t1422,
+            t1423,
             t1424,
-            t1433,
-            t1439,
-            t1449,
-            t1454,
-            t1458,
-            t1462,
-            t1481,
-            t1484,
+            t1427,
+            t1428,
+            t1432,
+            t1434,
+            t1441,
+            t1445,
+            t1450,
+            t1461,
+            t1472,
+            t1475,
+            t1477,
+            t1478,
+            t1479,
             t1490,
-            t1492,
-            t1497,
-            t1499,
-            t1504,
+            t1501,
+            t1505,
+            t1506,
+            t1509,
             t1513,
-            t1519,
-            t1520,
-            t1525,
-            t1529,
-            t1547,
+            t1514,
+            t1517,
+            t1533,
+            t1538,
+            t1540,
+            t1542,
             t1548,
-            t1551,
-            t1552,
-            t1559,
-            t1562,
-            t1564,
-            t1567,
-            t1574,
-            t1575,
-            t1579,
-            t1580,
+            t1566,
+            t1584,
+            t1585,
+            t1588,
             t1589,
-            t1604,
-            t1613,
-            t1619,
-            t1624,
-            t1629,
-            t1633,
-            t1639,
-            t1651,
-            t1652,
-            t1655,
-            t1656,
-            t1663,
-            t1666,
-            t1668,
-            t1671,
-            t1678,
-            t1679,
-            t1683,
-            t1684,
-            t1693,
-            t1708,
-            t1717,
-            t1723,
-            t1727,
-            t1728,
-            t1733,
-            t1737,
-            t1743,
-            t1755,
-            t1756,
-            t1759,
-            t1760,
-            t1767,
-            t1770,
-            t1772,
-            t1775,
+            t1596,
+            t1603,
+            t1610,
+            t1615,
+            t1622,
+            t1631,
+            t1643,
+            t1674,
+            t1682,
+            t1754,
+            t1758,
+            t1766,
+            t1776,
             t1782,
-            t1783,
-            t1787,
-            t1788,
-            t1797,
-            t1812,
-            t1821,
-            t1827,
-            t1831,
-            t1832,
-            t1833,
-            t1834,
-            t1844,
-            t1853,
-            t1857,
-            t1861,
-            t1887,
-            t1896,
-            t1906,
-            t1916,
-            t1918,
-            t1920,
-            t1928,
-            t1936,
-            t1945,
-            t1949,
-            t1953,
+            t1799,
+            t1801,
+            t1811,
+            t1820,
+            t1829,
+            t1835,
+            t1851,
+            t1868,
+            t1885,
+            t1893,
+            t1922,
+            t1927,
+            t1929,
+            t1930,
+            t1932,
+            t1934,
+            t1947,
+            t1948,
+            t1955,
+            t1956,
             t1957,
-            t1960,
-            t1968,
-            t1975,
+            t1958,
+            t1961,
+            t1962,
+            t1964,
+            t1965,
+            t1967,
+            t1974,
             t1978,
-            t1985,
-            t1986,
-            t1987,
-            t1988,
+            t1979,
+            t1982,
             t1989,
-            t1990,
-            t1991,
-            t1992,
-            t1996,
-            t1997,
+            t1993,
+            t1998,
             t1999,
         )
     };
     let (
-        t2212,
-        t2214,
-        t2230,
-        t2239,
-        t2247,
-        t2291,
-        t2506,
-        t2508,
-        t2524,
-        t2533,
-        t2541,
+        t2004,
+        t2007,
+        t2009,
+        t2010,
+        t2011,
+        t2022,
+        t2033,
+        t2037,
+        t2038,
+        t2041,
+        t2045,
+        t2046,
+        t2049,
+        t2065,
+        t2072,
+        t2074,
+        t2080,
+        t2098,
+        t2122,
+        t2129,
+        t2138,
+        t2150,
+        t2181,
+        t2189,
+        t2261,
+        t2265,
+        t2273,
+        t2283,
+        t2289,
+        t2306,
+        t2308,
+        t2318,
+        t2327,
+        t2336,
+        t2342,
+        t2358,
+        t2375,
+        t2392,
+        t2429,
+        t2434,
+        t2436,
+        t2439,
+        t2441,
+        t2454,
+        t2462,
+        t2464,
+        t2465,
+        t2468,
+        t2469,
+        t2474,
+        t2481,
+        t2489,
+        t2500,
+        t2511,
+        t2514,
+        t2516,
+        t2517,
+        t2518,
+        t2529,
+        t2540,
+        t2544,
         t2545,
-        t2585,
-        t2591,
-        t2716,
-        t2719,
-        t2722,
-        t2782,
-        t2798,
-        t2806,
-        t2814,
-        t2824,
-        t2832,
-        t2840,
-        t2850,
-        t2858,
-        t2866,
-        t2890,
-        t2891,
-        t2904,
-        t2914,
-        t2924,
-        t2965,
-        t2966,
-        t2967,
-        t2968,
+        t2548,
+        t2552,
+        t2553,
+        t2556,
+        t2572,
+        t2579,
+        t2581,
+        t2587,
+        t2605,
+        t2629,
+        t2636,
+        t2645,
+        t2657,
+        t2688,
+        t2696,
+        t2768,
+        t2772,
+        t2780,
+        t2790,
+        t2796,
+        t2813,
+        t2815,
+        t2825,
+        t2834,
+        t2843,
+        t2849,
+        t2865,
+        t2882,
+        t2899,
+        t2936,
+        t2941,
+        t2943,
+        t2946,
+        t2948,
+        t2961,
         t2969,
-        t2970,
-        t2971,
-        t2972,
-        t2973,
-        t2974,
-        t2975,
-        t2976,
-        t2977,
-        t2978,
-        t2979,
         t2988,
         t2989,
+        t2990,
+        t2992,
+        t2993,
+        t2994,
+        t2995,
+        t2996,
+        t2997,
         t2998,
         t2999,
     ) = {
-        let t2000: f64 = t1992.plus(t1996);
-        let t2001: f64 = t1999.subtracted_from(t2000);
-        let t2002: f64 = t447 * t2001;
-        let t2003: f64 = -t2002;
-        let t2004 = product(t536, t2003);
-        let t2005 = product(t456, t1853);
-        let t2006: f64 = t448 * t1857;
-        let t2007 = product(t450, t1861);
-        let t2008: f64 = t2005.plus(t2006);
-        let t2009: f64 = t2007.plus(t2008);
-        let t2010 = product(arm1_crank_length, t2009);
-        let t2011 = product(t312, t1551);
-        let t2012: f64 = t316 * t1562;
-        let t2013 = product(t320, t1567);
-        let t2014: f64 = t2011.plus(t2012);
-        let t2015: f64 = t2013.plus(t2014);
-        let t2016: f64 = t447 * t2015;
-        let t2017: f64 = t2010.plus(t2016);
-        let t2018: f64 = t497 * t2017;
-        let t2019: f64 = t2004.minus(t2018);
-        let t2020 = product(t539, t2019);
-        let t2021: f64 = t538 * t2017;
-        let t2022 = product(t462, t1916);
-        let t2023 = product(t452, t1896);
-        let t2024: f64 = t458 * t1906;
+        let t2000: f64 = t1965.plus(t1979);
+        let t2001: f64 = t953 + t2000;
+        let t2002: f64 = t1999.subtracted_from(t2001);
+        let t2003 = product(arm2_crank_length, t2002);
+        let t2004: f64 = ax * arm2_crank_izz;
+        let t2005 = product(t279, t2004);
+        let t2006: f64 = t179 * t513;
+        let t2007: f64 = t549 * t2006;
+        let t2008: f64 = t1355 * t2007;
+        let t2009: f64 = t180 * t524;
+        let t2010: f64 = t1355 * t2009;
+        let t2011: f64 = arm2_rod_izz * t1056;
+        let t2012: f64 = t596 * t2011;
+        let t2013: f64 = t508 * t2012;
+        let t2014: f64 = t530 * t2013;
+        let t2015 = product(t529, t1321);
+        let t2016: f64 = t2014 * 2.0;
+        let t2017: f64 = t2015.plus(t2016);
+        let t2018 = product(t538, t2017);
+        let t2019 = product(t529, t1307);
+        let t2020: f64 = t530 * t1307;
+        let t2021: f64 = t1056 + t1313;
+        let t2022: f64 = t2021 * 2.0;
+        let t2023 = product(t1314, t2022);
+        let t2024: f64 = t1319 * 2.0;
         let t2025: f64 = t2023.plus(t2024);
-        let t2026: f64 = t2022.plus(t2025);
-        let t2027: f64 = arm1_crank_length * t2026;
-        let t2028: f64 = t1989.plus(t1990);
-        let t2029: f64 = t1991.plus(t2021);
-        let t2030: f64 = t2028 + t2029;
-        let t2031: f64 = t2020.plus(t2027);
-        let t2032: f64 = t2030 - t2031;
-        let t2033 = product(t428, t2032);
-        let t2034 = product(t497, t1960);
-        let t2035: f64 = t491 * t2003;
-        let t2036: f64 = t2034.minus(t2035);
-        let t2037 = product(t491, t2036);
-        let t2038: f64 = t498 * t1960;
-        let t2039: f64 = t2037.plus(t2038);
-        let t2040: f64 = t1986.plus(t1987);
-        let t2041: f64 = t1988.plus(t2039);
-        let t2042: f64 = t2040 + t2041;
-        let t2043: f64 = t2033.subtracted_from(t2042);
-        let t2044: f64 = t2043 * 2.0;
-        let t2045 = product(arm1_rod_mz, t2044);
-        let t2046 = product(t510, t1619);
-        let t2047 = product(t465, t1928);
-        let t2048: f64 = t2047.subtracted_from(t2026);
-        let t2049: f64 = arm1_crank_length * t2048;
-        let t2050 = product(t1589, t1936);
-        let t2051: f64 = t1604 * t1918;
-        let t2052 = product(t1613, t1920);
-        let t2053: f64 = t2046.plus(t2049);
-        let t2054: f64 = t2050.plus(t2051);
-        let t2055: f64 = t2053 + t2054;
-        let t2056: f64 = t2052.plus(t2055);
-        let t2057: f64 = -t2056;
-        let t2058: f64 = arm1_rod_mass * t2057;
-        let t2059: f64 = t2058 * 2.0;
-        let t2060: f64 = t2045.plus(t2059);
-        let t2061: f64 = t465 * t2060;
-        let t2062 = product(t450, t1916);
-        let t2063 = product(t456, t1896);
-        let t2064: f64 = t448 * t1906;
-        let t2065: f64 = t2063.plus(t2064);
-        let t2066: f64 = t2062.plus(t2065);
-        let t2067 = product(arm1_crank_length, t2066);
-        let t2068 = product(t520, t1551);
-        let t2069: f64 = t525 * t1562;
-        let t2070 = product(t515, t1567);
-        let t2071: f64 = t2068.plus(t2069);
-        let t2072: f64 = t2070.plus(t2071);
-        let t2073: f64 = t447 * t2072;
-        let t2074: f64 = t2067.minus(t2073);
-        let t2075 = product(t312, t1589);
-        let t2076: f64 = t316 * t1604;
-        let t2077 = product(t320, t1613);
-        let t2078 = product(t452, t1853);
-        let t2079: f64 = t458 * t1857;
-        let t2080 = product(t462, t1861);
-        let t2081: f64 = t2078.plus(t2079);
-        let t2082: f64 = t2080.plus(t2081);
-        let t2083: f64 = arm1_crank_length * t2082;
-        let t2084: f64 = t2075.plus(t2076);
-        let t2085: f64 = t2077.plus(t2083);
-        let t2086: f64 = t2084 + t2085;
-        let t2087 = product(t538, t2086);
-        let t2088: f64 = t857 * t2019;
-        let t2089: f64 = t2087.minus(t2088);
-        let t2090: f64 = t2074 + t2089;
-        let t2091: f64 = t2090 * 2.0;
-        let t2092 = product(t428, t2091);
-        let t2093 = product(az, t1957);
-        let t2094 = product(ax, t1579);
-        let t2095: f64 = ay * t1949;
-        let t2096: f64 = t2094.plus(t2095);
-        let t2097: f64 = t2093.plus(t2096);
-        let t2098 = product(t498, t1978);
-        let t2099: f64 = t871 * t2036;
-        let t2100: f64 = t2098.plus(t2099);
-        let t2101: f64 = t2097 - t2100;
-        let t2102: f64 = t2101 * 2.0;
-        let t2103: f64 = t2092.plus(t2102);
-        let t2104 = product(arm1_rod_mz, t2103);
-        let t2105 = product(t510, t1574);
-        let t2106 = product(t475, t1928);
-        let t2107: f64 = t2106.minus(t2066);
-        let t2108 = product(arm1_crank_length, t2107);
-        let t2109 = product(t1551, t1936);
-        let t2110: f64 = t1562 * t1918;
-        let t2111 = product(t1567, t1920);
-        let t2112: f64 = t2109.plus(t2110);
-        let t2113: f64 = t2111.plus(t2112);
-        let t2114: f64 = t447 * t2113;
-        let t2115: f64 = t2105.plus(t2114);
-        let t2116: f64 = t2108.minus(t2115);
-        let t2117: f64 = arm1_rod_mass * t2116;
-        let t2118: f64 = t2117 * 2.0;
-        let t2119: f64 = t2104.plus(t2118);
-        let t2120 = product(t475, t2119);
-        let t2121: f64 = t1833.plus(t1834);
-        let t2122: f64 = t1844.plus(t2121);
-        let t2123: f64 = t1985.plus(t2061);
-        let t2124: f64 = t2120.plus(t2123);
-        let t2125: f64 = t2122 - t2124;
-        let t2126: f64 = t467 * t2125;
-        let t2127 = product(t912, t1723);
-        let t2128: f64 = t953 * t1678;
-        let t2129 = product(t566, t1256);
-        let t2130 = product(t160, t1639);
-        let t2131: f64 = t569 * t1260;
-        let t2132 = product(t564, t1264);
-        let t2133: f64 = t1275 * t1633;
-        let t2134: f64 = t2129.plus(t2131);
-        let t2135: f64 = t2132.plus(t2134);
-        let t2136: f64 = t2130.plus(t2133);
-        let t2137: f64 = t2135 - t2136;
-        let t2138 = product(t980, t2137);
-        let t2139 = product(t369, t1256);
-        let t2140 = product(t345, t1256);
-        let t2141 = product(vx, t1393);
-        let t2142: f64 = vy * t1285;
-        let t2143 = product(vz, t1368);
-        let t2144: f64 = t2141.plus(t2142);
-        let t2145: f64 = t2143.plus(t2144);
-        let t2146: f64 = t160 * t2145;
-        let t2147: f64 = t2140.minus(t2146);
-        let t2148 = product(t356, t2147);
-        let t2149 = product(t345, t1260);
-        let t2150: f64 = t164 * t2145;
-        let t2151: f64 = t2149.minus(t2150);
-        let t2152: f64 = t360 * t2151;
-        let t2153 = product(t345, t1264);
-        let t2154: f64 = t168 * t2145;
-        let t2155: f64 = t2153.minus(t2154);
-        let t2156 = product(t364, t2155);
-        let t2157: f64 = t351 * t2145;
-        let t2158 = product(t157, t1268);
-        let t2159: f64 = t150 * t1250;
-        let t2160 = product(t175, t1273);
-        let t2161 = product(t153, t1268);
-        let t2162: f64 = t146 * t1250;
-        let t2163 = product(t171, t1273);
-        let t2164: f64 = t2161.plus(t2162);
-        let t2165: f64 = t2163.plus(t2164);
-        let t2166 = product(arm2_crank_length, t2165);
-        let t2167: f64 = t2166.added_to(t153);
-        let t2168: f64 = t2158.plus(t2159);
-        let t2169: f64 = t2160.plus(t2168);
-        let t2170: f64 = t2167 - t2169;
-        let t2171 = product(t345, t2170);
-        let t2172: f64 = t2157 * 2.0;
-        let t2173: f64 = t2171.plus(t2172);
-        let t2174 = product(t345, t2173);
-        let t2175 = product(t369, t1281);
-        let t2176: f64 = t2148.plus(t2152);
-        let t2177: f64 = t2156.plus(t2176);
-        let t2178: f64 = t2177 * 2.0;
-        let t2179: f64 = t2174.plus(t2178);
-        let t2180: f64 = t2175.subtracted_from(t2179);
-        let t2181: f64 = t179 * t2180;
-        let t2182: f64 = -t2181;
-        let t2183: f64 = t160 * t2182;
-        let t2184 = product(t345, t1268);
-        let t2185: f64 = t153 * t2145;
-        let t2186: f64 = t2185 * 2.0;
-        let t2187: f64 = t2184.minus(t2186);
-        let t2188 = product(t345, t2187);
-        let t2189: f64 = t2139.plus(t2183);
-        let t2190: f64 = t2188.subtracted_from(t2189);
-        let t2191 = product(t566, t2190);
-        let t2192 = product(t369, t1260);
-        let t2193: f64 = t164 * t2182;
-        let t2194 = product(t345, t1250);
-        let t2195: f64 = t146 * t2145;
-        let t2196: f64 = t2195 * 2.0;
-        let t2197: f64 = t2194.minus(t2196);
-        let t2198 = product(t345, t2197);
-        let t2199: f64 = t2192.plus(t2193);
-        let t2200: f64 = t2198.subtracted_from(t2199);
-        let t2201: f64 = t569 * t2200;
-        let t2202 = product(t369, t1264);
-        let t2203: f64 = t168 * t2182;
-        let t2204 = product(t345, t1273);
-        let t2205: f64 = t171 * t2145;
-        let t2206: f64 = t2205 * 2.0;
-        let t2207: f64 = t2204.minus(t2206);
-        let t2208 = product(t345, t2207);
-        let t2209: f64 = t2202.plus(t2203);
-        let t2210: f64 = t2208.subtracted_from(t2209);
-        let t2211 = product(t564, t2210);
-        let t2212: f64 = gravity_y - t660;
-        let t2213 = product(t1250, t2212);
-        let t2214: f64 = gravity_z - t650;
-        let t2215: f64 = t1273 * t2214;
-        let t2216: f64 = t2213.plus(t2215);
-        let t2217: f64 = t563 * t2216;
-        let t2218 = product(az, t1368);
-        let t2219 = product(ax, t1393);
-        let t2220: f64 = ay * t1285;
-        let t2221: f64 = t2219.plus(t2220);
-        let t2222: f64 = t2218.plus(t2221);
-        let t2223 = product(t959, t2222);
-        let t2224: f64 = t2191.plus(t2201);
-        let t2225: f64 = t2211.plus(t2217);
-        let t2226: f64 = t2224 + t2225;
-        let t2227: f64 = t2223.subtracted_from(t2226);
-        let t2228 = product(arm2_crank_length, t2227);
-        let t2229: f64 = t645 * t2137;
-        let t2230: f64 = gravity_x - t655;
-        let t2231 = product(t1639, t2230);
-        let t2232: f64 = t2228.plus(t2229);
-        let t2233: f64 = t2231.plus(t2232);
-        let t2234: f64 = -t2233;
-        let t2235: f64 = arm2_rod_mass * t2234;
-        let t2236 = product(vx, t1683);
-        let t2237 = product(t1656, t1666);
-        let t2238 = product(t611, t1285);
-        let t2239: f64 = t181 * t563;
-        let t2240: f64 = t1678 * t2239;
-        let t2241: f64 = t2238.minus(t2240);
-        let t2242: f64 = arm2_crank_length * t2241;
-        let t2243: f64 = t2237.minus(t2242);
-        let t2244: f64 = vy * t2243;
-        let t2245 = product(t1656, t1671);
-        let t2246 = product(t611, t1368);
-        let t2247: f64 = t274 * t563;
-        let t2248: f64 = t1678 * t2247;
-        let t2249: f64 = t2246.minus(t2248);
-        let t2250: f64 = arm2_crank_length * t2249;
-        let t2251: f64 = t2245.minus(t2250);
-        let t2252 = product(vz, t2251);
-        let t2253: f64 = t2236.plus(t2244);
-        let t2254: f64 = t2252.plus(t2253);
-        let t2255 = product(t626, t2254);
-        let t2256 = product(vx, t1727);
-        let t2257 = product(t563, t1708);
-        let t2258 = product(t601, t1285);
-        let t2259: f64 = t1723 * t2239;
-        let t2260: f64 = t2258.minus(t2259);
-        let t2261: f64 = arm2_crank_length * t2260;
-        let t2262: f64 = t2257.minus(t2261);
-        let t2263: f64 = vy * t2262;
-        let t2264 = product(t563, t1717);
-        let t2265 = product(t601, t1368);
-        let t2266: f64 = t1723 * t2247;
-        let t2267: f64 = t2265.minus(t2266);
-        let t2268: f64 = arm2_crank_length * t2267;
-        let t2269: f64 = t2264.minus(t2268);
-        let t2270 = product(vz, t2269);
-        let t2271: f64 = t2256.plus(t2263);
-        let t2272: f64 = t2270.plus(t2271);
-        let t2273: f64 = t947 * t2272;
-        let t2274: f64 = t2255.plus(t2273);
-        let t2275: f64 = t2274 * 4.0;
-        let t2276 = product(arm2_rod_mz, t2275);
-        let t2277: f64 = t2235 * 2.0;
-        let t2278: f64 = t2276.subtracted_from(t2277);
-        let t2279 = product(t959, t2278);
-        let t2280 = product(ax, t1727);
-        let t2281: f64 = ay * t2262;
-        let t2282 = product(az, t2269);
-        let t2283 = product(t655, t1693);
-        let t2284: f64 = t660 * t1708;
-        let t2285 = product(t650, t1717);
-        let t2286 = product(arm2_axis_x, t1639);
-        let t2287 = product(arm2_axis_y, t1250);
-        let t2288: f64 = arm2_axis_z * t1273;
-        let t2289: f64 = t2287.plus(t2288);
-        let t2290: f64 = t1633 * t2289;
-        let t2291: f64 = t631 * t1079;
-        let t2292: f64 = t1651 * t2291;
-        let t2293 = product(t2292, 0.5);
-        let t2294: f64 = t2286.plus(t2290);
-        let t2295: f64 = t2293.subtracted_from(t2294);
-        let t2296: f64 = t582 * t2295;
-        let t2297: f64 = -t2296;
-        let t2298 = product(t671, t2297);
-        let t2299 = product(t591, t2147);
-        let t2300: f64 = t583 * t2151;
-        let t2301 = product(t585, t2155);
-        let t2302: f64 = t2299.plus(t2300);
-        let t2303: f64 = t2301.plus(t2302);
-        let t2304 = product(arm2_crank_length, t2303);
-        let t2305 = product(t356, t1655);
-        let t2306: f64 = t360 * t1666;
-        let t2307 = product(t364, t1671);
-        let t2308: f64 = t2305.plus(t2306);
-        let t2309: f64 = t2307.plus(t2308);
-        let t2310: f64 = t582 * t2309;
-        let t2311: f64 = t2304.plus(t2310);
-        let t2312: f64 = t632 * t2311;
-        let t2313: f64 = t2298.minus(t2312);
-        let t2314 = product(t674, t2313);
-        let t2315: f64 = t673 * t2311;
-        let t2316 = product(t597, t2210);
-        let t2317 = product(t587, t2190);
-        let t2318: f64 = t593 * t2200;
-        let t2319: f64 = t2317.plus(t2318);
-        let t2320: f64 = t2316.plus(t2319);
-        let t2321: f64 = arm2_crank_length * t2320;
-        let t2322: f64 = t2283.plus(t2284);
-        let t2323: f64 = t2285.plus(t2315);
-        let t2324: f64 = t2322 + t2323;
-        let t2325: f64 = t2314.plus(t2321);
-        let t2326: f64 = t2324 - t2325;
-        let t2327 = product(t563, t2326);
-        let t2328 = product(t632, t2254);
-        let t2329: f64 = t626 * t2297;
-        let t2330: f64 = t2328.minus(t2329);
-        let t2331 = product(t626, t2330);
-        let t2332: f64 = t633 * t2254;
-        let t2333: f64 = t2331.plus(t2332);
-        let t2334: f64 = t2280.plus(t2281);
-        let t2335: f64 = t2282.plus(t2333);
-        let t2336: f64 = t2334 + t2335;
-        let t2337: f64 = t2327.subtracted_from(t2336);
-        let t2338: f64 = t2337 * 2.0;
-        let t2339 = product(arm2_rod_mz, t2338);
-        let t2340 = product(t645, t1723);
-        let t2341 = product(t600, t2222);
-        let t2342: f64 = t2341.subtracted_from(t2320);
-        let t2343: f64 = arm2_crank_length * t2342;
-        let t2344 = product(t1693, t2230);
-        let t2345: f64 = t1708 * t2212;
-        let t2346 = product(t1717, t2214);
-        let t2347: f64 = t2340.plus(t2343);
-        let t2348: f64 = t2344.plus(t2345);
-        let t2349: f64 = t2347 + t2348;
-        let t2350: f64 = t2346.plus(t2349);
-        let t2351: f64 = -t2350;
-        let t2352: f64 = arm2_rod_mass * t2351;
-        let t2353: f64 = t2352 * 2.0;
-        let t2354: f64 = t2339.plus(t2353);
-        let t2355: f64 = t600 * t2354;
-        let t2356 = product(t585, t2210);
-        let t2357 = product(t591, t2190);
-        let t2358: f64 = t583 * t2200;
-        let t2359: f64 = t2357.plus(t2358);
-        let t2360: f64 = t2356.plus(t2359);
-        let t2361 = product(arm2_crank_length, t2360);
-        let t2362 = product(t655, t1655);
-        let t2363: f64 = t660 * t1666;
-        let t2364 = product(t650, t1671);
-        let t2365: f64 = t2362.plus(t2363);
-        let t2366: f64 = t2364.plus(t2365);
-        let t2367: f64 = t582 * t2366;
-        let t2368: f64 = t2361.minus(t2367);
-        let t2369 = product(t356, t1693);
-        let t2370: f64 = t360 * t1708;
-        let t2371 = product(t364, t1717);
-        let t2372 = product(t587, t2147);
-        let t2373: f64 = t593 * t2151;
-        let t2374 = product(t597, t2155);
-        let t2375: f64 = t2372.plus(t2373);
-        let t2376: f64 = t2374.plus(t2375);
-        let t2377: f64 = arm2_crank_length * t2376;
-        let t2378: f64 = t2369.plus(t2370);
-        let t2379: f64 = t2371.plus(t2377);
-        let t2380: f64 = t2378 + t2379;
-        let t2381 = product(t673, t2380);
-        let t2382: f64 = t933 * t2313;
-        let t2383: f64 = t2381.minus(t2382);
-        let t2384: f64 = t2368 + t2383;
-        let t2385: f64 = t2384 * 2.0;
-        let t2386 = product(t563, t2385);
-        let t2387 = product(az, t2251);
-        let t2388 = product(ax, t1683);
-        let t2389: f64 = ay * t2243;
-        let t2390: f64 = t2388.plus(t2389);
-        let t2391: f64 = t2387.plus(t2390);
-        let t2392 = product(t633, t2272);
-        let t2393: f64 = t947 * t2330;
-        let t2394: f64 = t2392.plus(t2393);
-        let t2395: f64 = t2391 - t2394;
-        let t2396: f64 = t2395 * 2.0;
-        let t2397: f64 = t2386.plus(t2396);
-        let t2398 = product(arm2_rod_mz, t2397);
-        let t2399 = product(t645, t1678);
-        let t2400 = product(t610, t2222);
-        let t2401: f64 = t2400.minus(t2360);
-        let t2402 = product(arm2_crank_length, t2401);
-        let t2403 = product(t1655, t2230);
-        let t2404: f64 = t1666 * t2212;
-        let t2405 = product(t1671, t2214);
-        let t2406: f64 = t2403.plus(t2404);
-        let t2407: f64 = t2405.plus(t2406);
-        let t2408: f64 = t582 * t2407;
-        let t2409: f64 = t2399.plus(t2408);
-        let t2410: f64 = t2402.minus(t2409);
-        let t2411: f64 = arm2_rod_mass * t2410;
-        let t2412: f64 = t2411 * 2.0;
-        let t2413: f64 = t2398.plus(t2412);
-        let t2414 = product(t610, t2413);
-        let t2415: f64 = t2127.plus(t2128);
-        let t2416: f64 = t2138.plus(t2415);
-        let t2417: f64 = t2279.plus(t2355);
-        let t2418: f64 = t2414.plus(t2417);
-        let t2419: f64 = t2416 - t2418;
-        let t2420 = product(t602, t2419);
-        let t2421 = product(t988, t1827);
-        let t2422: f64 = t1029 * t1782;
-        let t2423 = product(t701, t1333);
-        let t2424 = product(t251, t1743);
-        let t2425: f64 = t704 * t1337;
-        let t2426 = product(t699, t1341);
-        let t2427: f64 = t1352 * t1737;
-        let t2428: f64 = t2423.plus(t2425);
-        let t2429: f64 = t2426.plus(t2428);
-        let t2430: f64 = t2424.plus(t2427);
-        let t2431: f64 = t2429 - t2430;
-        let t2432 = product(t1056, t2431);
-        let t2433 = product(t413, t1333);
-        let t2434 = product(t389, t1333);
-        let t2435 = product(vx, t1386);
-        let t2436: f64 = vy * t1374;
-        let t2437 = product(vz, t1362);
-        let t2438: f64 = t2435.plus(t2436);
-        let t2439: f64 = t2437.plus(t2438);
-        let t2440: f64 = t251 * t2439;
-        let t2441: f64 = t2434.minus(t2440);
-        let t2442 = product(t400, t2441);
-        let t2443 = product(t389, t1337);
-        let t2444: f64 = t255 * t2439;
-        let t2445: f64 = t2443.minus(t2444);
-        let t2446: f64 = t404 * t2445;
-        let t2447 = product(t389, t1341);
-        let t2448: f64 = t266 * t2439;
-        let t2449: f64 = t2447.minus(t2448);
-        let t2450 = product(t408, t2449);
-        let t2451: f64 = t395 * t2439;
-        let t2452 = product(t248, t1345);
-        let t2453: f64 = t262 * t1349;
-        let t2454 = product(t241, t1327);
-        let t2455 = product(t244, t1345);
-        let t2456: f64 = t258 * t1349;
-        let t2457 = product(t237, t1327);
-        let t2458: f64 = t2455.plus(t2456);
+        let t2026 = product(t938, t2025);
+        let t2027: f64 = t2026.subtracted_from(t2020);
+        let t2028: f64 = t508 * t2027;
+        let t2029: f64 = t2019.plus(t2028);
+        let t2030: f64 = t461 * t2029;
+        let t2031: f64 = -t2030;
+        let t2032: f64 = t483 * t2031;
+        let t2033: f64 = t2018.plus(t2032);
+        let t2034 = product(t2010, 2.0);
+        let t2035: f64 = t2034.added_to(t2033);
+        let t2036 = product(t168, t2035);
+        let t2037: f64 = t180 * t520;
+        let t2038: f64 = t1355 * t2037;
+        let t2039 = product(t533, t2017);
+        let t2040: f64 = t481 * t2031;
+        let t2041: f64 = t2039.plus(t2040);
+        let t2042 = product(t2038, 2.0);
+        let t2043: f64 = t2042.added_to(t2041);
+        let t2044: f64 = t164 * t2043;
+        let t2045: f64 = t180 * t516;
+        let t2046: f64 = t1355 * t2045;
+        let t2047 = product(t486, t2017);
+        let t2048: f64 = t489 * t2031;
+        let t2049: f64 = t2047.plus(t2048);
+        let t2050 = product(t2046, 2.0);
+        let t2051: f64 = t2050.added_to(t2049);
+        let t2052 = product(t160, t2051);
+        let t2053 = product(t171, t1332);
+        let t2054: f64 = t146 * t1341;
+        let t2055 = product(t153, t1350);
+        let t2056: f64 = t2053.plus(t2054);
+        let t2057: f64 = t2055.plus(t2056);
+        let t2058: f64 = t2057 * 2.0;
+        let t2059: f64 = t513 * t2058;
+        let t2060: f64 = t2036.plus(t2044);
+        let t2061: f64 = t2052.plus(t2059);
+        let t2062: f64 = t2060 + t2061;
+        let t2063 = product(arm2_crank_length, t2062);
+        let t2064: f64 = t2008 * 2.0;
+        let t2065: f64 = t2063.minus(t2064);
+        let t2066: f64 = vx * t2065;
+        let t2067: f64 = t2005.minus(t2066);
+        let t2068: f64 = t2003.plus(t2067);
+        let t2069: f64 = t1957 + t2068;
+        let t2070: f64 = t180 * t2069;
+        let t2071: f64 = t175 * t179;
+        let t2072: f64 = t543 * t2071;
+        let t2073 = product(t1355, t2072);
+        let t2074: f64 = t171 * t179;
+        let t2075 = product(t1355, t2074);
+        let t2076: f64 = t2075.added_to(t1331);
+        let t2077: f64 = t1330 + t2076;
+        let t2078 = product(t543, t2077);
+        let t2079: f64 = t179 * t179;
+        let t2080: f64 = az * arm2_crank_izz;
+        let t2081 = product(t279, t2080);
+        let t2082 = product(vz, t2065);
+        let t2083 = product(az, t1964);
+        let t2084 = product(az, t1307);
+        let t2085: f64 = vz * t1974;
+        let t2086: f64 = t2084.minus(t2085);
+        let t2087 = product(t499, t2086);
+        let t2088 = product(vz, t1993);
+        let t2089: f64 = az * t1321;
+        let t2090: f64 = t2088.subtracted_from(t2089);
+        let t2091: f64 = t590 * t2090;
+        let t2092: f64 = t2087.plus(t2091);
+        let t2093: f64 = t2083.minus(t2092);
+        let t2094: f64 = arm2_crank_length * t2093;
+        let t2095: f64 = t2081.plus(t2094);
+        let t2096: f64 = t2082.minus(t2095);
+        let t2097 = product(t175, t2096);
+        let t2098: f64 = ay * arm2_crank_izz;
+        let t2099 = product(t279, t2098);
+        let t2100 = product(vy, t2065);
+        let t2101 = product(ay, t1964);
+        let t2102 = product(ay, t1307);
+        let t2103: f64 = vy * t1974;
+        let t2104: f64 = t2102.minus(t2103);
+        let t2105 = product(t499, t2104);
+        let t2106 = product(vy, t1993);
+        let t2107: f64 = ay * t1321;
+        let t2108: f64 = t2106.subtracted_from(t2107);
+        let t2109: f64 = t590 * t2108;
+        let t2110: f64 = t2105.plus(t2109);
+        let t2111: f64 = t2101.minus(t2110);
+        let t2112: f64 = arm2_crank_length * t2111;
+        let t2113: f64 = t2099.plus(t2112);
+        let t2114: f64 = t2100.minus(t2113);
+        let t2115: f64 = t150 * t2114;
+        let t2116 = product(t284, t1596);
+        let t2117 = product(t1209, t1603);
+        let t2118: f64 = t1213 * t1610;
+        let t2119: f64 = t2117.plus(t2118);
+        let t2120: f64 = t2116.minus(t2119);
+        let t2121 = product(t293, t2120);
+        let t2122: f64 = t2121.added_to(t1115);
+        let t2123: f64 = t2068 + t2122;
+        let t2124 = product(t157, t2123);
+        let t2125: f64 = t557 * t1355;
+        let t2126: f64 = t2097.plus(t2115);
+        let t2127: f64 = t2124.plus(t2125);
+        let t2128: f64 = t2126 - t2127;
+        let t2129: f64 = t120 * t2079;
+        let t2130: f64 = t2128 * t2129;
+        let t2131: f64 = -t2130;
+        let t2132 = product(t168, t2131);
+        let t2133: f64 = t618 * 2.0;
+        let t2134 = product(t879, t2133);
+        let t2135: f64 = t892 * 2.0;
+        let t2136: f64 = t2134.subtracted_from(t2135);
+        let t2137 = product(arm2_rod_mass, t2136);
+        let t2138: f64 = t2137.added_to(t904);
+        let t2139: f64 = t500 * t2138;
+        let t2140: f64 = -t2139;
+        let t2141 = product(t168, t2140);
+        let t2142 = product(gravity_y, t1310);
+        let t2143 = product(t574, t1311);
+        let t2144 = product(t500, t914);
+        let t2145 = product(t274, t2086);
+        let t2146: f64 = t181 * t2104;
+        let t2147 = product(t279, t1978);
+        let t2148: f64 = t2145.plus(t2146);
+        let t2149: f64 = t2147.subtracted_from(t2148);
+        let t2150: f64 = arm2_crank_length * t461;
+        let t2151 = product(t2149, t2150);
+        let t2152: f64 = t618 * t1310;
+        let t2153: f64 = t2144.plus(t2152);
+        let t2154: f64 = t2151.subtracted_from(t2153);
+        let t2155: f64 = t164 * t2154;
+        let t2156 = product(t520, t2017);
+        let t2157: f64 = t2156.added_to(t2104);
+        let t2158 = product(t461, t2157);
+        let t2159: f64 = t2143.plus(t2155);
+        let t2160: f64 = t2158.plus(t2159);
+        let t2161: f64 = t2142.minus(t2160);
+        let t2162: f64 = t489 * t2161;
+        let t2163 = product(gravity_x, t1310);
+        let t2164 = product(t568, t1311);
+        let t2165: f64 = t160 * t2154;
+        let t2166 = product(t516, t2017);
+        let t2167: f64 = t2166.minus(t1978);
+        let t2168 = product(t461, t2167);
+        let t2169: f64 = t2164.plus(t2165);
+        let t2170: f64 = t2168.plus(t2169);
+        let t2171: f64 = t2163.minus(t2170);
+        let t2172 = product(t481, t2171);
+        let t2173 = product(t938, t1321);
+        let t2174: f64 = t2173.subtracted_from(t2020);
+        let t2175 = product(t530, t2174);
+        let t2176 = product(vx, t1989);
+        let t2177: f64 = t944 * 2.0;
+        let t2178 = product(t508, t2177);
+        let t2179: f64 = t1060 * 2.0;
+        let t2180: f64 = t2178.plus(t2179);
+        let t2181: f64 = arm2_rod_izz * t2180;
+        let t2182: f64 = t2176.minus(t2181);
+        let t2183: f64 = t596 * t2182;
+        let t2184: f64 = t593 + t601;
+        let t2185 = product(t1989, t2184);
+        let t2186: f64 = t2175.plus(t2183);
+        let t2187: f64 = t2185.plus(t2186);
+        let t2188 = product(arm2_axis_z, t2187);
+        let t2189: f64 = arm2_rod_izz * t480;
+        let t2190: f64 = t596 * t2189;
+        let t2191: f64 = t938 * t2190;
+        let t2192: f64 = t508 * t2191;
+        let t2193: f64 = t530 * t2192;
+        let t2194 = product(t507, t2187);
+        let t2195 = product(gravity_z, t1327);
+        let t2196: f64 = t461 * t2090;
+        let t2197: f64 = t2195.minus(t2196);
+        let t2198 = product(t500, t950);
+        let t2199 = product(t274, t2090);
+        let t2200: f64 = t181 * t2108;
+        let t2201 = product(t279, t1998);
+        let t2202: f64 = t2199.plus(t2200);
+        let t2203: f64 = t2201.plus(t2202);
+        let t2204 = product(t2150, t2203);
+        let t2205: f64 = t618 * t1327;
+        let t2206: f64 = t2198.plus(t2205);
+        let t2207: f64 = t2204.subtracted_from(t2206);
+        let t2208 = product(t168, t2207);
+        let t2209: f64 = t2208.subtracted_from(t2197);
+        let t2210 = product(t464, t2161);
+        let t2211: f64 = t467 * t2171;
+        let t2212: f64 = t2210.minus(t2211);
+        let t2213 = product(t562, t1328);
+        let t2214: f64 = t524 * t2031;
+        let t2215: f64 = t2213.plus(t2214);
+        let t2216: f64 = t2212 - t2215;
+        let t2217: f64 = t2209 + t2216;
+        let t2218: f64 = t475 * t2217;
+        let t2219 = product(gravity_y, t1327);
+        let t2220: f64 = t461 * t2108;
+        let t2221: f64 = t2219.minus(t2220);
+        let t2222 = product(t164, t2207);
+        let t2223: f64 = t2222.subtracted_from(t2221);
+        let t2224 = product(t462, t2171);
+        let t2225 = product(gravity_z, t1310);
+        let t2226 = product(t562, t1311);
+        let t2227: f64 = t168 * t2154;
+        let t2228 = product(t524, t2017);
+        let t2229: f64 = t2228.added_to(t2086);
+        let t2230 = product(t461, t2229);
+        let t2231: f64 = t2226.plus(t2227);
+        let t2232: f64 = t2230.plus(t2231);
+        let t2233: f64 = t2225.minus(t2232);
+        let t2234: f64 = t464 * t2233;
+        let t2235: f64 = t2224.minus(t2234);
+        let t2236 = product(t574, t1328);
+        let t2237: f64 = t520 * t2031;
+        let t2238: f64 = t2236.plus(t2237);
+        let t2239: f64 = t2235 - t2238;
+        let t2240: f64 = t2223 + t2239;
+        let t2241 = product(t466, t2240);
+        let t2242 = product(gravity_x, t1327);
+        let t2243: f64 = t568 * t1328;
+        let t2244: f64 = t2242.minus(t2243);
+        let t2245 = product(t461, t1998);
+        let t2246: f64 = t2245.subtracted_from(t2244);
+        let t2247 = product(t467, t2233);
+        let t2248: f64 = t516 * t2031;
+        let t2249: f64 = t2247.minus(t2248);
+        let t2250 = product(t462, t2161);
+        let t2251: f64 = t160 * t2207;
+        let t2252: f64 = t2250.plus(t2251);
+        let t2253: f64 = t2249 - t2252;
+        let t2254: f64 = t2246 + t2253;
+        let t2255: f64 = t470 * t2254;
+        let t2256 = product(t2193, 4.0);
+        let t2257: f64 = t2194.plus(t2218);
+        let t2258: f64 = t2241.plus(t2255);
+        let t2259: f64 = t2257 + t2258;
+        let t2260: f64 = t2256.minus(t2259);
+        let t2261: f64 = t480 * t481;
+        let t2262 = product(t2260, t2261);
+        let t2263: f64 = t2262.added_to(t2240);
+        let t2264: f64 = arm2_axis_x * t2263;
+        let t2265: f64 = t480 * t489;
+        let t2266 = product(t2260, t2265);
+        let t2267: f64 = t2266.added_to(t2254);
+        let t2268 = product(arm2_axis_y, t2267);
+        let t2269: f64 = t2188.plus(t2264);
+        let t2270: f64 = t2268.subtracted_from(t2269);
+        let t2271: f64 = t480 * t2270;
+        let t2272: f64 = gravity_z + t561;
+        let t2273: f64 = t2272 * 2.0;
+        let t2274: f64 = t879 * t1299;
+        let t2275 = product(t2273, t2274);
+        let t2276: f64 = t2172.plus(t2271);
+        let t2277: f64 = t2275.plus(t2276);
+        let t2278: f64 = t2141.plus(t2162);
+        let t2279: f64 = t2277 - t2278;
+        let t2280 = product(t461, t2279);
+        let t2281: f64 = t180 * t2096;
+        let t2282: f64 = t2280.plus(t2281);
+        let t2283: f64 = t2132.plus(t2282);
+        let t2284: f64 = t2078.subtracted_from(t2283);
+        let t2285: f64 = arm2_crank_length * t2284;
+        let t2286: f64 = t2073.plus(t2285);
+        let t2287: f64 = -t2286;
+        let t2288 = product(arm2_zero_z, t2287);
+        let t2289: f64 = gravity_z * arm2_crank_mx;
+        let t2290 = product(t279, t2289);
+        let t2291 = product(t462, t2140);
+        let t2292: f64 = t495 * t2154;
+        let t2293 = product(t483, t2207);
+        let t2294: f64 = t175 * t2131;
+        let t2295 = product(t558, t1332);
+        let t2296: f64 = t513 * t2035;
+        let t2297: f64 = t2295.minus(t2296);
+        let t2298: f64 = arm2_crank_length * t2297;
+        let t2299: f64 = t2291.plus(t2292);
+        let t2300: f64 = t2293.plus(t2298);
+        let t2301: f64 = t2299 + t2300;
+        let t2302: f64 = t2290.plus(t2294);
+        let t2303: f64 = t2301 - t2302;
+        let t2304 = product(t113, t2303);
+        let t2305: f64 = t150 * t179;
+        let t2306: f64 = t543 * t2305;
+        let t2307 = product(t1355, t2306);
+        let t2308: f64 = t146 * t179;
+        let t2309 = product(t1355, t2308);
+        let t2310: f64 = t2309.added_to(t1340);
+        let t2311: f64 = t1339 + t2310;
+        let t2312 = product(t543, t2311);
+        let t2313 = product(t164, t2131);
+        let t2314 = product(t164, t2140);
+        let t2315 = product(t489, t2233);
+        let t2316: f64 = t483 * t2171;
+        let t2317 = product(arm2_axis_y, t2187);
+        let t2318: f64 = t480 * t483;
+        let t2319 = product(t2260, t2318);
+        let t2320: f64 = t2319.added_to(t2217);
+        let t2321 = product(arm2_axis_x, t2320);
+        let t2322: f64 = arm2_axis_z * t2267;
+        let t2323: f64 = t2317.plus(t2322);
+        let t2324: f64 = t2321.subtracted_from(t2323);
+        let t2325: f64 = t480 * t2324;
+        let t2326: f64 = gravity_y + t573;
+        let t2327: f64 = t2326 * 2.0;
+        let t2328 = product(t2274, t2327);
+        let t2329: f64 = t2315.plus(t2325);
+        let t2330: f64 = t2328.plus(t2329);
+        let t2331: f64 = t2314.plus(t2316);
+        let t2332: f64 = t2330 - t2331;
+        let t2333 = product(t461, t2332);
+        let t2334: f64 = t180 * t2114;
+        let t2335: f64 = t2333.plus(t2334);
+        let t2336: f64 = t2313.plus(t2335);
+        let t2337: f64 = t2312.subtracted_from(t2336);
+        let t2338: f64 = arm2_crank_length * t2337;
+        let t2339: f64 = t2307.plus(t2338);
+        let t2340: f64 = -t2339;
+        let t2341: f64 = arm2_zero_y * t2340;
+        let t2342: f64 = gravity_y * arm2_crank_mx;
+        let t2343 = product(t279, t2342);
+        let t2344 = product(t467, t2140);
+        let t2345: f64 = t491 * t2154;
+        let t2346 = product(t481, t2207);
+        let t2347: f64 = t150 * t2131;
+        let t2348 = product(t558, t1341);
+        let t2349: f64 = t513 * t2043;
+        let t2350: f64 = t2348.minus(t2349);
+        let t2351: f64 = arm2_crank_length * t2350;
+        let t2352: f64 = t2344.plus(t2345);
+        let t2353: f64 = t2346.plus(t2351);
+        let t2354: f64 = t2352 + t2353;
+        let t2355: f64 = t2343.plus(t2347);
+        let t2356: f64 = t2354 - t2355;
+        let t2357: f64 = t109 * t2356;
+        let t2358: f64 = gravity_x * arm2_crank_mx;
+        let t2359 = product(t279, t2358);
+        let t2360 = product(t464, t2140);
+        let t2361: f64 = t485 * t2154;
+        let t2362 = product(t489, t2207);
+        let t2363: f64 = t157 * t2131;
+        let t2364 = product(t558, t1350);
+        let t2365: f64 = t513 * t2051;
+        let t2366: f64 = t2364.minus(t2365);
+        let t2367: f64 = arm2_crank_length * t2366;
+        let t2368: f64 = t2360.plus(t2361);
+        let t2369: f64 = t2362.plus(t2367);
+        let t2370: f64 = t2368 + t2369;
+        let t2371: f64 = t2359.plus(t2363);
+        let t2372: f64 = t2370 - t2371;
+        let t2373 = product(t105, t2372);
+        let t2374: f64 = t157 * t179;
+        let t2375: f64 = t543 * t2374;
+        let t2376 = product(t1355, t2375);
+        let t2377 = product(t180, t2123);
+        let t2378 = product(t1355, t1356);
+        let t2379: f64 = t2378.added_to(t1349);
+        let t2380: f64 = t1348 + t2379;
+        let t2381: f64 = t543 * t2380;
+        let t2382 = product(t160, t2140);
+        let t2383: f64 = t481 * t2233;
+        let t2384 = product(t483, t2161);
+        let t2385 = product(arm2_axis_x, t2187);
+        let t2386: f64 = arm2_axis_y * t2320;
+        let t2387 = product(arm2_axis_z, t2263);
+        let t2388: f64 = t2385.plus(t2386);
+        let t2389: f64 = t2387.subtracted_from(t2388);
+        let t2390: f64 = t480 * t2389;
+        let t2391: f64 = gravity_x + t567;
+        let t2392: f64 = t2391 * 2.0;
+        let t2393 = product(t2274, t2392);
+        let t2394: f64 = t2384.plus(t2390);
+        let t2395: f64 = t2393.plus(t2394);
+        let t2396: f64 = t2382.plus(t2383);
+        let t2397: f64 = t2395 - t2396;
+        let t2398 = product(t461, t2397);
+        let t2399: f64 = t160 * t2131;
+        let t2400: f64 = t2398.plus(t2399);
+        let t2401: f64 = t2377.plus(t2381);
+        let t2402: f64 = t2400 - t2401;
+        let t2403: f64 = arm2_crank_length * t2402;
+        let t2404: f64 = t2376.plus(t2403);
+        let t2405: f64 = -t2404;
+        let t2406 = product(arm2_zero_x, t2405);
+        let t2407: f64 = t2288.plus(t2341);
+        let t2408: f64 = t2406.plus(t2407);
+        let t2409: f64 = t2304.plus(t2357);
+        let t2410: f64 = t2373.plus(t2409);
+        let t2411: f64 = t2408 - t2410;
+        let t2412 = product(t101, t2411);
+        let t2413: f64 = 1.0 / t135;
+        let t2414 = product(t116, t2411);
+        let t2415 = product(t113, t2287);
+        let t2416: f64 = arm2_zero_z * t2303;
+        let t2417 = product(t109, t2340);
+        let t2418: f64 = arm2_zero_y * t2356;
+        let t2419 = product(arm2_zero_x, t2372);
+        let t2420: f64 = t105 * t2405;
+        let t2421: f64 = t2415.plus(t2416);
+        let t2422: f64 = t2417.plus(t2418);
+        let t2423: f64 = t2419.plus(t2420);
+        let t2424: f64 = t2421 + t2422;
+        let t2425: f64 = t2423 + t2424;
+        let t2426: f64 = t101 * t2425;
+        let t2427: f64 = t2414.minus(t2426);
+        let t2428: f64 = arm2_branch * t131;
+        let t2429: f64 = t2413 * t2428;
+        let t2430: f64 = t2427 * t2429;
+        let t2431 = product(t116, t2425);
+        let t2432: f64 = t2412.plus(t2430);
+        let t2433: f64 = t2431.plus(t2432);
+        let t2434: f64 = t2433 * 0.5;
+        let t2435: f64 = t92 * t120;
+        let t2436: f64 = t119 * t2435;
+        let t2437: f64 = t2434 * t2436;
+        let t2438: f64 = arm2_branch * t119;
+        let t2439: f64 = t2413 * t2438;
+        let t2440: f64 = t2427 * t2439;
+        let t2441: f64 = t119 * t119;
+        let t2442 = product(t138, t2411);
+        let t2443: f64 = t143 * t2425;
+        let t2444: f64 = t2442.plus(t2443);
+        let t2445 = product(t2441, t2444);
+        let t2446: f64 = t2440 * 0.5;
+        let t2447: f64 = t2445.plus(t2446);
+        let t2448: f64 = t116 * t2447;
+        let t2449 = product(t136, t2411);
+        let t2450: f64 = t131 * t2425;
+        let t2451: f64 = t2449.minus(t2450);
+        let t2452 = product(t119, t2451);
+        let t2453: f64 = t2448 * 2.0;
+        let t2454: f64 = t2452.plus(t2453);
+        let t2455 = product(t105, t2454);
+        let t2456: f64 = t101 * t2447;
+        let t2457 = product(t131, t2411);
+        let t2458: f64 = t136 * t2425;
         let t2459: f64 = t2457.plus(t2458);
-        let t2460 = product(arm3_crank_length, t2459);
-        let t2461: f64 = t2460.added_to(t244);
-        let t2462: f64 = t2452.plus(t2453);
-        let t2463: f64 = t2454.plus(t2462);
-        let t2464: f64 = t2461 - t2463;
-        let t2465 = product(t389, t2464);
-        let t2466: f64 = t2451 * 2.0;
-        let t2467: f64 = t2465.plus(t2466);
-        let t2468 = product(t389, t2467);
-        let t2469 = product(t413, t1358);
-        let t2470: f64 = t2442.plus(t2446);
-        let t2471: f64 = t2450.plus(t2470);
-        let t2472: f64 = t2471 * 2.0;
-        let t2473: f64 = t2468.plus(t2472);
-        let t2474: f64 = t2469.subtracted_from(t2473);
-        let t2475: f64 = t270 * t2474;
-        let t2476: f64 = -t2475;
-        let t2477: f64 = t251 * t2476;
-        let t2478 = product(t389, t1345);
-        let t2479: f64 = t244 * t2439;
-        let t2480: f64 = t2479 * 2.0;
-        let t2481: f64 = t2478.minus(t2480);
-        let t2482 = product(t389, t2481);
-        let t2483: f64 = t2433.plus(t2477);
-        let t2484: f64 = t2482.subtracted_from(t2483);
-        let t2485 = product(t701, t2484);
-        let t2486 = product(t413, t1337);
-        let t2487: f64 = t255 * t2476;
-        let t2488 = product(t389, t1349);
-        let t2489: f64 = t258 * t2439;
-        let t2490: f64 = t2489 * 2.0;
-        let t2491: f64 = t2488.minus(t2490);
-        let t2492 = product(t389, t2491);
-        let t2493: f64 = t2486.plus(t2487);
-        let t2494: f64 = t2492.subtracted_from(t2493);
-        let t2495: f64 = t704 * t2494;
-        let t2496 = product(t413, t1341);
-        let t2497: f64 = t266 * t2476;
-        let t2498 = product(t389, t1327);
-        let t2499: f64 = t237 * t2439;
-        let t2500: f64 = t2499 * 2.0;
-        let t2501: f64 = t2498.minus(t2500);
-        let t2502 = product(t389, t2501);
-        let t2503: f64 = t2496.plus(t2497);
-        let t2504: f64 = t2502.subtracted_from(t2503);
-        let t2505 = product(t699, t2504);
-        let t2506: f64 = gravity_z - t785;
-        let t2507 = product(t1327, t2506);
-        let t2508: f64 = gravity_y - t795;
-        let t2509: f64 = t1349 * t2508;
-        let t2510: f64 = t2507.plus(t2509);
-        let t2511: f64 = t698 * t2510;
-        let t2512 = product(az, t1362);
-        let t2513 = product(ax, t1386);
-        let t2514: f64 = ay * t1374;
-        let t2515: f64 = t2513.plus(t2514);
-        let t2516: f64 = t2512.plus(t2515);
-        let t2517 = product(t1035, t2516);
-        let t2518: f64 = t2485.plus(t2495);
-        let t2519: f64 = t2505.plus(t2511);
-        let t2520: f64 = t2518 + t2519;
-        let t2521: f64 = t2517.subtracted_from(t2520);
-        let t2522 = product(arm3_crank_length, t2521);
-        let t2523: f64 = t780 * t2431;
-        let t2524: f64 = gravity_x - t790;
-        let t2525 = product(t1743, t2524);
-        let t2526: f64 = t2522.plus(t2523);
-        let t2527: f64 = t2525.plus(t2526);
-        let t2528: f64 = -t2527;
-        let t2529: f64 = arm3_rod_mass * t2528;
-        let t2530 = product(vx, t1787);
-        let t2531 = product(t1760, t1770);
-        let t2532 = product(t746, t1374);
-        let t2533: f64 = t275 * t698;
-        let t2534: f64 = t1782 * t2533;
-        let t2535: f64 = t2532.minus(t2534);
-        let t2536: f64 = arm3_crank_length * t2535;
-        let t2537: f64 = t2531.minus(t2536);
-        let t2538: f64 = vy * t2537;
-        let t2539 = product(t1760, t1775);
-        let t2540 = product(t746, t1362);
-        let t2541: f64 = t272 * t698;
-        let t2542: f64 = t1782 * t2541;
-        let t2543: f64 = t2540.minus(t2542);
-        let t2544: f64 = arm3_crank_length * t2543;
-        let t2545: f64 = t2539.minus(t2544);
-        let t2546 = product(vz, t2545);
-        let t2547: f64 = t2530.plus(t2538);
+        let t2460 = product(t119, t2459);
+        let t2461: f64 = t2456 * 2.0;
+        let t2462: f64 = t2460.minus(t2461);
+        let t2463: f64 = arm2_zero_x * t2462;
+        let t2464: f64 = t1100 - t1205;
+        let t2465: f64 = t799 * t799;
+        let t2466: f64 = t1363 * t2465;
+        let t2467 = product(t331, t1374);
+        let t2468: f64 = t422 * t1391;
+        let t2469: f64 = t2466 * 2.0;
+        let t2470: f64 = t2467.plus(t2469);
+        let t2471: f64 = t2468 + t2470;
+        let t2472 = product(ax, t2471);
+        let t2473 = product(ax, t1371);
+        let t2474: f64 = arm1_rod_mz * t819;
+        let t2475: f64 = t333 * t2474;
+        let t2476: f64 = t799 * t2475;
+        let t2477: f64 = t1378 - t1383;
+        let t2478: f64 = t2477 * 2.0;
+        let t2479 = product(t437, t2478);
+        let t2480: f64 = t2476 * 4.0;
+        let t2481: f64 = t2479.subtracted_from(t2480);
+        let t2482: f64 = vx * t2481;
+        let t2483: f64 = t2473.minus(t2482);
+        let t2484: f64 = t1584 - t2483;
+        let t2485: f64 = t1585 + t2484;
+        let t2486: f64 = t332 * t2485;
+        let t2487: f64 = t436 * t1367;
+        let t2488: f64 = t799 * t2487;
+        let t2489: f64 = arm1_rod_ixx - arm1_rod_izz;
+        let t2490 = product(t1365, t2489);
+        let t2491: f64 = t2490.added_to(t1370);
+        let t2492 = product(t437, t2491);
+        let t2493 = product(t819, t2478);
+        let t2494: f64 = t436 * t2491;
+        let t2495: f64 = t2493.plus(t2494);
+        let t2496: f64 = -t2495;
+        let t2497 = product(t341, t2496);
+        let t2498: f64 = t2488 * 4.0;
+        let t2499: f64 = t2497.plus(t2498);
+        let t2500: f64 = t2492.subtracted_from(t2499);
+        let t2501 = product(vx, t2500);
+        let t2502 = product(ax, t1385);
+        let t2503: f64 = t2502.added_to(t1049);
+        let t2504: f64 = t1048 + t2503;
+        let t2505: f64 = t2501.subtracted_from(t2504);
+        let t2506 = product(t423, t2505);
+        let t2507: f64 = t2472.plus(t2486);
+        let t2508: f64 = t873 + t2507;
+        let t2509: f64 = t2506.subtracted_from(t2508);
+        let t2510 = product(arm1_crank_length, t2509);
+        let t2511: f64 = ax * arm1_crank_izz;
+        let t2512 = product(t90, t2511);
+        let t2513: f64 = t88 * t346;
+        let t2514: f64 = t382 * t2513;
+        let t2515: f64 = t1419 * t2514;
+        let t2516: f64 = t89 * t357;
+        let t2517: f64 = t1419 * t2516;
+        let t2518: f64 = arm1_rod_izz * t1038;
+        let t2519: f64 = t429 * t2518;
+        let t2520: f64 = t341 * t2519;
+        let t2521: f64 = t363 * t2520;
+        let t2522 = product(t362, t1385);
+        let t2523: f64 = t2521 * 2.0;
+        let t2524: f64 = t2522.plus(t2523);
+        let t2525 = product(t371, t2524);
+        let t2526 = product(t362, t1371);
+        let t2527: f64 = t363 * t1371;
+        let t2528: f64 = t1038 + t1377;
+        let t2529: f64 = t2528 * 2.0;
+        let t2530 = product(t1378, t2529);
+        let t2531: f64 = t1383 * 2.0;
+        let t2532: f64 = t2530.plus(t2531);
+        let t2533 = product(t858, t2532);
+        let t2534: f64 = t2533.subtracted_from(t2527);
+        let t2535: f64 = t341 * t2534;
+        let t2536: f64 = t2526.plus(t2535);
+        let t2537: f64 = t294 * t2536;
+        let t2538: f64 = -t2537;
+        let t2539: f64 = t316 * t2538;
+        let t2540: f64 = t2525.plus(t2539);
+        let t2541 = product(t2517, 2.0);
+        let t2542: f64 = t2541.added_to(t2540);
+        let t2543 = product(t77, t2542);
+        let t2544: f64 = t89 * t353;
+        let t2545: f64 = t1419 * t2544;
+        let t2546 = product(t366, t2524);
+        let t2547: f64 = t314 * t2538;
         let t2548: f64 = t2546.plus(t2547);
-        let t2549 = product(t761, t2548);
-        let t2550 = product(vx, t1831);
-        let t2551 = product(t698, t1812);
-        let t2552 = product(t736, t1374);
-        let t2553: f64 = t1827 * t2533;
-        let t2554: f64 = t2552.minus(t2553);
-        let t2555: f64 = arm3_crank_length * t2554;
-        let t2556: f64 = t2551.minus(t2555);
-        let t2557: f64 = vy * t2556;
-        let t2558 = product(t698, t1821);
-        let t2559 = product(t736, t1362);
-        let t2560: f64 = t1827 * t2541;
-        let t2561: f64 = t2559.minus(t2560);
-        let t2562: f64 = arm3_crank_length * t2561;
-        let t2563: f64 = t2558.minus(t2562);
-        let t2564 = product(vz, t2563);
-        let t2565: f64 = t2550.plus(t2557);
-        let t2566: f64 = t2564.plus(t2565);
-        let t2567: f64 = t1023 * t2566;
-        let t2568: f64 = t2549.plus(t2567);
-        let t2569: f64 = t2568 * 4.0;
-        let t2570 = product(arm3_rod_mz, t2569);
-        let t2571: f64 = t2529 * 2.0;
-        let t2572: f64 = t2570.subtracted_from(t2571);
-        let t2573 = product(t1035, t2572);
-        let t2574 = product(ax, t1831);
-        let t2575: f64 = ay * t2556;
-        let t2576 = product(az, t2563);
-        let t2577 = product(t790, t1797);
-        let t2578: f64 = t795 * t1812;
-        let t2579 = product(t785, t1821);
-        let t2580 = product(arm3_axis_x, t1743);
-        let t2581 = product(arm3_axis_y, t1349);
-        let t2582: f64 = arm3_axis_z * t1327;
-        let t2583: f64 = t2581.plus(t2582);
-        let t2584: f64 = t1737 * t2583;
-        let t2585: f64 = t766 * t1095;
-        let t2586: f64 = t1755 * t2585;
-        let t2587 = product(t2586, 0.5);
-        let t2588: f64 = t2580.plus(t2584);
-        let t2589: f64 = t2587.subtracted_from(t2588);
-        let t2590: f64 = t717 * t2589;
-        let t2591: f64 = -t2590;
-        let t2592 = product(t806, t2591);
-        let t2593 = product(t726, t2441);
-        let t2594: f64 = t718 * t2445;
-        let t2595 = product(t720, t2449);
-        let t2596: f64 = t2593.plus(t2594);
-        let t2597: f64 = t2595.plus(t2596);
-        let t2598 = product(arm3_crank_length, t2597);
-        let t2599 = product(t400, t1759);
-        let t2600: f64 = t404 * t1770;
-        let t2601 = product(t408, t1775);
-        let t2602: f64 = t2599.plus(t2600);
-        let t2603: f64 = t2601.plus(t2602);
-        let t2604: f64 = t717 * t2603;
-        let t2605: f64 = t2598.plus(t2604);
-        let t2606: f64 = t767 * t2605;
-        let t2607: f64 = t2592.minus(t2606);
-        let t2608 = product(t809, t2607);
-        let t2609: f64 = t808 * t2605;
-        let t2610 = product(t732, t2504);
-        let t2611 = product(t722, t2484);
-        let t2612: f64 = t728 * t2494;
-        let t2613: f64 = t2611.plus(t2612);
-        let t2614: f64 = t2610.plus(t2613);
-        let t2615: f64 = arm3_crank_length * t2614;
-        let t2616: f64 = t2577.plus(t2578);
-        let t2617: f64 = t2579.plus(t2609);
-        let t2618: f64 = t2616 + t2617;
-        let t2619: f64 = t2608.plus(t2615);
-        let t2620: f64 = t2618 - t2619;
-        let t2621 = product(t698, t2620);
-        let t2622 = product(t767, t2548);
-        let t2623: f64 = t761 * t2591;
-        let t2624: f64 = t2622.minus(t2623);
-        let t2625 = product(t761, t2624);
-        let t2626: f64 = t768 * t2548;
+        let t2549 = product(t2545, 2.0);
+        let t2550: f64 = t2549.added_to(t2548);
+        let t2551: f64 = t66 * t2550;
+        let t2552: f64 = t89 * t349;
+        let t2553: f64 = t1419 * t2552;
+        let t2554 = product(t319, t2524);
+        let t2555: f64 = t322 * t2538;
+        let t2556: f64 = t2554.plus(t2555);
+        let t2557 = product(t2553, 2.0);
+        let t2558: f64 = t2557.added_to(t2556);
+        let t2559 = product(t62, t2558);
+        let t2560 = product(t80, t1396);
+        let t2561: f64 = t69 * t1405;
+        let t2562 = product(t55, t1414);
+        let t2563: f64 = t2560.plus(t2561);
+        let t2564: f64 = t2562.plus(t2563);
+        let t2565: f64 = t2564 * 2.0;
+        let t2566: f64 = t346 * t2565;
+        let t2567: f64 = t2543.plus(t2551);
+        let t2568: f64 = t2559.plus(t2566);
+        let t2569: f64 = t2567 + t2568;
+        let t2570 = product(arm1_crank_length, t2569);
+        let t2571: f64 = t2515 * 2.0;
+        let t2572: f64 = t2570.minus(t2571);
+        let t2573: f64 = vx * t2572;
+        let t2574: f64 = t2512.minus(t2573);
+        let t2575: f64 = t2510.plus(t2574);
+        let t2576: f64 = t2464 + t2575;
+        let t2577: f64 = t89 * t2576;
+        let t2578: f64 = t84 * t88;
+        let t2579: f64 = t376 * t2578;
+        let t2580 = product(t1419, t2579);
+        let t2581: f64 = t80 * t88;
+        let t2582 = product(t1419, t2581);
+        let t2583: f64 = t2582.added_to(t1395);
+        let t2584: f64 = t1394 + t2583;
+        let t2585 = product(t376, t2584);
+        let t2586: f64 = t88 * t88;
+        let t2587: f64 = az * arm1_crank_izz;
+        let t2588 = product(t90, t2587);
+        let t2589 = product(vz, t2572);
+        let t2590 = product(az, t2471);
+        let t2591 = product(az, t1371);
+        let t2592: f64 = vz * t2481;
+        let t2593: f64 = t2591.minus(t2592);
+        let t2594 = product(t332, t2593);
+        let t2595 = product(vz, t2500);
+        let t2596: f64 = az * t1385;
+        let t2597: f64 = t2595.subtracted_from(t2596);
+        let t2598: f64 = t423 * t2597;
+        let t2599: f64 = t2594.plus(t2598);
+        let t2600: f64 = t2590.minus(t2599);
+        let t2601: f64 = arm1_crank_length * t2600;
+        let t2602: f64 = t2588.plus(t2601);
+        let t2603: f64 = t2589.minus(t2602);
+        let t2604 = product(t84, t2603);
+        let t2605: f64 = ay * arm1_crank_izz;
+        let t2606 = product(t90, t2605);
+        let t2607 = product(vy, t2572);
+        let t2608 = product(ay, t2471);
+        let t2609 = product(ay, t1371);
+        let t2610: f64 = vy * t2481;
+        let t2611: f64 = t2609.minus(t2610);
+        let t2612 = product(t332, t2611);
+        let t2613 = product(vy, t2500);
+        let t2614: f64 = ay * t1385;
+        let t2615: f64 = t2613.subtracted_from(t2614);
+        let t2616: f64 = t423 * t2615;
+        let t2617: f64 = t2612.plus(t2616);
+        let t2618: f64 = t2608.minus(t2617);
+        let t2619: f64 = arm1_crank_length * t2618;
+        let t2620: f64 = t2606.plus(t2619);
+        let t2621: f64 = t2607.minus(t2620);
+        let t2622: f64 = t73 * t2621;
+        let t2623 = product(t277, t1596);
+        let t2624: f64 = t1145 * t1603;
+        let t2625 = product(t1175, t1610);
+        let t2626: f64 = t2623.plus(t2624);
         let t2627: f64 = t2625.plus(t2626);
-        let t2628: f64 = t2574.plus(t2575);
-        let t2629: f64 = t2576.plus(t2627);
-        let t2630: f64 = t2628 + t2629;
-        let t2631: f64 = t2621.subtracted_from(t2630);
-        let t2632: f64 = t2631 * 2.0;
-        let t2633 = product(arm3_rod_mz, t2632);
-        let t2634 = product(t780, t1827);
-        let t2635 = product(t735, t2516);
-        let t2636: f64 = t2635.subtracted_from(t2614);
-        let t2637: f64 = arm3_crank_length * t2636;
-        let t2638 = product(t1797, t2524);
-        let t2639: f64 = t1812 * t2508;
-        let t2640 = product(t1821, t2506);
-        let t2641: f64 = t2634.plus(t2637);
-        let t2642: f64 = t2638.plus(t2639);
-        let t2643: f64 = t2641 + t2642;
-        let t2644: f64 = t2640.plus(t2643);
-        let t2645: f64 = -t2644;
-        let t2646: f64 = arm3_rod_mass * t2645;
-        let t2647: f64 = t2646 * 2.0;
-        let t2648: f64 = t2633.plus(t2647);
-        let t2649: f64 = t735 * t2648;
-        let t2650 = product(t720, t2504);
-        let t2651 = product(t726, t2484);
-        let t2652: f64 = t718 * t2494;
-        let t2653: f64 = t2651.plus(t2652);
-        let t2654: f64 = t2650.plus(t2653);
-        let t2655 = product(arm3_crank_length, t2654);
-        let t2656 = product(t790, t1759);
-        let t2657: f64 = t795 * t1770;
-        let t2658 = product(t785, t1775);
-        let t2659: f64 = t2656.plus(t2657);
-        let t2660: f64 = t2658.plus(t2659);
-        let t2661: f64 = t717 * t2660;
-        let t2662: f64 = t2655.minus(t2661);
-        let t2663 = product(t400, t1797);
-        let t2664: f64 = t404 * t1812;
-        let t2665 = product(t408, t1821);
-        let t2666 = product(t722, t2441);
-        let t2667: f64 = t728 * t2445;
-        let t2668 = product(t732, t2449);
-        let t2669: f64 = t2666.plus(t2667);
-        let t2670: f64 = t2668.plus(t2669);
-        let t2671: f64 = arm3_crank_length * t2670;
-        let t2672: f64 = t2663.plus(t2664);
-        let t2673: f64 = t2665.plus(t2671);
-        let t2674: f64 = t2672 + t2673;
-        let t2675 = product(t808, t2674);
-        let t2676: f64 = t1009 * t2607;
-        let t2677: f64 = t2675.minus(t2676);
-        let t2678: f64 = t2662 + t2677;
-        let t2679: f64 = t2678 * 2.0;
-        let t2680 = product(t698, t2679);
-        let t2681 = product(az, t2545);
-        let t2682 = product(ax, t1787);
-        let t2683: f64 = ay * t2537;
-        let t2684: f64 = t2682.plus(t2683);
-        let t2685: f64 = t2681.plus(t2684);
-        let t2686 = product(t768, t2566);
-        let t2687: f64 = t1023 * t2624;
-        let t2688: f64 = t2686.plus(t2687);
-        let t2689: f64 = t2685 - t2688;
-        let t2690: f64 = t2689 * 2.0;
-        let t2691: f64 = t2680.plus(t2690);
-        let t2692 = product(arm3_rod_mz, t2691);
-        let t2693 = product(t780, t1782);
-        let t2694 = product(t745, t2516);
-        let t2695: f64 = t2694.minus(t2654);
-        let t2696 = product(arm3_crank_length, t2695);
-        let t2697 = product(t1759, t2524);
-        let t2698: f64 = t1770 * t2508;
-        let t2699 = product(t1775, t2506);
-        let t2700: f64 = t2697.plus(t2698);
-        let t2701: f64 = t2699.plus(t2700);
-        let t2702: f64 = t717 * t2701;
-        let t2703: f64 = t2693.plus(t2702);
-        let t2704: f64 = t2696.minus(t2703);
-        let t2705: f64 = arm3_rod_mass * t2704;
-        let t2706: f64 = t2705 * 2.0;
-        let t2707: f64 = t2692.plus(t2706);
-        let t2708 = product(t745, t2707);
-        let t2709: f64 = t2421.plus(t2422);
-        let t2710: f64 = t2432.plus(t2709);
-        let t2711: f64 = t2573.plus(t2649);
-        let t2712: f64 = t2708.plus(t2711);
-        let t2713: f64 = t2710 - t2712;
-        let t2714: f64 = t737 * t2713;
-        let t2715 = product(arm1_crank_length, t907);
-        let t2716: f64 = t2715.added_to(t336);
-        let t2717: f64 = t1484 * t2716;
-        let t2718 = product(arm2_crank_length, t983);
-        let t2719: f64 = t2718.added_to(t380);
-        let t2720 = product(t1393, t2719);
-        let t2721 = product(arm3_crank_length, t1059);
-        let t2722: f64 = t2721.added_to(t424);
-        let t2723: f64 = t1386 * t2722;
-        let t2724: f64 = t1069 * t1579;
-        let t2725 = product(t1068, t2003);
-        let t2726 = product(t428, t2090);
-        let t2727: f64 = t2726.added_to(t2097);
-        let t2728 = product(t497, t2727);
-        let t2729 = product(t866, t2003);
-        let t2730 = product(t1065, t1547);
-        let t2731 = product(t539, t2086);
-        let t2732: f64 = t857 * t2017;
-        let t2733: f64 = t2731.plus(t2732);
-        let t2734: f64 = t428 * t2733;
-        let t2735: f64 = t2730.minus(t2734);
-        let t2736: f64 = t1063 * t2735;
-        let t2737: f64 = t2729.plus(t2736);
-        let t2738: f64 = t2728.minus(t2737);
-        let t2739: f64 = t497 * t2738;
-        let t2740: f64 = t2725.plus(t2739);
-        let t2741: f64 = t2740 * 2.0;
-        let t2742 = product(t478, t2741);
-        let t2743: f64 = t2724 * 2.0;
-        let t2744: f64 = t2742.subtracted_from(t2743);
-        let t2745 = product(arm1_rod_izz, t2744);
-        let t2746: f64 = t1085 * t1683;
-        let t2747 = product(t1084, t2297);
-        let t2748 = product(t563, t2384);
-        let t2749: f64 = t2748.added_to(t2391);
-        let t2750 = product(t632, t2749);
-        let t2751 = product(t942, t2297);
-        let t2752 = product(t1081, t1651);
-        let t2753 = product(t674, t2380);
-        let t2754: f64 = t933 * t2311;
-        let t2755: f64 = t2753.plus(t2754);
-        let t2756: f64 = t563 * t2755;
-        let t2757: f64 = t2752.minus(t2756);
-        let t2758: f64 = t1079 * t2757;
-        let t2759: f64 = t2751.plus(t2758);
-        let t2760: f64 = t2750.minus(t2759);
-        let t2761: f64 = t632 * t2760;
-        let t2762: f64 = t2747.plus(t2761);
-        let t2763: f64 = t2762 * 2.0;
-        let t2764 = product(t613, t2763);
-        let t2765: f64 = t2746 * 2.0;
-        let t2766: f64 = t2764.subtracted_from(t2765);
-        let t2767: f64 = arm2_rod_izz * t2766;
-        let t2768: f64 = t1101 * t1787;
-        let t2769 = product(t1100, t2591);
-        let t2770 = product(t698, t2678);
-        let t2771: f64 = t2770.added_to(t2685);
-        let t2772 = product(t767, t2771);
-        let t2773 = product(t1018, t2591);
-        let t2774 = product(t1097, t1755);
-        let t2775 = product(t809, t2674);
-        let t2776: f64 = t1009 * t2605;
-        let t2777: f64 = t2775.plus(t2776);
-        let t2778: f64 = t698 * t2777;
-        let t2779: f64 = t2774.minus(t2778);
-        let t2780: f64 = t1095 * t2779;
-        let t2781: f64 = t2773.plus(t2780);
-        let t2782: f64 = t2772.minus(t2781);
-        let t2783: f64 = t767 * t2782;
-        let t2784: f64 = t2769.plus(t2783);
-        let t2785: f64 = t2784 * 2.0;
-        let t2786 = product(t748, t2785);
-        let t2787: f64 = t2768 * 2.0;
-        let t2788: f64 = t2786.subtracted_from(t2787);
-        let t2789 = product(arm3_rod_izz, t2788);
-        let t2790 = product(gravity_x, t1454);
-        let t2791: f64 = gravity_y * t1458;
-        let t2792 = product(gravity_z, t1462);
-        let t2793: f64 = t2790.plus(t2791);
-        let t2794: f64 = t2792.plus(t2793);
-        let t2795 = product(arm1_crank_mx, t2794);
-        let t2796: f64 = t1887 + t1928;
-        let t2797: f64 = arm1_crank_izz * t2796;
-        let t2798: f64 = t2795.plus(t2797);
-        let t2799 = product(t90, t2798);
-        let t2800 = product(arm1_rod_ixx, t2103);
-        let t2801: f64 = t2100 * 2.0;
-        let t2802: f64 = arm1_rod_izz * t2801;
-        let t2803: f64 = arm1_rod_mz * t2116;
-        let t2804 = product(t2803, 2.0);
-        let t2805: f64 = t2800.plus(t2802);
-        let t2806: f64 = t2804.plus(t2805);
-        let t2807: f64 = t478 * t2806;
-        let t2808 = product(arm1_rod_ixx, t2044);
-        let t2809: f64 = t2039 * 2.0;
-        let t2810 = product(arm1_rod_izz, t2809);
-        let t2811: f64 = arm1_rod_mz * t2057;
-        let t2812: f64 = t2811 * 2.0;
-        let t2813: f64 = t2808.plus(t2812);
-        let t2814: f64 = t2810.minus(t2813);
-        let t2815: f64 = t469 * t2814;
-        let t2816 = product(gravity_x, t1256);
-        let t2817: f64 = gravity_y * t1260;
-        let t2818 = product(gravity_z, t1264);
-        let t2819: f64 = t2816.plus(t2817);
-        let t2820: f64 = t2818.plus(t2819);
-        let t2821 = product(arm2_crank_mx, t2820);
-        let t2822: f64 = t2181 + t2222;
-        let t2823: f64 = arm2_crank_izz * t2822;
-        let t2824: f64 = t2821.plus(t2823);
-        let t2825 = product(t279, t2824);
-        let t2826 = product(arm2_rod_ixx, t2397);
-        let t2827: f64 = t2394 * 2.0;
-        let t2828: f64 = arm2_rod_izz * t2827;
-        let t2829: f64 = arm2_rod_mz * t2410;
-        let t2830 = product(t2829, 2.0);
-        let t2831: f64 = t2826.plus(t2828);
-        let t2832: f64 = t2830.plus(t2831);
-        let t2833: f64 = t613 * t2832;
-        let t2834 = product(arm2_rod_ixx, t2338);
-        let t2835: f64 = t2333 * 2.0;
-        let t2836 = product(arm2_rod_izz, t2835);
-        let t2837: f64 = arm2_rod_mz * t2351;
-        let t2838: f64 = t2837 * 2.0;
-        let t2839: f64 = t2834.plus(t2838);
-        let t2840: f64 = t2836.minus(t2839);
-        let t2841 = product(t604, t2840);
-        let t2842 = product(gravity_x, t1333);
-        let t2843: f64 = gravity_y * t1337;
-        let t2844 = product(gravity_z, t1341);
-        let t2845: f64 = t2842.plus(t2843);
-        let t2846: f64 = t2844.plus(t2845);
-        let t2847 = product(arm3_crank_mx, t2846);
-        let t2848: f64 = t2475 + t2516;
-        let t2849: f64 = arm3_crank_izz * t2848;
-        let t2850: f64 = t2847.plus(t2849);
-        let t2851 = product(t286, t2850);
-        let t2852 = product(arm3_rod_ixx, t2691);
-        let t2853: f64 = t2688 * 2.0;
-        let t2854: f64 = arm3_rod_izz * t2853;
-        let t2855: f64 = arm3_rod_mz * t2704;
-        let t2856 = product(t2855, 2.0);
-        let t2857: f64 = t2852.plus(t2854);
-        let t2858: f64 = t2856.plus(t2857);
-        let t2859: f64 = t748 * t2858;
-        let t2860 = product(arm3_rod_ixx, t2632);
-        let t2861: f64 = t2627 * 2.0;
-        let t2862 = product(arm3_rod_izz, t2861);
-        let t2863: f64 = arm3_rod_mz * t2645;
-        let t2864: f64 = t2863 * 2.0;
-        let t2865: f64 = t2860.plus(t2864);
-        let t2866: f64 = t2862.minus(t2865);
-        let t2867: f64 = t739 * t2866;
-        let t2868: f64 = t1580.plus(t1684);
-        let t2869: f64 = t1788.plus(t2717);
-        let t2870: f64 = t2720.plus(t2723);
-        let t2871: f64 = t2799.plus(t2807);
-        let t2872: f64 = t2825.plus(t2833);
-        let t2873: f64 = t2851.plus(t2859);
-        let t2874: f64 = t2868 + t2869;
-        let t2875: f64 = t2870 + t2871;
-        let t2876: f64 = t2872 + t2873;
-        let t2877: f64 = t2874 + t2875;
-        let t2878: f64 = t2876 + t2877;
-        let t2879: f64 = t1624.plus(t1728);
-        let t2880: f64 = t1832.plus(t2126);
-        let t2881: f64 = t2420.plus(t2714);
-        let t2882: f64 = t2745.plus(t2767);
-        let t2883: f64 = t2789.plus(t2815);
-        let t2884: f64 = t2841.plus(t2867);
-        let t2885: f64 = t2879 + t2880;
-        let t2886: f64 = t2881 + t2882;
-        let t2887: f64 = t2883 + t2884;
-        let t2888: f64 = t2885 + t2886;
-        let t2889: f64 = t2887 + t2888;
-        let t2890: f64 = t2878 - t2889;
-        let t2891: f64 = t277 * t2890;
-        let t2892 = product(t1525, t1949);
-        let t2893 = product(t561, t1968);
-        let t2894: f64 = t1629 * t2243;
-        let t2895: f64 = t696 * t2262;
-        let t2896 = product(t1733, t2537);
-        let t2897 = product(t831, t2556);
-        let t2898: f64 = t481 * t2125;
-        let t2899 = product(t616, t2419);
-        let t2900: f64 = t751 * t2713;
-        let t2901: f64 = t1285 * t2719;
-        let t2902 = product(t1374, t2722);
-        let t2903: f64 = t1492 * t2716;
-        let t2904: f64 = t483 * t1068;
-        let t2905: f64 = t2003 * t2904;
-        let t2906 = product(t1068, t1949);
-        let t2907: f64 = t483 * t2738;
-        let t2908: f64 = t2906.minus(t2907);
-        let t2909: f64 = t2908 * 2.0;
-        let t2910 = product(t497, t2909);
-        let t2911: f64 = t2905 * 2.0;
-        let t2912: f64 = t2910.subtracted_from(t2911);
-        let t2913 = product(arm1_rod_izz, t2912);
-        let t2914: f64 = t618 * t1084;
-        let t2915: f64 = t2297 * t2914;
-        let t2916 = product(t1084, t2243);
-        let t2917: f64 = t618 * t2760;
-        let t2918: f64 = t2916.minus(t2917);
-        let t2919: f64 = t2918 * 2.0;
-        let t2920 = product(t632, t2919);
-        let t2921: f64 = t2915 * 2.0;
-        let t2922: f64 = t2920.subtracted_from(t2921);
-        let t2923: f64 = arm2_rod_izz * t2922;
-        let t2924: f64 = t753 * t1100;
-        let t2925: f64 = t2591 * t2924;
-        let t2926 = product(t1100, t2537);
-        let t2927: f64 = t753 * t2782;
-        let t2928: f64 = t2926.minus(t2927);
-        let t2929: f64 = t2928 * 2.0;
-        let t2930 = product(t767, t2929);
-        let t2931: f64 = t2925 * 2.0;
-        let t2932: f64 = t2930.subtracted_from(t2931);
-        let t2933 = product(arm3_rod_izz, t2932);
-        let t2934: f64 = t280 * t2798;
-        let t2935 = product(t483, t2806);
-        let t2936 = product(t544, t2814);
-        let t2937: f64 = t181 * t2824;
-        let t2938 = product(t618, t2832);
-        let t2939: f64 = t679 * t2840;
-        let t2940: f64 = t275 * t2850;
-        let t2941 = product(t753, t2858);
-        let t2942 = product(t814, t2866);
-        let t2943: f64 = t2892.plus(t2894);
-        let t2944: f64 = t2896.plus(t2901);
-        let t2945: f64 = t2902.plus(t2903);
-        let t2946: f64 = t2913.plus(t2923);
-        let t2947: f64 = t2933.plus(t2934);
-        let t2948: f64 = t2935.plus(t2937);
-        let t2949: f64 = t2938.plus(t2940);
-        let t2950: f64 = t2943 + t2944;
-        let t2951: f64 = t2945 + t2946;
-        let t2952: f64 = t2947 + t2948;
-        let t2953: f64 = t2941.plus(t2949);
-        let t2954: f64 = t2950 + t2951;
-        let t2955: f64 = t2952 + t2953;
-        let t2956: f64 = t2954 + t2955;
-        let t2957: f64 = t2893.plus(t2895);
-        let t2958: f64 = t2897.plus(t2898);
-        let t2959: f64 = t2899.plus(t2900);
-        let t2960: f64 = t2936.plus(t2939);
-        let t2961: f64 = t2957 + t2958;
-        let t2962: f64 = t2959 + t2960;
-        let t2963: f64 = t2961 + t2962;
-        let t2964: f64 = t2942.plus(t2963);
-        let t2965: f64 = t2956 - t2964;
-        let t2966 = product(t1124, t2965);
-        let t2967 = product(t1525, t1957);
-        let t2968 = product(t561, t1975);
-        let t2969: f64 = t1629 * t2251;
-        let t2970: f64 = t696 * t2269;
-        let t2971 = product(t1733, t2545);
-        let t2972 = product(t831, t2563);
-        let t2973: f64 = t486 * t2125;
-        let t2974 = product(t621, t2419);
-        let t2975: f64 = t756 * t2713;
-        let t2976: f64 = t1362 * t2722;
-        let t2977 = product(t1368, t2719);
-        let t2978: f64 = t1499 * t2716;
-        let t2979: f64 = t488 * t1068;
-        let t2980: f64 = t2003 * t2979;
-        let t2981 = product(t1068, t1957);
-        let t2982: f64 = t488 * t2738;
-        let t2983: f64 = t2981.minus(t2982);
-        let t2984: f64 = t2983 * 2.0;
-        let t2985 = product(t497, t2984);
-        let t2986: f64 = t2980 * 2.0;
-        let t2987: f64 = t2985.subtracted_from(t2986);
-        let t2988 = product(arm1_rod_izz, t2987);
-        let t2989: f64 = t623 * t1084;
-        let t2990: f64 = t2297 * t2989;
-        let t2991 = product(t1084, t2251);
-        let t2992: f64 = t623 * t2760;
-        let t2993: f64 = t2991.minus(t2992);
-        let t2994: f64 = t2993 * 2.0;
-        let t2995 = product(t632, t2994);
-        let t2996: f64 = t2990 * 2.0;
-        let t2997: f64 = t2995.subtracted_from(t2996);
-        let t2998: f64 = arm2_rod_izz * t2997;
-        let t2999: f64 = t758 * t1100;
+        let t2628 = product(t293, t2627);
+        let t2629: f64 = t2628.subtracted_from(t1100);
+        let t2630: f64 = t2575 + t2629;
+        let t2631 = product(t59, t2630);
+        let t2632: f64 = t390 * t1419;
+        let t2633: f64 = t2604.plus(t2622);
+        let t2634: f64 = t2631.plus(t2632);
+        let t2635: f64 = t2633 - t2634;
+        let t2636: f64 = t29 * t2586;
+        let t2637: f64 = t2635 * t2636;
+        let t2638: f64 = -t2637;
+        let t2639 = product(t77, t2638);
+        let t2640: f64 = t451 * 2.0;
+        let t2641 = product(t799, t2640);
+        let t2642: f64 = t812 * 2.0;
+        let t2643: f64 = t2641.subtracted_from(t2642);
+        let t2644 = product(arm1_rod_mass, t2643);
+        let t2645: f64 = t2644.added_to(t824);
+        let t2646: f64 = t333 * t2645;
+        let t2647: f64 = -t2646;
+        let t2648 = product(t77, t2647);
+        let t2649 = product(gravity_y, t1374);
+        let t2650 = product(t407, t1375);
+        let t2651 = product(t333, t834);
+        let t2652 = product(t282, t2593);
+        let t2653: f64 = t280 * t2611;
+        let t2654 = product(t90, t2485);
+        let t2655: f64 = t2652.plus(t2653);
+        let t2656: f64 = t2654.subtracted_from(t2655);
+        let t2657: f64 = arm1_crank_length * t294;
+        let t2658 = product(t2656, t2657);
+        let t2659: f64 = t451 * t1374;
+        let t2660: f64 = t2651.plus(t2659);
+        let t2661: f64 = t2658.subtracted_from(t2660);
+        let t2662: f64 = t66 * t2661;
+        let t2663 = product(t353, t2524);
+        let t2664: f64 = t2663.added_to(t2611);
+        let t2665 = product(t294, t2664);
+        let t2666: f64 = t2650.plus(t2662);
+        let t2667: f64 = t2665.plus(t2666);
+        let t2668: f64 = t2649.minus(t2667);
+        let t2669: f64 = t322 * t2668;
+        let t2670 = product(gravity_x, t1374);
+        let t2671 = product(t401, t1375);
+        let t2672: f64 = t62 * t2661;
+        let t2673 = product(t349, t2524);
+        let t2674: f64 = t2673.minus(t2485);
+        let t2675 = product(t294, t2674);
+        let t2676: f64 = t2671.plus(t2672);
+        let t2677: f64 = t2675.plus(t2676);
+        let t2678: f64 = t2670.minus(t2677);
+        let t2679 = product(t314, t2678);
+        let t2680 = product(t858, t1385);
+        let t2681: f64 = t2680.subtracted_from(t2527);
+        let t2682 = product(t363, t2681);
+        let t2683 = product(vx, t2496);
+        let t2684: f64 = t864 * 2.0;
+        let t2685 = product(t341, t2684);
+        let t2686: f64 = t1042 * 2.0;
+        let t2687: f64 = t2685.plus(t2686);
+        let t2688: f64 = arm1_rod_izz * t2687;
+        let t2689: f64 = t2683.minus(t2688);
+        let t2690: f64 = t429 * t2689;
+        let t2691: f64 = t426 + t434;
+        let t2692 = product(t2496, t2691);
+        let t2693: f64 = t2682.plus(t2690);
+        let t2694: f64 = t2692.plus(t2693);
+        let t2695 = product(arm1_axis_z, t2694);
+        let t2696: f64 = arm1_rod_izz * t313;
+        let t2697: f64 = t429 * t2696;
+        let t2698: f64 = t858 * t2697;
+        let t2699: f64 = t341 * t2698;
+        let t2700: f64 = t363 * t2699;
+        let t2701 = product(t340, t2694);
+        let t2702 = product(gravity_z, t1391);
+        let t2703: f64 = t294 * t2597;
+        let t2704: f64 = t2702.minus(t2703);
+        let t2705 = product(t333, t870);
+        let t2706 = product(t282, t2597);
+        let t2707: f64 = t280 * t2615;
+        let t2708 = product(t90, t2505);
+        let t2709: f64 = t2706.plus(t2707);
+        let t2710: f64 = t2708.plus(t2709);
+        let t2711 = product(t2657, t2710);
+        let t2712: f64 = t451 * t1391;
+        let t2713: f64 = t2705.plus(t2712);
+        let t2714: f64 = t2711.subtracted_from(t2713);
+        let t2715 = product(t77, t2714);
+        let t2716: f64 = t2715.subtracted_from(t2704);
+        let t2717 = product(t297, t2668);
+        let t2718: f64 = t300 * t2678;
+        let t2719: f64 = t2717.minus(t2718);
+        let t2720 = product(t395, t1392);
+        let t2721: f64 = t357 * t2538;
+        let t2722: f64 = t2720.plus(t2721);
+        let t2723: f64 = t2719 - t2722;
+        let t2724: f64 = t2716 + t2723;
+        let t2725: f64 = t308 * t2724;
+        let t2726 = product(gravity_y, t1391);
+        let t2727: f64 = t294 * t2615;
+        let t2728: f64 = t2726.minus(t2727);
+        let t2729 = product(t66, t2714);
+        let t2730: f64 = t2729.subtracted_from(t2728);
+        let t2731 = product(t295, t2678);
+        let t2732 = product(gravity_z, t1374);
+        let t2733 = product(t395, t1375);
+        let t2734: f64 = t77 * t2661;
+        let t2735 = product(t357, t2524);
+        let t2736: f64 = t2735.added_to(t2593);
+        let t2737 = product(t294, t2736);
+        let t2738: f64 = t2733.plus(t2734);
+        let t2739: f64 = t2737.plus(t2738);
+        let t2740: f64 = t2732.minus(t2739);
+        let t2741: f64 = t297 * t2740;
+        let t2742: f64 = t2731.minus(t2741);
+        let t2743 = product(t407, t1392);
+        let t2744: f64 = t353 * t2538;
+        let t2745: f64 = t2743.plus(t2744);
+        let t2746: f64 = t2742 - t2745;
+        let t2747: f64 = t2730 + t2746;
+        let t2748 = product(t299, t2747);
+        let t2749 = product(gravity_x, t1391);
+        let t2750: f64 = t401 * t1392;
+        let t2751: f64 = t2749.minus(t2750);
+        let t2752 = product(t294, t2505);
+        let t2753: f64 = t2752.subtracted_from(t2751);
+        let t2754 = product(t300, t2740);
+        let t2755: f64 = t349 * t2538;
+        let t2756: f64 = t2754.minus(t2755);
+        let t2757 = product(t295, t2668);
+        let t2758: f64 = t62 * t2714;
+        let t2759: f64 = t2757.plus(t2758);
+        let t2760: f64 = t2756 - t2759;
+        let t2761: f64 = t2753 + t2760;
+        let t2762: f64 = t303 * t2761;
+        let t2763 = product(t2700, 4.0);
+        let t2764: f64 = t2701.plus(t2725);
+        let t2765: f64 = t2748.plus(t2762);
+        let t2766: f64 = t2764 + t2765;
+        let t2767: f64 = t2763.minus(t2766);
+        let t2768: f64 = t313 * t314;
+        let t2769 = product(t2767, t2768);
+        let t2770: f64 = t2769.added_to(t2747);
+        let t2771: f64 = arm1_axis_x * t2770;
+        let t2772: f64 = t313 * t322;
+        let t2773 = product(t2767, t2772);
+        let t2774: f64 = t2773.added_to(t2761);
+        let t2775 = product(arm1_axis_y, t2774);
+        let t2776: f64 = t2695.plus(t2771);
+        let t2777: f64 = t2775.subtracted_from(t2776);
+        let t2778: f64 = t313 * t2777;
+        let t2779: f64 = gravity_z + t394;
+        let t2780: f64 = t2779 * 2.0;
+        let t2781: f64 = t799 * t1363;
+        let t2782 = product(t2780, t2781);
+        let t2783: f64 = t2679.plus(t2778);
+        let t2784: f64 = t2782.plus(t2783);
+        let t2785: f64 = t2648.plus(t2669);
+        let t2786: f64 = t2784 - t2785;
+        let t2787 = product(t294, t2786);
+        let t2788: f64 = t89 * t2603;
+        let t2789: f64 = t2787.plus(t2788);
+        let t2790: f64 = t2639.plus(t2789);
+        let t2791: f64 = t2585.subtracted_from(t2790);
+        let t2792: f64 = arm1_crank_length * t2791;
+        let t2793: f64 = t2580.plus(t2792);
+        let t2794: f64 = -t2793;
+        let t2795 = product(arm1_zero_z, t2794);
+        let t2796: f64 = gravity_z * arm1_crank_mx;
+        let t2797 = product(t90, t2796);
+        let t2798 = product(t295, t2647);
+        let t2799: f64 = t328 * t2661;
+        let t2800 = product(t316, t2714);
+        let t2801: f64 = t84 * t2638;
+        let t2802 = product(t391, t1396);
+        let t2803: f64 = t346 * t2542;
+        let t2804: f64 = t2802.minus(t2803);
+        let t2805: f64 = arm1_crank_length * t2804;
+        let t2806: f64 = t2798.plus(t2799);
+        let t2807: f64 = t2800.plus(t2805);
+        let t2808: f64 = t2806 + t2807;
+        let t2809: f64 = t2797.plus(t2801);
+        let t2810: f64 = t2808 - t2809;
+        let t2811 = product(t22, t2810);
+        let t2812: f64 = t73 * t88;
+        let t2813: f64 = t376 * t2812;
+        let t2814 = product(t1419, t2813);
+        let t2815: f64 = t69 * t88;
+        let t2816 = product(t1419, t2815);
+        let t2817: f64 = t2816.added_to(t1404);
+        let t2818: f64 = t1403 + t2817;
+        let t2819 = product(t376, t2818);
+        let t2820 = product(t66, t2638);
+        let t2821 = product(t66, t2647);
+        let t2822 = product(t322, t2740);
+        let t2823: f64 = t316 * t2678;
+        let t2824 = product(arm1_axis_y, t2694);
+        let t2825: f64 = t313 * t316;
+        let t2826 = product(t2767, t2825);
+        let t2827: f64 = t2826.added_to(t2724);
+        let t2828 = product(arm1_axis_x, t2827);
+        let t2829: f64 = arm1_axis_z * t2774;
+        let t2830: f64 = t2824.plus(t2829);
+        let t2831: f64 = t2828.subtracted_from(t2830);
+        let t2832: f64 = t313 * t2831;
+        let t2833: f64 = gravity_y + t406;
+        let t2834: f64 = t2833 * 2.0;
+        let t2835 = product(t2781, t2834);
+        let t2836: f64 = t2822.plus(t2832);
+        let t2837: f64 = t2835.plus(t2836);
+        let t2838: f64 = t2821.plus(t2823);
+        let t2839: f64 = t2837 - t2838;
+        let t2840 = product(t294, t2839);
+        let t2841: f64 = t89 * t2621;
+        let t2842: f64 = t2840.plus(t2841);
+        let t2843: f64 = t2820.plus(t2842);
+        let t2844: f64 = t2819.subtracted_from(t2843);
+        let t2845: f64 = arm1_crank_length * t2844;
+        let t2846: f64 = t2814.plus(t2845);
+        let t2847: f64 = -t2846;
+        let t2848: f64 = arm1_zero_y * t2847;
+        let t2849: f64 = gravity_y * arm1_crank_mx;
+        let t2850 = product(t90, t2849);
+        let t2851 = product(t300, t2647);
+        let t2852: f64 = t324 * t2661;
+        let t2853 = product(t314, t2714);
+        let t2854: f64 = t73 * t2638;
+        let t2855 = product(t391, t1405);
+        let t2856: f64 = t346 * t2550;
+        let t2857: f64 = t2855.minus(t2856);
+        let t2858: f64 = arm1_crank_length * t2857;
+        let t2859: f64 = t2851.plus(t2852);
+        let t2860: f64 = t2853.plus(t2858);
+        let t2861: f64 = t2859 + t2860;
+        let t2862: f64 = t2850.plus(t2854);
+        let t2863: f64 = t2861 - t2862;
+        let t2864: f64 = t18 * t2863;
+        let t2865: f64 = gravity_x * arm1_crank_mx;
+        let t2866 = product(t90, t2865);
+        let t2867 = product(t297, t2647);
+        let t2868: f64 = t318 * t2661;
+        let t2869 = product(t322, t2714);
+        let t2870: f64 = t59 * t2638;
+        let t2871 = product(t391, t1414);
+        let t2872: f64 = t346 * t2558;
+        let t2873: f64 = t2871.minus(t2872);
+        let t2874: f64 = arm1_crank_length * t2873;
+        let t2875: f64 = t2867.plus(t2868);
+        let t2876: f64 = t2869.plus(t2874);
+        let t2877: f64 = t2875 + t2876;
+        let t2878: f64 = t2866.plus(t2870);
+        let t2879: f64 = t2877 - t2878;
+        let t2880 = product(t14, t2879);
+        let t2881: f64 = t59 * t88;
+        let t2882: f64 = t376 * t2881;
+        let t2883 = product(t1419, t2882);
+        let t2884 = product(t89, t2630);
+        let t2885 = product(t1419, t1420);
+        let t2886: f64 = t2885.added_to(t1413);
+        let t2887: f64 = t1412 + t2886;
+        let t2888: f64 = t376 * t2887;
+        let t2889 = product(t62, t2647);
+        let t2890: f64 = t314 * t2740;
+        let t2891 = product(t316, t2668);
+        let t2892 = product(arm1_axis_x, t2694);
+        let t2893: f64 = arm1_axis_y * t2827;
+        let t2894 = product(arm1_axis_z, t2770);
+        let t2895: f64 = t2892.plus(t2893);
+        let t2896: f64 = t2894.subtracted_from(t2895);
+        let t2897: f64 = t313 * t2896;
+        let t2898: f64 = gravity_x + t400;
+        let t2899: f64 = t2898 * 2.0;
+        let t2900 = product(t2781, t2899);
+        let t2901: f64 = t2891.plus(t2897);
+        let t2902: f64 = t2900.plus(t2901);
+        let t2903: f64 = t2889.plus(t2890);
+        let t2904: f64 = t2902 - t2903;
+        let t2905 = product(t294, t2904);
+        let t2906: f64 = t62 * t2638;
+        let t2907: f64 = t2905.plus(t2906);
+        let t2908: f64 = t2884.plus(t2888);
+        let t2909: f64 = t2907 - t2908;
+        let t2910: f64 = arm1_crank_length * t2909;
+        let t2911: f64 = t2883.plus(t2910);
+        let t2912: f64 = -t2911;
+        let t2913 = product(arm1_zero_x, t2912);
+        let t2914: f64 = t2795.plus(t2848);
+        let t2915: f64 = t2913.plus(t2914);
+        let t2916: f64 = t2811.plus(t2864);
+        let t2917: f64 = t2880.plus(t2916);
+        let t2918: f64 = t2915 - t2917;
+        let t2919 = product(t10, t2918);
+        let t2920: f64 = 1.0 / t44;
+        let t2921 = product(t25, t2918);
+        let t2922 = product(t22, t2794);
+        let t2923: f64 = arm1_zero_z * t2810;
+        let t2924 = product(t18, t2847);
+        let t2925: f64 = arm1_zero_y * t2863;
+        let t2926 = product(arm1_zero_x, t2879);
+        let t2927: f64 = t14 * t2912;
+        let t2928: f64 = t2922.plus(t2923);
+        let t2929: f64 = t2924.plus(t2925);
+        let t2930: f64 = t2926.plus(t2927);
+        let t2931: f64 = t2928 + t2929;
+        let t2932: f64 = t2930 + t2931;
+        let t2933: f64 = t10 * t2932;
+        let t2934: f64 = t2921.minus(t2933);
+        let t2935: f64 = arm1_branch * t40;
+        let t2936: f64 = t2920 * t2935;
+        let t2937: f64 = t2934 * t2936;
+        let t2938 = product(t25, t2932);
+        let t2939: f64 = t2919.plus(t2937);
+        let t2940: f64 = t2938.plus(t2939);
+        let t2941: f64 = t2940 * 0.5;
+        let t2942: f64 = t1 * t29;
+        let t2943: f64 = t28 * t2942;
+        let t2944 = product(t2941, t2943);
+        let t2945: f64 = arm1_branch * t28;
+        let t2946: f64 = t2920 * t2945;
+        let t2947: f64 = t2934 * t2946;
+        let t2948: f64 = t28 * t28;
+        let t2949 = product(t47, t2918);
+        let t2950: f64 = t52 * t2932;
+        let t2951: f64 = t2949.plus(t2950);
+        let t2952 = product(t2948, t2951);
+        let t2953: f64 = t2947 * 0.5;
+        let t2954: f64 = t2952.plus(t2953);
+        let t2955: f64 = t25 * t2954;
+        let t2956 = product(t45, t2918);
+        let t2957: f64 = t40 * t2932;
+        let t2958: f64 = t2956.minus(t2957);
+        let t2959 = product(t28, t2958);
+        let t2960: f64 = t2955 * 2.0;
+        let t2961: f64 = t2959.plus(t2960);
+        let t2962 = product(t14, t2961);
+        let t2963: f64 = t10 * t2954;
+        let t2964 = product(t40, t2918);
+        let t2965: f64 = t45 * t2932;
+        let t2966: f64 = t2964.plus(t2965);
+        let t2967 = product(t28, t2966);
+        let t2968: f64 = t2963 * 2.0;
+        let t2969: f64 = t2967.minus(t2968);
+        let t2970 = product(arm1_zero_x, t2969);
+        let t2971: f64 = t1930.plus(t2437);
+        let t2972: f64 = t2944.plus(t2971);
+        let t2973 = product(t2972, 2.0);
+        let t2974: f64 = t1956.plus(t2463);
+        let t2975: f64 = t2970.added_to(t1893);
+        let t2976: f64 = t2400 + t2907;
+        let t2977: f64 = t2974 + t2975;
+        let t2978: f64 = t2973.plus(t2976);
+        let t2979: f64 = t2977 + t2978;
+        let t2980: f64 = t1294.plus(t1358);
+        let t2981: f64 = t1422.plus(t1538);
+        let t2982: f64 = t1948.plus(t2070);
+        let t2983: f64 = t2455.plus(t2577);
+        let t2984: f64 = t2980 + t2981;
+        let t2985: f64 = t2982 + t2983;
+        let t2986: f64 = t2984 + t2985;
+        let t2987: f64 = t2962.plus(t2986);
+        let t2988: f64 = t2979 - t2987;
+        let t2989 = product(t277, t2988);
+        let t2990: f64 = arm3_crank_izz * t275;
+        let t2991: f64 = t701 * t1232;
+        let t2992: f64 = t960 * t2991;
+        let t2993: f64 = arm3_rod_mass * t701;
+        let t2994: f64 = t665 * t2993;
+        let t2995: f64 = t703 * 2.0;
+        let t2996 = product(arm3_rod_mz, t2995);
+        let t2997: f64 = arm3_rod_mz * t701;
+        let t2998: f64 = t665 * t2997;
+        let t2999 = product(arm3_rod_ixx, t2995);
         (
-            t2212,
-            t2214,
-            t2230,
-            t2239,
-            t2247,
-            t2291,
-            t2506,
-            t2508,
-            t2524,
-            t2533,
-            t2541,
+            t2004,
+            t2007,
+            t2009,
+            t2010,
+            t2011,
+            t2022,
+            t2033,
+            t2037,
+            t2038,
+            t2041,
+            t2045,
+            t2046,
+            t2049,
+            t2065,
+            t2072,
+            t2074,
+            t2080,
+            t2098,
+            t2122,
+            t2129,
+            t2138,
+            t2150,
+            t2181,
+            t2189,
+            t2261,
+            t2265,
+            t2273,
+            t2283,
+            t2289,
+            t2306,
+            t2308,
+            t2318,
+            t2327,
+            t2336,
+            t2342,
+            t2358,
+            t2375,
+            t2392,
+            t2429,
+            t2434,
+            t2436,
+            t2439,
+            t2441,
+            t2454,
+            t2462,
+            t2464,
+            t2465,
+            t2468,
+            t2469,
+            t2474,
+            t2481,
+            t2489,
+            t2500,
+            t2511,
+            t2514,
+            t2516,
+            t2517,
+            t2518,
+            t2529,
+            t2540,
+            t2544,
             t2545,
-            t2585,
-            t2591,
-            t2716,
-            t2719,
-            t2722,
-            t2782,
-            t2798,
-            t2806,
-            t2814,
-            t2824,
-            t2832,
-            t2840,
-            t2850,
-            t2858,
-            t2866,
-            t2890,
-            t2891,
-            t2904,
-            t2914,
-            t2924,
-            t2965,
-            t2966,
-            t2967,
-            t2968,
+            t2548,
+            t2552,
+            t2553,
+            t2556,
+            t2572,
+            t2579,
+            t2581,
+            t2587,
+            t2605,
+            t2629,
+            t2636,
+            t2645,
+            t2657,
+            t2688,
+            t2696,
+            t2768,
+            t2772,
+            t2780,
+            t2790,
+            t2796,
+            t2813,
+            t2815,
+            t2825,
+            t2834,
+            t2843,
+            t2849,
+            t2865,
+            t2882,
+            t2899,
+            t2936,
+            t2941,
+            t2943,
+            t2946,
+            t2948,
+            t2961,
             t2969,
-            t2970,
-            t2971,
-            t2972,
-            t2973,
-            t2974,
-            t2975,
-            t2976,
-            t2977,
-            t2978,
-            t2979,
             t2988,
             t2989,
+            t2990,
+            t2992,
+            t2993,
+            t2994,
+            t2995,
+            t2996,
+            t2997,
             t2998,
             t2999,
         )
     };
     let (
-        t3040,
-        t3048,
-        t3085,
-        t3089,
-        t3093,
-        t3098,
+        t3007,
+        t3013,
+        t3044,
+        t3045,
+        t3046,
+        t3050,
+        t3054,
+        t3063,
+        t3069,
+        t3100,
+        t3101,
         t3102,
+        t3105,
+        t3106,
+        t3107,
+        t3109,
+        t3110,
+        t3112,
         t3113,
-        t3147,
+        t3116,
+        t3117,
+        t3119,
+        t3123,
+        t3125,
+        t3130,
+        t3131,
+        t3133,
+        t3134,
+        t3135,
+        t3141,
+        t3142,
+        t3143,
+        t3149,
+        t3150,
         t3151,
-        t3155,
-        t3159,
-        t3163,
-        t3167,
-        t3170,
-        t3176,
-        t3178,
-        t3182,
-        t3187,
-        t3192,
-        t3196,
+        t3156,
+        t3157,
+        t3165,
+        t3166,
+        t3186,
+        t3190,
+        t3193,
+        t3197,
         t3200,
-        t3206,
-        t3214,
-        t3251,
-        t3255,
-        t3259,
-        t3278,
-        t3285,
-        t3290,
+        t3216,
+        t3220,
+        t3221,
+        t3232,
+        t3247,
         t3295,
-        t3304,
-        t3310,
-        t3311,
-        t3331,
-        t3359,
-        t3360,
-        t3404,
-        t3406,
-        t3424,
-        t3427,
-        t3437,
-        t3441,
-        t3448,
-        t3452,
-        t3453,
-        t3462,
-        t3477,
-        t3486,
-        t3492,
-        t3496,
-        t3497,
-        t3499,
-        t3517,
-        t3520,
-        t3530,
-        t3534,
-        t3541,
-        t3545,
-        t3546,
-        t3555,
-        t3570,
-        t3579,
-        t3585,
+        t3350,
+        t3438,
+        t3483,
+        t3543,
+        t3573,
+        t3574,
+        t3588,
         t3589,
-        t3590,
-        t3645,
-        t3684,
-        t3703,
-        t3710,
-        t3721,
-        t3728,
-        t3755,
-        t3769,
-        t3791,
-        t3796,
-        t3809,
-        t3838,
-        t3842,
-        t3849,
-        t3852,
-        t3855,
-        t3868,
-        t3877,
+        t3596,
+        t3597,
+        t3605,
+        t3606,
+        t3626,
+        t3630,
+        t3633,
+        t3637,
+        t3640,
+        t3656,
+        t3660,
+        t3661,
+        t3672,
+        t3687,
+        t3735,
+        t3790,
         t3878,
-        t3879,
-        t3880,
-        t3890,
-        t3899,
-        t3903,
-        t3907,
-        t3933,
-        t3942,
-        t3952,
-        t3962,
-        t3972,
-        t3984,
-        t3985,
-        t3991,
-        t3992,
+        t3923,
+        t3958,
+        t3983,
+        t3987,
+        t3993,
+        t3994,
+        t3995,
+        t3996,
+        t3997,
         t3998,
         t3999,
     ) = {
-        let t3000: f64 = t2591 * t2999;
-        let t3001 = product(t1100, t2545);
-        let t3002: f64 = t758 * t2782;
-        let t3003: f64 = t3001.minus(t3002);
-        let t3004: f64 = t3003 * 2.0;
-        let t3005 = product(t767, t3004);
-        let t3006: f64 = t3000 * 2.0;
-        let t3007: f64 = t3005.subtracted_from(t3006);
-        let t3008 = product(arm3_rod_izz, t3007);
-        let t3009: f64 = t282 * t2798;
-        let t3010 = product(t488, t2806);
-        let t3011 = product(t548, t2814);
-        let t3012: f64 = t274 * t2824;
-        let t3013 = product(t623, t2832);
-        let t3014: f64 = t683 * t2840;
-        let t3015: f64 = t272 * t2850;
-        let t3016 = product(t758, t2858);
-        let t3017 = product(t818, t2866);
-        let t3018: f64 = t2967.plus(t2969);
-        let t3019: f64 = t2971.plus(t2976);
-        let t3020: f64 = t2977.plus(t2978);
-        let t3021: f64 = t2988.plus(t2998);
-        let t3022: f64 = t3008.plus(t3009);
-        let t3023: f64 = t3010.plus(t3012);
-        let t3024: f64 = t3013.plus(t3015);
-        let t3025: f64 = t3018 + t3019;
-        let t3026: f64 = t3020 + t3021;
-        let t3027: f64 = t3022 + t3023;
-        let t3028: f64 = t3016.plus(t3024);
-        let t3029: f64 = t3025 + t3026;
-        let t3030: f64 = t3027 + t3028;
+        let t3000: f64 = t2998 * 2.0;
+        let t3001: f64 = t2999.plus(t3000);
+        let t3002 = product(t628, t3001);
+        let t3003: f64 = t2994 * 2.0;
+        let t3004: f64 = t2996.plus(t3003);
+        let t3005: f64 = t3002.subtracted_from(t3004);
+        let t3006 = product(t662, t3005);
+        let t3007: f64 = arm3_rod_izz * t1249;
+        let t3008 = product(t767, t3007);
+        let t3009 = product(arm3_rod_ixx, t767);
+        let t3010: f64 = t701 * t1253;
+        let t3011: f64 = t3009.plus(t3010);
+        let t3012: f64 = t3008.plus(t3011);
+        let t3013: f64 = t3012 * 2.0;
+        let t3014 = product(t628, t3013);
+        let t3015 = product(t701, t1259);
+        let t3016: f64 = arm3_rod_mz * t767;
+        let t3017: f64 = t3015.plus(t3016);
+        let t3018: f64 = t3017 * 2.0;
+        let t3019: f64 = t3014.subtracted_from(t3018);
+        let t3020: f64 = t650 * t3019;
+        let t3021: f64 = t3006.plus(t3020);
+        let t3022: f64 = t2992 * 2.0;
+        let t3023: f64 = t3021 + t3022;
+        let t3024 = product(t266, t3023);
+        let t3025: f64 = t701 * t1270;
+        let t3026: f64 = t960 * t3025;
+        let t3027 = product(t658, t3005);
+        let t3028: f64 = t648 * t3019;
+        let t3029: f64 = t3027.plus(t3028);
+        let t3030: f64 = t3026 * 2.0;
         let t3031: f64 = t3029 + t3030;
-        let t3032: f64 = t2968.plus(t2970);
-        let t3033: f64 = t2972.plus(t2973);
-        let t3034: f64 = t2974.plus(t2975);
-        let t3035: f64 = t3011.plus(t3014);
-        let t3036: f64 = t3032 + t3033;
-        let t3037: f64 = t3034 + t3035;
-        let t3038: f64 = t3036 + t3037;
-        let t3039: f64 = t3017.plus(t3038);
-        let t3040: f64 = t3031 - t3039;
-        let t3041: f64 = t1154 * t3040;
-        let t3042: f64 = t1379.plus(t1399);
-        let t3043: f64 = t1407.plus(t2891);
-        let t3044: f64 = t2966.plus(t3041);
-        let t3045: f64 = t3042 + t3043;
-        let t3046: f64 = t3044 + t3045;
-        let t3047: f64 = t1520.subtracted_from(t3046);
-        let t3048: f64 = t293 * t3047;
-        let t3049 = product(arm2_zero_y, t101);
-        let t3050: f64 = t109 * t116;
-        let t3051: f64 = t3049.plus(t3050);
-        let t3052: f64 = t3051 * 2.0;
-        let t3053 = product(t1215, t3052);
-        let t3054 = product(arm2_zero_y, t131);
-        let t3055: f64 = t95 * t120;
-        let t3056: f64 = t101 * t3055;
-        let t3057 = product(t109, t136);
-        let t3058 = product(t131, t3055);
-        let t3059: f64 = t3058.subtracted_from(t3051);
-        let t3060: f64 = t3059 * 2.0;
-        let t3061: f64 = t1226 * t3060;
-        let t3062: f64 = t3061 * 0.5;
-        let t3063: f64 = t3054.plus(t3056);
-        let t3064: f64 = t3057.plus(t3062);
-        let t3065: f64 = t3063 - t3064;
-        let t3066: f64 = t119 * t3065;
-        let t3067: f64 = t3053.minus(t3066);
-        let t3068 = product(arm2_zero_y, t3067);
-        let t3069 = product(t1235, t3052);
-        let t3070 = product(t109, t131);
-        let t3071: f64 = t116 * t3055;
-        let t3072 = product(arm2_zero_y, t136);
-        let t3073: f64 = t1241 * t3060;
-        let t3074: f64 = t3073 * 0.5;
-        let t3075: f64 = t3070.plus(t3071);
-        let t3076: f64 = t3072.plus(t3074);
-        let t3077: f64 = t3075 + t3076;
-        let t3078: f64 = t119 * t3077;
-        let t3079: f64 = t3069.minus(t3078);
-        let t3080: f64 = t109 * t3079;
-        let t3081: f64 = t3068.plus(t3080);
-        let t3082 = product(t1251, t3081);
-        let t3083 = product(t105, t3067);
-        let t3084: f64 = arm2_zero_x * t3079;
-        let t3085: f64 = t3083.minus(t3084);
-        let t3086 = product(t157, t3085);
-        let t3087 = product(t109, t3067);
-        let t3088: f64 = arm2_zero_y * t3079;
-        let t3089: f64 = t3087.minus(t3088);
-        let t3090: f64 = t150 * t3089;
-        let t3091 = product(t113, t3067);
-        let t3092: f64 = arm2_zero_z * t3079;
-        let t3093: f64 = t3091.minus(t3092);
-        let t3094 = product(t175, t3093);
-        let t3095 = product(t164, t3081);
-        let t3096 = product(arm2_zero_x, t3067);
-        let t3097: f64 = t105 * t3079;
+        let t3032: f64 = t255 * t3031;
+        let t3033: f64 = t701 * t1279;
+        let t3034: f64 = t960 * t3033;
+        let t3035 = product(t652, t3005);
+        let t3036: f64 = t656 * t3019;
+        let t3037: f64 = t3035.plus(t3036);
+        let t3038: f64 = t3034 * 2.0;
+        let t3039: f64 = t3037 + t3038;
+        let t3040 = product(t251, t3039);
+        let t3041: f64 = t3024.plus(t3032);
+        let t3042: f64 = t3040.plus(t3041);
+        let t3043 = product(arm3_crank_length, t3042);
+        let t3044: f64 = t3043.added_to(t2990);
+        let t3045 = product(t1293, t3044);
+        let t3046: f64 = arm2_crank_izz * t181;
+        let t3047: f64 = t534 * t1296;
+        let t3048: f64 = t879 * t3047;
+        let t3049: f64 = arm2_rod_mass * t534;
+        let t3050: f64 = t498 * t3049;
+        let t3051: f64 = t536 * 2.0;
+        let t3052 = product(arm2_rod_mz, t3051);
+        let t3053: f64 = arm2_rod_mz * t534;
+        let t3054: f64 = t498 * t3053;
+        let t3055 = product(arm2_rod_ixx, t3051);
+        let t3056: f64 = t3054 * 2.0;
+        let t3057: f64 = t3055.plus(t3056);
+        let t3058 = product(t461, t3057);
+        let t3059: f64 = t3050 * 2.0;
+        let t3060: f64 = t3052.plus(t3059);
+        let t3061: f64 = t3058.subtracted_from(t3060);
+        let t3062 = product(t495, t3061);
+        let t3063: f64 = arm2_rod_izz * t1313;
+        let t3064 = product(t600, t3063);
+        let t3065 = product(arm2_rod_ixx, t600);
+        let t3066: f64 = t534 * t1317;
+        let t3067: f64 = t3065.plus(t3066);
+        let t3068: f64 = t3064.plus(t3067);
+        let t3069: f64 = t3068 * 2.0;
+        let t3070 = product(t461, t3069);
+        let t3071 = product(t534, t1323);
+        let t3072: f64 = arm2_rod_mz * t600;
+        let t3073: f64 = t3071.plus(t3072);
+        let t3074: f64 = t3073 * 2.0;
+        let t3075: f64 = t3070.subtracted_from(t3074);
+        let t3076: f64 = t483 * t3075;
+        let t3077: f64 = t3062.plus(t3076);
+        let t3078: f64 = t3048 * 2.0;
+        let t3079: f64 = t3077 + t3078;
+        let t3080 = product(t168, t3079);
+        let t3081: f64 = t534 * t1334;
+        let t3082: f64 = t879 * t3081;
+        let t3083 = product(t491, t3061);
+        let t3084: f64 = t481 * t3075;
+        let t3085: f64 = t3083.plus(t3084);
+        let t3086: f64 = t3082 * 2.0;
+        let t3087: f64 = t3085 + t3086;
+        let t3088: f64 = t164 * t3087;
+        let t3089: f64 = t534 * t1343;
+        let t3090: f64 = t879 * t3089;
+        let t3091 = product(t485, t3061);
+        let t3092: f64 = t489 * t3075;
+        let t3093: f64 = t3091.plus(t3092);
+        let t3094: f64 = t3090 * 2.0;
+        let t3095: f64 = t3093 + t3094;
+        let t3096 = product(t160, t3095);
+        let t3097: f64 = t3080.plus(t3088);
         let t3098: f64 = t3096.plus(t3097);
-        let t3099 = product(t160, t3098);
-        let t3100 = product(arm2_zero_z, t3067);
-        let t3101: f64 = t113 * t3079;
-        let t3102: f64 = t3100.plus(t3101);
-        let t3103: f64 = t168 * t3102;
-        let t3104: f64 = t3099.plus(t3103);
-        let t3105: f64 = t3095.plus(t3104);
-        let t3106 = product(arm2_crank_length, t3105);
-        let t3107: f64 = t3106.added_to(t164);
-        let t3108: f64 = t3086.plus(t3090);
-        let t3109: f64 = t3094.plus(t3108);
-        let t3110: f64 = t3107 - t3109;
-        let t3111 = product(t1283, t3110);
-        let t3112: f64 = t3082.added_to(t180);
-        let t3113: f64 = t3111.subtracted_from(t3112);
-        let t3114 = product(t272, t3113);
-        let t3115 = product(arm3_zero_y, t192);
-        let t3116: f64 = t200 * t207;
-        let t3117: f64 = t3115.plus(t3116);
-        let t3118: f64 = t3117 * 2.0;
-        let t3119 = product(t1292, t3118);
-        let t3120 = product(arm3_zero_y, t222);
-        let t3121: f64 = t186 * t211;
-        let t3122: f64 = t192 * t3121;
-        let t3123 = product(t200, t227);
-        let t3124 = product(t222, t3121);
-        let t3125: f64 = t3124.subtracted_from(t3117);
-        let t3126: f64 = t3125 * 2.0;
-        let t3127: f64 = t1303 * t3126;
-        let t3128: f64 = t3127 * 0.5;
-        let t3129: f64 = t3120.plus(t3122);
-        let t3130: f64 = t3123.plus(t3128);
-        let t3131: f64 = t3129 - t3130;
-        let t3132: f64 = t210 * t3131;
-        let t3133: f64 = t3119.minus(t3132);
-        let t3134 = product(arm3_zero_z, t3133);
-        let t3135 = product(t1312, t3118);
-        let t3136 = product(t200, t222);
-        let t3137: f64 = t207 * t3121;
-        let t3138 = product(arm3_zero_y, t227);
-        let t3139: f64 = t1318 * t3126;
-        let t3140: f64 = t3139 * 0.5;
-        let t3141: f64 = t3136.plus(t3137);
-        let t3142: f64 = t3138.plus(t3140);
+        let t3099 = product(arm2_crank_length, t3098);
+        let t3100: f64 = t3099.added_to(t3046);
+        let t3101: f64 = t1357 * t3100;
+        let t3102: f64 = arm1_crank_izz * t280;
+        let t3103: f64 = t367 * t1360;
+        let t3104: f64 = t799 * t3103;
+        let t3105: f64 = arm1_rod_mass * t367;
+        let t3106: f64 = t331 * t3105;
+        let t3107: f64 = t369 * 2.0;
+        let t3108 = product(arm1_rod_mz, t3107);
+        let t3109: f64 = arm1_rod_mz * t367;
+        let t3110: f64 = t331 * t3109;
+        let t3111 = product(arm1_rod_ixx, t3107);
+        let t3112: f64 = t3110 * 2.0;
+        let t3113: f64 = t3111.plus(t3112);
+        let t3114 = product(t294, t3113);
+        let t3115: f64 = t3106 * 2.0;
+        let t3116: f64 = t3108.plus(t3115);
+        let t3117: f64 = t3114.subtracted_from(t3116);
+        let t3118 = product(t328, t3117);
+        let t3119: f64 = arm1_rod_izz * t1377;
+        let t3120 = product(t433, t3119);
+        let t3121 = product(arm1_rod_ixx, t433);
+        let t3122: f64 = t367 * t1381;
+        let t3123: f64 = t3121.plus(t3122);
+        let t3124: f64 = t3120.plus(t3123);
+        let t3125: f64 = t3124 * 2.0;
+        let t3126 = product(t294, t3125);
+        let t3127 = product(t367, t1387);
+        let t3128: f64 = arm1_rod_mz * t433;
+        let t3129: f64 = t3127.plus(t3128);
+        let t3130: f64 = t3129 * 2.0;
+        let t3131: f64 = t3126.subtracted_from(t3130);
+        let t3132: f64 = t316 * t3131;
+        let t3133: f64 = t3118.plus(t3132);
+        let t3134: f64 = t3104 * 2.0;
+        let t3135: f64 = t3133 + t3134;
+        let t3136 = product(t77, t3135);
+        let t3137: f64 = t367 * t1398;
+        let t3138: f64 = t799 * t3137;
+        let t3139 = product(t324, t3117);
+        let t3140: f64 = t314 * t3131;
+        let t3141: f64 = t3139.plus(t3140);
+        let t3142: f64 = t3138 * 2.0;
         let t3143: f64 = t3141 + t3142;
-        let t3144: f64 = t210 * t3143;
-        let t3145: f64 = t3135.minus(t3144);
-        let t3146: f64 = t204 * t3145;
-        let t3147: f64 = t3134.plus(t3146);
-        let t3148 = product(t1328, t3147);
-        let t3149 = product(t196, t3133);
-        let t3150: f64 = arm3_zero_x * t3145;
-        let t3151: f64 = t3149.minus(t3150);
-        let t3152 = product(t248, t3151);
-        let t3153 = product(t200, t3133);
-        let t3154: f64 = arm3_zero_y * t3145;
-        let t3155: f64 = t3153.minus(t3154);
-        let t3156: f64 = t262 * t3155;
-        let t3157 = product(t204, t3133);
-        let t3158: f64 = arm3_zero_z * t3145;
-        let t3159: f64 = t3157.minus(t3158);
-        let t3160 = product(t241, t3159);
-        let t3161 = product(arm3_zero_y, t3133);
-        let t3162: f64 = t200 * t3145;
-        let t3163: f64 = t3161.plus(t3162);
-        let t3164 = product(t255, t3163);
-        let t3165 = product(arm3_zero_x, t3133);
-        let t3166: f64 = t196 * t3145;
-        let t3167: f64 = t3165.plus(t3166);
-        let t3168 = product(t251, t3167);
-        let t3169: f64 = t266 * t3147;
-        let t3170: f64 = t3168.plus(t3169);
-        let t3171: f64 = t3164.plus(t3170);
-        let t3172 = product(arm3_crank_length, t3171);
-        let t3173: f64 = t3172.added_to(t255);
-        let t3174: f64 = t3152.plus(t3156);
-        let t3175: f64 = t3160.plus(t3174);
-        let t3176: f64 = t3173 - t3175;
-        let t3177: f64 = t1360 * t3176;
-        let t3178: f64 = t3148.minus(t3177);
-        let t3179: f64 = t181 * t3178;
-        let t3180 = product(t1251, t3102);
-        let t3181: f64 = t1366 * t3110;
-        let t3182: f64 = t3180.minus(t3181);
-        let t3183 = product(t275, t3182);
-        let t3184 = product(t1328, t3163);
-        let t3185 = product(t1372, t3176);
-        let t3186: f64 = t3184.added_to(t271);
-        let t3187: f64 = t3185.subtracted_from(t3186);
-        let t3188: f64 = t274 * t3187;
-        let t3189: f64 = t3114.plus(t3179);
-        let t3190: f64 = t3183.plus(t3188);
-        let t3191: f64 = t3189 - t3190;
-        let t3192 = product(t1120, t3191);
-        let t3193 = product(t286, t3182);
-        let t3194 = product(t1328, t3167);
-        let t3195: f64 = t1383 * t3176;
-        let t3196: f64 = t3194.minus(t3195);
-        let t3197: f64 = t274 * t3196;
-        let t3198 = product(t1251, t3098);
-        let t3199: f64 = t1390 * t3110;
-        let t3200: f64 = t3198.minus(t3199);
-        let t3201 = product(t272, t3200);
-        let t3202: f64 = t279 * t3178;
-        let t3203: f64 = t3193.plus(t3197);
-        let t3204: f64 = t3201.plus(t3202);
-        let t3205: f64 = t3203 - t3204;
-        let t3206: f64 = t1150 * t3205;
-        let t3207 = product(t275, t3200);
-        let t3208: f64 = t279 * t3187;
-        let t3209 = product(t286, t3113);
-        let t3210: f64 = t181 * t3196;
-        let t3211: f64 = t3207.plus(t3208);
-        let t3212: f64 = t3209.plus(t3210);
-        let t3213: f64 = t3211 - t3212;
-        let t3214 = product(t1180, t3213);
-        let t3215 = product(arm1_zero_y, t10);
-        let t3216: f64 = t18 * t25;
-        let t3217: f64 = t3215.plus(t3216);
-        let t3218: f64 = t3217 * 2.0;
-        let t3219 = product(t1413, t3218);
-        let t3220 = product(arm1_zero_y, t40);
-        let t3221: f64 = t4 * t29;
-        let t3222: f64 = t10 * t3221;
-        let t3223 = product(t18, t45);
-        let t3224 = product(t40, t3221);
-        let t3225: f64 = t3224.subtracted_from(t3217);
-        let t3226: f64 = t3225 * 2.0;
-        let t3227: f64 = t1424 * t3226;
-        let t3228: f64 = t3227 * 0.5;
-        let t3229: f64 = t3220.plus(t3222);
-        let t3230: f64 = t3223.plus(t3228);
-        let t3231: f64 = t3229 - t3230;
-        let t3232: f64 = t28 * t3231;
-        let t3233: f64 = t3219.minus(t3232);
-        let t3234 = product(arm1_zero_x, t3233);
-        let t3235 = product(t1433, t3218);
-        let t3236 = product(t18, t40);
-        let t3237: f64 = t25 * t3221;
-        let t3238 = product(arm1_zero_y, t45);
-        let t3239: f64 = t1439 * t3226;
-        let t3240: f64 = t3239 * 0.5;
-        let t3241: f64 = t3236.plus(t3237);
-        let t3242: f64 = t3238.plus(t3240);
-        let t3243: f64 = t3241 + t3242;
-        let t3244: f64 = t28 * t3243;
-        let t3245: f64 = t3235.minus(t3244);
-        let t3246: f64 = t14 * t3245;
-        let t3247: f64 = t3234.plus(t3246);
-        let t3248 = product(t1449, t3247);
-        let t3249 = product(t14, t3233);
-        let t3250: f64 = arm1_zero_x * t3245;
-        let t3251: f64 = t3249.minus(t3250);
-        let t3252 = product(t59, t3251);
-        let t3253 = product(t18, t3233);
-        let t3254: f64 = arm1_zero_y * t3245;
-        let t3255: f64 = t3253.minus(t3254);
-        let t3256: f64 = t73 * t3255;
-        let t3257 = product(t22, t3233);
-        let t3258: f64 = arm1_zero_z * t3245;
-        let t3259: f64 = t3257.minus(t3258);
-        let t3260 = product(t84, t3259);
-        let t3261 = product(arm1_zero_y, t3233);
-        let t3262: f64 = t18 * t3245;
-        let t3263: f64 = t3261.plus(t3262);
-        let t3264 = product(t66, t3263);
-        let t3265 = product(t62, t3247);
-        let t3266 = product(arm1_zero_z, t3233);
-        let t3267: f64 = t22 * t3245;
-        let t3268: f64 = t3266.plus(t3267);
-        let t3269: f64 = t77 * t3268;
-        let t3270: f64 = t3265.plus(t3269);
-        let t3271: f64 = t3264.plus(t3270);
-        let t3272 = product(arm1_crank_length, t3271);
-        let t3273: f64 = t3272.added_to(t66);
-        let t3274: f64 = t3252.plus(t3256);
-        let t3275: f64 = t3260.plus(t3274);
-        let t3276: f64 = t3273 - t3275;
-        let t3277: f64 = t1481 * t3276;
-        let t3278: f64 = t3248.minus(t3277);
-        let t3279 = product(t277, t3278);
-        let t3280: f64 = t90 * t3191;
-        let t3281 = product(t284, t3200);
-        let t3282 = product(t1449, t3263);
-        let t3283 = product(t1490, t3276);
-        let t3284: f64 = t3282.added_to(t89);
-        let t3285: f64 = t3283.subtracted_from(t3284);
-        let t3286 = product(t272, t3285);
-        let t3287: f64 = t280 * t3178;
-        let t3288 = product(t1449, t3268);
-        let t3289: f64 = t1497 * t3276;
-        let t3290: f64 = t3288.minus(t3289);
-        let t3291 = product(t275, t3290);
-        let t3292: f64 = t282 * t3187;
-        let t3293: f64 = t3286.plus(t3287);
-        let t3294: f64 = t3291.plus(t3292);
-        let t3295: f64 = t3293 - t3294;
-        let t3296: f64 = t279 * t3295;
-        let t3297 = product(t289, t3196);
-        let t3298 = product(t274, t3285);
-        let t3299: f64 = t280 * t3182;
-        let t3300 = product(t181, t3290);
-        let t3301: f64 = t282 * t3113;
-        let t3302: f64 = t3298.plus(t3299);
-        let t3303: f64 = t3300.plus(t3301);
-        let t3304: f64 = t3302 - t3303;
-        let t3305: f64 = t286 * t3304;
-        let t3306: f64 = t3279.plus(t3280);
-        let t3307: f64 = t3297.plus(t3305);
-        let t3308: f64 = t3306 + t3307;
-        let t3309: f64 = t3281.plus(t3296);
-        let t3310: f64 = t3308 - t3309;
-        let t3311 = product(t1184, t3310);
-        let t3312 = product(t1529, t3263);
-        let t3313: f64 = t3312.added_to(t428);
-        let t3314 = product(arm1_axis_z, t3313);
-        let t3315: f64 = arm1_axis_y * arm1_crank_length;
-        let t3316: f64 = t428 * t3315;
-        let t3317: f64 = t3268 * t3316;
-        let t3318: f64 = t3314.minus(t3317);
-        let t3319 = product(t437, t3318);
-        let t3320 = product(t3247, t3316);
-        let t3321: f64 = arm1_axis_x * t3313;
-        let t3322: f64 = t3320.minus(t3321);
-        let t3323: f64 = t442 * t3322;
-        let t3324 = product(arm1_axis_x, t3268);
-        let t3325: f64 = arm1_axis_z * t3247;
-        let t3326: f64 = t3324.minus(t3325);
-        let t3327: f64 = t433 * t1529;
-        let t3328 = product(t3326, t3327);
-        let t3329: f64 = t3319.plus(t3323);
-        let t3330: f64 = t3328.plus(t3329);
-        let t3331: f64 = t3330 * 2.0;
-        let t3332: f64 = t1548 * t3331;
-        let t3333 = product(t3332, 0.5);
-        let t3334: f64 = t3333.subtracted_from(t3318);
-        let t3335 = product(t1552, t3334);
-        let t3336 = product(t476, t3278);
-        let t3337 = product(t456, t3251);
-        let t3338: f64 = t448 * t3255;
-        let t3339 = product(t450, t3259);
-        let t3340 = product(t62, t3334);
-        let t3341 = product(t1529, t3326);
-        let t3342: f64 = t1559 * t3331;
-        let t3343: f64 = t3342 * 0.5;
-        let t3344: f64 = t3341.minus(t3343);
-        let t3345: f64 = t66 * t3344;
-        let t3346: f64 = t1564 * t3331;
-        let t3347 = product(t3346, 0.5);
-        let t3348: f64 = t3347.subtracted_from(t3322);
-        let t3349 = product(t77, t3348);
-        let t3350: f64 = t3340.plus(t3345);
-        let t3351: f64 = t3349.plus(t3350);
-        let t3352 = product(t447, t3351);
-        let t3353: f64 = t3337.plus(t3338);
-        let t3354: f64 = t3339.plus(t3353);
-        let t3355: f64 = t3352.subtracted_from(t3354);
-        let t3356: f64 = t1575 * t3355;
-        let t3357: f64 = t3336.minus(t3356);
-        let t3358: f64 = arm1_crank_length * t3357;
-        let t3359: f64 = t3335.minus(t3358);
-        let t3360 = product(t1525, t3359);
-        let t3361: f64 = t448 * t1529;
-        let t3362 = product(t3268, t3361);
-        let t3363 = product(t450, t3313);
-        let t3364 = product(t429, t3344);
-        let t3365: f64 = t434 * t3348;
-        let t3366: f64 = t3364.minus(t3365);
-        let t3367: f64 = t447 * t3366;
-        let t3368: f64 = t3362.plus(t3367);
-        let t3369: f64 = t3363.subtracted_from(t3368);
-        let t3370 = product(t428, t3369);
-        let t3371 = product(t466, t3278);
-        let t3372 = product(t452, t3251);
-        let t3373: f64 = t458 * t3255;
-        let t3374 = product(t462, t3259);
-        let t3375 = product(t62, t3369);
-        let t3376 = product(t450, t3247);
-        let t3377: f64 = t456 * t3268;
-        let t3378: f64 = t3376.minus(t3377);
-        let t3379 = product(t1529, t3378);
-        let t3380 = product(t431, t3348);
-        let t3381: f64 = t429 * t3334;
-        let t3382: f64 = t3380.minus(t3381);
-        let t3383: f64 = t447 * t3382;
-        let t3384: f64 = t3379.plus(t3383);
-        let t3385: f64 = t66 * t3384;
-        let t3386 = product(t456, t3313);
-        let t3387 = product(t3247, t3361);
-        let t3388 = product(t434, t3334);
-        let t3389: f64 = t431 * t3344;
-        let t3390: f64 = t3388.minus(t3389);
-        let t3391: f64 = t447 * t3390;
-        let t3392: f64 = t3386.plus(t3391);
-        let t3393: f64 = t3387.subtracted_from(t3392);
-        let t3394 = product(t77, t3393);
-        let t3395: f64 = t3372.plus(t3373);
-        let t3396: f64 = t3374.plus(t3395);
-        let t3397: f64 = t3375.plus(t3385);
-        let t3398: f64 = t3394.plus(t3397);
-        let t3399: f64 = t3396 - t3398;
-        let t3400: f64 = t1575 * t3399;
-        let t3401: f64 = t3371.minus(t3400);
-        let t3402: f64 = arm1_crank_length * t3401;
-        let t3403: f64 = t3370.minus(t3402);
-        let t3404 = product(t561, t3403);
-        let t3405 = product(t1633, t3081);
-        let t3406: f64 = t3405.added_to(t563);
-        let t3407 = product(arm2_axis_z, t3406);
-        let t3408: f64 = arm2_axis_y * arm2_crank_length;
-        let t3409: f64 = t563 * t3408;
-        let t3410: f64 = t3102 * t3409;
-        let t3411: f64 = t3407.minus(t3410);
-        let t3412 = product(t572, t3411);
-        let t3413 = product(t3098, t3409);
-        let t3414: f64 = arm2_axis_x * t3406;
-        let t3415: f64 = t3413.minus(t3414);
-        let t3416: f64 = t577 * t3415;
-        let t3417 = product(arm2_axis_x, t3102);
-        let t3418: f64 = arm2_axis_z * t3098;
-        let t3419: f64 = t3417.minus(t3418);
-        let t3420: f64 = t568 * t1633;
-        let t3421 = product(t3419, t3420);
-        let t3422: f64 = t3412.plus(t3416);
-        let t3423: f64 = t3421.plus(t3422);
-        let t3424: f64 = t3423 * 2.0;
-        let t3425: f64 = t1652 * t3424;
-        let t3426 = product(t3425, 0.5);
-        let t3427: f64 = t3426.subtracted_from(t3411);
-        let t3428 = product(t1656, t3427);
-        let t3429 = product(t611, t3200);
-        let t3430 = product(t591, t3085);
-        let t3431: f64 = t583 * t3089;
-        let t3432 = product(t585, t3093);
-        let t3433 = product(t160, t3427);
-        let t3434 = product(t1633, t3419);
-        let t3435: f64 = t1663 * t3424;
-        let t3436: f64 = t3435 * 0.5;
-        let t3437: f64 = t3434.minus(t3436);
-        let t3438: f64 = t164 * t3437;
-        let t3439: f64 = t1668 * t3424;
-        let t3440 = product(t3439, 0.5);
-        let t3441: f64 = t3440.subtracted_from(t3415);
-        let t3442 = product(t168, t3441);
-        let t3443: f64 = t3433.plus(t3438);
-        let t3444: f64 = t3442.plus(t3443);
-        let t3445 = product(t582, t3444);
-        let t3446: f64 = t3430.plus(t3431);
-        let t3447: f64 = t3432.plus(t3446);
-        let t3448: f64 = t3445.subtracted_from(t3447);
-        let t3449: f64 = t1679 * t3448;
-        let t3450: f64 = t3429.minus(t3449);
-        let t3451: f64 = arm2_crank_length * t3450;
-        let t3452: f64 = t3428.minus(t3451);
-        let t3453: f64 = t1629 * t3452;
-        let t3454: f64 = t583 * t1633;
-        let t3455 = product(t3102, t3454);
-        let t3456 = product(t585, t3406);
-        let t3457 = product(t564, t3437);
-        let t3458: f64 = t569 * t3441;
-        let t3459: f64 = t3457.minus(t3458);
-        let t3460: f64 = t582 * t3459;
-        let t3461: f64 = t3455.plus(t3460);
-        let t3462: f64 = t3456.subtracted_from(t3461);
-        let t3463 = product(t563, t3462);
-        let t3464 = product(t601, t3200);
-        let t3465 = product(t587, t3085);
-        let t3466: f64 = t593 * t3089;
-        let t3467 = product(t597, t3093);
-        let t3468 = product(t160, t3462);
-        let t3469 = product(t585, t3098);
-        let t3470: f64 = t591 * t3102;
-        let t3471: f64 = t3469.minus(t3470);
-        let t3472 = product(t1633, t3471);
-        let t3473 = product(t566, t3441);
-        let t3474: f64 = t564 * t3427;
-        let t3475: f64 = t3473.minus(t3474);
-        let t3476: f64 = t582 * t3475;
-        let t3477: f64 = t3472.plus(t3476);
-        let t3478: f64 = t164 * t3477;
-        let t3479 = product(t591, t3406);
-        let t3480 = product(t3098, t3454);
-        let t3481 = product(t569, t3427);
-        let t3482: f64 = t566 * t3437;
-        let t3483: f64 = t3481.minus(t3482);
-        let t3484: f64 = t582 * t3483;
-        let t3485: f64 = t3479.plus(t3484);
-        let t3486: f64 = t3480.subtracted_from(t3485);
-        let t3487 = product(t168, t3486);
-        let t3488: f64 = t3465.plus(t3466);
-        let t3489: f64 = t3467.plus(t3488);
-        let t3490: f64 = t3468.plus(t3478);
-        let t3491: f64 = t3487.plus(t3490);
-        let t3492: f64 = t3489 - t3491;
-        let t3493: f64 = t1679 * t3492;
-        let t3494: f64 = t3464.minus(t3493);
-        let t3495: f64 = arm2_crank_length * t3494;
-        let t3496: f64 = t3463.minus(t3495);
-        let t3497: f64 = t696 * t3496;
-        let t3498 = product(t1737, t3163);
-        let t3499: f64 = t3498.added_to(t698);
-        let t3500 = product(arm3_axis_z, t3499);
-        let t3501: f64 = arm3_axis_y * arm3_crank_length;
-        let t3502: f64 = t698 * t3501;
-        let t3503: f64 = t3147 * t3502;
-        let t3504: f64 = t3500.minus(t3503);
-        let t3505 = product(t707, t3504);
-        let t3506 = product(t3167, t3502);
-        let t3507: f64 = arm3_axis_x * t3499;
-        let t3508: f64 = t3506.minus(t3507);
-        let t3509: f64 = t712 * t3508;
-        let t3510 = product(arm3_axis_x, t3147);
-        let t3511: f64 = arm3_axis_z * t3167;
+        let t3144: f64 = t66 * t3143;
+        let t3145: f64 = t367 * t1407;
+        let t3146: f64 = t799 * t3145;
+        let t3147 = product(t318, t3117);
+        let t3148: f64 = t322 * t3131;
+        let t3149: f64 = t3147.plus(t3148);
+        let t3150: f64 = t3146 * 2.0;
+        let t3151: f64 = t3149 + t3150;
+        let t3152 = product(t62, t3151);
+        let t3153: f64 = t3136.plus(t3144);
+        let t3154: f64 = t3152.plus(t3153);
+        let t3155 = product(arm1_crank_length, t3154);
+        let t3156: f64 = t3155.added_to(t3102);
+        let t3157 = product(t1421, t3156);
+        let t3158 = product(t1540, t3044);
+        let t3159 = product(t1542, t3044);
+        let t3160: f64 = t3159.added_to(t3022);
+        let t3161: f64 = t3021 + t3160;
+        let t3162 = product(t710, t3161);
+        let t3163 = product(t275, t1548);
+        let t3164: f64 = t1475 * t3044;
+        let t3165: f64 = t1477 * t3044;
+        let t3166: f64 = t675 * t1479;
+        let t3167: f64 = t767 * t3166;
+        let t3168: f64 = t697 * t3167;
+        let t3169 = product(t696, t3013);
+        let t3170: f64 = t3168 * 2.0;
+        let t3171: f64 = t3169.plus(t3170);
+        let t3172 = product(t705, t3171);
+        let t3173 = product(t696, t3001);
+        let t3174: f64 = t697 * t3001;
+        let t3175: f64 = arm3_rod_izz * t767;
+        let t3176 = product(t1490, t3175);
+        let t3177: f64 = t3011 * 2.0;
+        let t3178: f64 = t3176.plus(t3177);
+        let t3179 = product(t1019, t3178);
+        let t3180: f64 = t3179.subtracted_from(t3174);
+        let t3181: f64 = t675 * t3180;
+        let t3182: f64 = t3173.plus(t3181);
+        let t3183: f64 = t628 * t3182;
+        let t3184: f64 = -t3183;
+        let t3185: f64 = t650 * t3184;
+        let t3186: f64 = t3172.plus(t3185);
+        let t3187 = product(t3165, 2.0);
+        let t3188: f64 = t3187.added_to(t3186);
+        let t3189 = product(t266, t3188);
+        let t3190: f64 = t1505 * t3044;
+        let t3191 = product(t700, t3171);
+        let t3192: f64 = t648 * t3184;
+        let t3193: f64 = t3191.plus(t3192);
+        let t3194 = product(t3190, 2.0);
+        let t3195: f64 = t3194.added_to(t3193);
+        let t3196: f64 = t255 * t3195;
+        let t3197: f64 = t1513 * t3044;
+        let t3198 = product(t653, t3171);
+        let t3199: f64 = t656 * t3184;
+        let t3200: f64 = t3198.plus(t3199);
+        let t3201 = product(t3197, 2.0);
+        let t3202: f64 = t3201.added_to(t3200);
+        let t3203 = product(t251, t3202);
+        let t3204 = product(t237, t3023);
+        let t3205: f64 = t258 * t3031;
+        let t3206 = product(t244, t3039);
+        let t3207: f64 = t3204.plus(t3205);
+        let t3208: f64 = t3206.plus(t3207);
+        let t3209: f64 = t3208 * 2.0;
+        let t3210: f64 = t680 * t3209;
+        let t3211: f64 = t3189.plus(t3196);
+        let t3212: f64 = t3203.plus(t3210);
+        let t3213: f64 = t3211 + t3212;
+        let t3214 = product(arm3_crank_length, t3213);
+        let t3215: f64 = t3164 * 2.0;
+        let t3216: f64 = t3214.minus(t3215);
+        let t3217 = product(vz, t3216);
+        let t3218: f64 = t1424 * t2993;
+        let t3219 = product(t665, t3004);
+        let t3220: f64 = t756 * t3018;
+        let t3221: f64 = t3218 * 2.0;
+        let t3222: f64 = t3219.plus(t3221);
+        let t3223: f64 = t3220 + t3222;
+        let t3224 = product(az, t3223);
+        let t3225 = product(az, t3001);
+        let t3226: f64 = t701 * t1434;
+        let t3227: f64 = t960 * t3226;
+        let t3228: f64 = t3011 - t3175;
+        let t3229: f64 = t3228 * 2.0;
+        let t3230 = product(t771, t3229);
+        let t3231: f64 = t3227 * 4.0;
+        let t3232: f64 = t3230.plus(t3231);
+        let t3233: f64 = vz * t3232;
+        let t3234: f64 = t3225.minus(t3233);
+        let t3235 = product(t666, t3234);
+        let t3236: f64 = t770 * t2997;
+        let t3237: f64 = t960 * t3236;
+        let t3238 = product(t1450, t2995);
+        let t3239: f64 = t3238.added_to(t3000);
+        let t3240 = product(t771, t3239);
+        let t3241 = product(t980, t3229);
+        let t3242: f64 = t770 * t3239;
+        let t3243: f64 = t3241.minus(t3242);
+        let t3244 = product(t675, t3243);
+        let t3245: f64 = t3237 * 4.0;
+        let t3246: f64 = t3244.plus(t3245);
+        let t3247: f64 = t3240.subtracted_from(t3246);
+        let t3248 = product(vz, t3247);
+        let t3249: f64 = az * t3013;
+        let t3250: f64 = t3248.subtracted_from(t3249);
+        let t3251: f64 = t757 * t3250;
+        let t3252: f64 = t3235.plus(t3251);
+        let t3253: f64 = t3224.minus(t3252);
+        let t3254: f64 = arm3_crank_length * t3253;
+        let t3255: f64 = t3163.plus(t3254);
+        let t3256: f64 = t3217.minus(t3255);
+        let t3257 = product(t241, t3256);
+        let t3258 = product(t275, t1472);
+        let t3259 = product(vx, t3216);
+        let t3260 = product(ax, t3223);
+        let t3261 = product(ax, t3001);
+        let t3262: f64 = vx * t3232;
+        let t3263: f64 = t3261.minus(t3262);
+        let t3264 = product(t666, t3263);
+        let t3265 = product(vx, t3247);
+        let t3266: f64 = ax * t3013;
+        let t3267: f64 = t3265.subtracted_from(t3266);
+        let t3268: f64 = t757 * t3267;
+        let t3269: f64 = t3264.plus(t3268);
+        let t3270: f64 = t3260.minus(t3269);
+        let t3271: f64 = arm3_crank_length * t3270;
+        let t3272: f64 = t3258.plus(t3271);
+        let t3273: f64 = t3259.minus(t3272);
+        let t3274: f64 = t248 * t3273;
+        let t3275 = product(ay, t3223);
+        let t3276 = product(vy, t3232);
+        let t3277 = product(ay, t3001);
+        let t3278: f64 = t3277.minus(t1432);
+        let t3279: f64 = t3276.minus(t3278);
+        let t3280: f64 = t1445 + t3279;
+        let t3281: f64 = t666 * t3280;
+        let t3282 = product(vy, t3247);
+        let t3283 = product(ay, t3013);
+        let t3284: f64 = t3283.added_to(t1083);
+        let t3285: f64 = t1082 + t3284;
+        let t3286: f64 = t3282.subtracted_from(t3285);
+        let t3287 = product(t757, t3286);
+        let t3288: f64 = t3275.plus(t3281);
+        let t3289: f64 = t1034 + t3288;
+        let t3290: f64 = t3287.subtracted_from(t3289);
+        let t3291 = product(arm3_crank_length, t3290);
+        let t3292 = product(t275, t1566);
+        let t3293: f64 = vy * t3216;
+        let t3294: f64 = t3292.minus(t3293);
+        let t3295: f64 = t3291.plus(t3294);
+        let t3296: f64 = t1615 + t3295;
+        let t3297 = product(t262, t3296);
+        let t3298: f64 = t724 * t3044;
+        let t3299: f64 = t3257.plus(t3274);
+        let t3300: f64 = t3297.plus(t3298);
+        let t3301: f64 = t3299 - t3300;
+        let t3302: f64 = t1622 * t3301;
+        let t3303: f64 = -t3302;
+        let t3304 = product(t266, t3303);
+        let t3305: f64 = t701 * t1631;
+        let t3306: f64 = -t3305;
+        let t3307 = product(t266, t3306);
+        let t3308 = product(gravity_y, t3004);
+        let t3309 = product(t741, t3005);
+        let t3310 = product(t701, t995);
+        let t3311 = product(t272, t3234);
+        let t3312: f64 = t286 * t3263;
+        let t3313 = product(t275, t3280);
+        let t3314: f64 = t3311.plus(t3312);
+        let t3315: f64 = t3313.subtracted_from(t3314);
+        let t3316 = product(t1643, t3315);
+        let t3317: f64 = t785 * t3004;
+        let t3318: f64 = t3310.plus(t3317);
+        let t3319: f64 = t3316.subtracted_from(t3318);
+        let t3320: f64 = t255 * t3319;
+        let t3321 = product(t687, t3171);
+        let t3322: f64 = t3321.minus(t3280);
+        let t3323 = product(t628, t3322);
+        let t3324: f64 = t3309.plus(t3320);
+        let t3325: f64 = t3323.plus(t3324);
+        let t3326: f64 = t3308.minus(t3325);
+        let t3327: f64 = t656 * t3326;
+        let t3328 = product(gravity_x, t3004);
+        let t3329 = product(t735, t3005);
+        let t3330: f64 = t251 * t3319;
+        let t3331 = product(t683, t3171);
+        let t3332: f64 = t3331.added_to(t3263);
+        let t3333 = product(t628, t3332);
+        let t3334: f64 = t3329.plus(t3330);
+        let t3335: f64 = t3333.plus(t3334);
+        let t3336: f64 = t3328.minus(t3335);
+        let t3337 = product(t648, t3336);
+        let t3338 = product(t1019, t3013);
+        let t3339: f64 = t3338.subtracted_from(t3174);
+        let t3340 = product(t697, t3339);
+        let t3341 = product(vy, t3243);
+        let t3342: f64 = t3341.subtracted_from(t1674);
+        let t3343 = product(t767, t3342);
+        let t3344: f64 = t760 + t764;
+        let t3345: f64 = t3243 * t3344;
+        let t3346: f64 = t3340.plus(t3345);
+        let t3347: f64 = t3343.subtracted_from(t3346);
+        let t3348 = product(arm3_axis_z, t3347);
+        let t3349: f64 = t1019 * t1682;
+        let t3350: f64 = t675 * t3349;
+        let t3351: f64 = t767 * t3350;
+        let t3352: f64 = t697 * t3351;
+        let t3353 = product(t674, t3347);
+        let t3354 = product(gravity_z, t3018);
+        let t3355: f64 = t628 * t3250;
+        let t3356: f64 = t3354.minus(t3355);
+        let t3357 = product(t701, t1031);
+        let t3358 = product(t272, t3250);
+        let t3359: f64 = t286 * t3267;
+        let t3360 = product(t275, t3286);
+        let t3361: f64 = t3358.plus(t3359);
+        let t3362: f64 = t3360.plus(t3361);
+        let t3363 = product(t1643, t3362);
+        let t3364: f64 = t785 * t3018;
+        let t3365: f64 = t3357.plus(t3364);
+        let t3366: f64 = t3363.subtracted_from(t3365);
+        let t3367 = product(t266, t3366);
+        let t3368: f64 = t3367.subtracted_from(t3356);
+        let t3369 = product(t631, t3326);
+        let t3370: f64 = t634 * t3336;
+        let t3371: f64 = t3369.minus(t3370);
+        let t3372 = product(t729, t3019);
+        let t3373: f64 = t691 * t3184;
+        let t3374: f64 = t3372.plus(t3373);
+        let t3375: f64 = t3371 - t3374;
+        let t3376: f64 = t3368 + t3375;
+        let t3377: f64 = t642 * t3376;
+        let t3378 = product(gravity_y, t3018);
+        let t3379: f64 = t741 * t3019;
+        let t3380: f64 = t3378.minus(t3379);
+        let t3381 = product(t628, t3286);
+        let t3382: f64 = t3381.subtracted_from(t3380);
+        let t3383 = product(t629, t3336);
+        let t3384: f64 = t255 * t3366;
+        let t3385: f64 = t3383.minus(t3384);
+        let t3386 = product(t687, t3184);
+        let t3387 = product(gravity_z, t3004);
+        let t3388 = product(t729, t3005);
+        let t3389: f64 = t266 * t3319;
+        let t3390 = product(t691, t3171);
+        let t3391: f64 = t3390.added_to(t3234);
+        let t3392 = product(t628, t3391);
+        let t3393: f64 = t3388.plus(t3389);
+        let t3394: f64 = t3392.plus(t3393);
+        let t3395: f64 = t3387.minus(t3394);
+        let t3396: f64 = t631 * t3395;
+        let t3397: f64 = t3386.plus(t3396);
+        let t3398: f64 = t3385 - t3397;
+        let t3399: f64 = t3382 + t3398;
+        let t3400 = product(t633, t3399);
+        let t3401 = product(gravity_x, t3018);
+        let t3402: f64 = t735 * t3019;
+        let t3403: f64 = t3401.minus(t3402);
+        let t3404 = product(t628, t3267);
+        let t3405: f64 = t3404.subtracted_from(t3403);
+        let t3406 = product(t634, t3395);
+        let t3407: f64 = t683 * t3184;
+        let t3408: f64 = t3406.minus(t3407);
+        let t3409 = product(t629, t3326);
+        let t3410: f64 = t251 * t3366;
+        let t3411: f64 = t3409.plus(t3410);
+        let t3412: f64 = t3408 - t3411;
+        let t3413: f64 = t3405 + t3412;
+        let t3414: f64 = t637 * t3413;
+        let t3415 = product(t3352, 4.0);
+        let t3416: f64 = t3353.plus(t3377);
+        let t3417: f64 = t3400.plus(t3414);
+        let t3418: f64 = t3416 + t3417;
+        let t3419: f64 = t3415.minus(t3418);
+        let t3420 = product(t1754, t3419);
+        let t3421: f64 = t3420.added_to(t3399);
+        let t3422: f64 = arm3_axis_x * t3421;
+        let t3423 = product(t1758, t3419);
+        let t3424: f64 = t3423.added_to(t3413);
+        let t3425 = product(arm3_axis_y, t3424);
+        let t3426: f64 = t3348.plus(t3422);
+        let t3427: f64 = t3425.subtracted_from(t3426);
+        let t3428: f64 = t647 * t3427;
+        let t3429: f64 = t960 * t2993;
+        let t3430 = product(t1766, t3429);
+        let t3431: f64 = t3337.plus(t3428);
+        let t3432: f64 = t3430.plus(t3431);
+        let t3433: f64 = t3307.plus(t3327);
+        let t3434: f64 = t3432 - t3433;
+        let t3435 = product(t628, t3434);
+        let t3436: f64 = t271 * t3256;
+        let t3437: f64 = t3435.plus(t3436);
+        let t3438: f64 = t3304.plus(t3437);
+        let t3439: f64 = t3162.subtracted_from(t3438);
+        let t3440: f64 = arm3_crank_length * t3439;
+        let t3441: f64 = t3158.plus(t3440);
+        let t3442: f64 = -t3441;
+        let t3443 = product(arm3_zero_z, t3442);
+        let t3444 = product(t275, t1782);
+        let t3445 = product(t629, t3306);
+        let t3446: f64 = t662 * t3319;
+        let t3447 = product(t650, t3366);
+        let t3448: f64 = t241 * t3303;
+        let t3449 = product(t725, t3023);
+        let t3450: f64 = t680 * t3188;
+        let t3451: f64 = t3449.minus(t3450);
+        let t3452: f64 = arm3_crank_length * t3451;
+        let t3453: f64 = t3445.plus(t3446);
+        let t3454: f64 = t3447.plus(t3452);
+        let t3455: f64 = t3453 + t3454;
+        let t3456: f64 = t3444.plus(t3448);
+        let t3457: f64 = t3455 - t3456;
+        let t3458 = product(t204, t3457);
+        let t3459 = product(t1799, t3044);
+        let t3460 = product(t271, t3296);
+        let t3461 = product(t1801, t3044);
+        let t3462: f64 = t3461.added_to(t3030);
+        let t3463: f64 = t3029 + t3462;
+        let t3464: f64 = t710 * t3463;
+        let t3465 = product(t255, t3306);
+        let t3466 = product(t656, t3395);
+        let t3467: f64 = t650 * t3336;
+        let t3468 = product(arm3_axis_y, t3347);
+        let t3469 = product(t1811, t3419);
+        let t3470: f64 = t3469.added_to(t3376);
+        let t3471 = product(arm3_axis_x, t3470);
+        let t3472: f64 = arm3_axis_z * t3424;
+        let t3473: f64 = t3468.plus(t3472);
+        let t3474: f64 = t3471.subtracted_from(t3473);
+        let t3475: f64 = t647 * t3474;
+        let t3476 = product(t1820, t3429);
+        let t3477: f64 = t3466.plus(t3475);
+        let t3478: f64 = t3476.plus(t3477);
+        let t3479: f64 = t3465.plus(t3467);
+        let t3480: f64 = t3478 - t3479;
+        let t3481 = product(t628, t3480);
+        let t3482: f64 = t255 * t3303;
+        let t3483: f64 = t3481.plus(t3482);
+        let t3484: f64 = t3460.plus(t3464);
+        let t3485: f64 = t3483 - t3484;
+        let t3486: f64 = arm3_crank_length * t3485;
+        let t3487: f64 = t3459.plus(t3486);
+        let t3488: f64 = -t3487;
+        let t3489: f64 = arm3_zero_y * t3488;
+        let t3490 = product(t275, t1835);
+        let t3491 = product(t634, t3306);
+        let t3492: f64 = t658 * t3319;
+        let t3493 = product(t648, t3366);
+        let t3494: f64 = t262 * t3303;
+        let t3495 = product(t725, t3031);
+        let t3496: f64 = t680 * t3195;
+        let t3497: f64 = t3495.minus(t3496);
+        let t3498: f64 = arm3_crank_length * t3497;
+        let t3499: f64 = t3491.plus(t3492);
+        let t3500: f64 = t3493.plus(t3498);
+        let t3501: f64 = t3499 + t3500;
+        let t3502: f64 = t3490.plus(t3494);
+        let t3503: f64 = t3501 - t3502;
+        let t3504: f64 = t200 * t3503;
+        let t3505 = product(t275, t1851);
+        let t3506 = product(t631, t3306);
+        let t3507: f64 = t652 * t3319;
+        let t3508 = product(t656, t3366);
+        let t3509: f64 = t248 * t3303;
+        let t3510 = product(t725, t3039);
+        let t3511: f64 = t680 * t3202;
         let t3512: f64 = t3510.minus(t3511);
-        let t3513: f64 = t703 * t1737;
-        let t3514 = product(t3512, t3513);
-        let t3515: f64 = t3505.plus(t3509);
-        let t3516: f64 = t3514.plus(t3515);
-        let t3517: f64 = t3516 * 2.0;
-        let t3518: f64 = t1756 * t3517;
-        let t3519 = product(t3518, 0.5);
-        let t3520: f64 = t3519.subtracted_from(t3504);
-        let t3521 = product(t1760, t3520);
-        let t3522 = product(t746, t3196);
-        let t3523 = product(t726, t3151);
-        let t3524: f64 = t718 * t3155;
-        let t3525 = product(t720, t3159);
-        let t3526 = product(t251, t3520);
-        let t3527 = product(t1737, t3512);
-        let t3528: f64 = t1767 * t3517;
-        let t3529: f64 = t3528 * 0.5;
-        let t3530: f64 = t3527.minus(t3529);
-        let t3531: f64 = t255 * t3530;
-        let t3532: f64 = t1772 * t3517;
-        let t3533 = product(t3532, 0.5);
-        let t3534: f64 = t3533.subtracted_from(t3508);
-        let t3535 = product(t266, t3534);
-        let t3536: f64 = t3526.plus(t3531);
+        let t3513: f64 = arm3_crank_length * t3512;
+        let t3514: f64 = t3506.plus(t3507);
+        let t3515: f64 = t3508.plus(t3513);
+        let t3516: f64 = t3514 + t3515;
+        let t3517: f64 = t3505.plus(t3509);
+        let t3518: f64 = t3516 - t3517;
+        let t3519 = product(t196, t3518);
+        let t3520 = product(t1868, t3044);
+        let t3521 = product(t1292, t3044);
+        let t3522: f64 = t3521.added_to(t3038);
+        let t3523: f64 = t3037 + t3522;
+        let t3524 = product(t710, t3523);
+        let t3525 = product(t251, t3303);
+        let t3526 = product(t251, t3306);
+        let t3527: f64 = t648 * t3395;
+        let t3528 = product(t650, t3326);
+        let t3529 = product(arm3_axis_x, t3347);
+        let t3530: f64 = arm3_axis_y * t3470;
+        let t3531 = product(arm3_axis_z, t3421);
+        let t3532: f64 = t3529.plus(t3530);
+        let t3533: f64 = t3531.subtracted_from(t3532);
+        let t3534: f64 = t647 * t3533;
+        let t3535 = product(t1885, t3429);
+        let t3536: f64 = t3528.plus(t3534);
         let t3537: f64 = t3535.plus(t3536);
-        let t3538 = product(t717, t3537);
-        let t3539: f64 = t3523.plus(t3524);
-        let t3540: f64 = t3525.plus(t3539);
-        let t3541: f64 = t3538.subtracted_from(t3540);
-        let t3542: f64 = t1783 * t3541;
-        let t3543: f64 = t3522.minus(t3542);
-        let t3544: f64 = arm3_crank_length * t3543;
-        let t3545: f64 = t3521.minus(t3544);
-        let t3546 = product(t1733, t3545);
-        let t3547: f64 = t718 * t1737;
-        let t3548 = product(t3147, t3547);
-        let t3549 = product(t720, t3499);
-        let t3550 = product(t699, t3530);
-        let t3551: f64 = t704 * t3534;
-        let t3552: f64 = t3550.minus(t3551);
-        let t3553: f64 = t717 * t3552;
-        let t3554: f64 = t3548.plus(t3553);
-        let t3555: f64 = t3549.subtracted_from(t3554);
-        let t3556 = product(t698, t3555);
-        let t3557 = product(t736, t3196);
-        let t3558 = product(t722, t3151);
-        let t3559: f64 = t728 * t3155;
-        let t3560 = product(t732, t3159);
-        let t3561 = product(t251, t3555);
-        let t3562 = product(t720, t3167);
-        let t3563: f64 = t726 * t3147;
-        let t3564: f64 = t3562.minus(t3563);
-        let t3565 = product(t1737, t3564);
-        let t3566 = product(t701, t3534);
-        let t3567: f64 = t699 * t3520;
-        let t3568: f64 = t3566.minus(t3567);
-        let t3569: f64 = t717 * t3568;
-        let t3570: f64 = t3565.plus(t3569);
-        let t3571: f64 = t255 * t3570;
-        let t3572 = product(t726, t3499);
-        let t3573 = product(t3167, t3547);
-        let t3574 = product(t704, t3520);
-        let t3575: f64 = t701 * t3530;
-        let t3576: f64 = t3574.minus(t3575);
-        let t3577: f64 = t717 * t3576;
-        let t3578: f64 = t3572.plus(t3577);
-        let t3579: f64 = t3573.subtracted_from(t3578);
-        let t3580 = product(t266, t3579);
-        let t3581: f64 = t3558.plus(t3559);
-        let t3582: f64 = t3560.plus(t3581);
-        let t3583: f64 = t3561.plus(t3571);
-        let t3584: f64 = t3580.plus(t3583);
-        let t3585: f64 = t3582 - t3584;
-        let t3586: f64 = t1783 * t3585;
-        let t3587: f64 = t3557.minus(t3586);
-        let t3588: f64 = arm3_crank_length * t3587;
-        let t3589: f64 = t3556.minus(t3588);
-        let t3590 = product(t831, t3589);
-        let t3591 = product(t836, t3399);
-        let t3592: f64 = t877 * t3355;
-        let t3593 = product(t431, t3251);
-        let t3594: f64 = t434 * t3255;
-        let t3595 = product(t66, t3313);
-        let t3596 = product(t429, t3259);
-        let t3597: f64 = t1529 * t3270;
-        let t3598: f64 = t3593.plus(t3594);
-        let t3599: f64 = t3596.plus(t3598);
-        let t3600: f64 = t3595.plus(t3597);
-        let t3601: f64 = t3599 - t3600;
-        let t3602 = product(t904, t3601);
-        let t3603 = product(t325, t3251);
-        let t3604 = product(t301, t3251);
-        let t3605 = product(vx, t3278);
-        let t3606: f64 = vy * t3285;
-        let t3607 = product(vz, t3290);
-        let t3608: f64 = t3605.plus(t3606);
-        let t3609: f64 = t3607.plus(t3608);
-        let t3610: f64 = t62 * t3609;
-        let t3611: f64 = t3604.minus(t3610);
-        let t3612 = product(t312, t3611);
-        let t3613 = product(t301, t3255);
-        let t3614: f64 = t66 * t3609;
-        let t3615: f64 = t3613.minus(t3614);
-        let t3616: f64 = t316 * t3615;
-        let t3617 = product(t301, t3259);
-        let t3618: f64 = t77 * t3609;
-        let t3619: f64 = t3617.minus(t3618);
-        let t3620 = product(t320, t3619);
-        let t3621: f64 = t307 * t3609;
-        let t3622 = product(t59, t3247);
-        let t3623: f64 = t73 * t3263;
-        let t3624 = product(t84, t3268);
-        let t3625 = product(t55, t3247);
-        let t3626: f64 = t69 * t3263;
-        let t3627 = product(t80, t3268);
-        let t3628: f64 = t3625.plus(t3626);
-        let t3629: f64 = t3627.plus(t3628);
-        let t3630 = product(arm1_crank_length, t3629);
-        let t3631: f64 = t3630.added_to(t69);
-        let t3632: f64 = t3622.plus(t3623);
-        let t3633: f64 = t3624.plus(t3632);
-        let t3634: f64 = t3631 - t3633;
-        let t3635 = product(t301, t3634);
-        let t3636: f64 = t3621 * 2.0;
-        let t3637: f64 = t3635.plus(t3636);
-        let t3638 = product(t301, t3637);
-        let t3639 = product(t325, t3276);
-        let t3640: f64 = t3612.plus(t3616);
-        let t3641: f64 = t3620.plus(t3640);
-        let t3642: f64 = t3641 * 2.0;
-        let t3643: f64 = t3638.plus(t3642);
-        let t3644: f64 = t3639.subtracted_from(t3643);
-        let t3645: f64 = t88 * t3644;
-        let t3646: f64 = -t3645;
-        let t3647: f64 = t62 * t3646;
-        let t3648 = product(t301, t3247);
-        let t3649: f64 = t55 * t3609;
-        let t3650: f64 = t3649 * 2.0;
-        let t3651: f64 = t3648.minus(t3650);
-        let t3652 = product(t301, t3651);
-        let t3653: f64 = t3603.plus(t3647);
-        let t3654: f64 = t3652.subtracted_from(t3653);
-        let t3655 = product(t431, t3654);
-        let t3656 = product(t325, t3255);
-        let t3657: f64 = t66 * t3646;
-        let t3658 = product(t301, t3263);
-        let t3659: f64 = t69 * t3609;
-        let t3660: f64 = t3659 * 2.0;
-        let t3661: f64 = t3658.minus(t3660);
-        let t3662 = product(t301, t3661);
-        let t3663: f64 = t3656.plus(t3657);
-        let t3664: f64 = t3662.subtracted_from(t3663);
-        let t3665: f64 = t434 * t3664;
-        let t3666 = product(t325, t3259);
-        let t3667: f64 = t77 * t3646;
-        let t3668 = product(t301, t3268);
-        let t3669: f64 = t80 * t3609;
-        let t3670: f64 = t3669 * 2.0;
-        let t3671: f64 = t3668.minus(t3670);
-        let t3672 = product(t301, t3671);
-        let t3673: f64 = t3666.plus(t3667);
-        let t3674: f64 = t3672.subtracted_from(t3673);
-        let t3675 = product(t429, t3674);
-        let t3676 = product(t1936, t3247);
-        let t3677: f64 = t1920 * t3268;
-        let t3678: f64 = t3676.plus(t3677);
-        let t3679: f64 = t428 * t3678;
-        let t3680 = product(az, t3290);
-        let t3681 = product(ax, t3278);
-        let t3682: f64 = ay * t3285;
-        let t3683: f64 = t3681.plus(t3682);
-        let t3684: f64 = t3680.plus(t3683);
-        let t3685 = product(t883, t3684);
-        let t3686: f64 = t3655.plus(t3665);
-        let t3687: f64 = t3675.plus(t3679);
-        let t3688: f64 = t3686 + t3687;
-        let t3689: f64 = t3685.subtracted_from(t3688);
-        let t3690 = product(arm1_crank_length, t3689);
-        let t3691: f64 = t510 * t3601;
-        let t3692 = product(t1918, t3313);
-        let t3693: f64 = t3690.plus(t3691);
-        let t3694: f64 = t3692.plus(t3693);
-        let t3695: f64 = -t3694;
-        let t3696: f64 = arm1_rod_mass * t3695;
-        let t3697 = product(vx, t3359);
-        let t3698 = product(t1552, t3344);
-        let t3699 = product(t476, t3285);
-        let t3700: f64 = t1945 * t3355;
-        let t3701: f64 = t3699.minus(t3700);
-        let t3702: f64 = arm1_crank_length * t3701;
-        let t3703: f64 = t3698.minus(t3702);
-        let t3704: f64 = vy * t3703;
-        let t3705 = product(t1552, t3348);
-        let t3706 = product(t476, t3290);
-        let t3707: f64 = t1953 * t3355;
-        let t3708: f64 = t3706.minus(t3707);
-        let t3709: f64 = arm1_crank_length * t3708;
-        let t3710: f64 = t3705.minus(t3709);
-        let t3711 = product(vz, t3710);
-        let t3712: f64 = t3697.plus(t3704);
-        let t3713: f64 = t3711.plus(t3712);
-        let t3714 = product(t491, t3713);
-        let t3715 = product(vx, t3403);
-        let t3716 = product(t428, t3384);
-        let t3717 = product(t466, t3285);
-        let t3718: f64 = t1945 * t3399;
-        let t3719: f64 = t3717.minus(t3718);
-        let t3720: f64 = arm1_crank_length * t3719;
-        let t3721: f64 = t3716.minus(t3720);
-        let t3722: f64 = vy * t3721;
-        let t3723 = product(t428, t3393);
-        let t3724 = product(t466, t3290);
-        let t3725: f64 = t1953 * t3399;
-        let t3726: f64 = t3724.minus(t3725);
-        let t3727: f64 = arm1_crank_length * t3726;
-        let t3728: f64 = t3723.minus(t3727);
-        let t3729 = product(vz, t3728);
-        let t3730: f64 = t3715.plus(t3722);
-        let t3731: f64 = t3729.plus(t3730);
-        let t3732: f64 = t871 * t3731;
-        let t3733: f64 = t3714.plus(t3732);
-        let t3734: f64 = t3733 * 4.0;
-        let t3735 = product(arm1_rod_mz, t3734);
-        let t3736: f64 = t3696 * 2.0;
-        let t3737: f64 = t3735.subtracted_from(t3736);
-        let t3738 = product(t883, t3737);
-        let t3739 = product(ax, t3403);
-        let t3740: f64 = ay * t3721;
-        let t3741 = product(az, t3728);
-        let t3742 = product(t520, t3369);
-        let t3743: f64 = t525 * t3384;
-        let t3744 = product(t515, t3393);
-        let t3745 = product(arm1_axis_y, t3313);
-        let t3746 = product(arm1_axis_x, t3247);
-        let t3747: f64 = arm1_axis_z * t3268;
-        let t3748: f64 = t3746.plus(t3747);
-        let t3749: f64 = t1529 * t3748;
-        let t3750: f64 = t1997 * t3331;
-        let t3751 = product(t3750, 0.5);
-        let t3752: f64 = t3745.plus(t3749);
-        let t3753: f64 = t3751.subtracted_from(t3752);
-        let t3754: f64 = t447 * t3753;
-        let t3755: f64 = -t3754;
-        let t3756 = product(t536, t3755);
-        let t3757 = product(t456, t3611);
-        let t3758: f64 = t448 * t3615;
-        let t3759 = product(t450, t3619);
-        let t3760: f64 = t3757.plus(t3758);
-        let t3761: f64 = t3759.plus(t3760);
-        let t3762 = product(arm1_crank_length, t3761);
-        let t3763 = product(t312, t3334);
-        let t3764: f64 = t316 * t3344;
-        let t3765 = product(t320, t3348);
-        let t3766: f64 = t3763.plus(t3764);
-        let t3767: f64 = t3765.plus(t3766);
-        let t3768: f64 = t447 * t3767;
-        let t3769: f64 = t3762.plus(t3768);
-        let t3770: f64 = t497 * t3769;
-        let t3771: f64 = t3756.minus(t3770);
-        let t3772 = product(t539, t3771);
-        let t3773: f64 = t538 * t3769;
-        let t3774 = product(t462, t3674);
-        let t3775 = product(t452, t3654);
-        let t3776: f64 = t458 * t3664;
-        let t3777: f64 = t3775.plus(t3776);
-        let t3778: f64 = t3774.plus(t3777);
-        let t3779: f64 = arm1_crank_length * t3778;
-        let t3780: f64 = t3742.plus(t3743);
-        let t3781: f64 = t3744.plus(t3773);
-        let t3782: f64 = t3780 + t3781;
-        let t3783: f64 = t3772.plus(t3779);
-        let t3784: f64 = t3782 - t3783;
-        let t3785 = product(t428, t3784);
-        let t3786 = product(t497, t3713);
-        let t3787: f64 = t491 * t3755;
-        let t3788: f64 = t3786.minus(t3787);
-        let t3789 = product(t491, t3788);
-        let t3790: f64 = t498 * t3713;
-        let t3791: f64 = t3789.plus(t3790);
-        let t3792: f64 = t3739.plus(t3740);
-        let t3793: f64 = t3741.plus(t3791);
-        let t3794: f64 = t3792 + t3793;
-        let t3795: f64 = t3785.subtracted_from(t3794);
-        let t3796: f64 = t3795 * 2.0;
-        let t3797 = product(arm1_rod_mz, t3796);
-        let t3798 = product(t510, t3399);
-        let t3799 = product(t465, t3684);
-        let t3800: f64 = t3799.subtracted_from(t3778);
-        let t3801: f64 = arm1_crank_length * t3800;
-        let t3802 = product(t1936, t3369);
-        let t3803: f64 = t1918 * t3384;
-        let t3804 = product(t1920, t3393);
-        let t3805: f64 = t3798.plus(t3801);
-        let t3806: f64 = t3802.plus(t3803);
-        let t3807: f64 = t3805 + t3806;
-        let t3808: f64 = t3804.plus(t3807);
-        let t3809: f64 = -t3808;
-        let t3810: f64 = arm1_rod_mass * t3809;
-        let t3811: f64 = t3810 * 2.0;
-        let t3812: f64 = t3797.plus(t3811);
-        let t3813: f64 = t465 * t3812;
-        let t3814 = product(t450, t3674);
-        let t3815 = product(t456, t3654);
-        let t3816: f64 = t448 * t3664;
-        let t3817: f64 = t3815.plus(t3816);
-        let t3818: f64 = t3814.plus(t3817);
-        let t3819 = product(arm1_crank_length, t3818);
-        let t3820 = product(t520, t3334);
-        let t3821: f64 = t525 * t3344;
-        let t3822 = product(t515, t3348);
-        let t3823: f64 = t3820.plus(t3821);
-        let t3824: f64 = t3822.plus(t3823);
-        let t3825: f64 = t447 * t3824;
-        let t3826: f64 = t3819.minus(t3825);
-        let t3827 = product(t312, t3369);
-        let t3828: f64 = t316 * t3384;
-        let t3829 = product(t320, t3393);
-        let t3830 = product(t452, t3611);
-        let t3831: f64 = t458 * t3615;
-        let t3832 = product(t462, t3619);
-        let t3833: f64 = t3830.plus(t3831);
+        let t3538: f64 = t3526.plus(t3527);
+        let t3539: f64 = t3537 - t3538;
+        let t3540 = product(t628, t3539);
+        let t3541: f64 = t271 * t3273;
+        let t3542: f64 = t3540.plus(t3541);
+        let t3543: f64 = t3525.plus(t3542);
+        let t3544: f64 = t3524.subtracted_from(t3543);
+        let t3545: f64 = arm3_crank_length * t3544;
+        let t3546: f64 = t3520.plus(t3545);
+        let t3547: f64 = -t3546;
+        let t3548 = product(arm3_zero_x, t3547);
+        let t3549: f64 = t3443.plus(t3489);
+        let t3550: f64 = t3548.plus(t3549);
+        let t3551: f64 = t3458.plus(t3504);
+        let t3552: f64 = t3519.plus(t3551);
+        let t3553: f64 = t3550 - t3552;
+        let t3554 = product(t192, t3553);
+        let t3555 = product(t207, t3553);
+        let t3556 = product(t204, t3442);
+        let t3557: f64 = arm3_zero_z * t3457;
+        let t3558 = product(t200, t3488);
+        let t3559: f64 = arm3_zero_y * t3503;
+        let t3560 = product(arm3_zero_x, t3518);
+        let t3561: f64 = t196 * t3547;
+        let t3562: f64 = t3556.plus(t3557);
+        let t3563: f64 = t3558.plus(t3559);
+        let t3564: f64 = t3560.plus(t3561);
+        let t3565: f64 = t3562 + t3563;
+        let t3566: f64 = t3564 + t3565;
+        let t3567: f64 = t192 * t3566;
+        let t3568: f64 = t3555.minus(t3567);
+        let t3569: f64 = t1922 * t3568;
+        let t3570 = product(t207, t3566);
+        let t3571: f64 = t3554.plus(t3569);
+        let t3572: f64 = t3570.plus(t3571);
+        let t3573: f64 = t3572 * 0.5;
+        let t3574 = product(t1929, t3573);
+        let t3575: f64 = t1932 * t3568;
+        let t3576 = product(t229, t3553);
+        let t3577: f64 = t234 * t3566;
+        let t3578: f64 = t3576.plus(t3577);
+        let t3579 = product(t1934, t3578);
+        let t3580: f64 = t3575 * 0.5;
+        let t3581: f64 = t3579.plus(t3580);
+        let t3582: f64 = t207 * t3581;
+        let t3583 = product(t227, t3553);
+        let t3584: f64 = t222 * t3566;
+        let t3585: f64 = t3583.minus(t3584);
+        let t3586 = product(t210, t3585);
+        let t3587: f64 = t3582 * 2.0;
+        let t3588: f64 = t3586.plus(t3587);
+        let t3589: f64 = t196 * t3588;
+        let t3590: f64 = t192 * t3581;
+        let t3591 = product(t222, t3553);
+        let t3592: f64 = t227 * t3566;
+        let t3593: f64 = t3591.plus(t3592);
+        let t3594 = product(t210, t3593);
+        let t3595: f64 = t3590 * 2.0;
+        let t3596: f64 = t3594.minus(t3595);
+        let t3597 = product(arm3_zero_x, t3596);
+        let t3598 = product(t2072, t3100);
+        let t3599 = product(t2074, t3100);
+        let t3600: f64 = t3599.added_to(t3078);
+        let t3601: f64 = t3077 + t3600;
+        let t3602 = product(t543, t3601);
+        let t3603 = product(t181, t2080);
+        let t3604: f64 = t2007 * t3100;
+        let t3605: f64 = t2009 * t3100;
+        let t3606: f64 = t508 * t2011;
+        let t3607: f64 = t600 * t3606;
+        let t3608: f64 = t530 * t3607;
+        let t3609 = product(t529, t3069);
+        let t3610: f64 = t3608 * 2.0;
+        let t3611: f64 = t3609.plus(t3610);
+        let t3612 = product(t538, t3611);
+        let t3613 = product(t529, t3057);
+        let t3614: f64 = t530 * t3057;
+        let t3615: f64 = arm2_rod_izz * t600;
+        let t3616 = product(t2022, t3615);
+        let t3617: f64 = t3067 * 2.0;
+        let t3618: f64 = t3616.plus(t3617);
+        let t3619 = product(t938, t3618);
+        let t3620: f64 = t3619.subtracted_from(t3614);
+        let t3621: f64 = t508 * t3620;
+        let t3622: f64 = t3613.plus(t3621);
+        let t3623: f64 = t461 * t3622;
+        let t3624: f64 = -t3623;
+        let t3625: f64 = t483 * t3624;
+        let t3626: f64 = t3612.plus(t3625);
+        let t3627 = product(t3605, 2.0);
+        let t3628: f64 = t3627.added_to(t3626);
+        let t3629 = product(t168, t3628);
+        let t3630: f64 = t2037 * t3100;
+        let t3631 = product(t533, t3611);
+        let t3632: f64 = t481 * t3624;
+        let t3633: f64 = t3631.plus(t3632);
+        let t3634 = product(t3630, 2.0);
+        let t3635: f64 = t3634.added_to(t3633);
+        let t3636: f64 = t164 * t3635;
+        let t3637: f64 = t2045 * t3100;
+        let t3638 = product(t486, t3611);
+        let t3639: f64 = t489 * t3624;
+        let t3640: f64 = t3638.plus(t3639);
+        let t3641 = product(t3637, 2.0);
+        let t3642: f64 = t3641.added_to(t3640);
+        let t3643 = product(t160, t3642);
+        let t3644 = product(t171, t3079);
+        let t3645: f64 = t146 * t3087;
+        let t3646 = product(t153, t3095);
+        let t3647: f64 = t3644.plus(t3645);
+        let t3648: f64 = t3646.plus(t3647);
+        let t3649: f64 = t3648 * 2.0;
+        let t3650: f64 = t513 * t3649;
+        let t3651: f64 = t3629.plus(t3636);
+        let t3652: f64 = t3643.plus(t3650);
+        let t3653: f64 = t3651 + t3652;
+        let t3654 = product(arm2_crank_length, t3653);
+        let t3655: f64 = t3604 * 2.0;
+        let t3656: f64 = t3654.minus(t3655);
+        let t3657 = product(vz, t3656);
+        let t3658: f64 = t1958 * t3049;
+        let t3659 = product(t498, t3060);
+        let t3660: f64 = t589 * t3074;
+        let t3661: f64 = t3658 * 2.0;
+        let t3662: f64 = t3659.plus(t3661);
+        let t3663: f64 = t3660 + t3662;
+        let t3664 = product(az, t3663);
+        let t3665 = product(az, t3057);
+        let t3666: f64 = t534 * t1967;
+        let t3667: f64 = t879 * t3666;
+        let t3668: f64 = t3067 - t3615;
+        let t3669: f64 = t3668 * 2.0;
+        let t3670 = product(t604, t3669);
+        let t3671: f64 = t3667 * 4.0;
+        let t3672: f64 = t3670.plus(t3671);
+        let t3673: f64 = vz * t3672;
+        let t3674: f64 = t3665.minus(t3673);
+        let t3675 = product(t499, t3674);
+        let t3676: f64 = t603 * t3053;
+        let t3677: f64 = t879 * t3676;
+        let t3678 = product(t1982, t3051);
+        let t3679: f64 = t3678.added_to(t3056);
+        let t3680 = product(t604, t3679);
+        let t3681 = product(t899, t3669);
+        let t3682: f64 = t603 * t3679;
+        let t3683: f64 = t3681.minus(t3682);
+        let t3684 = product(t508, t3683);
+        let t3685: f64 = t3677 * 4.0;
+        let t3686: f64 = t3684.plus(t3685);
+        let t3687: f64 = t3680.subtracted_from(t3686);
+        let t3688 = product(vz, t3687);
+        let t3689: f64 = az * t3069;
+        let t3690: f64 = t3688.subtracted_from(t3689);
+        let t3691: f64 = t590 * t3690;
+        let t3692: f64 = t3675.plus(t3691);
+        let t3693: f64 = t3664.minus(t3692);
+        let t3694: f64 = arm2_crank_length * t3693;
+        let t3695: f64 = t3603.plus(t3694);
+        let t3696: f64 = t3657.minus(t3695);
+        let t3697 = product(t175, t3696);
+        let t3698 = product(t181, t2004);
+        let t3699 = product(vx, t3656);
+        let t3700 = product(ax, t3663);
+        let t3701 = product(ax, t3057);
+        let t3702: f64 = vx * t3672;
+        let t3703: f64 = t3701.minus(t3702);
+        let t3704 = product(t499, t3703);
+        let t3705 = product(vx, t3687);
+        let t3706: f64 = ax * t3069;
+        let t3707: f64 = t3705.subtracted_from(t3706);
+        let t3708: f64 = t590 * t3707;
+        let t3709: f64 = t3704.plus(t3708);
+        let t3710: f64 = t3700.minus(t3709);
+        let t3711: f64 = arm2_crank_length * t3710;
+        let t3712: f64 = t3698.plus(t3711);
+        let t3713: f64 = t3699.minus(t3712);
+        let t3714: f64 = t157 * t3713;
+        let t3715 = product(ay, t3663);
+        let t3716 = product(vy, t3672);
+        let t3717 = product(ay, t3057);
+        let t3718: f64 = t3717.minus(t1588);
+        let t3719: f64 = t3716.minus(t3718);
+        let t3720: f64 = t1589 + t3719;
+        let t3721: f64 = t499 * t3720;
+        let t3722 = product(vy, t3687);
+        let t3723 = product(ay, t3069);
+        let t3724: f64 = t3723.added_to(t1067);
+        let t3725: f64 = t1066 + t3724;
+        let t3726: f64 = t3722.subtracted_from(t3725);
+        let t3727 = product(t590, t3726);
+        let t3728: f64 = t3715.plus(t3721);
+        let t3729: f64 = t953 + t3728;
+        let t3730: f64 = t3727.subtracted_from(t3729);
+        let t3731 = product(arm2_crank_length, t3730);
+        let t3732 = product(t181, t2098);
+        let t3733: f64 = vy * t3656;
+        let t3734: f64 = t3732.minus(t3733);
+        let t3735: f64 = t3731.plus(t3734);
+        let t3736: f64 = t2122 + t3735;
+        let t3737 = product(t150, t3736);
+        let t3738: f64 = t557 * t3100;
+        let t3739: f64 = t3697.plus(t3714);
+        let t3740: f64 = t3737.plus(t3738);
+        let t3741: f64 = t3739 - t3740;
+        let t3742: f64 = t2129 * t3741;
+        let t3743: f64 = -t3742;
+        let t3744 = product(t168, t3743);
+        let t3745: f64 = t534 * t2138;
+        let t3746: f64 = -t3745;
+        let t3747 = product(t168, t3746);
+        let t3748 = product(gravity_y, t3060);
+        let t3749 = product(t574, t3061);
+        let t3750 = product(t534, t914);
+        let t3751 = product(t274, t3674);
+        let t3752: f64 = t279 * t3703;
+        let t3753 = product(t181, t3720);
+        let t3754: f64 = t3751.plus(t3752);
+        let t3755: f64 = t3753.subtracted_from(t3754);
+        let t3756 = product(t2150, t3755);
+        let t3757: f64 = t618 * t3060;
+        let t3758: f64 = t3750.plus(t3757);
+        let t3759: f64 = t3756.subtracted_from(t3758);
+        let t3760: f64 = t164 * t3759;
+        let t3761 = product(t520, t3611);
+        let t3762: f64 = t3761.minus(t3720);
+        let t3763 = product(t461, t3762);
+        let t3764: f64 = t3749.plus(t3760);
+        let t3765: f64 = t3763.plus(t3764);
+        let t3766: f64 = t3748.minus(t3765);
+        let t3767: f64 = t489 * t3766;
+        let t3768 = product(gravity_x, t3060);
+        let t3769 = product(t568, t3061);
+        let t3770: f64 = t160 * t3759;
+        let t3771 = product(t516, t3611);
+        let t3772: f64 = t3771.added_to(t3703);
+        let t3773 = product(t461, t3772);
+        let t3774: f64 = t3769.plus(t3770);
+        let t3775: f64 = t3773.plus(t3774);
+        let t3776: f64 = t3768.minus(t3775);
+        let t3777 = product(t481, t3776);
+        let t3778 = product(t938, t3069);
+        let t3779: f64 = t3778.subtracted_from(t3614);
+        let t3780 = product(t530, t3779);
+        let t3781 = product(vy, t3683);
+        let t3782: f64 = t3781.subtracted_from(t2181);
+        let t3783 = product(t600, t3782);
+        let t3784: f64 = t593 + t597;
+        let t3785: f64 = t3683 * t3784;
+        let t3786: f64 = t3780.plus(t3785);
+        let t3787: f64 = t3783.subtracted_from(t3786);
+        let t3788 = product(arm2_axis_z, t3787);
+        let t3789: f64 = t938 * t2189;
+        let t3790: f64 = t508 * t3789;
+        let t3791: f64 = t600 * t3790;
+        let t3792: f64 = t530 * t3791;
+        let t3793 = product(t507, t3787);
+        let t3794 = product(gravity_z, t3074);
+        let t3795: f64 = t461 * t3690;
+        let t3796: f64 = t3794.minus(t3795);
+        let t3797 = product(t534, t950);
+        let t3798 = product(t274, t3690);
+        let t3799: f64 = t279 * t3707;
+        let t3800 = product(t181, t3726);
+        let t3801: f64 = t3798.plus(t3799);
+        let t3802: f64 = t3800.plus(t3801);
+        let t3803 = product(t2150, t3802);
+        let t3804: f64 = t618 * t3074;
+        let t3805: f64 = t3797.plus(t3804);
+        let t3806: f64 = t3803.subtracted_from(t3805);
+        let t3807 = product(t168, t3806);
+        let t3808: f64 = t3807.subtracted_from(t3796);
+        let t3809 = product(t464, t3766);
+        let t3810: f64 = t467 * t3776;
+        let t3811: f64 = t3809.minus(t3810);
+        let t3812 = product(t562, t3075);
+        let t3813: f64 = t524 * t3624;
+        let t3814: f64 = t3812.plus(t3813);
+        let t3815: f64 = t3811 - t3814;
+        let t3816: f64 = t3808 + t3815;
+        let t3817: f64 = t475 * t3816;
+        let t3818 = product(gravity_y, t3074);
+        let t3819: f64 = t574 * t3075;
+        let t3820: f64 = t3818.minus(t3819);
+        let t3821 = product(t461, t3726);
+        let t3822: f64 = t3821.subtracted_from(t3820);
+        let t3823 = product(t462, t3776);
+        let t3824: f64 = t164 * t3806;
+        let t3825: f64 = t3823.minus(t3824);
+        let t3826 = product(t520, t3624);
+        let t3827 = product(gravity_z, t3060);
+        let t3828 = product(t562, t3061);
+        let t3829: f64 = t168 * t3759;
+        let t3830 = product(t524, t3611);
+        let t3831: f64 = t3830.added_to(t3674);
+        let t3832 = product(t461, t3831);
+        let t3833: f64 = t3828.plus(t3829);
         let t3834: f64 = t3832.plus(t3833);
-        let t3835: f64 = arm1_crank_length * t3834;
-        let t3836: f64 = t3827.plus(t3828);
-        let t3837: f64 = t3829.plus(t3835);
-        let t3838: f64 = t3836 + t3837;
-        let t3839 = product(t538, t3838);
-        let t3840: f64 = t857 * t3771;
-        let t3841: f64 = t3839.minus(t3840);
-        let t3842: f64 = t3826 + t3841;
-        let t3843: f64 = t3842 * 2.0;
-        let t3844 = product(t428, t3843);
-        let t3845 = product(az, t3710);
-        let t3846 = product(ax, t3359);
-        let t3847: f64 = ay * t3703;
-        let t3848: f64 = t3846.plus(t3847);
-        let t3849: f64 = t3845.plus(t3848);
-        let t3850 = product(t498, t3731);
-        let t3851: f64 = t871 * t3788;
-        let t3852: f64 = t3850.plus(t3851);
-        let t3853: f64 = t3849 - t3852;
-        let t3854: f64 = t3853 * 2.0;
-        let t3855: f64 = t3844.plus(t3854);
-        let t3856 = product(arm1_rod_mz, t3855);
-        let t3857 = product(t510, t3355);
-        let t3858 = product(t475, t3684);
-        let t3859: f64 = t3858.minus(t3818);
-        let t3860 = product(arm1_crank_length, t3859);
-        let t3861 = product(t1936, t3334);
-        let t3862: f64 = t1918 * t3344;
-        let t3863 = product(t1920, t3348);
-        let t3864: f64 = t3861.plus(t3862);
-        let t3865: f64 = t3863.plus(t3864);
-        let t3866: f64 = t447 * t3865;
-        let t3867: f64 = t3857.plus(t3866);
-        let t3868: f64 = t3860.minus(t3867);
-        let t3869: f64 = arm1_rod_mass * t3868;
-        let t3870: f64 = t3869 * 2.0;
-        let t3871: f64 = t3856.plus(t3870);
-        let t3872 = product(t475, t3871);
-        let t3873: f64 = t3591.plus(t3592);
-        let t3874: f64 = t3602.plus(t3873);
-        let t3875: f64 = t3738.plus(t3813);
-        let t3876: f64 = t3872.plus(t3875);
-        let t3877: f64 = t3874 - t3876;
-        let t3878: f64 = t467 * t3877;
-        let t3879 = product(t912, t3492);
-        let t3880: f64 = t953 * t3448;
-        let t3881 = product(t566, t3085);
-        let t3882: f64 = t569 * t3089;
-        let t3883 = product(t164, t3406);
-        let t3884 = product(t564, t3093);
-        let t3885: f64 = t1633 * t3104;
-        let t3886: f64 = t3881.plus(t3882);
-        let t3887: f64 = t3884.plus(t3886);
-        let t3888: f64 = t3883.plus(t3885);
-        let t3889: f64 = t3887 - t3888;
-        let t3890 = product(t980, t3889);
-        let t3891 = product(t369, t3085);
-        let t3892 = product(t345, t3085);
-        let t3893 = product(vx, t3200);
-        let t3894: f64 = vy * t3113;
-        let t3895 = product(vz, t3182);
-        let t3896: f64 = t3893.plus(t3894);
-        let t3897: f64 = t3895.plus(t3896);
-        let t3898: f64 = t160 * t3897;
-        let t3899: f64 = t3892.minus(t3898);
-        let t3900 = product(t356, t3899);
-        let t3901 = product(t345, t3089);
-        let t3902: f64 = t164 * t3897;
-        let t3903: f64 = t3901.minus(t3902);
-        let t3904: f64 = t360 * t3903;
-        let t3905 = product(t345, t3093);
-        let t3906: f64 = t168 * t3897;
-        let t3907: f64 = t3905.minus(t3906);
-        let t3908 = product(t364, t3907);
-        let t3909: f64 = t351 * t3897;
-        let t3910 = product(t157, t3098);
-        let t3911: f64 = t150 * t3081;
-        let t3912 = product(t175, t3102);
-        let t3913 = product(t153, t3098);
-        let t3914: f64 = t146 * t3081;
-        let t3915 = product(t171, t3102);
-        let t3916: f64 = t3913.plus(t3914);
-        let t3917: f64 = t3915.plus(t3916);
-        let t3918 = product(arm2_crank_length, t3917);
-        let t3919: f64 = t3918.added_to(t146);
-        let t3920: f64 = t3910.plus(t3911);
-        let t3921: f64 = t3912.plus(t3920);
-        let t3922: f64 = t3919 - t3921;
-        let t3923 = product(t345, t3922);
-        let t3924: f64 = t3909 * 2.0;
-        let t3925: f64 = t3923.plus(t3924);
-        let t3926 = product(t345, t3925);
-        let t3927 = product(t369, t3110);
-        let t3928: f64 = t3900.plus(t3904);
-        let t3929: f64 = t3908.plus(t3928);
-        let t3930: f64 = t3929 * 2.0;
-        let t3931: f64 = t3926.plus(t3930);
-        let t3932: f64 = t3927.subtracted_from(t3931);
-        let t3933: f64 = t179 * t3932;
-        let t3934: f64 = -t3933;
-        let t3935: f64 = t160 * t3934;
-        let t3936 = product(t345, t3098);
-        let t3937: f64 = t153 * t3897;
-        let t3938: f64 = t3937 * 2.0;
-        let t3939: f64 = t3936.minus(t3938);
-        let t3940 = product(t345, t3939);
-        let t3941: f64 = t3891.plus(t3935);
-        let t3942: f64 = t3940.subtracted_from(t3941);
-        let t3943 = product(t566, t3942);
-        let t3944 = product(t369, t3089);
-        let t3945: f64 = t164 * t3934;
-        let t3946 = product(t345, t3081);
-        let t3947: f64 = t146 * t3897;
-        let t3948: f64 = t3947 * 2.0;
-        let t3949: f64 = t3946.minus(t3948);
-        let t3950 = product(t345, t3949);
-        let t3951: f64 = t3944.plus(t3945);
-        let t3952: f64 = t3950.subtracted_from(t3951);
-        let t3953: f64 = t569 * t3952;
-        let t3954 = product(t369, t3093);
-        let t3955: f64 = t168 * t3934;
-        let t3956 = product(t345, t3102);
-        let t3957: f64 = t171 * t3897;
-        let t3958: f64 = t3957 * 2.0;
-        let t3959: f64 = t3956.minus(t3958);
-        let t3960 = product(t345, t3959);
-        let t3961: f64 = t3954.plus(t3955);
-        let t3962: f64 = t3960.subtracted_from(t3961);
-        let t3963 = product(t564, t3962);
-        let t3964 = product(t2230, t3098);
-        let t3965: f64 = t2214 * t3102;
-        let t3966: f64 = t3964.plus(t3965);
-        let t3967: f64 = t563 * t3966;
-        let t3968 = product(az, t3182);
-        let t3969 = product(ax, t3200);
-        let t3970: f64 = ay * t3113;
-        let t3971: f64 = t3969.plus(t3970);
-        let t3972: f64 = t3968.plus(t3971);
-        let t3973 = product(t959, t3972);
-        let t3974: f64 = t3943.plus(t3953);
-        let t3975: f64 = t3963.plus(t3967);
-        let t3976: f64 = t3974 + t3975;
-        let t3977: f64 = t3973.subtracted_from(t3976);
-        let t3978 = product(arm2_crank_length, t3977);
-        let t3979: f64 = t645 * t3889;
-        let t3980 = product(t2212, t3406);
-        let t3981: f64 = t3978.plus(t3979);
+        let t3835: f64 = t3827.minus(t3834);
+        let t3836: f64 = t464 * t3835;
+        let t3837: f64 = t3826.plus(t3836);
+        let t3838: f64 = t3825 - t3837;
+        let t3839: f64 = t3822 + t3838;
+        let t3840 = product(t466, t3839);
+        let t3841 = product(gravity_x, t3074);
+        let t3842: f64 = t568 * t3075;
+        let t3843: f64 = t3841.minus(t3842);
+        let t3844 = product(t461, t3707);
+        let t3845: f64 = t3844.subtracted_from(t3843);
+        let t3846 = product(t467, t3835);
+        let t3847: f64 = t516 * t3624;
+        let t3848: f64 = t3846.minus(t3847);
+        let t3849 = product(t462, t3766);
+        let t3850: f64 = t160 * t3806;
+        let t3851: f64 = t3849.plus(t3850);
+        let t3852: f64 = t3848 - t3851;
+        let t3853: f64 = t3845 + t3852;
+        let t3854: f64 = t470 * t3853;
+        let t3855 = product(t3792, 4.0);
+        let t3856: f64 = t3793.plus(t3817);
+        let t3857: f64 = t3840.plus(t3854);
+        let t3858: f64 = t3856 + t3857;
+        let t3859: f64 = t3855.minus(t3858);
+        let t3860 = product(t2261, t3859);
+        let t3861: f64 = t3860.added_to(t3839);
+        let t3862: f64 = arm2_axis_x * t3861;
+        let t3863 = product(t2265, t3859);
+        let t3864: f64 = t3863.added_to(t3853);
+        let t3865 = product(arm2_axis_y, t3864);
+        let t3866: f64 = t3788.plus(t3862);
+        let t3867: f64 = t3865.subtracted_from(t3866);
+        let t3868: f64 = t480 * t3867;
+        let t3869: f64 = t879 * t3049;
+        let t3870 = product(t2273, t3869);
+        let t3871: f64 = t3777.plus(t3868);
+        let t3872: f64 = t3870.plus(t3871);
+        let t3873: f64 = t3747.plus(t3767);
+        let t3874: f64 = t3872 - t3873;
+        let t3875 = product(t461, t3874);
+        let t3876: f64 = t180 * t3696;
+        let t3877: f64 = t3875.plus(t3876);
+        let t3878: f64 = t3744.plus(t3877);
+        let t3879: f64 = t3602.subtracted_from(t3878);
+        let t3880: f64 = arm2_crank_length * t3879;
+        let t3881: f64 = t3598.plus(t3880);
+        let t3882: f64 = -t3881;
+        let t3883 = product(arm2_zero_z, t3882);
+        let t3884 = product(t181, t2289);
+        let t3885 = product(t462, t3746);
+        let t3886: f64 = t495 * t3759;
+        let t3887 = product(t483, t3806);
+        let t3888: f64 = t175 * t3743;
+        let t3889 = product(t558, t3079);
+        let t3890: f64 = t513 * t3628;
+        let t3891: f64 = t3889.minus(t3890);
+        let t3892: f64 = arm2_crank_length * t3891;
+        let t3893: f64 = t3885.plus(t3886);
+        let t3894: f64 = t3887.plus(t3892);
+        let t3895: f64 = t3893 + t3894;
+        let t3896: f64 = t3884.plus(t3888);
+        let t3897: f64 = t3895 - t3896;
+        let t3898 = product(t113, t3897);
+        let t3899 = product(t2306, t3100);
+        let t3900 = product(t180, t3736);
+        let t3901 = product(t2308, t3100);
+        let t3902: f64 = t3901.added_to(t3086);
+        let t3903: f64 = t3085 + t3902;
+        let t3904: f64 = t543 * t3903;
+        let t3905 = product(t164, t3746);
+        let t3906 = product(t489, t3835);
+        let t3907: f64 = t483 * t3776;
+        let t3908 = product(arm2_axis_y, t3787);
+        let t3909 = product(t2318, t3859);
+        let t3910: f64 = t3909.added_to(t3816);
+        let t3911 = product(arm2_axis_x, t3910);
+        let t3912: f64 = arm2_axis_z * t3864;
+        let t3913: f64 = t3908.plus(t3912);
+        let t3914: f64 = t3911.subtracted_from(t3913);
+        let t3915: f64 = t480 * t3914;
+        let t3916 = product(t2327, t3869);
+        let t3917: f64 = t3906.plus(t3915);
+        let t3918: f64 = t3916.plus(t3917);
+        let t3919: f64 = t3905.plus(t3907);
+        let t3920: f64 = t3918 - t3919;
+        let t3921 = product(t461, t3920);
+        let t3922: f64 = t164 * t3743;
+        let t3923: f64 = t3921.plus(t3922);
+        let t3924: f64 = t3900.plus(t3904);
+        let t3925: f64 = t3923 - t3924;
+        let t3926: f64 = arm2_crank_length * t3925;
+        let t3927: f64 = t3899.plus(t3926);
+        let t3928: f64 = -t3927;
+        let t3929: f64 = arm2_zero_y * t3928;
+        let t3930 = product(t181, t2342);
+        let t3931 = product(t467, t3746);
+        let t3932: f64 = t491 * t3759;
+        let t3933 = product(t481, t3806);
+        let t3934: f64 = t150 * t3743;
+        let t3935 = product(t558, t3087);
+        let t3936: f64 = t513 * t3635;
+        let t3937: f64 = t3935.minus(t3936);
+        let t3938: f64 = arm2_crank_length * t3937;
+        let t3939: f64 = t3931.plus(t3932);
+        let t3940: f64 = t3933.plus(t3938);
+        let t3941: f64 = t3939 + t3940;
+        let t3942: f64 = t3930.plus(t3934);
+        let t3943: f64 = t3941 - t3942;
+        let t3944: f64 = t109 * t3943;
+        let t3945 = product(t181, t2358);
+        let t3946 = product(t464, t3746);
+        let t3947: f64 = t485 * t3759;
+        let t3948 = product(t489, t3806);
+        let t3949: f64 = t157 * t3743;
+        let t3950 = product(t558, t3095);
+        let t3951: f64 = t513 * t3642;
+        let t3952: f64 = t3950.minus(t3951);
+        let t3953: f64 = arm2_crank_length * t3952;
+        let t3954: f64 = t3946.plus(t3947);
+        let t3955: f64 = t3948.plus(t3953);
+        let t3956: f64 = t3954 + t3955;
+        let t3957: f64 = t3945.plus(t3949);
+        let t3958: f64 = t3956 - t3957;
+        let t3959 = product(t105, t3958);
+        let t3960 = product(t2375, t3100);
+        let t3961 = product(t1356, t3100);
+        let t3962: f64 = t3961.added_to(t3094);
+        let t3963: f64 = t3093 + t3962;
+        let t3964 = product(t543, t3963);
+        let t3965 = product(t160, t3743);
+        let t3966 = product(t160, t3746);
+        let t3967: f64 = t481 * t3835;
+        let t3968 = product(t483, t3766);
+        let t3969 = product(arm2_axis_x, t3787);
+        let t3970: f64 = arm2_axis_y * t3910;
+        let t3971 = product(arm2_axis_z, t3861);
+        let t3972: f64 = t3969.plus(t3970);
+        let t3973: f64 = t3971.subtracted_from(t3972);
+        let t3974: f64 = t480 * t3973;
+        let t3975 = product(t2392, t3869);
+        let t3976: f64 = t3968.plus(t3974);
+        let t3977: f64 = t3975.plus(t3976);
+        let t3978: f64 = t3966.plus(t3967);
+        let t3979: f64 = t3977 - t3978;
+        let t3980 = product(t461, t3979);
+        let t3981: f64 = t180 * t3713;
         let t3982: f64 = t3980.plus(t3981);
-        let t3983: f64 = -t3982;
-        let t3984: f64 = arm2_rod_mass * t3983;
-        let t3985 = product(vx, t3452);
-        let t3986 = product(t1656, t3437);
-        let t3987 = product(t611, t3113);
-        let t3988: f64 = t2239 * t3448;
-        let t3989: f64 = t3987.minus(t3988);
-        let t3990: f64 = arm2_crank_length * t3989;
-        let t3991: f64 = t3986.minus(t3990);
-        let t3992: f64 = vy * t3991;
-        let t3993 = product(t1656, t3441);
-        let t3994 = product(t611, t3182);
-        let t3995: f64 = t2247 * t3448;
-        let t3996: f64 = t3994.minus(t3995);
-        let t3997: f64 = arm2_crank_length * t3996;
-        let t3998: f64 = t3993.minus(t3997);
-        let t3999 = product(vz, t3998);
+        let t3983: f64 = t3965.plus(t3982);
+        let t3984: f64 = t3964.subtracted_from(t3983);
+        let t3985: f64 = arm2_crank_length * t3984;
+        let t3986: f64 = t3960.plus(t3985);
+        let t3987: f64 = -t3986;
+        let t3988 = product(arm2_zero_x, t3987);
+        let t3989: f64 = t3883.plus(t3929);
+        let t3990: f64 = t3988.plus(t3989);
+        let t3991: f64 = t3898.plus(t3944);
+        let t3992: f64 = t3959.plus(t3991);
+        let t3993: f64 = t3990 - t3992;
+        let t3994 = product(t101, t3993);
+        let t3995 = product(t116, t3993);
+        let t3996 = product(t113, t3882);
+        let t3997: f64 = arm2_zero_z * t3897;
+        let t3998 = product(t109, t3928);
+        let t3999: f64 = arm2_zero_y * t3943;
         (
-            t3040,
-            t3048,
-            t3085,
-            t3089,
-            t3093,
-            t3098,
+            t3007,
+            t3013,
+            t3044,
+            t3045,
+            t3046,
+            t3050,
+            t3054,
+            t3063,
+            t3069,
+            t3100,
+            t3101,
             t3102,
+            t3105,
+            t3106,
+            t3107,
+            t3109,
+            t3110,
+            t3112,
             t3113,
-            t3147,
+            t3116,
+            t3117,
+            t3119,
+            t3123,
+            t3125,
+            t3130,
+            t3131,
+            t3133,
+            t3134,
+            t3135,
+            t3141,
+            t3142,
+            t3143,
+            t3149,
+            t3150,
             t3151,
-            t3155,
-            t3159,
-            t3163,
-            t3167,
-            t3170,
-            t3176,
-            t3178,
-            t3182,
-            t3187,
-            t3192,
-            t3196,
+            t3156,
+            t3157,
+            t3165,
+            t3166,
+            t3186,
+            t3190,
+            t3193,
+            t3197,
             t3200,
-            t3206,
-            t3214,
-            t3251,
-            t3255,
-            t3259,
-            t3278,
-            t3285,
-            t3290,
+            t3216,
+            t3220,
+            t3221,
+            t3232,
+            t3247,
             t3295,
-            t3304,
-            t3310,
-            t3311,
-            t3331,
-            t3359,
-            t3360,
-            t3404,
-            t3406,
-            t3424,
-            t3427,
-            t3437,
-            t3441,
-            t3448,
-            t3452,
-            t3453,
-            t3462,
-            t3477,
-            t3486,
-            t3492,
-            t3496,
-            t3497,
-            t3499,
-            t3517,
-            t3520,
-            t3530,
-            t3534,
-            t3541,
-            t3545,
-            t3546,
-            t3555,
-            t3570,
-            t3579,
-            t3585,
+            t3350,
+            t3438,
+            t3483,
+            t3543,
+            t3573,
+            t3574,
+            t3588,
             t3589,
-            t3590,
-            t3645,
-            t3684,
-            t3703,
-            t3710,
-            t3721,
-            t3728,
-            t3755,
-            t3769,
-            t3791,
-            t3796,
-            t3809,
-            t3838,
-            t3842,
-            t3849,
-            t3852,
-            t3855,
-            t3868,
-            t3877,
+            t3596,
+            t3597,
+            t3605,
+            t3606,
+            t3626,
+            t3630,
+            t3633,
+            t3637,
+            t3640,
+            t3656,
+            t3660,
+            t3661,
+            t3672,
+            t3687,
+            t3735,
+            t3790,
             t3878,
-            t3879,
-            t3880,
-            t3890,
-            t3899,
-            t3903,
-            t3907,
-            t3933,
-            t3942,
-            t3952,
-            t3962,
-            t3972,
-            t3984,
-            t3985,
-            t3991,
-            t3992,
+            t3923,
+            t3958,
+            t3983,
+            t3987,
+            t3993,
+            t3994,
+            t3995,
+            t3996,
+            t3997,
             t3998,
             t3999,
         )
     };
     let (
+        t4013,
+        t4028,
+        t4036,
+        t4045,
+        t4046,
+        t4066,
+        t4070,
+        t4073,
+        t4077,
+        t4080,
+        t4096,
+        t4100,
+        t4101,
+        t4112,
+        t4127,
+        t4175,
+        t4230,
+        t4318,
+        t4363,
+        t4453,
+        t4468,
+        t4476,
+        t4492,
+        t4493,
+        t4498,
+        t4502,
+        t4516,
+        t4540,
+        t4541,
+        t4542,
+        t4547,
+        t4548,
+        t4552,
+        t4553,
+        t4554,
+        t4556,
+        t4557,
+        t4559,
+        t4560,
+        t4563,
+        t4564,
+        t4569,
+        t4571,
+        t4576,
+        t4577,
+        t4579,
+        t4580,
+        t4581,
+        t4587,
+        t4588,
+        t4589,
+        t4595,
+        t4596,
+        t4597,
+        t4602,
+        t4603,
+        t4607,
+        t4608,
+        t4609,
+        t4611,
+        t4612,
+        t4614,
+        t4615,
+        t4618,
+        t4619,
         t4624,
-        t4696,
-        t4768,
-        t4776,
-        t4809,
+        t4626,
+        t4631,
+        t4632,
+        t4634,
+        t4635,
+        t4636,
+        t4642,
+        t4643,
+        t4644,
+        t4650,
+        t4651,
+        t4652,
+        t4657,
+        t4658,
+        t4662,
+        t4663,
+        t4674,
+        t4692,
+        t4705,
+        t4724,
+        t4728,
+        t4731,
+        t4735,
+        t4738,
+        t4740,
+        t4754,
+        t4757,
+        t4765,
+        t4786,
+        t4793,
         t4813,
-        t4817,
-        t4821,
-        t4825,
-        t4829,
-        t4832,
-        t4838,
-        t4840,
-        t4874,
-        t4878,
-        t4882,
-        t4886,
+        t4842,
+        t4862,
         t4891,
-        t4895,
-        t4897,
-        t4903,
-        t4906,
-        t4911,
-        t4915,
-        t4919,
-        t4920,
-        t4924,
-        t4928,
+        t4899,
+        t4926,
         t4934,
+        t4936,
+        t4941,
         t4942,
-        t4975,
-        t4976,
-        t4979,
-        t4980,
+        t4956,
+        t4957,
+        t4969,
         t4983,
-        t4984,
         t4987,
         t4988,
-        t4991,
-        t4996,
+        t4989,
+        t4993,
         t4998,
         t4999,
     ) = {
-        let t4000: f64 = t3985.plus(t3992);
-        let t4001: f64 = t3999.plus(t4000);
-        let t4002 = product(t626, t4001);
-        let t4003 = product(vx, t3496);
-        let t4004 = product(t563, t3477);
-        let t4005 = product(t601, t3113);
-        let t4006: f64 = t2239 * t3492;
-        let t4007: f64 = t4005.minus(t4006);
-        let t4008: f64 = arm2_crank_length * t4007;
-        let t4009: f64 = t4004.minus(t4008);
-        let t4010: f64 = vy * t4009;
-        let t4011 = product(t563, t3486);
-        let t4012 = product(t601, t3182);
-        let t4013: f64 = t2247 * t3492;
-        let t4014: f64 = t4012.minus(t4013);
-        let t4015: f64 = arm2_crank_length * t4014;
-        let t4016: f64 = t4011.minus(t4015);
-        let t4017 = product(vz, t4016);
-        let t4018: f64 = t4003.plus(t4010);
-        let t4019: f64 = t4017.plus(t4018);
-        let t4020: f64 = t947 * t4019;
-        let t4021: f64 = t4002.plus(t4020);
-        let t4022: f64 = t4021 * 4.0;
-        let t4023 = product(arm2_rod_mz, t4022);
-        let t4024: f64 = t3984 * 2.0;
-        let t4025: f64 = t4023.subtracted_from(t4024);
-        let t4026 = product(t959, t4025);
-        let t4027 = product(ax, t3496);
-        let t4028: f64 = ay * t4009;
-        let t4029 = product(az, t4016);
-        let t4030 = product(t655, t3462);
-        let t4031: f64 = t660 * t3477;
-        let t4032 = product(t650, t3486);
-        let t4033 = product(arm2_axis_y, t3406);
-        let t4034 = product(arm2_axis_x, t3098);
-        let t4035: f64 = arm2_axis_z * t3102;
-        let t4036: f64 = t4034.plus(t4035);
-        let t4037: f64 = t1633 * t4036;
-        let t4038: f64 = t2291 * t3424;
-        let t4039 = product(t4038, 0.5);
-        let t4040: f64 = t4033.plus(t4037);
-        let t4041: f64 = t4039.subtracted_from(t4040);
-        let t4042: f64 = t582 * t4041;
-        let t4043: f64 = -t4042;
-        let t4044 = product(t671, t4043);
-        let t4045 = product(t591, t3899);
-        let t4046: f64 = t583 * t3903;
-        let t4047 = product(t585, t3907);
-        let t4048: f64 = t4045.plus(t4046);
-        let t4049: f64 = t4047.plus(t4048);
-        let t4050 = product(arm2_crank_length, t4049);
-        let t4051 = product(t356, t3427);
-        let t4052: f64 = t360 * t3437;
-        let t4053 = product(t364, t3441);
-        let t4054: f64 = t4051.plus(t4052);
-        let t4055: f64 = t4053.plus(t4054);
-        let t4056: f64 = t582 * t4055;
-        let t4057: f64 = t4050.plus(t4056);
-        let t4058: f64 = t632 * t4057;
-        let t4059: f64 = t4044.minus(t4058);
-        let t4060 = product(t674, t4059);
-        let t4061: f64 = t673 * t4057;
-        let t4062 = product(t597, t3962);
-        let t4063 = product(t587, t3942);
-        let t4064: f64 = t593 * t3952;
-        let t4065: f64 = t4063.plus(t4064);
-        let t4066: f64 = t4062.plus(t4065);
-        let t4067: f64 = arm2_crank_length * t4066;
-        let t4068: f64 = t4030.plus(t4031);
-        let t4069: f64 = t4032.plus(t4061);
-        let t4070: f64 = t4068 + t4069;
-        let t4071: f64 = t4060.plus(t4067);
-        let t4072: f64 = t4070 - t4071;
-        let t4073 = product(t563, t4072);
-        let t4074 = product(t632, t4001);
-        let t4075: f64 = t626 * t4043;
-        let t4076: f64 = t4074.minus(t4075);
-        let t4077 = product(t626, t4076);
-        let t4078: f64 = t633 * t4001;
-        let t4079: f64 = t4077.plus(t4078);
-        let t4080: f64 = t4027.plus(t4028);
-        let t4081: f64 = t4029.plus(t4079);
-        let t4082: f64 = t4080 + t4081;
-        let t4083: f64 = t4073.subtracted_from(t4082);
-        let t4084: f64 = t4083 * 2.0;
-        let t4085 = product(arm2_rod_mz, t4084);
-        let t4086 = product(t645, t3492);
-        let t4087 = product(t600, t3972);
-        let t4088: f64 = t4087.subtracted_from(t4066);
-        let t4089: f64 = arm2_crank_length * t4088;
-        let t4090 = product(t2230, t3462);
-        let t4091: f64 = t2212 * t3477;
-        let t4092 = product(t2214, t3486);
-        let t4093: f64 = t4086.plus(t4089);
-        let t4094: f64 = t4090.plus(t4091);
-        let t4095: f64 = t4093 + t4094;
-        let t4096: f64 = t4092.plus(t4095);
-        let t4097: f64 = -t4096;
-        let t4098: f64 = arm2_rod_mass * t4097;
-        let t4099: f64 = t4098 * 2.0;
-        let t4100: f64 = t4085.plus(t4099);
-        let t4101: f64 = t600 * t4100;
-        let t4102 = product(t585, t3962);
-        let t4103 = product(t591, t3942);
-        let t4104: f64 = t583 * t3952;
-        let t4105: f64 = t4103.plus(t4104);
-        let t4106: f64 = t4102.plus(t4105);
-        let t4107 = product(arm2_crank_length, t4106);
-        let t4108 = product(t655, t3427);
-        let t4109: f64 = t660 * t3437;
-        let t4110 = product(t650, t3441);
-        let t4111: f64 = t4108.plus(t4109);
+        let t4000 = product(arm2_zero_x, t3958);
+        let t4001: f64 = t105 * t3987;
+        let t4002: f64 = t3996.plus(t3997);
+        let t4003: f64 = t3998.plus(t3999);
+        let t4004: f64 = t4000.plus(t4001);
+        let t4005: f64 = t4002 + t4003;
+        let t4006: f64 = t4004 + t4005;
+        let t4007: f64 = t101 * t4006;
+        let t4008: f64 = t3995.minus(t4007);
+        let t4009: f64 = t2429 * t4008;
+        let t4010 = product(t116, t4006);
+        let t4011: f64 = t3994.plus(t4009);
+        let t4012: f64 = t4010.plus(t4011);
+        let t4013: f64 = t4012 * 0.5;
+        let t4014: f64 = t2436 * t4013;
+        let t4015: f64 = t2439 * t4008;
+        let t4016 = product(t138, t3993);
+        let t4017: f64 = t143 * t4006;
+        let t4018: f64 = t4016.plus(t4017);
+        let t4019 = product(t2441, t4018);
+        let t4020: f64 = t4015 * 0.5;
+        let t4021: f64 = t4019.plus(t4020);
+        let t4022: f64 = t116 * t4021;
+        let t4023 = product(t136, t3993);
+        let t4024: f64 = t131 * t4006;
+        let t4025: f64 = t4023.minus(t4024);
+        let t4026 = product(t119, t4025);
+        let t4027: f64 = t4022 * 2.0;
+        let t4028: f64 = t4026.plus(t4027);
+        let t4029 = product(t105, t4028);
+        let t4030: f64 = t101 * t4021;
+        let t4031 = product(t131, t3993);
+        let t4032: f64 = t136 * t4006;
+        let t4033: f64 = t4031.plus(t4032);
+        let t4034 = product(t119, t4033);
+        let t4035: f64 = t4030 * 2.0;
+        let t4036: f64 = t4034.minus(t4035);
+        let t4037: f64 = arm2_zero_x * t4036;
+        let t4038 = product(t2579, t3156);
+        let t4039 = product(t2581, t3156);
+        let t4040: f64 = t4039.added_to(t3134);
+        let t4041: f64 = t3133 + t4040;
+        let t4042 = product(t376, t4041);
+        let t4043 = product(t280, t2587);
+        let t4044: f64 = t2514 * t3156;
+        let t4045: f64 = t2516 * t3156;
+        let t4046: f64 = t341 * t2518;
+        let t4047: f64 = t433 * t4046;
+        let t4048: f64 = t363 * t4047;
+        let t4049 = product(t362, t3125);
+        let t4050: f64 = t4048 * 2.0;
+        let t4051: f64 = t4049.plus(t4050);
+        let t4052 = product(t371, t4051);
+        let t4053 = product(t362, t3113);
+        let t4054: f64 = t363 * t3113;
+        let t4055: f64 = arm1_rod_izz * t433;
+        let t4056 = product(t2529, t4055);
+        let t4057: f64 = t3123 * 2.0;
+        let t4058: f64 = t4056.plus(t4057);
+        let t4059 = product(t858, t4058);
+        let t4060: f64 = t4059.subtracted_from(t4054);
+        let t4061: f64 = t341 * t4060;
+        let t4062: f64 = t4053.plus(t4061);
+        let t4063: f64 = t294 * t4062;
+        let t4064: f64 = -t4063;
+        let t4065: f64 = t316 * t4064;
+        let t4066: f64 = t4052.plus(t4065);
+        let t4067 = product(t4045, 2.0);
+        let t4068: f64 = t4067.added_to(t4066);
+        let t4069 = product(t77, t4068);
+        let t4070: f64 = t2544 * t3156;
+        let t4071 = product(t366, t4051);
+        let t4072: f64 = t314 * t4064;
+        let t4073: f64 = t4071.plus(t4072);
+        let t4074 = product(t4070, 2.0);
+        let t4075: f64 = t4074.added_to(t4073);
+        let t4076: f64 = t66 * t4075;
+        let t4077: f64 = t2552 * t3156;
+        let t4078 = product(t319, t4051);
+        let t4079: f64 = t322 * t4064;
+        let t4080: f64 = t4078.plus(t4079);
+        let t4081 = product(t4077, 2.0);
+        let t4082: f64 = t4081.added_to(t4080);
+        let t4083 = product(t62, t4082);
+        let t4084 = product(t80, t3135);
+        let t4085: f64 = t69 * t3143;
+        let t4086 = product(t55, t3151);
+        let t4087: f64 = t4084.plus(t4085);
+        let t4088: f64 = t4086.plus(t4087);
+        let t4089: f64 = t4088 * 2.0;
+        let t4090: f64 = t346 * t4089;
+        let t4091: f64 = t4069.plus(t4076);
+        let t4092: f64 = t4083.plus(t4090);
+        let t4093: f64 = t4091 + t4092;
+        let t4094 = product(arm1_crank_length, t4093);
+        let t4095: f64 = t4044 * 2.0;
+        let t4096: f64 = t4094.minus(t4095);
+        let t4097 = product(vz, t4096);
+        let t4098: f64 = t2465 * t3105;
+        let t4099 = product(t331, t3116);
+        let t4100: f64 = t422 * t3130;
+        let t4101: f64 = t4098 * 2.0;
+        let t4102: f64 = t4099.plus(t4101);
+        let t4103: f64 = t4100 + t4102;
+        let t4104 = product(az, t4103);
+        let t4105 = product(az, t3113);
+        let t4106: f64 = t367 * t2474;
+        let t4107: f64 = t799 * t4106;
+        let t4108: f64 = t3123 - t4055;
+        let t4109: f64 = t4108 * 2.0;
+        let t4110 = product(t437, t4109);
+        let t4111: f64 = t4107 * 4.0;
         let t4112: f64 = t4110.plus(t4111);
-        let t4113: f64 = t582 * t4112;
-        let t4114: f64 = t4107.minus(t4113);
-        let t4115 = product(t356, t3462);
-        let t4116: f64 = t360 * t3477;
-        let t4117 = product(t364, t3486);
-        let t4118 = product(t587, t3899);
-        let t4119: f64 = t593 * t3903;
-        let t4120 = product(t597, t3907);
-        let t4121: f64 = t4118.plus(t4119);
-        let t4122: f64 = t4120.plus(t4121);
-        let t4123: f64 = arm2_crank_length * t4122;
-        let t4124: f64 = t4115.plus(t4116);
-        let t4125: f64 = t4117.plus(t4123);
-        let t4126: f64 = t4124 + t4125;
-        let t4127 = product(t673, t4126);
-        let t4128: f64 = t933 * t4059;
-        let t4129: f64 = t4127.minus(t4128);
-        let t4130: f64 = t4114 + t4129;
-        let t4131: f64 = t4130 * 2.0;
-        let t4132 = product(t563, t4131);
-        let t4133 = product(az, t3998);
-        let t4134 = product(ax, t3452);
-        let t4135: f64 = ay * t3991;
-        let t4136: f64 = t4134.plus(t4135);
-        let t4137: f64 = t4133.plus(t4136);
-        let t4138 = product(t633, t4019);
-        let t4139: f64 = t947 * t4076;
-        let t4140: f64 = t4138.plus(t4139);
-        let t4141: f64 = t4137 - t4140;
-        let t4142: f64 = t4141 * 2.0;
-        let t4143: f64 = t4132.plus(t4142);
-        let t4144 = product(arm2_rod_mz, t4143);
-        let t4145 = product(t645, t3448);
-        let t4146 = product(t610, t3972);
-        let t4147: f64 = t4146.minus(t4106);
-        let t4148 = product(arm2_crank_length, t4147);
-        let t4149 = product(t2230, t3427);
-        let t4150: f64 = t2212 * t3437;
-        let t4151 = product(t2214, t3441);
-        let t4152: f64 = t4149.plus(t4150);
-        let t4153: f64 = t4151.plus(t4152);
-        let t4154: f64 = t582 * t4153;
-        let t4155: f64 = t4145.plus(t4154);
-        let t4156: f64 = t4148.minus(t4155);
-        let t4157: f64 = arm2_rod_mass * t4156;
-        let t4158: f64 = t4157 * 2.0;
-        let t4159: f64 = t4144.plus(t4158);
-        let t4160 = product(t610, t4159);
-        let t4161: f64 = t3879.plus(t3880);
-        let t4162: f64 = t3890.plus(t4161);
-        let t4163: f64 = t4026.plus(t4101);
-        let t4164: f64 = t4160.plus(t4163);
-        let t4165: f64 = t4162 - t4164;
-        let t4166 = product(t602, t4165);
-        let t4167 = product(t988, t3585);
-        let t4168: f64 = t1029 * t3541;
-        let t4169 = product(t701, t3151);
-        let t4170: f64 = t704 * t3155;
-        let t4171 = product(t255, t3499);
-        let t4172 = product(t699, t3159);
-        let t4173: f64 = t1737 * t3170;
-        let t4174: f64 = t4169.plus(t4170);
-        let t4175: f64 = t4172.plus(t4174);
-        let t4176: f64 = t4171.plus(t4173);
-        let t4177: f64 = t4175 - t4176;
-        let t4178 = product(t1056, t4177);
-        let t4179 = product(t413, t3151);
-        let t4180 = product(t389, t3151);
-        let t4181 = product(vx, t3196);
-        let t4182: f64 = vy * t3187;
-        let t4183 = product(vz, t3178);
-        let t4184: f64 = t4181.plus(t4182);
-        let t4185: f64 = t4183.plus(t4184);
-        let t4186: f64 = t251 * t4185;
-        let t4187: f64 = t4180.minus(t4186);
-        let t4188 = product(t400, t4187);
-        let t4189 = product(t389, t3155);
-        let t4190: f64 = t255 * t4185;
-        let t4191: f64 = t4189.minus(t4190);
-        let t4192: f64 = t404 * t4191;
-        let t4193 = product(t389, t3159);
-        let t4194: f64 = t266 * t4185;
-        let t4195: f64 = t4193.minus(t4194);
-        let t4196 = product(t408, t4195);
-        let t4197: f64 = t395 * t4185;
-        let t4198 = product(t248, t3167);
-        let t4199: f64 = t262 * t3163;
-        let t4200 = product(t241, t3147);
-        let t4201 = product(t244, t3167);
-        let t4202: f64 = t258 * t3163;
-        let t4203 = product(t237, t3147);
-        let t4204: f64 = t4201.plus(t4202);
+        let t4113: f64 = vz * t4112;
+        let t4114: f64 = t4105.minus(t4113);
+        let t4115 = product(t332, t4114);
+        let t4116: f64 = t436 * t3109;
+        let t4117: f64 = t799 * t4116;
+        let t4118 = product(t2489, t3107);
+        let t4119: f64 = t4118.added_to(t3112);
+        let t4120 = product(t437, t4119);
+        let t4121 = product(t819, t4109);
+        let t4122: f64 = t436 * t4119;
+        let t4123: f64 = t4121.minus(t4122);
+        let t4124 = product(t341, t4123);
+        let t4125: f64 = t4117 * 4.0;
+        let t4126: f64 = t4124.plus(t4125);
+        let t4127: f64 = t4120.subtracted_from(t4126);
+        let t4128 = product(vz, t4127);
+        let t4129: f64 = az * t3125;
+        let t4130: f64 = t4128.subtracted_from(t4129);
+        let t4131: f64 = t423 * t4130;
+        let t4132: f64 = t4115.plus(t4131);
+        let t4133: f64 = t4104.minus(t4132);
+        let t4134: f64 = arm1_crank_length * t4133;
+        let t4135: f64 = t4043.plus(t4134);
+        let t4136: f64 = t4097.minus(t4135);
+        let t4137 = product(t84, t4136);
+        let t4138 = product(t280, t2511);
+        let t4139 = product(vx, t4096);
+        let t4140 = product(ax, t4103);
+        let t4141 = product(ax, t3113);
+        let t4142: f64 = vx * t4112;
+        let t4143: f64 = t4141.minus(t4142);
+        let t4144 = product(t332, t4143);
+        let t4145 = product(vx, t4127);
+        let t4146: f64 = ax * t3125;
+        let t4147: f64 = t4145.subtracted_from(t4146);
+        let t4148: f64 = t423 * t4147;
+        let t4149: f64 = t4144.plus(t4148);
+        let t4150: f64 = t4140.minus(t4149);
+        let t4151: f64 = arm1_crank_length * t4150;
+        let t4152: f64 = t4138.plus(t4151);
+        let t4153: f64 = t4139.minus(t4152);
+        let t4154: f64 = t59 * t4153;
+        let t4155 = product(ay, t4103);
+        let t4156 = product(vy, t4112);
+        let t4157 = product(ay, t3113);
+        let t4158: f64 = t4157.minus(t1584);
+        let t4159: f64 = t4156.minus(t4158);
+        let t4160: f64 = t1585 + t4159;
+        let t4161: f64 = t332 * t4160;
+        let t4162 = product(vy, t4127);
+        let t4163 = product(ay, t3125);
+        let t4164: f64 = t4163.added_to(t1049);
+        let t4165: f64 = t1048 + t4164;
+        let t4166: f64 = t4162.subtracted_from(t4165);
+        let t4167 = product(t423, t4166);
+        let t4168: f64 = t4155.plus(t4161);
+        let t4169: f64 = t873 + t4168;
+        let t4170: f64 = t4167.subtracted_from(t4169);
+        let t4171 = product(arm1_crank_length, t4170);
+        let t4172 = product(t280, t2605);
+        let t4173: f64 = vy * t4096;
+        let t4174: f64 = t4172.minus(t4173);
+        let t4175: f64 = t4171.plus(t4174);
+        let t4176: f64 = t2629 + t4175;
+        let t4177 = product(t73, t4176);
+        let t4178: f64 = t390 * t3156;
+        let t4179: f64 = t4137.plus(t4154);
+        let t4180: f64 = t4177.plus(t4178);
+        let t4181: f64 = t4179 - t4180;
+        let t4182: f64 = t2636 * t4181;
+        let t4183: f64 = -t4182;
+        let t4184 = product(t77, t4183);
+        let t4185: f64 = t367 * t2645;
+        let t4186: f64 = -t4185;
+        let t4187 = product(t77, t4186);
+        let t4188 = product(gravity_y, t3116);
+        let t4189 = product(t407, t3117);
+        let t4190 = product(t367, t834);
+        let t4191 = product(t282, t4114);
+        let t4192: f64 = t90 * t4143;
+        let t4193 = product(t280, t4160);
+        let t4194: f64 = t4191.plus(t4192);
+        let t4195: f64 = t4193.subtracted_from(t4194);
+        let t4196 = product(t2657, t4195);
+        let t4197: f64 = t451 * t3116;
+        let t4198: f64 = t4190.plus(t4197);
+        let t4199: f64 = t4196.subtracted_from(t4198);
+        let t4200: f64 = t66 * t4199;
+        let t4201 = product(t353, t4051);
+        let t4202: f64 = t4201.minus(t4160);
+        let t4203 = product(t294, t4202);
+        let t4204: f64 = t4189.plus(t4200);
         let t4205: f64 = t4203.plus(t4204);
-        let t4206 = product(arm3_crank_length, t4205);
-        let t4207: f64 = t4206.added_to(t258);
-        let t4208: f64 = t4198.plus(t4199);
-        let t4209: f64 = t4200.plus(t4208);
-        let t4210: f64 = t4207 - t4209;
-        let t4211 = product(t389, t4210);
-        let t4212: f64 = t4197 * 2.0;
-        let t4213: f64 = t4211.plus(t4212);
-        let t4214 = product(t389, t4213);
-        let t4215 = product(t413, t3176);
-        let t4216: f64 = t4188.plus(t4192);
-        let t4217: f64 = t4196.plus(t4216);
-        let t4218: f64 = t4217 * 2.0;
-        let t4219: f64 = t4214.plus(t4218);
-        let t4220: f64 = t4215.subtracted_from(t4219);
-        let t4221: f64 = t270 * t4220;
-        let t4222: f64 = -t4221;
-        let t4223: f64 = t251 * t4222;
-        let t4224 = product(t389, t3167);
-        let t4225: f64 = t244 * t4185;
-        let t4226: f64 = t4225 * 2.0;
-        let t4227: f64 = t4224.minus(t4226);
-        let t4228 = product(t389, t4227);
-        let t4229: f64 = t4179.plus(t4223);
-        let t4230: f64 = t4228.subtracted_from(t4229);
-        let t4231 = product(t701, t4230);
-        let t4232 = product(t413, t3155);
-        let t4233: f64 = t255 * t4222;
-        let t4234 = product(t389, t3163);
-        let t4235: f64 = t258 * t4185;
-        let t4236: f64 = t4235 * 2.0;
-        let t4237: f64 = t4234.minus(t4236);
-        let t4238 = product(t389, t4237);
-        let t4239: f64 = t4232.plus(t4233);
-        let t4240: f64 = t4238.subtracted_from(t4239);
-        let t4241: f64 = t704 * t4240;
-        let t4242 = product(t413, t3159);
-        let t4243: f64 = t266 * t4222;
-        let t4244 = product(t389, t3147);
-        let t4245: f64 = t237 * t4185;
-        let t4246: f64 = t4245 * 2.0;
-        let t4247: f64 = t4244.minus(t4246);
-        let t4248 = product(t389, t4247);
-        let t4249: f64 = t4242.plus(t4243);
-        let t4250: f64 = t4248.subtracted_from(t4249);
-        let t4251 = product(t699, t4250);
-        let t4252 = product(t2506, t3147);
-        let t4253: f64 = t2524 * t3167;
+        let t4206: f64 = t4188.minus(t4205);
+        let t4207: f64 = t322 * t4206;
+        let t4208 = product(gravity_x, t3116);
+        let t4209 = product(t401, t3117);
+        let t4210: f64 = t62 * t4199;
+        let t4211 = product(t349, t4051);
+        let t4212: f64 = t4211.added_to(t4143);
+        let t4213 = product(t294, t4212);
+        let t4214: f64 = t4209.plus(t4210);
+        let t4215: f64 = t4213.plus(t4214);
+        let t4216: f64 = t4208.minus(t4215);
+        let t4217 = product(t314, t4216);
+        let t4218 = product(t858, t3125);
+        let t4219: f64 = t4218.subtracted_from(t4054);
+        let t4220 = product(t363, t4219);
+        let t4221 = product(vy, t4123);
+        let t4222: f64 = t4221.subtracted_from(t2688);
+        let t4223 = product(t433, t4222);
+        let t4224: f64 = t426 + t430;
+        let t4225: f64 = t4123 * t4224;
+        let t4226: f64 = t4220.plus(t4225);
+        let t4227: f64 = t4223.subtracted_from(t4226);
+        let t4228 = product(arm1_axis_z, t4227);
+        let t4229: f64 = t858 * t2696;
+        let t4230: f64 = t341 * t4229;
+        let t4231: f64 = t433 * t4230;
+        let t4232: f64 = t363 * t4231;
+        let t4233 = product(t340, t4227);
+        let t4234 = product(gravity_z, t3130);
+        let t4235: f64 = t294 * t4130;
+        let t4236: f64 = t4234.minus(t4235);
+        let t4237 = product(t367, t870);
+        let t4238 = product(t282, t4130);
+        let t4239: f64 = t90 * t4147;
+        let t4240 = product(t280, t4166);
+        let t4241: f64 = t4238.plus(t4239);
+        let t4242: f64 = t4240.plus(t4241);
+        let t4243 = product(t2657, t4242);
+        let t4244: f64 = t451 * t3130;
+        let t4245: f64 = t4237.plus(t4244);
+        let t4246: f64 = t4243.subtracted_from(t4245);
+        let t4247 = product(t77, t4246);
+        let t4248: f64 = t4247.subtracted_from(t4236);
+        let t4249 = product(t297, t4206);
+        let t4250: f64 = t300 * t4216;
+        let t4251: f64 = t4249.minus(t4250);
+        let t4252 = product(t395, t3131);
+        let t4253: f64 = t357 * t4064;
         let t4254: f64 = t4252.plus(t4253);
-        let t4255: f64 = t698 * t4254;
-        let t4256 = product(az, t3178);
-        let t4257 = product(ax, t3196);
-        let t4258: f64 = ay * t3187;
-        let t4259: f64 = t4257.plus(t4258);
-        let t4260: f64 = t4256.plus(t4259);
-        let t4261 = product(t1035, t4260);
-        let t4262: f64 = t4231.plus(t4241);
-        let t4263: f64 = t4251.plus(t4255);
-        let t4264: f64 = t4262 + t4263;
-        let t4265: f64 = t4261.subtracted_from(t4264);
-        let t4266 = product(arm3_crank_length, t4265);
-        let t4267: f64 = t780 * t4177;
-        let t4268 = product(t2508, t3499);
-        let t4269: f64 = t4266.plus(t4267);
-        let t4270: f64 = t4268.plus(t4269);
-        let t4271: f64 = -t4270;
-        let t4272: f64 = arm3_rod_mass * t4271;
-        let t4273 = product(vx, t3545);
-        let t4274 = product(t1760, t3530);
-        let t4275 = product(t746, t3187);
-        let t4276: f64 = t2533 * t3541;
-        let t4277: f64 = t4275.minus(t4276);
-        let t4278: f64 = arm3_crank_length * t4277;
-        let t4279: f64 = t4274.minus(t4278);
-        let t4280: f64 = vy * t4279;
-        let t4281 = product(t1760, t3534);
-        let t4282 = product(t746, t3178);
-        let t4283: f64 = t2541 * t3541;
-        let t4284: f64 = t4282.minus(t4283);
-        let t4285: f64 = arm3_crank_length * t4284;
-        let t4286: f64 = t4281.minus(t4285);
-        let t4287 = product(vz, t4286);
-        let t4288: f64 = t4273.plus(t4280);
-        let t4289: f64 = t4287.plus(t4288);
-        let t4290 = product(t761, t4289);
-        let t4291 = product(vx, t3589);
-        let t4292 = product(t698, t3570);
-        let t4293 = product(t736, t3187);
-        let t4294: f64 = t2533 * t3585;
-        let t4295: f64 = t4293.minus(t4294);
-        let t4296: f64 = arm3_crank_length * t4295;
-        let t4297: f64 = t4292.minus(t4296);
-        let t4298: f64 = vy * t4297;
-        let t4299 = product(t698, t3579);
-        let t4300 = product(t736, t3178);
-        let t4301: f64 = t2541 * t3585;
-        let t4302: f64 = t4300.minus(t4301);
-        let t4303: f64 = arm3_crank_length * t4302;
-        let t4304: f64 = t4299.minus(t4303);
-        let t4305 = product(vz, t4304);
-        let t4306: f64 = t4291.plus(t4298);
-        let t4307: f64 = t4305.plus(t4306);
-        let t4308: f64 = t1023 * t4307;
-        let t4309: f64 = t4290.plus(t4308);
-        let t4310: f64 = t4309 * 4.0;
-        let t4311 = product(arm3_rod_mz, t4310);
-        let t4312: f64 = t4272 * 2.0;
-        let t4313: f64 = t4311.subtracted_from(t4312);
-        let t4314 = product(t1035, t4313);
-        let t4315 = product(ax, t3589);
-        let t4316: f64 = ay * t4297;
-        let t4317 = product(az, t4304);
-        let t4318 = product(t790, t3555);
-        let t4319: f64 = t795 * t3570;
-        let t4320 = product(t785, t3579);
-        let t4321 = product(arm3_axis_y, t3499);
-        let t4322 = product(arm3_axis_x, t3167);
-        let t4323: f64 = arm3_axis_z * t3147;
-        let t4324: f64 = t4322.plus(t4323);
-        let t4325: f64 = t1737 * t4324;
-        let t4326: f64 = t2585 * t3517;
-        let t4327 = product(t4326, 0.5);
-        let t4328: f64 = t4321.plus(t4325);
-        let t4329: f64 = t4327.subtracted_from(t4328);
-        let t4330: f64 = t717 * t4329;
-        let t4331: f64 = -t4330;
-        let t4332 = product(t806, t4331);
-        let t4333 = product(t726, t4187);
-        let t4334: f64 = t718 * t4191;
-        let t4335 = product(t720, t4195);
-        let t4336: f64 = t4333.plus(t4334);
-        let t4337: f64 = t4335.plus(t4336);
-        let t4338 = product(arm3_crank_length, t4337);
-        let t4339 = product(t400, t3520);
-        let t4340: f64 = t404 * t3530;
-        let t4341 = product(t408, t3534);
-        let t4342: f64 = t4339.plus(t4340);
-        let t4343: f64 = t4341.plus(t4342);
-        let t4344: f64 = t717 * t4343;
-        let t4345: f64 = t4338.plus(t4344);
-        let t4346: f64 = t767 * t4345;
-        let t4347: f64 = t4332.minus(t4346);
-        let t4348 = product(t809, t4347);
-        let t4349: f64 = t808 * t4345;
-        let t4350 = product(t732, t4250);
-        let t4351 = product(t722, t4230);
-        let t4352: f64 = t728 * t4240;
-        let t4353: f64 = t4351.plus(t4352);
-        let t4354: f64 = t4350.plus(t4353);
-        let t4355: f64 = arm3_crank_length * t4354;
-        let t4356: f64 = t4318.plus(t4319);
-        let t4357: f64 = t4320.plus(t4349);
-        let t4358: f64 = t4356 + t4357;
-        let t4359: f64 = t4348.plus(t4355);
+        let t4255: f64 = t4251 - t4254;
+        let t4256: f64 = t4248 + t4255;
+        let t4257: f64 = t308 * t4256;
+        let t4258 = product(gravity_y, t3130);
+        let t4259: f64 = t407 * t3131;
+        let t4260: f64 = t4258.minus(t4259);
+        let t4261 = product(t294, t4166);
+        let t4262: f64 = t4261.subtracted_from(t4260);
+        let t4263 = product(t295, t4216);
+        let t4264: f64 = t66 * t4246;
+        let t4265: f64 = t4263.minus(t4264);
+        let t4266 = product(t353, t4064);
+        let t4267 = product(gravity_z, t3116);
+        let t4268 = product(t395, t3117);
+        let t4269: f64 = t77 * t4199;
+        let t4270 = product(t357, t4051);
+        let t4271: f64 = t4270.added_to(t4114);
+        let t4272 = product(t294, t4271);
+        let t4273: f64 = t4268.plus(t4269);
+        let t4274: f64 = t4272.plus(t4273);
+        let t4275: f64 = t4267.minus(t4274);
+        let t4276: f64 = t297 * t4275;
+        let t4277: f64 = t4266.plus(t4276);
+        let t4278: f64 = t4265 - t4277;
+        let t4279: f64 = t4262 + t4278;
+        let t4280 = product(t299, t4279);
+        let t4281 = product(gravity_x, t3130);
+        let t4282: f64 = t401 * t3131;
+        let t4283: f64 = t4281.minus(t4282);
+        let t4284 = product(t294, t4147);
+        let t4285: f64 = t4284.subtracted_from(t4283);
+        let t4286 = product(t300, t4275);
+        let t4287: f64 = t349 * t4064;
+        let t4288: f64 = t4286.minus(t4287);
+        let t4289 = product(t295, t4206);
+        let t4290: f64 = t62 * t4246;
+        let t4291: f64 = t4289.plus(t4290);
+        let t4292: f64 = t4288 - t4291;
+        let t4293: f64 = t4285 + t4292;
+        let t4294: f64 = t303 * t4293;
+        let t4295 = product(t4232, 4.0);
+        let t4296: f64 = t4233.plus(t4257);
+        let t4297: f64 = t4280.plus(t4294);
+        let t4298: f64 = t4296 + t4297;
+        let t4299: f64 = t4295.minus(t4298);
+        let t4300 = product(t2768, t4299);
+        let t4301: f64 = t4300.added_to(t4279);
+        let t4302: f64 = arm1_axis_x * t4301;
+        let t4303 = product(t2772, t4299);
+        let t4304: f64 = t4303.added_to(t4293);
+        let t4305 = product(arm1_axis_y, t4304);
+        let t4306: f64 = t4228.plus(t4302);
+        let t4307: f64 = t4305.subtracted_from(t4306);
+        let t4308: f64 = t313 * t4307;
+        let t4309: f64 = t799 * t3105;
+        let t4310 = product(t2780, t4309);
+        let t4311: f64 = t4217.plus(t4308);
+        let t4312: f64 = t4310.plus(t4311);
+        let t4313: f64 = t4187.plus(t4207);
+        let t4314: f64 = t4312 - t4313;
+        let t4315 = product(t294, t4314);
+        let t4316: f64 = t89 * t4136;
+        let t4317: f64 = t4315.plus(t4316);
+        let t4318: f64 = t4184.plus(t4317);
+        let t4319: f64 = t4042.subtracted_from(t4318);
+        let t4320: f64 = arm1_crank_length * t4319;
+        let t4321: f64 = t4038.plus(t4320);
+        let t4322: f64 = -t4321;
+        let t4323 = product(arm1_zero_z, t4322);
+        let t4324 = product(t280, t2796);
+        let t4325 = product(t295, t4186);
+        let t4326: f64 = t328 * t4199;
+        let t4327 = product(t316, t4246);
+        let t4328: f64 = t84 * t4183;
+        let t4329 = product(t391, t3135);
+        let t4330: f64 = t346 * t4068;
+        let t4331: f64 = t4329.minus(t4330);
+        let t4332: f64 = arm1_crank_length * t4331;
+        let t4333: f64 = t4325.plus(t4326);
+        let t4334: f64 = t4327.plus(t4332);
+        let t4335: f64 = t4333 + t4334;
+        let t4336: f64 = t4324.plus(t4328);
+        let t4337: f64 = t4335 - t4336;
+        let t4338 = product(t22, t4337);
+        let t4339 = product(t2813, t3156);
+        let t4340 = product(t89, t4176);
+        let t4341 = product(t2815, t3156);
+        let t4342: f64 = t4341.added_to(t3142);
+        let t4343: f64 = t3141 + t4342;
+        let t4344: f64 = t376 * t4343;
+        let t4345 = product(t66, t4186);
+        let t4346 = product(t322, t4275);
+        let t4347: f64 = t316 * t4216;
+        let t4348 = product(arm1_axis_y, t4227);
+        let t4349 = product(t2825, t4299);
+        let t4350: f64 = t4349.added_to(t4256);
+        let t4351 = product(arm1_axis_x, t4350);
+        let t4352: f64 = arm1_axis_z * t4304;
+        let t4353: f64 = t4348.plus(t4352);
+        let t4354: f64 = t4351.subtracted_from(t4353);
+        let t4355: f64 = t313 * t4354;
+        let t4356 = product(t2834, t4309);
+        let t4357: f64 = t4346.plus(t4355);
+        let t4358: f64 = t4356.plus(t4357);
+        let t4359: f64 = t4345.plus(t4347);
         let t4360: f64 = t4358 - t4359;
-        let t4361 = product(t698, t4360);
-        let t4362 = product(t767, t4289);
-        let t4363: f64 = t761 * t4331;
-        let t4364: f64 = t4362.minus(t4363);
-        let t4365 = product(t761, t4364);
-        let t4366: f64 = t768 * t4289;
-        let t4367: f64 = t4365.plus(t4366);
-        let t4368: f64 = t4315.plus(t4316);
-        let t4369: f64 = t4317.plus(t4367);
-        let t4370: f64 = t4368 + t4369;
-        let t4371: f64 = t4361.subtracted_from(t4370);
-        let t4372: f64 = t4371 * 2.0;
-        let t4373 = product(arm3_rod_mz, t4372);
-        let t4374 = product(t780, t3585);
-        let t4375 = product(t735, t4260);
-        let t4376: f64 = t4375.subtracted_from(t4354);
-        let t4377: f64 = arm3_crank_length * t4376;
-        let t4378 = product(t2524, t3555);
-        let t4379: f64 = t2508 * t3570;
-        let t4380 = product(t2506, t3579);
-        let t4381: f64 = t4374.plus(t4377);
-        let t4382: f64 = t4378.plus(t4379);
-        let t4383: f64 = t4381 + t4382;
-        let t4384: f64 = t4380.plus(t4383);
-        let t4385: f64 = -t4384;
-        let t4386: f64 = arm3_rod_mass * t4385;
-        let t4387: f64 = t4386 * 2.0;
-        let t4388: f64 = t4373.plus(t4387);
-        let t4389: f64 = t735 * t4388;
-        let t4390 = product(t720, t4250);
-        let t4391 = product(t726, t4230);
-        let t4392: f64 = t718 * t4240;
-        let t4393: f64 = t4391.plus(t4392);
-        let t4394: f64 = t4390.plus(t4393);
-        let t4395 = product(arm3_crank_length, t4394);
-        let t4396 = product(t790, t3520);
-        let t4397: f64 = t795 * t3530;
-        let t4398 = product(t785, t3534);
-        let t4399: f64 = t4396.plus(t4397);
-        let t4400: f64 = t4398.plus(t4399);
-        let t4401: f64 = t717 * t4400;
-        let t4402: f64 = t4395.minus(t4401);
-        let t4403 = product(t400, t3555);
-        let t4404: f64 = t404 * t3570;
-        let t4405 = product(t408, t3579);
-        let t4406 = product(t722, t4187);
-        let t4407: f64 = t728 * t4191;
-        let t4408 = product(t732, t4195);
-        let t4409: f64 = t4406.plus(t4407);
-        let t4410: f64 = t4408.plus(t4409);
-        let t4411: f64 = arm3_crank_length * t4410;
-        let t4412: f64 = t4403.plus(t4404);
-        let t4413: f64 = t4405.plus(t4411);
-        let t4414: f64 = t4412 + t4413;
-        let t4415 = product(t808, t4414);
-        let t4416: f64 = t1009 * t4347;
-        let t4417: f64 = t4415.minus(t4416);
-        let t4418: f64 = t4402 + t4417;
-        let t4419: f64 = t4418 * 2.0;
-        let t4420 = product(t698, t4419);
-        let t4421 = product(az, t4286);
-        let t4422 = product(ax, t3545);
-        let t4423: f64 = ay * t4279;
-        let t4424: f64 = t4422.plus(t4423);
-        let t4425: f64 = t4421.plus(t4424);
-        let t4426 = product(t768, t4307);
-        let t4427: f64 = t1023 * t4364;
-        let t4428: f64 = t4426.plus(t4427);
-        let t4429: f64 = t4425 - t4428;
-        let t4430: f64 = t4429 * 2.0;
-        let t4431: f64 = t4420.plus(t4430);
-        let t4432 = product(arm3_rod_mz, t4431);
-        let t4433 = product(t780, t3541);
-        let t4434 = product(t745, t4260);
-        let t4435: f64 = t4434.minus(t4394);
-        let t4436 = product(arm3_crank_length, t4435);
-        let t4437 = product(t2524, t3520);
-        let t4438: f64 = t2508 * t3530;
-        let t4439 = product(t2506, t3534);
-        let t4440: f64 = t4437.plus(t4438);
-        let t4441: f64 = t4439.plus(t4440);
-        let t4442: f64 = t717 * t4441;
-        let t4443: f64 = t4433.plus(t4442);
-        let t4444: f64 = t4436.minus(t4443);
-        let t4445: f64 = arm3_rod_mass * t4444;
-        let t4446: f64 = t4445 * 2.0;
-        let t4447: f64 = t4432.plus(t4446);
-        let t4448 = product(t745, t4447);
-        let t4449: f64 = t4167.plus(t4168);
-        let t4450: f64 = t4178.plus(t4449);
-        let t4451: f64 = t4314.plus(t4389);
-        let t4452: f64 = t4448.plus(t4451);
-        let t4453: f64 = t4450 - t4452;
-        let t4454: f64 = t737 * t4453;
-        let t4455: f64 = t2716 * t3278;
-        let t4456 = product(t2719, t3200);
-        let t4457: f64 = t2722 * t3196;
-        let t4458: f64 = t1069 * t3359;
-        let t4459 = product(t1068, t3755);
-        let t4460 = product(t428, t3842);
-        let t4461: f64 = t4460.added_to(t3849);
-        let t4462 = product(t497, t4461);
-        let t4463 = product(t866, t3755);
-        let t4464 = product(t1065, t3331);
-        let t4465 = product(t539, t3838);
-        let t4466: f64 = t857 * t3769;
-        let t4467: f64 = t4465.plus(t4466);
-        let t4468: f64 = t428 * t4467;
-        let t4469: f64 = t4464.minus(t4468);
-        let t4470: f64 = t1063 * t4469;
-        let t4471: f64 = t4463.plus(t4470);
-        let t4472: f64 = t4462.minus(t4471);
-        let t4473: f64 = t497 * t4472;
-        let t4474: f64 = t4459.plus(t4473);
-        let t4475: f64 = t4474 * 2.0;
-        let t4476 = product(t478, t4475);
-        let t4477: f64 = t4458 * 2.0;
-        let t4478: f64 = t4476.subtracted_from(t4477);
-        let t4479 = product(arm1_rod_izz, t4478);
-        let t4480: f64 = t1085 * t3452;
-        let t4481 = product(t1084, t4043);
-        let t4482 = product(t563, t4130);
-        let t4483: f64 = t4482.added_to(t4137);
-        let t4484 = product(t632, t4483);
-        let t4485 = product(t942, t4043);
-        let t4486 = product(t1081, t3424);
-        let t4487 = product(t674, t4126);
-        let t4488: f64 = t933 * t4057;
-        let t4489: f64 = t4487.plus(t4488);
-        let t4490: f64 = t563 * t4489;
-        let t4491: f64 = t4486.minus(t4490);
-        let t4492: f64 = t1079 * t4491;
-        let t4493: f64 = t4485.plus(t4492);
-        let t4494: f64 = t4484.minus(t4493);
-        let t4495: f64 = t632 * t4494;
-        let t4496: f64 = t4481.plus(t4495);
-        let t4497: f64 = t4496 * 2.0;
-        let t4498 = product(t613, t4497);
-        let t4499: f64 = t4480 * 2.0;
-        let t4500: f64 = t4498.subtracted_from(t4499);
-        let t4501: f64 = arm2_rod_izz * t4500;
-        let t4502: f64 = t1101 * t3545;
-        let t4503 = product(t1100, t4331);
-        let t4504 = product(t698, t4418);
-        let t4505: f64 = t4504.added_to(t4425);
-        let t4506 = product(t767, t4505);
-        let t4507 = product(t1018, t4331);
-        let t4508 = product(t1097, t3517);
-        let t4509 = product(t809, t4414);
-        let t4510: f64 = t1009 * t4345;
-        let t4511: f64 = t4509.plus(t4510);
-        let t4512: f64 = t698 * t4511;
-        let t4513: f64 = t4508.minus(t4512);
-        let t4514: f64 = t1095 * t4513;
-        let t4515: f64 = t4507.plus(t4514);
-        let t4516: f64 = t4506.minus(t4515);
-        let t4517: f64 = t767 * t4516;
-        let t4518: f64 = t4503.plus(t4517);
-        let t4519: f64 = t4518 * 2.0;
-        let t4520 = product(t748, t4519);
-        let t4521: f64 = t4502 * 2.0;
-        let t4522: f64 = t4520.subtracted_from(t4521);
-        let t4523 = product(arm3_rod_izz, t4522);
-        let t4524 = product(gravity_x, t3251);
-        let t4525: f64 = gravity_y * t3255;
-        let t4526 = product(gravity_z, t3259);
-        let t4527: f64 = t4524.plus(t4525);
-        let t4528: f64 = t4526.plus(t4527);
-        let t4529 = product(arm1_crank_mx, t4528);
-        let t4530: f64 = t3645 + t3684;
-        let t4531: f64 = arm1_crank_izz * t4530;
-        let t4532: f64 = t4529.plus(t4531);
-        let t4533 = product(t90, t4532);
-        let t4534 = product(arm1_rod_ixx, t3855);
-        let t4535: f64 = t3852 * 2.0;
-        let t4536: f64 = arm1_rod_izz * t4535;
-        let t4537: f64 = arm1_rod_mz * t3868;
-        let t4538 = product(t4537, 2.0);
-        let t4539: f64 = t4534.plus(t4536);
+        let t4361 = product(t294, t4360);
+        let t4362: f64 = t66 * t4183;
+        let t4363: f64 = t4361.plus(t4362);
+        let t4364: f64 = t4340.plus(t4344);
+        let t4365: f64 = t4363 - t4364;
+        let t4366: f64 = arm1_crank_length * t4365;
+        let t4367: f64 = t4339.plus(t4366);
+        let t4368: f64 = -t4367;
+        let t4369: f64 = arm1_zero_y * t4368;
+        let t4370 = product(t280, t2849);
+        let t4371 = product(t300, t4186);
+        let t4372: f64 = t324 * t4199;
+        let t4373 = product(t314, t4246);
+        let t4374: f64 = t73 * t4183;
+        let t4375 = product(t391, t3143);
+        let t4376: f64 = t346 * t4075;
+        let t4377: f64 = t4375.minus(t4376);
+        let t4378: f64 = arm1_crank_length * t4377;
+        let t4379: f64 = t4371.plus(t4372);
+        let t4380: f64 = t4373.plus(t4378);
+        let t4381: f64 = t4379 + t4380;
+        let t4382: f64 = t4370.plus(t4374);
+        let t4383: f64 = t4381 - t4382;
+        let t4384: f64 = t18 * t4383;
+        let t4385 = product(t280, t2865);
+        let t4386 = product(t297, t4186);
+        let t4387: f64 = t318 * t4199;
+        let t4388 = product(t322, t4246);
+        let t4389: f64 = t59 * t4183;
+        let t4390 = product(t391, t3151);
+        let t4391: f64 = t346 * t4082;
+        let t4392: f64 = t4390.minus(t4391);
+        let t4393: f64 = arm1_crank_length * t4392;
+        let t4394: f64 = t4386.plus(t4387);
+        let t4395: f64 = t4388.plus(t4393);
+        let t4396: f64 = t4394 + t4395;
+        let t4397: f64 = t4385.plus(t4389);
+        let t4398: f64 = t4396 - t4397;
+        let t4399 = product(t14, t4398);
+        let t4400 = product(t2882, t3156);
+        let t4401 = product(t1420, t3156);
+        let t4402: f64 = t4401.added_to(t3150);
+        let t4403: f64 = t3149 + t4402;
+        let t4404 = product(t376, t4403);
+        let t4405 = product(t62, t4183);
+        let t4406 = product(t62, t4186);
+        let t4407: f64 = t314 * t4275;
+        let t4408 = product(t316, t4206);
+        let t4409 = product(arm1_axis_x, t4227);
+        let t4410: f64 = arm1_axis_y * t4350;
+        let t4411 = product(arm1_axis_z, t4301);
+        let t4412: f64 = t4409.plus(t4410);
+        let t4413: f64 = t4411.subtracted_from(t4412);
+        let t4414: f64 = t313 * t4413;
+        let t4415 = product(t2899, t4309);
+        let t4416: f64 = t4408.plus(t4414);
+        let t4417: f64 = t4415.plus(t4416);
+        let t4418: f64 = t4406.plus(t4407);
+        let t4419: f64 = t4417 - t4418;
+        let t4420 = product(t294, t4419);
+        let t4421: f64 = t89 * t4153;
+        let t4422: f64 = t4420.plus(t4421);
+        let t4423: f64 = t4405.plus(t4422);
+        let t4424: f64 = t4404.subtracted_from(t4423);
+        let t4425: f64 = arm1_crank_length * t4424;
+        let t4426: f64 = t4400.plus(t4425);
+        let t4427: f64 = -t4426;
+        let t4428 = product(arm1_zero_x, t4427);
+        let t4429: f64 = t4323.plus(t4369);
+        let t4430: f64 = t4428.plus(t4429);
+        let t4431: f64 = t4338.plus(t4384);
+        let t4432: f64 = t4399.plus(t4431);
+        let t4433: f64 = t4430 - t4432;
+        let t4434 = product(t10, t4433);
+        let t4435 = product(t25, t4433);
+        let t4436 = product(t22, t4322);
+        let t4437: f64 = arm1_zero_z * t4337;
+        let t4438 = product(t18, t4368);
+        let t4439: f64 = arm1_zero_y * t4383;
+        let t4440 = product(arm1_zero_x, t4398);
+        let t4441: f64 = t14 * t4427;
+        let t4442: f64 = t4436.plus(t4437);
+        let t4443: f64 = t4438.plus(t4439);
+        let t4444: f64 = t4440.plus(t4441);
+        let t4445: f64 = t4442 + t4443;
+        let t4446: f64 = t4444 + t4445;
+        let t4447: f64 = t10 * t4446;
+        let t4448: f64 = t4435.minus(t4447);
+        let t4449: f64 = t2936 * t4448;
+        let t4450 = product(t25, t4446);
+        let t4451: f64 = t4434.plus(t4449);
+        let t4452: f64 = t4450.plus(t4451);
+        let t4453: f64 = t4452 * 0.5;
+        let t4454 = product(t2943, t4453);
+        let t4455: f64 = t2946 * t4448;
+        let t4456 = product(t47, t4433);
+        let t4457: f64 = t52 * t4446;
+        let t4458: f64 = t4456.plus(t4457);
+        let t4459 = product(t2948, t4458);
+        let t4460: f64 = t4455 * 0.5;
+        let t4461: f64 = t4459.plus(t4460);
+        let t4462: f64 = t25 * t4461;
+        let t4463 = product(t45, t4433);
+        let t4464: f64 = t40 * t4446;
+        let t4465: f64 = t4463.minus(t4464);
+        let t4466 = product(t28, t4465);
+        let t4467: f64 = t4462 * 2.0;
+        let t4468: f64 = t4466.plus(t4467);
+        let t4469: f64 = t14 * t4468;
+        let t4470: f64 = t10 * t4461;
+        let t4471 = product(t40, t4433);
+        let t4472: f64 = t45 * t4446;
+        let t4473: f64 = t4471.plus(t4472);
+        let t4474 = product(t28, t4473);
+        let t4475: f64 = t4470 * 2.0;
+        let t4476: f64 = t4474.minus(t4475);
+        let t4477 = product(arm1_zero_x, t4476);
+        let t4478: f64 = t3574.plus(t4014);
+        let t4479: f64 = t4454.plus(t4478);
+        let t4480 = product(t4479, 2.0);
+        let t4481: f64 = t3597.plus(t4037);
+        let t4482: f64 = t4477.added_to(t3543);
+        let t4483: f64 = t3983 + t4423;
+        let t4484: f64 = t4481 + t4482;
+        let t4485: f64 = t4480.plus(t4483);
+        let t4486: f64 = t4484 + t4485;
+        let t4487: f64 = t3045.plus(t3101);
+        let t4488: f64 = t3157.plus(t3589);
+        let t4489: f64 = t4029.plus(t4469);
+        let t4490: f64 = t4487 + t4488;
+        let t4491: f64 = t4489 + t4490;
+        let t4492: f64 = t4486 - t4491;
+        let t4493: f64 = t1145 * t4492;
+        let t4494 = product(arm3_crank_izz, t272);
+        let t4495: f64 = t706 * t1232;
+        let t4496: f64 = t960 * t4495;
+        let t4497: f64 = arm3_rod_mass * t706;
+        let t4498: f64 = t665 * t4497;
+        let t4499: f64 = t708 * 2.0;
+        let t4500 = product(arm3_rod_mz, t4499);
+        let t4501: f64 = arm3_rod_mz * t706;
+        let t4502: f64 = t665 * t4501;
+        let t4503 = product(arm3_rod_ixx, t4499);
+        let t4504: f64 = t4502 * 2.0;
+        let t4505: f64 = t4503.plus(t4504);
+        let t4506 = product(t628, t4505);
+        let t4507: f64 = t4498 * 2.0;
+        let t4508: f64 = t4500.plus(t4507);
+        let t4509: f64 = t4506.subtracted_from(t4508);
+        let t4510 = product(t662, t4509);
+        let t4511 = product(t759, t3007);
+        let t4512 = product(arm3_rod_ixx, t759);
+        let t4513: f64 = t706 * t1253;
+        let t4514: f64 = t4512.plus(t4513);
+        let t4515: f64 = t4511.plus(t4514);
+        let t4516: f64 = t4515 * 2.0;
+        let t4517 = product(t628, t4516);
+        let t4518 = product(t706, t1259);
+        let t4519: f64 = arm3_rod_mz * t759;
+        let t4520: f64 = t4518.plus(t4519);
+        let t4521: f64 = t4520 * 2.0;
+        let t4522: f64 = t4517.subtracted_from(t4521);
+        let t4523: f64 = t650 * t4522;
+        let t4524: f64 = t4510.plus(t4523);
+        let t4525: f64 = t4496 * 2.0;
+        let t4526: f64 = t4524 + t4525;
+        let t4527 = product(t266, t4526);
+        let t4528: f64 = t706 * t1270;
+        let t4529: f64 = t960 * t4528;
+        let t4530 = product(t658, t4509);
+        let t4531: f64 = t648 * t4522;
+        let t4532: f64 = t4530.plus(t4531);
+        let t4533: f64 = t4529 * 2.0;
+        let t4534: f64 = t4532 + t4533;
+        let t4535: f64 = t255 * t4534;
+        let t4536: f64 = t706 * t1279;
+        let t4537: f64 = t960 * t4536;
+        let t4538 = product(t652, t4509);
+        let t4539: f64 = t656 * t4522;
         let t4540: f64 = t4538.plus(t4539);
-        let t4541: f64 = t478 * t4540;
-        let t4542 = product(arm1_rod_ixx, t3796);
-        let t4543: f64 = t3791 * 2.0;
-        let t4544 = product(arm1_rod_izz, t4543);
-        let t4545: f64 = arm1_rod_mz * t3809;
-        let t4546: f64 = t4545 * 2.0;
-        let t4547: f64 = t4542.plus(t4546);
-        let t4548: f64 = t4544.minus(t4547);
-        let t4549: f64 = t469 * t4548;
-        let t4550 = product(gravity_x, t3085);
-        let t4551: f64 = gravity_y * t3089;
-        let t4552 = product(gravity_z, t3093);
-        let t4553: f64 = t4550.plus(t4551);
-        let t4554: f64 = t4552.plus(t4553);
-        let t4555 = product(arm2_crank_mx, t4554);
-        let t4556: f64 = t3933 + t3972;
-        let t4557: f64 = arm2_crank_izz * t4556;
-        let t4558: f64 = t4555.plus(t4557);
-        let t4559 = product(t279, t4558);
-        let t4560 = product(arm2_rod_ixx, t4143);
-        let t4561: f64 = t4140 * 2.0;
-        let t4562: f64 = arm2_rod_izz * t4561;
-        let t4563: f64 = arm2_rod_mz * t4156;
-        let t4564 = product(t4563, 2.0);
-        let t4565: f64 = t4560.plus(t4562);
-        let t4566: f64 = t4564.plus(t4565);
-        let t4567: f64 = t613 * t4566;
-        let t4568 = product(arm2_rod_ixx, t4084);
-        let t4569: f64 = t4079 * 2.0;
-        let t4570 = product(arm2_rod_izz, t4569);
-        let t4571: f64 = arm2_rod_mz * t4097;
-        let t4572: f64 = t4571 * 2.0;
-        let t4573: f64 = t4568.plus(t4572);
-        let t4574: f64 = t4570.minus(t4573);
-        let t4575 = product(t604, t4574);
-        let t4576 = product(gravity_x, t3151);
-        let t4577: f64 = gravity_y * t3155;
-        let t4578 = product(gravity_z, t3159);
-        let t4579: f64 = t4576.plus(t4577);
-        let t4580: f64 = t4578.plus(t4579);
-        let t4581 = product(arm3_crank_mx, t4580);
-        let t4582: f64 = t4221 + t4260;
-        let t4583: f64 = arm3_crank_izz * t4582;
-        let t4584: f64 = t4581.plus(t4583);
-        let t4585 = product(t286, t4584);
-        let t4586 = product(arm3_rod_ixx, t4431);
-        let t4587: f64 = t4428 * 2.0;
-        let t4588: f64 = arm3_rod_izz * t4587;
-        let t4589: f64 = arm3_rod_mz * t4444;
-        let t4590 = product(t4589, 2.0);
-        let t4591: f64 = t4586.plus(t4588);
-        let t4592: f64 = t4590.plus(t4591);
-        let t4593: f64 = t748 * t4592;
-        let t4594 = product(arm3_rod_ixx, t4372);
-        let t4595: f64 = t4367 * 2.0;
-        let t4596 = product(arm3_rod_izz, t4595);
-        let t4597: f64 = arm3_rod_mz * t4385;
-        let t4598: f64 = t4597 * 2.0;
-        let t4599: f64 = t4594.plus(t4598);
-        let t4600: f64 = t4596.minus(t4599);
-        let t4601: f64 = t739 * t4600;
-        let t4602: f64 = t3360.plus(t3453);
-        let t4603: f64 = t3546.plus(t4455);
-        let t4604: f64 = t4456.plus(t4457);
-        let t4605: f64 = t4533.plus(t4541);
-        let t4606: f64 = t4559.plus(t4567);
-        let t4607: f64 = t4585.plus(t4593);
-        let t4608: f64 = t4602 + t4603;
-        let t4609: f64 = t4604 + t4605;
-        let t4610: f64 = t4606 + t4607;
-        let t4611: f64 = t4608 + t4609;
-        let t4612: f64 = t4610 + t4611;
-        let t4613: f64 = t3404.plus(t3497);
-        let t4614: f64 = t3590.plus(t3878);
-        let t4615: f64 = t4166.plus(t4454);
-        let t4616: f64 = t4479.plus(t4501);
-        let t4617: f64 = t4523.plus(t4549);
-        let t4618: f64 = t4575.plus(t4601);
-        let t4619: f64 = t4613 + t4614;
-        let t4620: f64 = t4615 + t4616;
-        let t4621: f64 = t4617 + t4618;
-        let t4622: f64 = t4619 + t4620;
-        let t4623: f64 = t4621 + t4622;
-        let t4624: f64 = t4612 - t4623;
-        let t4625: f64 = t277 * t4624;
-        let t4626 = product(t1525, t3703);
-        let t4627 = product(t561, t3721);
-        let t4628: f64 = t1629 * t3991;
-        let t4629: f64 = t696 * t4009;
-        let t4630 = product(t1733, t4279);
-        let t4631 = product(t831, t4297);
-        let t4632: f64 = t481 * t3877;
-        let t4633 = product(t616, t4165);
-        let t4634: f64 = t751 * t4453;
-        let t4635: f64 = t2719 * t3113;
-        let t4636 = product(t2722, t3187);
-        let t4637: f64 = t2716 * t3285;
-        let t4638: f64 = t2904 * t3755;
-        let t4639 = product(t1068, t3703);
-        let t4640: f64 = t483 * t4472;
-        let t4641: f64 = t4639.minus(t4640);
-        let t4642: f64 = t4641 * 2.0;
-        let t4643 = product(t497, t4642);
-        let t4644: f64 = t4638 * 2.0;
-        let t4645: f64 = t4643.subtracted_from(t4644);
-        let t4646 = product(arm1_rod_izz, t4645);
-        let t4647: f64 = t2914 * t4043;
-        let t4648 = product(t1084, t3991);
-        let t4649: f64 = t618 * t4494;
-        let t4650: f64 = t4648.minus(t4649);
-        let t4651: f64 = t4650 * 2.0;
-        let t4652 = product(t632, t4651);
-        let t4653: f64 = t4647 * 2.0;
-        let t4654: f64 = t4652.subtracted_from(t4653);
-        let t4655: f64 = arm2_rod_izz * t4654;
-        let t4656: f64 = t2924 * t4331;
-        let t4657 = product(t1100, t4279);
-        let t4658: f64 = t753 * t4516;
-        let t4659: f64 = t4657.minus(t4658);
-        let t4660: f64 = t4659 * 2.0;
-        let t4661 = product(t767, t4660);
-        let t4662: f64 = t4656 * 2.0;
-        let t4663: f64 = t4661.subtracted_from(t4662);
-        let t4664 = product(arm3_rod_izz, t4663);
-        let t4665: f64 = t280 * t4532;
-        let t4666 = product(t483, t4540);
-        let t4667 = product(t544, t4548);
-        let t4668: f64 = t181 * t4558;
-        let t4669 = product(t618, t4566);
-        let t4670: f64 = t679 * t4574;
-        let t4671: f64 = t275 * t4584;
-        let t4672 = product(t753, t4592);
-        let t4673 = product(t814, t4600);
-        let t4674: f64 = t4626.plus(t4628);
-        let t4675: f64 = t4630.plus(t4635);
-        let t4676: f64 = t4636.plus(t4637);
-        let t4677: f64 = t4646.plus(t4655);
-        let t4678: f64 = t4664.plus(t4665);
-        let t4679: f64 = t4666.plus(t4668);
-        let t4680: f64 = t4669.plus(t4671);
-        let t4681: f64 = t4674 + t4675;
-        let t4682: f64 = t4676 + t4677;
-        let t4683: f64 = t4678 + t4679;
-        let t4684: f64 = t4672.plus(t4680);
-        let t4685: f64 = t4681 + t4682;
-        let t4686: f64 = t4683 + t4684;
-        let t4687: f64 = t4685 + t4686;
-        let t4688: f64 = t4627.plus(t4629);
-        let t4689: f64 = t4631.plus(t4632);
-        let t4690: f64 = t4633.plus(t4634);
-        let t4691: f64 = t4667.plus(t4670);
-        let t4692: f64 = t4688 + t4689;
-        let t4693: f64 = t4690 + t4691;
-        let t4694: f64 = t4692 + t4693;
-        let t4695: f64 = t4673.plus(t4694);
-        let t4696: f64 = t4687 - t4695;
-        let t4697 = product(t1124, t4696);
-        let t4698 = product(t1525, t3710);
-        let t4699 = product(t561, t3728);
-        let t4700: f64 = t1629 * t3998;
-        let t4701: f64 = t696 * t4016;
-        let t4702 = product(t1733, t4286);
-        let t4703 = product(t831, t4304);
-        let t4704: f64 = t486 * t3877;
-        let t4705 = product(t621, t4165);
-        let t4706: f64 = t756 * t4453;
-        let t4707: f64 = t2722 * t3178;
-        let t4708 = product(t2719, t3182);
-        let t4709: f64 = t2716 * t3290;
-        let t4710: f64 = t2979 * t3755;
-        let t4711 = product(t1068, t3710);
-        let t4712: f64 = t488 * t4472;
-        let t4713: f64 = t4711.minus(t4712);
-        let t4714: f64 = t4713 * 2.0;
-        let t4715 = product(t497, t4714);
-        let t4716: f64 = t4710 * 2.0;
-        let t4717: f64 = t4715.subtracted_from(t4716);
-        let t4718 = product(arm1_rod_izz, t4717);
-        let t4719: f64 = t2989 * t4043;
-        let t4720 = product(t1084, t3998);
-        let t4721: f64 = t623 * t4494;
-        let t4722: f64 = t4720.minus(t4721);
-        let t4723: f64 = t4722 * 2.0;
-        let t4724 = product(t632, t4723);
-        let t4725: f64 = t4719 * 2.0;
-        let t4726: f64 = t4724.subtracted_from(t4725);
-        let t4727: f64 = arm2_rod_izz * t4726;
-        let t4728: f64 = t2999 * t4331;
-        let t4729 = product(t1100, t4286);
-        let t4730: f64 = t758 * t4516;
-        let t4731: f64 = t4729.minus(t4730);
-        let t4732: f64 = t4731 * 2.0;
-        let t4733 = product(t767, t4732);
-        let t4734: f64 = t4728 * 2.0;
-        let t4735: f64 = t4733.subtracted_from(t4734);
-        let t4736 = product(arm3_rod_izz, t4735);
-        let t4737: f64 = t282 * t4532;
-        let t4738 = product(t488, t4540);
-        let t4739 = product(t548, t4548);
-        let t4740: f64 = t274 * t4558;
-        let t4741 = product(t623, t4566);
-        let t4742: f64 = t683 * t4574;
-        let t4743: f64 = t272 * t4584;
-        let t4744 = product(t758, t4592);
-        let t4745 = product(t818, t4600);
-        let t4746: f64 = t4698.plus(t4700);
-        let t4747: f64 = t4702.plus(t4707);
-        let t4748: f64 = t4708.plus(t4709);
-        let t4749: f64 = t4718.plus(t4727);
-        let t4750: f64 = t4736.plus(t4737);
-        let t4751: f64 = t4738.plus(t4740);
-        let t4752: f64 = t4741.plus(t4743);
-        let t4753: f64 = t4746 + t4747;
-        let t4754: f64 = t4748 + t4749;
-        let t4755: f64 = t4750 + t4751;
-        let t4756: f64 = t4744.plus(t4752);
-        let t4757: f64 = t4753 + t4754;
-        let t4758: f64 = t4755 + t4756;
-        let t4759: f64 = t4757 + t4758;
-        let t4760: f64 = t4699.plus(t4701);
-        let t4761: f64 = t4703.plus(t4704);
-        let t4762: f64 = t4705.plus(t4706);
-        let t4763: f64 = t4739.plus(t4742);
-        let t4764: f64 = t4760 + t4761;
-        let t4765: f64 = t4762 + t4763;
-        let t4766: f64 = t4764 + t4765;
-        let t4767: f64 = t4745.plus(t4766);
-        let t4768: f64 = t4759 - t4767;
-        let t4769: f64 = t1154 * t4768;
-        let t4770: f64 = t3192.plus(t3206);
-        let t4771: f64 = t3214.plus(t4625);
-        let t4772: f64 = t4697.plus(t4769);
-        let t4773: f64 = t4770 + t4771;
-        let t4774: f64 = t4772 + t4773;
-        let t4775: f64 = t3311.subtracted_from(t4774);
-        let t4776: f64 = t293 * t4775;
-        let t4777 = product(arm2_zero_z, t101);
-        let t4778: f64 = t113 * t116;
-        let t4779: f64 = t4777.plus(t4778);
-        let t4780: f64 = t4779 * 2.0;
-        let t4781 = product(t1215, t4780);
-        let t4782 = product(arm2_zero_z, t131);
-        let t4783: f64 = t98 * t120;
-        let t4784: f64 = t101 * t4783;
-        let t4785 = product(t113, t136);
-        let t4786 = product(t131, t4783);
-        let t4787: f64 = t4786.subtracted_from(t4779);
-        let t4788: f64 = t4787 * 2.0;
-        let t4789: f64 = t1226 * t4788;
-        let t4790: f64 = t4789 * 0.5;
-        let t4791: f64 = t4782.plus(t4784);
-        let t4792: f64 = t4785.plus(t4790);
-        let t4793: f64 = t4791 - t4792;
-        let t4794: f64 = t119 * t4793;
-        let t4795: f64 = t4781.minus(t4794);
-        let t4796 = product(arm2_zero_y, t4795);
-        let t4797 = product(t1235, t4780);
-        let t4798 = product(t113, t131);
-        let t4799: f64 = t116 * t4783;
-        let t4800 = product(arm2_zero_z, t136);
-        let t4801: f64 = t1241 * t4788;
-        let t4802: f64 = t4801 * 0.5;
-        let t4803: f64 = t4798.plus(t4799);
-        let t4804: f64 = t4800.plus(t4802);
-        let t4805: f64 = t4803 + t4804;
-        let t4806: f64 = t119 * t4805;
-        let t4807: f64 = t4797.minus(t4806);
-        let t4808: f64 = t109 * t4807;
-        let t4809: f64 = t4796.plus(t4808);
-        let t4810 = product(t1251, t4809);
-        let t4811 = product(t105, t4795);
-        let t4812: f64 = arm2_zero_x * t4807;
-        let t4813: f64 = t4811.minus(t4812);
-        let t4814 = product(t157, t4813);
-        let t4815 = product(t109, t4795);
-        let t4816: f64 = arm2_zero_y * t4807;
-        let t4817: f64 = t4815.minus(t4816);
-        let t4818: f64 = t150 * t4817;
-        let t4819 = product(t113, t4795);
-        let t4820: f64 = arm2_zero_z * t4807;
-        let t4821: f64 = t4819.minus(t4820);
-        let t4822 = product(t175, t4821);
-        let t4823 = product(arm2_zero_z, t4795);
-        let t4824: f64 = t113 * t4807;
-        let t4825: f64 = t4823.plus(t4824);
-        let t4826 = product(t168, t4825);
-        let t4827 = product(arm2_zero_x, t4795);
-        let t4828: f64 = t105 * t4807;
-        let t4829: f64 = t4827.plus(t4828);
-        let t4830 = product(t160, t4829);
-        let t4831: f64 = t164 * t4809;
-        let t4832: f64 = t4830.plus(t4831);
-        let t4833: f64 = t4826.plus(t4832);
-        let t4834 = product(arm2_crank_length, t4833);
-        let t4835: f64 = t4834.added_to(t168);
-        let t4836: f64 = t4814.plus(t4818);
-        let t4837: f64 = t4822.plus(t4836);
-        let t4838: f64 = t4835 - t4837;
-        let t4839: f64 = t1283 * t4838;
-        let t4840: f64 = t4810.minus(t4839);
-        let t4841 = product(t272, t4840);
-        let t4842 = product(arm3_zero_z, t192);
-        let t4843: f64 = t204 * t207;
-        let t4844: f64 = t4842.plus(t4843);
-        let t4845: f64 = t4844 * 2.0;
-        let t4846 = product(t1292, t4845);
-        let t4847 = product(arm3_zero_z, t222);
-        let t4848: f64 = t189 * t211;
-        let t4849: f64 = t192 * t4848;
-        let t4850 = product(t204, t227);
-        let t4851 = product(t222, t4848);
-        let t4852: f64 = t4851.subtracted_from(t4844);
-        let t4853: f64 = t4852 * 2.0;
-        let t4854: f64 = t1303 * t4853;
-        let t4855: f64 = t4854 * 0.5;
-        let t4856: f64 = t4847.plus(t4849);
-        let t4857: f64 = t4850.plus(t4855);
-        let t4858: f64 = t4856 - t4857;
-        let t4859: f64 = t210 * t4858;
-        let t4860: f64 = t4846.minus(t4859);
-        let t4861 = product(arm3_zero_z, t4860);
-        let t4862 = product(t1312, t4845);
-        let t4863 = product(t204, t222);
-        let t4864: f64 = t207 * t4848;
-        let t4865 = product(arm3_zero_z, t227);
-        let t4866: f64 = t1318 * t4853;
-        let t4867: f64 = t4866 * 0.5;
-        let t4868: f64 = t4863.plus(t4864);
-        let t4869: f64 = t4865.plus(t4867);
-        let t4870: f64 = t4868 + t4869;
-        let t4871: f64 = t210 * t4870;
-        let t4872: f64 = t4862.minus(t4871);
-        let t4873: f64 = t204 * t4872;
-        let t4874: f64 = t4861.plus(t4873);
-        let t4875 = product(t1328, t4874);
-        let t4876 = product(t196, t4860);
-        let t4877: f64 = arm3_zero_x * t4872;
+        let t4541: f64 = t4537 * 2.0;
+        let t4542: f64 = t4540 + t4541;
+        let t4543 = product(t251, t4542);
+        let t4544: f64 = t4527.plus(t4535);
+        let t4545: f64 = t4543.plus(t4544);
+        let t4546: f64 = arm3_crank_length * t4545;
+        let t4547: f64 = t4494.plus(t4546);
+        let t4548 = product(t1293, t4547);
+        let t4549 = product(arm2_crank_izz, t274);
+        let t4550: f64 = t539 * t1296;
+        let t4551: f64 = t879 * t4550;
+        let t4552: f64 = arm2_rod_mass * t539;
+        let t4553: f64 = t498 * t4552;
+        let t4554: f64 = t541 * 2.0;
+        let t4555 = product(arm2_rod_mz, t4554);
+        let t4556: f64 = arm2_rod_mz * t539;
+        let t4557: f64 = t498 * t4556;
+        let t4558 = product(arm2_rod_ixx, t4554);
+        let t4559: f64 = t4557 * 2.0;
+        let t4560: f64 = t4558.plus(t4559);
+        let t4561 = product(t461, t4560);
+        let t4562: f64 = t4553 * 2.0;
+        let t4563: f64 = t4555.plus(t4562);
+        let t4564: f64 = t4561.subtracted_from(t4563);
+        let t4565 = product(t495, t4564);
+        let t4566 = product(t592, t3063);
+        let t4567 = product(arm2_rod_ixx, t592);
+        let t4568: f64 = t539 * t1317;
+        let t4569: f64 = t4567.plus(t4568);
+        let t4570: f64 = t4566.plus(t4569);
+        let t4571: f64 = t4570 * 2.0;
+        let t4572 = product(t461, t4571);
+        let t4573 = product(t539, t1323);
+        let t4574: f64 = arm2_rod_mz * t592;
+        let t4575: f64 = t4573.plus(t4574);
+        let t4576: f64 = t4575 * 2.0;
+        let t4577: f64 = t4572.subtracted_from(t4576);
+        let t4578: f64 = t483 * t4577;
+        let t4579: f64 = t4565.plus(t4578);
+        let t4580: f64 = t4551 * 2.0;
+        let t4581: f64 = t4579 + t4580;
+        let t4582 = product(t168, t4581);
+        let t4583: f64 = t539 * t1334;
+        let t4584: f64 = t879 * t4583;
+        let t4585 = product(t491, t4564);
+        let t4586: f64 = t481 * t4577;
+        let t4587: f64 = t4585.plus(t4586);
+        let t4588: f64 = t4584 * 2.0;
+        let t4589: f64 = t4587 + t4588;
+        let t4590: f64 = t164 * t4589;
+        let t4591: f64 = t539 * t1343;
+        let t4592: f64 = t879 * t4591;
+        let t4593 = product(t485, t4564);
+        let t4594: f64 = t489 * t4577;
+        let t4595: f64 = t4593.plus(t4594);
+        let t4596: f64 = t4592 * 2.0;
+        let t4597: f64 = t4595 + t4596;
+        let t4598 = product(t160, t4597);
+        let t4599: f64 = t4582.plus(t4590);
+        let t4600: f64 = t4598.plus(t4599);
+        let t4601: f64 = arm2_crank_length * t4600;
+        let t4602: f64 = t4549.plus(t4601);
+        let t4603: f64 = t1357 * t4602;
+        let t4604 = product(arm1_crank_izz, t282);
+        let t4605: f64 = t372 * t1360;
+        let t4606: f64 = t799 * t4605;
+        let t4607: f64 = arm1_rod_mass * t372;
+        let t4608: f64 = t331 * t4607;
+        let t4609: f64 = t374 * 2.0;
+        let t4610 = product(arm1_rod_mz, t4609);
+        let t4611: f64 = arm1_rod_mz * t372;
+        let t4612: f64 = t331 * t4611;
+        let t4613 = product(arm1_rod_ixx, t4609);
+        let t4614: f64 = t4612 * 2.0;
+        let t4615: f64 = t4613.plus(t4614);
+        let t4616 = product(t294, t4615);
+        let t4617: f64 = t4608 * 2.0;
+        let t4618: f64 = t4610.plus(t4617);
+        let t4619: f64 = t4616.subtracted_from(t4618);
+        let t4620 = product(t328, t4619);
+        let t4621 = product(t425, t3119);
+        let t4622 = product(arm1_rod_ixx, t425);
+        let t4623: f64 = t372 * t1381;
+        let t4624: f64 = t4622.plus(t4623);
+        let t4625: f64 = t4621.plus(t4624);
+        let t4626: f64 = t4625 * 2.0;
+        let t4627 = product(t294, t4626);
+        let t4628 = product(t372, t1387);
+        let t4629: f64 = arm1_rod_mz * t425;
+        let t4630: f64 = t4628.plus(t4629);
+        let t4631: f64 = t4630 * 2.0;
+        let t4632: f64 = t4627.subtracted_from(t4631);
+        let t4633: f64 = t316 * t4632;
+        let t4634: f64 = t4620.plus(t4633);
+        let t4635: f64 = t4606 * 2.0;
+        let t4636: f64 = t4634 + t4635;
+        let t4637 = product(t77, t4636);
+        let t4638: f64 = t372 * t1398;
+        let t4639: f64 = t799 * t4638;
+        let t4640 = product(t324, t4619);
+        let t4641: f64 = t314 * t4632;
+        let t4642: f64 = t4640.plus(t4641);
+        let t4643: f64 = t4639 * 2.0;
+        let t4644: f64 = t4642 + t4643;
+        let t4645: f64 = t66 * t4644;
+        let t4646: f64 = t372 * t1407;
+        let t4647: f64 = t799 * t4646;
+        let t4648 = product(t318, t4619);
+        let t4649: f64 = t322 * t4632;
+        let t4650: f64 = t4648.plus(t4649);
+        let t4651: f64 = t4647 * 2.0;
+        let t4652: f64 = t4650 + t4651;
+        let t4653 = product(t62, t4652);
+        let t4654: f64 = t4637.plus(t4645);
+        let t4655: f64 = t4653.plus(t4654);
+        let t4656: f64 = arm1_crank_length * t4655;
+        let t4657: f64 = t4604.plus(t4656);
+        let t4658 = product(t1421, t4657);
+        let t4659 = product(t1540, t4547);
+        let t4660: f64 = t1424 * t4497;
+        let t4661 = product(t665, t4508);
+        let t4662: f64 = t756 * t4521;
+        let t4663: f64 = t4660 * 2.0;
+        let t4664: f64 = t4661.plus(t4663);
+        let t4665: f64 = t4662 + t4664;
+        let t4666 = product(az, t4665);
+        let t4667: f64 = t706 * t1434;
+        let t4668: f64 = t960 * t4667;
+        let t4669: f64 = arm3_rod_izz * t759;
+        let t4670: f64 = t4514 - t4669;
+        let t4671: f64 = t4670 * 2.0;
+        let t4672 = product(t771, t4671);
+        let t4673: f64 = t4668 * 4.0;
+        let t4674: f64 = t4672.plus(t4673);
+        let t4675 = product(vz, t4674);
+        let t4676 = product(az, t4505);
+        let t4677: f64 = t4676.minus(t1432);
+        let t4678: f64 = t4675.minus(t4677);
+        let t4679: f64 = t1445 + t4678;
+        let t4680: f64 = t666 * t4679;
+        let t4681: f64 = t770 * t4501;
+        let t4682: f64 = t960 * t4681;
+        let t4683 = product(t1450, t4499);
+        let t4684: f64 = t4683.added_to(t4504);
+        let t4685 = product(t771, t4684);
+        let t4686 = product(t980, t4671);
+        let t4687: f64 = t770 * t4684;
+        let t4688: f64 = t4686.minus(t4687);
+        let t4689 = product(t675, t4688);
+        let t4690: f64 = t4682 * 4.0;
+        let t4691: f64 = t4689.plus(t4690);
+        let t4692: f64 = t4685.subtracted_from(t4691);
+        let t4693 = product(vz, t4692);
+        let t4694 = product(az, t4516);
+        let t4695: f64 = t4694.added_to(t1083);
+        let t4696: f64 = t1082 + t4695;
+        let t4697: f64 = t4693.subtracted_from(t4696);
+        let t4698 = product(t757, t4697);
+        let t4699: f64 = t4666.plus(t4680);
+        let t4700: f64 = t1034 + t4699;
+        let t4701: f64 = t4698.subtracted_from(t4700);
+        let t4702 = product(arm3_crank_length, t4701);
+        let t4703 = product(t272, t1548);
+        let t4704: f64 = t1475 * t4547;
+        let t4705: f64 = t1477 * t4547;
+        let t4706: f64 = t759 * t3166;
+        let t4707: f64 = t697 * t4706;
+        let t4708 = product(t696, t4516);
+        let t4709: f64 = t4707 * 2.0;
+        let t4710: f64 = t4708.plus(t4709);
+        let t4711 = product(t705, t4710);
+        let t4712 = product(t696, t4505);
+        let t4713: f64 = t697 * t4505;
+        let t4714 = product(t1490, t4669);
+        let t4715: f64 = t4514 * 2.0;
+        let t4716: f64 = t4714.plus(t4715);
+        let t4717 = product(t1019, t4716);
+        let t4718: f64 = t4717.subtracted_from(t4713);
+        let t4719: f64 = t675 * t4718;
+        let t4720: f64 = t4712.plus(t4719);
+        let t4721: f64 = t628 * t4720;
+        let t4722: f64 = -t4721;
+        let t4723: f64 = t650 * t4722;
+        let t4724: f64 = t4711.plus(t4723);
+        let t4725 = product(t4705, 2.0);
+        let t4726: f64 = t4725.added_to(t4724);
+        let t4727 = product(t266, t4726);
+        let t4728: f64 = t1505 * t4547;
+        let t4729 = product(t700, t4710);
+        let t4730: f64 = t648 * t4722;
+        let t4731: f64 = t4729.plus(t4730);
+        let t4732 = product(t4728, 2.0);
+        let t4733: f64 = t4732.added_to(t4731);
+        let t4734: f64 = t255 * t4733;
+        let t4735: f64 = t1513 * t4547;
+        let t4736 = product(t653, t4710);
+        let t4737: f64 = t656 * t4722;
+        let t4738: f64 = t4736.plus(t4737);
+        let t4739 = product(t4735, 2.0);
+        let t4740: f64 = t4739.added_to(t4738);
+        let t4741 = product(t251, t4740);
+        let t4742 = product(t237, t4526);
+        let t4743: f64 = t258 * t4534;
+        let t4744 = product(t244, t4542);
+        let t4745: f64 = t4742.plus(t4743);
+        let t4746: f64 = t4744.plus(t4745);
+        let t4747: f64 = t4746 * 2.0;
+        let t4748: f64 = t680 * t4747;
+        let t4749: f64 = t4727.plus(t4734);
+        let t4750: f64 = t4741.plus(t4748);
+        let t4751: f64 = t4749 + t4750;
+        let t4752 = product(arm3_crank_length, t4751);
+        let t4753: f64 = t4704 * 2.0;
+        let t4754: f64 = t4752.minus(t4753);
+        let t4755: f64 = vz * t4754;
+        let t4756: f64 = t4703.minus(t4755);
+        let t4757: f64 = t4702.plus(t4756);
+        let t4758: f64 = t1615 + t4757;
+        let t4759 = product(t271, t4758);
+        let t4760 = product(t1542, t4547);
+        let t4761: f64 = t4760.added_to(t4525);
+        let t4762: f64 = t4524 + t4761;
+        let t4763: f64 = t710 * t4762;
+        let t4764: f64 = t706 * t1631;
+        let t4765: f64 = -t4764;
+        let t4766 = product(t266, t4765);
+        let t4767 = product(gravity_y, t4508);
+        let t4768 = product(t741, t4509);
+        let t4769 = product(t706, t995);
+        let t4770 = product(ay, t4505);
+        let t4771: f64 = vy * t4674;
+        let t4772: f64 = t4770.minus(t4771);
+        let t4773 = product(t275, t4772);
+        let t4774 = product(ax, t4505);
+        let t4775: f64 = vx * t4674;
+        let t4776: f64 = t4774.minus(t4775);
+        let t4777: f64 = t286 * t4776;
+        let t4778 = product(t272, t4679);
+        let t4779: f64 = t4773.plus(t4777);
+        let t4780: f64 = t4778.subtracted_from(t4779);
+        let t4781: f64 = arm3_crank_length * t4780;
+        let t4782: f64 = -t4781;
+        let t4783: f64 = t628 * t4782;
+        let t4784 = product(t785, t4508);
+        let t4785: f64 = t4769.plus(t4783);
+        let t4786: f64 = t4784.plus(t4785);
+        let t4787: f64 = t255 * t4786;
+        let t4788 = product(t687, t4710);
+        let t4789: f64 = t4788.added_to(t4772);
+        let t4790 = product(t628, t4789);
+        let t4791: f64 = t4768.plus(t4787);
+        let t4792: f64 = t4790.plus(t4791);
+        let t4793: f64 = t4767.minus(t4792);
+        let t4794: f64 = t656 * t4793;
+        let t4795 = product(gravity_x, t4508);
+        let t4796 = product(t735, t4509);
+        let t4797: f64 = t251 * t4786;
+        let t4798 = product(t683, t4710);
+        let t4799: f64 = t4798.added_to(t4776);
+        let t4800 = product(t628, t4799);
+        let t4801: f64 = t4796.plus(t4797);
+        let t4802: f64 = t4800.plus(t4801);
+        let t4803: f64 = t4795.minus(t4802);
+        let t4804 = product(t648, t4803);
+        let t4805 = product(t1019, t4516);
+        let t4806: f64 = t4805.subtracted_from(t4713);
+        let t4807 = product(t697, t4806);
+        let t4808 = product(vz, t4688);
+        let t4809: f64 = t4808.subtracted_from(t1674);
+        let t4810 = product(t759, t4809);
+        let t4811: f64 = t769 * t4688;
+        let t4812: f64 = t4807.plus(t4811);
+        let t4813: f64 = t4810.subtracted_from(t4812);
+        let t4814 = product(arm3_axis_z, t4813);
+        let t4815: f64 = t759 * t3350;
+        let t4816: f64 = t697 * t4815;
+        let t4817 = product(t674, t4813);
+        let t4818 = product(gravity_z, t4521);
+        let t4819: f64 = t729 * t4522;
+        let t4820: f64 = t4818.minus(t4819);
+        let t4821 = product(t628, t4697);
+        let t4822: f64 = t4821.subtracted_from(t4820);
+        let t4823 = product(t631, t4793);
+        let t4824: f64 = t691 * t4722;
+        let t4825: f64 = t4823.minus(t4824);
+        let t4826 = product(t634, t4803);
+        let t4827 = product(t706, t1031);
+        let t4828 = product(vy, t4692);
+        let t4829: f64 = ay * t4516;
+        let t4830: f64 = t4828.subtracted_from(t4829);
+        let t4831 = product(t275, t4830);
+        let t4832 = product(vx, t4692);
+        let t4833: f64 = ax * t4516;
+        let t4834: f64 = t4832.subtracted_from(t4833);
+        let t4835: f64 = t286 * t4834;
+        let t4836 = product(t272, t4697);
+        let t4837: f64 = t4831.plus(t4835);
+        let t4838: f64 = t4836.plus(t4837);
+        let t4839 = product(t1643, t4838);
+        let t4840: f64 = t785 * t4521;
+        let t4841: f64 = t4827.plus(t4840);
+        let t4842: f64 = t4839.subtracted_from(t4841);
+        let t4843: f64 = t266 * t4842;
+        let t4844: f64 = t4826.plus(t4843);
+        let t4845: f64 = t4825 - t4844;
+        let t4846: f64 = t4822 + t4845;
+        let t4847: f64 = t642 * t4846;
+        let t4848 = product(gravity_y, t4521);
+        let t4849: f64 = t628 * t4830;
+        let t4850: f64 = t4848.minus(t4849);
+        let t4851 = product(t255, t4842);
+        let t4852: f64 = t4851.subtracted_from(t4850);
+        let t4853 = product(t629, t4803);
+        let t4854 = product(gravity_z, t4508);
+        let t4855 = product(t729, t4509);
+        let t4856: f64 = t266 * t4786;
+        let t4857 = product(t691, t4710);
+        let t4858: f64 = t4857.minus(t4679);
+        let t4859 = product(t628, t4858);
+        let t4860: f64 = t4855.plus(t4856);
+        let t4861: f64 = t4859.plus(t4860);
+        let t4862: f64 = t4854.minus(t4861);
+        let t4863: f64 = t631 * t4862;
+        let t4864: f64 = t4853.minus(t4863);
+        let t4865 = product(t741, t4522);
+        let t4866: f64 = t687 * t4722;
+        let t4867: f64 = t4865.plus(t4866);
+        let t4868: f64 = t4864 - t4867;
+        let t4869: f64 = t4852 + t4868;
+        let t4870 = product(t633, t4869);
+        let t4871 = product(gravity_x, t4521);
+        let t4872: f64 = t735 * t4522;
+        let t4873: f64 = t4871.minus(t4872);
+        let t4874 = product(t628, t4834);
+        let t4875: f64 = t4874.subtracted_from(t4873);
+        let t4876 = product(t634, t4862);
+        let t4877: f64 = t683 * t4722;
         let t4878: f64 = t4876.minus(t4877);
-        let t4879 = product(t248, t4878);
-        let t4880 = product(t200, t4860);
-        let t4881: f64 = arm3_zero_y * t4872;
-        let t4882: f64 = t4880.minus(t4881);
-        let t4883: f64 = t262 * t4882;
-        let t4884 = product(t204, t4860);
-        let t4885: f64 = arm3_zero_z * t4872;
-        let t4886: f64 = t4884.minus(t4885);
-        let t4887 = product(t241, t4886);
-        let t4888 = product(t266, t4874);
-        let t4889 = product(arm3_zero_x, t4860);
-        let t4890: f64 = t196 * t4872;
-        let t4891: f64 = t4889.plus(t4890);
-        let t4892 = product(t251, t4891);
-        let t4893 = product(arm3_zero_y, t4860);
-        let t4894: f64 = t200 * t4872;
-        let t4895: f64 = t4893.plus(t4894);
-        let t4896: f64 = t255 * t4895;
-        let t4897: f64 = t4892.plus(t4896);
-        let t4898: f64 = t4888.plus(t4897);
-        let t4899 = product(arm3_crank_length, t4898);
-        let t4900: f64 = t4899.added_to(t266);
-        let t4901: f64 = t4879.plus(t4883);
-        let t4902: f64 = t4887.plus(t4901);
-        let t4903: f64 = t4900 - t4902;
-        let t4904 = product(t1360, t4903);
-        let t4905: f64 = t4875.added_to(t271);
-        let t4906: f64 = t4904.subtracted_from(t4905);
-        let t4907: f64 = t181 * t4906;
-        let t4908 = product(t1251, t4825);
-        let t4909 = product(t1366, t4838);
-        let t4910: f64 = t4908.added_to(t180);
-        let t4911: f64 = t4909.subtracted_from(t4910);
-        let t4912 = product(t275, t4911);
-        let t4913 = product(t1328, t4895);
-        let t4914: f64 = t1372 * t4903;
-        let t4915: f64 = t4913.minus(t4914);
-        let t4916: f64 = t274 * t4915;
-        let t4917: f64 = t4841.plus(t4907);
-        let t4918: f64 = t4912.plus(t4916);
-        let t4919: f64 = t4917 - t4918;
-        let t4920 = product(t1120, t4919);
-        let t4921 = product(t286, t4911);
-        let t4922 = product(t1328, t4891);
-        let t4923: f64 = t1383 * t4903;
-        let t4924: f64 = t4922.minus(t4923);
-        let t4925: f64 = t274 * t4924;
-        let t4926 = product(t1251, t4829);
-        let t4927: f64 = t1390 * t4838;
-        let t4928: f64 = t4926.minus(t4927);
-        let t4929 = product(t272, t4928);
-        let t4930: f64 = t279 * t4906;
-        let t4931: f64 = t4921.plus(t4925);
-        let t4932: f64 = t4929.plus(t4930);
-        let t4933: f64 = t4931 - t4932;
-        let t4934: f64 = t1150 * t4933;
-        let t4935 = product(t275, t4928);
-        let t4936: f64 = t279 * t4915;
-        let t4937 = product(t286, t4840);
-        let t4938: f64 = t181 * t4924;
-        let t4939: f64 = t4935.plus(t4936);
-        let t4940: f64 = t4937.plus(t4938);
-        let t4941: f64 = t4939 - t4940;
-        let t4942 = product(t1180, t4941);
-        let t4943 = product(arm1_zero_z, t10);
-        let t4944: f64 = t22 * t25;
-        let t4945: f64 = t4943.plus(t4944);
-        let t4946: f64 = t4945 * 2.0;
-        let t4947 = product(t1413, t4946);
-        let t4948 = product(arm1_zero_z, t40);
-        let t4949: f64 = t7 * t29;
-        let t4950: f64 = t10 * t4949;
-        let t4951 = product(t22, t45);
-        let t4952 = product(t40, t4949);
-        let t4953: f64 = t4952.subtracted_from(t4945);
-        let t4954: f64 = t4953 * 2.0;
-        let t4955: f64 = t1424 * t4954;
-        let t4956: f64 = t4955 * 0.5;
-        let t4957: f64 = t4948.plus(t4950);
-        let t4958: f64 = t4951.plus(t4956);
-        let t4959: f64 = t4957 - t4958;
-        let t4960: f64 = t28 * t4959;
-        let t4961: f64 = t4947.minus(t4960);
-        let t4962 = product(arm1_zero_x, t4961);
-        let t4963 = product(t1433, t4946);
-        let t4964 = product(t22, t40);
-        let t4965: f64 = t25 * t4949;
-        let t4966 = product(arm1_zero_z, t45);
-        let t4967: f64 = t1439 * t4954;
-        let t4968: f64 = t4967 * 0.5;
-        let t4969: f64 = t4964.plus(t4965);
-        let t4970: f64 = t4966.plus(t4968);
-        let t4971: f64 = t4969 + t4970;
-        let t4972: f64 = t28 * t4971;
-        let t4973: f64 = t4963.minus(t4972);
-        let t4974: f64 = t14 * t4973;
-        let t4975: f64 = t4962.plus(t4974);
-        let t4976 = product(t1449, t4975);
-        let t4977 = product(t14, t4961);
-        let t4978: f64 = arm1_zero_x * t4973;
-        let t4979: f64 = t4977.minus(t4978);
-        let t4980 = product(t59, t4979);
-        let t4981 = product(t18, t4961);
-        let t4982: f64 = arm1_zero_y * t4973;
-        let t4983: f64 = t4981.minus(t4982);
-        let t4984: f64 = t73 * t4983;
-        let t4985 = product(t22, t4961);
-        let t4986: f64 = arm1_zero_z * t4973;
-        let t4987: f64 = t4985.minus(t4986);
-        let t4988 = product(t84, t4987);
-        let t4989 = product(arm1_zero_z, t4961);
-        let t4990: f64 = t22 * t4973;
-        let t4991: f64 = t4989.plus(t4990);
-        let t4992 = product(t77, t4991);
-        let t4993 = product(t62, t4975);
-        let t4994 = product(arm1_zero_y, t4961);
-        let t4995: f64 = t18 * t4973;
-        let t4996: f64 = t4994.plus(t4995);
-        let t4997: f64 = t66 * t4996;
-        let t4998: f64 = t4993.plus(t4997);
-        let t4999: f64 = t4992.plus(t4998);
+        let t4879 = product(t629, t4793);
+        let t4880: f64 = t251 * t4842;
+        let t4881: f64 = t4879.plus(t4880);
+        let t4882: f64 = t4878 - t4881;
+        let t4883: f64 = t4875 + t4882;
+        let t4884: f64 = t637 * t4883;
+        let t4885 = product(t4816, 4.0);
+        let t4886: f64 = t4817.plus(t4847);
+        let t4887: f64 = t4870.plus(t4884);
+        let t4888: f64 = t4886 + t4887;
+        let t4889: f64 = t4885.minus(t4888);
+        let t4890 = product(t1754, t4889);
+        let t4891: f64 = t4890.added_to(t4869);
+        let t4892: f64 = arm3_axis_x * t4891;
+        let t4893 = product(t1758, t4889);
+        let t4894: f64 = t4893.added_to(t4883);
+        let t4895 = product(arm3_axis_y, t4894);
+        let t4896: f64 = t4814.plus(t4892);
+        let t4897: f64 = t4895.subtracted_from(t4896);
+        let t4898: f64 = t647 * t4897;
+        let t4899: f64 = t960 * t4497;
+        let t4900 = product(t1766, t4899);
+        let t4901: f64 = t4804.plus(t4898);
+        let t4902: f64 = t4900.plus(t4901);
+        let t4903: f64 = t4766.plus(t4794);
+        let t4904: f64 = t4902 - t4903;
+        let t4905 = product(t628, t4904);
+        let t4906 = product(t272, t1566);
+        let t4907 = product(vy, t4754);
+        let t4908 = product(ay, t4665);
+        let t4909 = product(t666, t4772);
+        let t4910: f64 = t757 * t4830;
+        let t4911: f64 = t4909.plus(t4910);
+        let t4912: f64 = t4908.minus(t4911);
+        let t4913: f64 = arm3_crank_length * t4912;
+        let t4914: f64 = t4906.plus(t4913);
+        let t4915: f64 = t4907.minus(t4914);
+        let t4916 = product(t262, t4915);
+        let t4917 = product(t272, t1472);
+        let t4918 = product(vx, t4754);
+        let t4919 = product(ax, t4665);
+        let t4920 = product(t666, t4776);
+        let t4921: f64 = t757 * t4834;
+        let t4922: f64 = t4920.plus(t4921);
+        let t4923: f64 = t4919.minus(t4922);
+        let t4924: f64 = arm3_crank_length * t4923;
+        let t4925: f64 = t4917.plus(t4924);
+        let t4926: f64 = t4918.minus(t4925);
+        let t4927: f64 = t248 * t4926;
+        let t4928 = product(t241, t4758);
+        let t4929: f64 = t724 * t4547;
+        let t4930: f64 = t4916.plus(t4927);
+        let t4931: f64 = t4928.plus(t4929);
+        let t4932: f64 = t4930 - t4931;
+        let t4933: f64 = t1622 * t4932;
+        let t4934: f64 = -t4933;
+        let t4935: f64 = t266 * t4934;
+        let t4936: f64 = t4905.plus(t4935);
+        let t4937: f64 = t4759.plus(t4763);
+        let t4938: f64 = t4936 - t4937;
+        let t4939: f64 = arm3_crank_length * t4938;
+        let t4940: f64 = t4659.plus(t4939);
+        let t4941: f64 = -t4940;
+        let t4942 = product(arm3_zero_z, t4941);
+        let t4943 = product(t272, t1782);
+        let t4944 = product(t629, t4765);
+        let t4945: f64 = t662 * t4786;
+        let t4946 = product(t650, t4842);
+        let t4947: f64 = t241 * t4934;
+        let t4948 = product(t725, t4526);
+        let t4949: f64 = t680 * t4726;
+        let t4950: f64 = t4948.minus(t4949);
+        let t4951: f64 = arm3_crank_length * t4950;
+        let t4952: f64 = t4944.plus(t4945);
+        let t4953: f64 = t4946.plus(t4951);
+        let t4954: f64 = t4952 + t4953;
+        let t4955: f64 = t4943.plus(t4947);
+        let t4956: f64 = t4954 - t4955;
+        let t4957 = product(t204, t4956);
+        let t4958 = product(t1799, t4547);
+        let t4959 = product(t1801, t4547);
+        let t4960: f64 = t4959.added_to(t4533);
+        let t4961: f64 = t4532 + t4960;
+        let t4962 = product(t710, t4961);
+        let t4963 = product(t255, t4934);
+        let t4964 = product(t255, t4765);
+        let t4965 = product(t656, t4862);
+        let t4966: f64 = t650 * t4803;
+        let t4967 = product(arm3_axis_y, t4813);
+        let t4968 = product(t1811, t4889);
+        let t4969: f64 = t4968.added_to(t4846);
+        let t4970 = product(arm3_axis_x, t4969);
+        let t4971: f64 = arm3_axis_z * t4894;
+        let t4972: f64 = t4967.plus(t4971);
+        let t4973: f64 = t4970.subtracted_from(t4972);
+        let t4974: f64 = t647 * t4973;
+        let t4975 = product(t1820, t4899);
+        let t4976: f64 = t4965.plus(t4974);
+        let t4977: f64 = t4975.plus(t4976);
+        let t4978: f64 = t4964.plus(t4966);
+        let t4979: f64 = t4977 - t4978;
+        let t4980 = product(t628, t4979);
+        let t4981: f64 = t271 * t4915;
+        let t4982: f64 = t4980.plus(t4981);
+        let t4983: f64 = t4963.plus(t4982);
+        let t4984: f64 = t4962.subtracted_from(t4983);
+        let t4985: f64 = arm3_crank_length * t4984;
+        let t4986: f64 = t4958.plus(t4985);
+        let t4987: f64 = -t4986;
+        let t4988: f64 = arm3_zero_y * t4987;
+        let t4989 = product(t272, t1835);
+        let t4990 = product(t634, t4765);
+        let t4991: f64 = t658 * t4786;
+        let t4992 = product(t648, t4842);
+        let t4993: f64 = t262 * t4934;
+        let t4994 = product(t725, t4534);
+        let t4995: f64 = t680 * t4733;
+        let t4996: f64 = t4994.minus(t4995);
+        let t4997: f64 = arm3_crank_length * t4996;
+        let t4998: f64 = t4990.plus(t4991);
+        let t4999: f64 = t4992.plus(t4997);
         (
+            t4013,
+            t4028,
+            t4036,
+            t4045,
+            t4046,
+            t4066,
+            t4070,
+            t4073,
+            t4077,
+            t4080,
+            t4096,
+            t4100,
+            t4101,
+            t4112,
+            t4127,
+            t4175,
+            t4230,
+            t4318,
+            t4363,
+            t4453,
+            t4468,
+            t4476,
+            t4492,
+            t4493,
+            t4498,
+            t4502,
+            t4516,
+            t4540,
+            t4541,
+            t4542,
+            t4547,
+            t4548,
+            t4552,
+            t4553,
+            t4554,
+            t4556,
+            t4557,
+            t4559,
+            t4560,
+            t4563,
+            t4564,
+            t4569,
+            t4571,
+            t4576,
+            t4577,
+            t4579,
+            t4580,
+            t4581,
+            t4587,
+            t4588,
+            t4589,
+            t4595,
+            t4596,
+            t4597,
+            t4602,
+            t4603,
+            t4607,
+            t4608,
+            t4609,
+            t4611,
+            t4612,
+            t4614,
+            t4615,
+            t4618,
+            t4619,
             t4624,
-            t4696,
-            t4768,
-            t4776,
-            t4809,
+            t4626,
+            t4631,
+            t4632,
+            t4634,
+            t4635,
+            t4636,
+            t4642,
+            t4643,
+            t4644,
+            t4650,
+            t4651,
+            t4652,
+            t4657,
+            t4658,
+            t4662,
+            t4663,
+            t4674,
+            t4692,
+            t4705,
+            t4724,
+            t4728,
+            t4731,
+            t4735,
+            t4738,
+            t4740,
+            t4754,
+            t4757,
+            t4765,
+            t4786,
+            t4793,
             t4813,
-            t4817,
-            t4821,
-            t4825,
-            t4829,
-            t4832,
-            t4838,
-            t4840,
-            t4874,
-            t4878,
-            t4882,
-            t4886,
+            t4842,
+            t4862,
             t4891,
-            t4895,
-            t4897,
-            t4903,
-            t4906,
-            t4911,
-            t4915,
-            t4919,
-            t4920,
-            t4924,
-            t4928,
+            t4899,
+            t4926,
             t4934,
+            t4936,
+            t4941,
             t4942,
-            t4975,
-            t4976,
-            t4979,
-            t4980,
+            t4956,
+            t4957,
+            t4969,
             t4983,
-            t4984,
             t4987,
             t4988,
-            t4991,
-            t4996,
+            t4989,
+            t4993,
             t4998,
             t4999,
         )
     };
     let (
-        t5006,
-        t5012,
-        t5018,
-        t5023,
-        t5032,
-        t5038,
-        t5039,
-        t5059,
+        t5072,
         t5087,
-        t5088,
-        t5132,
-        t5152,
-        t5180,
-        t5181,
-        t5225,
-        t5230,
-        t5245,
-        t5248,
-        t5257,
-        t5262,
-        t5269,
-        t5273,
-        t5274,
-        t5283,
-        t5297,
-        t5307,
-        t5313,
-        t5317,
-        t5318,
-        t5373,
-        t5412,
-        t5431,
-        t5438,
-        t5449,
-        t5456,
-        t5483,
-        t5497,
-        t5519,
-        t5524,
-        t5537,
-        t5566,
-        t5570,
-        t5577,
-        t5580,
-        t5583,
-        t5596,
-        t5605,
-        t5606,
-        t5661,
-        t5700,
-        t5719,
-        t5726,
-        t5737,
-        t5744,
-        t5771,
-        t5785,
-        t5807,
+        t5095,
+        t5100,
+        t5101,
+        t5112,
+        t5130,
+        t5143,
+        t5162,
+        t5166,
+        t5169,
+        t5173,
+        t5176,
+        t5192,
+        t5195,
+        t5374,
+        t5421,
+        t5510,
+        t5525,
+        t5533,
+        t5538,
+        t5539,
+        t5550,
+        t5568,
+        t5581,
+        t5600,
+        t5604,
+        t5607,
+        t5611,
+        t5614,
+        t5630,
+        t5633,
         t5812,
-        t5825,
-        t5854,
-        t5858,
-        t5865,
-        t5868,
-        t5871,
-        t5884,
-        t5893,
-        t5894,
-        t5895,
-        t5896,
-        t5906,
-        t5915,
-        t5919,
-        t5923,
-        t5949,
-        t5958,
-        t5968,
-        t5978,
-        t5988,
+        t5859,
+        t5948,
+        t5963,
+        t5971,
+        t5987,
+        t5992,
+        t5993,
+        t5994,
+        t5995,
+        t5996,
+        t5997,
+        t5998,
         t5999,
     ) = {
-        let t5000 = product(arm1_crank_length, t4999);
-        let t5001: f64 = t5000.added_to(t77);
-        let t5002: f64 = t4980.plus(t4984);
-        let t5003: f64 = t4988.plus(t5002);
-        let t5004: f64 = t5001 - t5003;
-        let t5005: f64 = t1481 * t5004;
-        let t5006: f64 = t4976.minus(t5005);
-        let t5007 = product(t277, t5006);
-        let t5008: f64 = t90 * t4919;
-        let t5009 = product(t284, t4928);
-        let t5010 = product(t1449, t4996);
-        let t5011: f64 = t1490 * t5004;
-        let t5012: f64 = t5010.minus(t5011);
-        let t5013 = product(t272, t5012);
-        let t5014: f64 = t280 * t4906;
-        let t5015 = product(t1449, t4991);
-        let t5016 = product(t1497, t5004);
-        let t5017: f64 = t5015.added_to(t89);
-        let t5018: f64 = t5016.subtracted_from(t5017);
-        let t5019 = product(t275, t5018);
-        let t5020: f64 = t282 * t4915;
-        let t5021: f64 = t5013.plus(t5014);
-        let t5022: f64 = t5019.plus(t5020);
-        let t5023: f64 = t5021 - t5022;
-        let t5024: f64 = t279 * t5023;
-        let t5025 = product(t289, t4924);
-        let t5026 = product(t274, t5012);
-        let t5027: f64 = t280 * t4911;
-        let t5028 = product(t181, t5018);
-        let t5029: f64 = t282 * t4840;
-        let t5030: f64 = t5026.plus(t5027);
+        let t5000: f64 = t4998 + t4999;
+        let t5001: f64 = t4989.plus(t4993);
+        let t5002: f64 = t5000 - t5001;
+        let t5003: f64 = t200 * t5002;
+        let t5004 = product(t272, t1851);
+        let t5005 = product(t631, t4765);
+        let t5006: f64 = t652 * t4786;
+        let t5007 = product(t656, t4842);
+        let t5008: f64 = t248 * t4934;
+        let t5009 = product(t725, t4542);
+        let t5010: f64 = t680 * t4740;
+        let t5011: f64 = t5009.minus(t5010);
+        let t5012: f64 = arm3_crank_length * t5011;
+        let t5013: f64 = t5005.plus(t5006);
+        let t5014: f64 = t5007.plus(t5012);
+        let t5015: f64 = t5013 + t5014;
+        let t5016: f64 = t5004.plus(t5008);
+        let t5017: f64 = t5015 - t5016;
+        let t5018 = product(t196, t5017);
+        let t5019 = product(t1868, t4547);
+        let t5020 = product(t1292, t4547);
+        let t5021: f64 = t5020.added_to(t4541);
+        let t5022: f64 = t4540 + t5021;
+        let t5023 = product(t710, t5022);
+        let t5024 = product(t251, t4934);
+        let t5025 = product(t251, t4765);
+        let t5026: f64 = t648 * t4862;
+        let t5027 = product(t650, t4793);
+        let t5028 = product(arm3_axis_x, t4813);
+        let t5029: f64 = arm3_axis_y * t4969;
+        let t5030 = product(arm3_axis_z, t4891);
         let t5031: f64 = t5028.plus(t5029);
-        let t5032: f64 = t5030 - t5031;
-        let t5033: f64 = t286 * t5032;
-        let t5034: f64 = t5007.plus(t5008);
-        let t5035: f64 = t5025.plus(t5033);
-        let t5036: f64 = t5034 + t5035;
-        let t5037: f64 = t5009.plus(t5024);
+        let t5032: f64 = t5030.subtracted_from(t5031);
+        let t5033: f64 = t647 * t5032;
+        let t5034 = product(t1885, t4899);
+        let t5035: f64 = t5027.plus(t5033);
+        let t5036: f64 = t5034.plus(t5035);
+        let t5037: f64 = t5025.plus(t5026);
         let t5038: f64 = t5036 - t5037;
-        let t5039 = product(t1184, t5038);
-        let t5040: f64 = arm1_axis_z * arm1_crank_length;
-        let t5041: f64 = t428 * t5040;
-        let t5042 = product(t4996, t5041);
-        let t5043 = product(t1529, t4991);
-        let t5044: f64 = t5043.added_to(t428);
-        let t5045: f64 = arm1_axis_y * t5044;
-        let t5046: f64 = t5042.minus(t5045);
-        let t5047 = product(t437, t5046);
-        let t5048 = product(arm1_axis_x, t5044);
-        let t5049: f64 = t4975 * t5041;
-        let t5050: f64 = t5048.minus(t5049);
-        let t5051: f64 = t433 * t5050;
-        let t5052 = product(arm1_axis_y, t4975);
-        let t5053: f64 = arm1_axis_x * t4996;
-        let t5054: f64 = t5052.minus(t5053);
-        let t5055: f64 = t442 * t1529;
-        let t5056 = product(t5054, t5055);
-        let t5057: f64 = t5047.plus(t5051);
-        let t5058: f64 = t5056.plus(t5057);
-        let t5059: f64 = t5058 * 2.0;
-        let t5060: f64 = t1548 * t5059;
-        let t5061 = product(t5060, 0.5);
-        let t5062: f64 = t5061.subtracted_from(t5046);
-        let t5063 = product(t1552, t5062);
-        let t5064 = product(t476, t5006);
-        let t5065 = product(t456, t4979);
-        let t5066: f64 = t448 * t4983;
-        let t5067 = product(t450, t4987);
-        let t5068 = product(t62, t5062);
-        let t5069: f64 = t1559 * t5059;
-        let t5070 = product(t5069, 0.5);
-        let t5071: f64 = t5070.subtracted_from(t5050);
-        let t5072: f64 = t66 * t5071;
-        let t5073 = product(t1529, t5054);
-        let t5074: f64 = t1564 * t5059;
-        let t5075: f64 = t5074 * 0.5;
-        let t5076: f64 = t5073.minus(t5075);
-        let t5077 = product(t77, t5076);
-        let t5078: f64 = t5068.plus(t5072);
-        let t5079: f64 = t5077.plus(t5078);
-        let t5080 = product(t447, t5079);
-        let t5081: f64 = t5065.plus(t5066);
-        let t5082: f64 = t5067.plus(t5081);
-        let t5083: f64 = t5080.subtracted_from(t5082);
-        let t5084: f64 = t1575 * t5083;
-        let t5085: f64 = t5064.minus(t5084);
-        let t5086: f64 = arm1_crank_length * t5085;
-        let t5087: f64 = t5063.minus(t5086);
-        let t5088 = product(t1525, t5087);
-        let t5089 = product(t448, t5044);
-        let t5090: f64 = t450 * t1529;
-        let t5091 = product(t4996, t5090);
-        let t5092 = product(t429, t5071);
-        let t5093: f64 = t434 * t5076;
-        let t5094: f64 = t5092.minus(t5093);
-        let t5095: f64 = t447 * t5094;
-        let t5096: f64 = t5089.plus(t5095);
-        let t5097: f64 = t5091.subtracted_from(t5096);
-        let t5098 = product(t428, t5097);
-        let t5099 = product(t466, t5006);
-        let t5100 = product(t452, t4979);
-        let t5101: f64 = t458 * t4983;
-        let t5102 = product(t462, t4987);
-        let t5103 = product(t62, t5097);
-        let t5104 = product(t4975, t5090);
-        let t5105 = product(t456, t5044);
-        let t5106 = product(t431, t5076);
-        let t5107: f64 = t429 * t5062;
-        let t5108: f64 = t5106.minus(t5107);
-        let t5109: f64 = t447 * t5108;
-        let t5110: f64 = t5104.plus(t5109);
-        let t5111: f64 = t5105.subtracted_from(t5110);
-        let t5112: f64 = t66 * t5111;
-        let t5113 = product(t456, t4996);
-        let t5114: f64 = t448 * t4975;
-        let t5115: f64 = t5113.minus(t5114);
-        let t5116 = product(t1529, t5115);
-        let t5117 = product(t434, t5062);
-        let t5118: f64 = t431 * t5071;
-        let t5119: f64 = t5117.minus(t5118);
-        let t5120: f64 = t447 * t5119;
-        let t5121: f64 = t5116.plus(t5120);
-        let t5122 = product(t77, t5121);
-        let t5123: f64 = t5100.plus(t5101);
-        let t5124: f64 = t5102.plus(t5123);
-        let t5125: f64 = t5103.plus(t5112);
-        let t5126: f64 = t5122.plus(t5125);
-        let t5127: f64 = t5124 - t5126;
-        let t5128: f64 = t1575 * t5127;
-        let t5129: f64 = t5099.minus(t5128);
-        let t5130: f64 = arm1_crank_length * t5129;
-        let t5131: f64 = t5098.minus(t5130);
-        let t5132 = product(t561, t5131);
-        let t5133: f64 = arm2_axis_z * arm2_crank_length;
-        let t5134: f64 = t563 * t5133;
-        let t5135 = product(t4809, t5134);
-        let t5136 = product(t1633, t4825);
-        let t5137: f64 = t5136.added_to(t563);
-        let t5138: f64 = arm2_axis_y * t5137;
-        let t5139: f64 = t5135.minus(t5138);
-        let t5140 = product(t572, t5139);
-        let t5141 = product(arm2_axis_x, t5137);
-        let t5142: f64 = t4829 * t5134;
-        let t5143: f64 = t5141.minus(t5142);
-        let t5144: f64 = t568 * t5143;
-        let t5145 = product(arm2_axis_y, t4829);
-        let t5146: f64 = arm2_axis_x * t4809;
-        let t5147: f64 = t5145.minus(t5146);
-        let t5148: f64 = t577 * t1633;
-        let t5149 = product(t5147, t5148);
-        let t5150: f64 = t5140.plus(t5144);
-        let t5151: f64 = t5149.plus(t5150);
-        let t5152: f64 = t5151 * 2.0;
-        let t5153: f64 = t1652 * t5152;
-        let t5154 = product(t5153, 0.5);
-        let t5155: f64 = t5154.subtracted_from(t5139);
-        let t5156 = product(t1656, t5155);
-        let t5157 = product(t611, t4928);
-        let t5158 = product(t591, t4813);
-        let t5159: f64 = t583 * t4817;
-        let t5160 = product(t585, t4821);
-        let t5161 = product(t160, t5155);
-        let t5162: f64 = t1663 * t5152;
-        let t5163 = product(t5162, 0.5);
-        let t5164: f64 = t5163.subtracted_from(t5143);
-        let t5165: f64 = t164 * t5164;
-        let t5166 = product(t1633, t5147);
-        let t5167: f64 = t1668 * t5152;
-        let t5168: f64 = t5167 * 0.5;
-        let t5169: f64 = t5166.minus(t5168);
-        let t5170 = product(t168, t5169);
-        let t5171: f64 = t5161.plus(t5165);
-        let t5172: f64 = t5170.plus(t5171);
-        let t5173 = product(t582, t5172);
-        let t5174: f64 = t5158.plus(t5159);
-        let t5175: f64 = t5160.plus(t5174);
-        let t5176: f64 = t5173.subtracted_from(t5175);
-        let t5177: f64 = t1679 * t5176;
-        let t5178: f64 = t5157.minus(t5177);
-        let t5179: f64 = arm2_crank_length * t5178;
-        let t5180: f64 = t5156.minus(t5179);
-        let t5181: f64 = t1629 * t5180;
-        let t5182 = product(t583, t5137);
-        let t5183: f64 = t585 * t1633;
-        let t5184 = product(t4809, t5183);
-        let t5185 = product(t564, t5164);
-        let t5186: f64 = t569 * t5169;
-        let t5187: f64 = t5185.minus(t5186);
-        let t5188: f64 = t582 * t5187;
-        let t5189: f64 = t5182.plus(t5188);
-        let t5190: f64 = t5184.subtracted_from(t5189);
-        let t5191 = product(t563, t5190);
-        let t5192 = product(t601, t4928);
-        let t5193 = product(t587, t4813);
-        let t5194: f64 = t593 * t4817;
-        let t5195 = product(t597, t4821);
-        let t5196 = product(t160, t5190);
-        let t5197 = product(t4829, t5183);
-        let t5198 = product(t591, t5137);
-        let t5199 = product(t566, t5169);
-        let t5200: f64 = t564 * t5155;
-        let t5201: f64 = t5199.minus(t5200);
-        let t5202: f64 = t582 * t5201;
-        let t5203: f64 = t5197.plus(t5202);
-        let t5204: f64 = t5198.subtracted_from(t5203);
-        let t5205: f64 = t164 * t5204;
-        let t5206 = product(t591, t4809);
-        let t5207: f64 = t583 * t4829;
-        let t5208: f64 = t5206.minus(t5207);
-        let t5209 = product(t1633, t5208);
-        let t5210 = product(t569, t5155);
-        let t5211: f64 = t566 * t5164;
-        let t5212: f64 = t5210.minus(t5211);
-        let t5213: f64 = t582 * t5212;
-        let t5214: f64 = t5209.plus(t5213);
-        let t5215 = product(t168, t5214);
-        let t5216: f64 = t5193.plus(t5194);
-        let t5217: f64 = t5195.plus(t5216);
-        let t5218: f64 = t5196.plus(t5205);
-        let t5219: f64 = t5215.plus(t5218);
-        let t5220: f64 = t5217 - t5219;
-        let t5221: f64 = t1679 * t5220;
-        let t5222: f64 = t5192.minus(t5221);
-        let t5223: f64 = arm2_crank_length * t5222;
-        let t5224: f64 = t5191.minus(t5223);
-        let t5225: f64 = t696 * t5224;
-        let t5226: f64 = arm3_axis_z * arm3_crank_length;
-        let t5227: f64 = t698 * t5226;
-        let t5228 = product(t4895, t5227);
-        let t5229 = product(t1737, t4874);
-        let t5230: f64 = t5229.added_to(t698);
-        let t5231: f64 = arm3_axis_y * t5230;
-        let t5232: f64 = t5228.minus(t5231);
-        let t5233 = product(t707, t5232);
-        let t5234 = product(arm3_axis_x, t5230);
-        let t5235: f64 = t4891 * t5227;
-        let t5236: f64 = t5234.minus(t5235);
-        let t5237: f64 = t703 * t5236;
-        let t5238 = product(arm3_axis_y, t4891);
-        let t5239: f64 = arm3_axis_x * t4895;
-        let t5240: f64 = t5238.minus(t5239);
-        let t5241: f64 = t712 * t1737;
-        let t5242 = product(t5240, t5241);
-        let t5243: f64 = t5233.plus(t5237);
-        let t5244: f64 = t5242.plus(t5243);
-        let t5245: f64 = t5244 * 2.0;
-        let t5246: f64 = t1756 * t5245;
-        let t5247 = product(t5246, 0.5);
-        let t5248: f64 = t5247.subtracted_from(t5232);
-        let t5249 = product(t1760, t5248);
-        let t5250 = product(t746, t4924);
-        let t5251 = product(t726, t4878);
-        let t5252: f64 = t718 * t4882;
-        let t5253 = product(t720, t4886);
-        let t5254 = product(t251, t5248);
-        let t5255: f64 = t1767 * t5245;
-        let t5256 = product(t5255, 0.5);
-        let t5257: f64 = t5256.subtracted_from(t5236);
-        let t5258: f64 = t255 * t5257;
-        let t5259 = product(t1737, t5240);
-        let t5260: f64 = t1772 * t5245;
-        let t5261: f64 = t5260 * 0.5;
-        let t5262: f64 = t5259.minus(t5261);
-        let t5263 = product(t266, t5262);
-        let t5264: f64 = t5254.plus(t5258);
-        let t5265: f64 = t5263.plus(t5264);
-        let t5266 = product(t717, t5265);
-        let t5267: f64 = t5251.plus(t5252);
-        let t5268: f64 = t5253.plus(t5267);
-        let t5269: f64 = t5266.subtracted_from(t5268);
-        let t5270: f64 = t1783 * t5269;
-        let t5271: f64 = t5250.minus(t5270);
-        let t5272: f64 = arm3_crank_length * t5271;
-        let t5273: f64 = t5249.minus(t5272);
-        let t5274 = product(t1733, t5273);
-        let t5275 = product(t718, t5230);
-        let t5276: f64 = t720 * t1737;
-        let t5277 = product(t4895, t5276);
-        let t5278 = product(t699, t5257);
-        let t5279: f64 = t704 * t5262;
-        let t5280: f64 = t5278.minus(t5279);
-        let t5281: f64 = t717 * t5280;
-        let t5282: f64 = t5275.plus(t5281);
-        let t5283: f64 = t5277.subtracted_from(t5282);
-        let t5284 = product(t698, t5283);
-        let t5285 = product(t736, t4924);
-        let t5286 = product(t722, t4878);
-        let t5287: f64 = t728 * t4882;
-        let t5288 = product(t732, t4886);
-        let t5289 = product(t251, t5283);
-        let t5290 = product(t4891, t5276);
-        let t5291 = product(t726, t5230);
-        let t5292 = product(t701, t5262);
-        let t5293: f64 = t699 * t5248;
-        let t5294: f64 = t5292.minus(t5293);
-        let t5295: f64 = t717 * t5294;
-        let t5296: f64 = t5290.plus(t5295);
-        let t5297: f64 = t5291.subtracted_from(t5296);
-        let t5298: f64 = t255 * t5297;
-        let t5299 = product(t726, t4895);
-        let t5300: f64 = t718 * t4891;
-        let t5301: f64 = t5299.minus(t5300);
-        let t5302 = product(t1737, t5301);
-        let t5303 = product(t704, t5248);
-        let t5304: f64 = t701 * t5257;
-        let t5305: f64 = t5303.minus(t5304);
-        let t5306: f64 = t717 * t5305;
-        let t5307: f64 = t5302.plus(t5306);
-        let t5308 = product(t266, t5307);
-        let t5309: f64 = t5286.plus(t5287);
-        let t5310: f64 = t5288.plus(t5309);
-        let t5311: f64 = t5289.plus(t5298);
-        let t5312: f64 = t5308.plus(t5311);
-        let t5313: f64 = t5310 - t5312;
-        let t5314: f64 = t1783 * t5313;
-        let t5315: f64 = t5285.minus(t5314);
-        let t5316: f64 = arm3_crank_length * t5315;
-        let t5317: f64 = t5284.minus(t5316);
-        let t5318 = product(t831, t5317);
-        let t5319 = product(t836, t5127);
-        let t5320: f64 = t877 * t5083;
-        let t5321 = product(t431, t4979);
-        let t5322: f64 = t434 * t4983;
-        let t5323 = product(t429, t4987);
-        let t5324 = product(t77, t5044);
-        let t5325: f64 = t1529 * t4998;
-        let t5326: f64 = t5321.plus(t5322);
-        let t5327: f64 = t5323.plus(t5326);
-        let t5328: f64 = t5324.plus(t5325);
-        let t5329: f64 = t5327 - t5328;
-        let t5330 = product(t904, t5329);
-        let t5331 = product(t325, t4979);
-        let t5332 = product(t301, t4979);
-        let t5333 = product(vx, t5006);
-        let t5334: f64 = vy * t5012;
-        let t5335 = product(vz, t5018);
-        let t5336: f64 = t5333.plus(t5334);
-        let t5337: f64 = t5335.plus(t5336);
-        let t5338: f64 = t62 * t5337;
-        let t5339: f64 = t5332.minus(t5338);
-        let t5340 = product(t312, t5339);
-        let t5341 = product(t301, t4983);
-        let t5342: f64 = t66 * t5337;
-        let t5343: f64 = t5341.minus(t5342);
-        let t5344: f64 = t316 * t5343;
-        let t5345 = product(t301, t4987);
-        let t5346: f64 = t77 * t5337;
-        let t5347: f64 = t5345.minus(t5346);
-        let t5348 = product(t320, t5347);
-        let t5349: f64 = t307 * t5337;
-        let t5350 = product(t59, t4975);
-        let t5351: f64 = t73 * t4996;
-        let t5352 = product(t84, t4991);
-        let t5353 = product(t55, t4975);
-        let t5354: f64 = t69 * t4996;
-        let t5355 = product(t80, t4991);
-        let t5356: f64 = t5353.plus(t5354);
-        let t5357: f64 = t5355.plus(t5356);
-        let t5358 = product(arm1_crank_length, t5357);
-        let t5359: f64 = t5358.added_to(t80);
-        let t5360: f64 = t5350.plus(t5351);
-        let t5361: f64 = t5352.plus(t5360);
-        let t5362: f64 = t5359 - t5361;
-        let t5363 = product(t301, t5362);
-        let t5364: f64 = t5349 * 2.0;
-        let t5365: f64 = t5363.plus(t5364);
-        let t5366 = product(t301, t5365);
-        let t5367 = product(t325, t5004);
-        let t5368: f64 = t5340.plus(t5344);
-        let t5369: f64 = t5348.plus(t5368);
-        let t5370: f64 = t5369 * 2.0;
-        let t5371: f64 = t5366.plus(t5370);
-        let t5372: f64 = t5367.subtracted_from(t5371);
-        let t5373: f64 = t88 * t5372;
-        let t5374: f64 = -t5373;
-        let t5375: f64 = t62 * t5374;
-        let t5376 = product(t301, t4975);
-        let t5377: f64 = t55 * t5337;
-        let t5378: f64 = t5377 * 2.0;
-        let t5379: f64 = t5376.minus(t5378);
-        let t5380 = product(t301, t5379);
-        let t5381: f64 = t5331.plus(t5375);
-        let t5382: f64 = t5380.subtracted_from(t5381);
-        let t5383 = product(t431, t5382);
-        let t5384 = product(t325, t4983);
-        let t5385: f64 = t66 * t5374;
-        let t5386 = product(t301, t4996);
-        let t5387: f64 = t69 * t5337;
-        let t5388: f64 = t5387 * 2.0;
-        let t5389: f64 = t5386.minus(t5388);
-        let t5390 = product(t301, t5389);
-        let t5391: f64 = t5384.plus(t5385);
-        let t5392: f64 = t5390.subtracted_from(t5391);
-        let t5393: f64 = t434 * t5392;
-        let t5394 = product(t325, t4987);
-        let t5395: f64 = t77 * t5374;
-        let t5396 = product(t301, t4991);
-        let t5397: f64 = t80 * t5337;
-        let t5398: f64 = t5397 * 2.0;
-        let t5399: f64 = t5396.minus(t5398);
-        let t5400 = product(t301, t5399);
-        let t5401: f64 = t5394.plus(t5395);
-        let t5402: f64 = t5400.subtracted_from(t5401);
-        let t5403 = product(t429, t5402);
-        let t5404 = product(t1936, t4975);
-        let t5405: f64 = t1918 * t4996;
-        let t5406: f64 = t5404.plus(t5405);
-        let t5407: f64 = t428 * t5406;
-        let t5408 = product(az, t5018);
-        let t5409 = product(ax, t5006);
-        let t5410: f64 = ay * t5012;
-        let t5411: f64 = t5409.plus(t5410);
-        let t5412: f64 = t5408.plus(t5411);
-        let t5413 = product(t883, t5412);
-        let t5414: f64 = t5383.plus(t5393);
-        let t5415: f64 = t5403.plus(t5407);
-        let t5416: f64 = t5414 + t5415;
-        let t5417: f64 = t5413.subtracted_from(t5416);
-        let t5418 = product(arm1_crank_length, t5417);
-        let t5419: f64 = t510 * t5329;
-        let t5420 = product(t1920, t5044);
-        let t5421: f64 = t5418.plus(t5419);
-        let t5422: f64 = t5420.plus(t5421);
-        let t5423: f64 = -t5422;
-        let t5424: f64 = arm1_rod_mass * t5423;
-        let t5425 = product(vx, t5087);
-        let t5426 = product(t1552, t5071);
-        let t5427 = product(t476, t5012);
-        let t5428: f64 = t1945 * t5083;
-        let t5429: f64 = t5427.minus(t5428);
-        let t5430: f64 = arm1_crank_length * t5429;
-        let t5431: f64 = t5426.minus(t5430);
-        let t5432: f64 = vy * t5431;
-        let t5433 = product(t1552, t5076);
-        let t5434 = product(t476, t5018);
-        let t5435: f64 = t1953 * t5083;
-        let t5436: f64 = t5434.minus(t5435);
-        let t5437: f64 = arm1_crank_length * t5436;
-        let t5438: f64 = t5433.minus(t5437);
-        let t5439 = product(vz, t5438);
-        let t5440: f64 = t5425.plus(t5432);
-        let t5441: f64 = t5439.plus(t5440);
-        let t5442 = product(t491, t5441);
-        let t5443 = product(vx, t5131);
-        let t5444 = product(t428, t5111);
-        let t5445 = product(t466, t5012);
-        let t5446: f64 = t1945 * t5127;
-        let t5447: f64 = t5445.minus(t5446);
-        let t5448: f64 = arm1_crank_length * t5447;
-        let t5449: f64 = t5444.minus(t5448);
-        let t5450: f64 = vy * t5449;
-        let t5451 = product(t428, t5121);
-        let t5452 = product(t466, t5018);
-        let t5453: f64 = t1953 * t5127;
-        let t5454: f64 = t5452.minus(t5453);
-        let t5455: f64 = arm1_crank_length * t5454;
-        let t5456: f64 = t5451.minus(t5455);
-        let t5457 = product(vz, t5456);
-        let t5458: f64 = t5443.plus(t5450);
-        let t5459: f64 = t5457.plus(t5458);
-        let t5460: f64 = t871 * t5459;
-        let t5461: f64 = t5442.plus(t5460);
-        let t5462: f64 = t5461 * 4.0;
-        let t5463 = product(arm1_rod_mz, t5462);
-        let t5464: f64 = t5424 * 2.0;
-        let t5465: f64 = t5463.subtracted_from(t5464);
-        let t5466 = product(t883, t5465);
-        let t5467 = product(ax, t5131);
-        let t5468: f64 = ay * t5449;
-        let t5469 = product(az, t5456);
-        let t5470 = product(t520, t5097);
-        let t5471: f64 = t525 * t5111;
-        let t5472 = product(t515, t5121);
-        let t5473 = product(arm1_axis_z, t5044);
-        let t5474 = product(arm1_axis_x, t4975);
-        let t5475: f64 = arm1_axis_y * t4996;
-        let t5476: f64 = t5474.plus(t5475);
-        let t5477: f64 = t1529 * t5476;
-        let t5478: f64 = t1997 * t5059;
-        let t5479 = product(t5478, 0.5);
-        let t5480: f64 = t5473.plus(t5477);
-        let t5481: f64 = t5479.subtracted_from(t5480);
-        let t5482: f64 = t447 * t5481;
-        let t5483: f64 = -t5482;
-        let t5484 = product(t536, t5483);
-        let t5485 = product(t456, t5339);
-        let t5486: f64 = t448 * t5343;
-        let t5487 = product(t450, t5347);
-        let t5488: f64 = t5485.plus(t5486);
-        let t5489: f64 = t5487.plus(t5488);
-        let t5490 = product(arm1_crank_length, t5489);
-        let t5491 = product(t312, t5062);
-        let t5492: f64 = t316 * t5071;
-        let t5493 = product(t320, t5076);
-        let t5494: f64 = t5491.plus(t5492);
-        let t5495: f64 = t5493.plus(t5494);
-        let t5496: f64 = t447 * t5495;
-        let t5497: f64 = t5490.plus(t5496);
-        let t5498: f64 = t497 * t5497;
-        let t5499: f64 = t5484.minus(t5498);
-        let t5500 = product(t539, t5499);
-        let t5501: f64 = t538 * t5497;
-        let t5502 = product(t462, t5402);
-        let t5503 = product(t452, t5382);
-        let t5504: f64 = t458 * t5392;
-        let t5505: f64 = t5503.plus(t5504);
-        let t5506: f64 = t5502.plus(t5505);
-        let t5507: f64 = arm1_crank_length * t5506;
-        let t5508: f64 = t5470.plus(t5471);
-        let t5509: f64 = t5472.plus(t5501);
-        let t5510: f64 = t5508 + t5509;
-        let t5511: f64 = t5500.plus(t5507);
-        let t5512: f64 = t5510 - t5511;
-        let t5513 = product(t428, t5512);
-        let t5514 = product(t497, t5441);
-        let t5515: f64 = t491 * t5483;
-        let t5516: f64 = t5514.minus(t5515);
-        let t5517 = product(t491, t5516);
-        let t5518: f64 = t498 * t5441;
-        let t5519: f64 = t5517.plus(t5518);
-        let t5520: f64 = t5467.plus(t5468);
-        let t5521: f64 = t5469.plus(t5519);
-        let t5522: f64 = t5520 + t5521;
-        let t5523: f64 = t5513.subtracted_from(t5522);
-        let t5524: f64 = t5523 * 2.0;
-        let t5525 = product(arm1_rod_mz, t5524);
-        let t5526 = product(t510, t5127);
-        let t5527 = product(t465, t5412);
-        let t5528: f64 = t5527.subtracted_from(t5506);
-        let t5529: f64 = arm1_crank_length * t5528;
-        let t5530 = product(t1936, t5097);
-        let t5531: f64 = t1918 * t5111;
-        let t5532 = product(t1920, t5121);
-        let t5533: f64 = t5526.plus(t5529);
-        let t5534: f64 = t5530.plus(t5531);
-        let t5535: f64 = t5533 + t5534;
-        let t5536: f64 = t5532.plus(t5535);
-        let t5537: f64 = -t5536;
-        let t5538: f64 = arm1_rod_mass * t5537;
-        let t5539: f64 = t5538 * 2.0;
-        let t5540: f64 = t5525.plus(t5539);
-        let t5541: f64 = t465 * t5540;
-        let t5542 = product(t450, t5402);
-        let t5543 = product(t456, t5382);
-        let t5544: f64 = t448 * t5392;
-        let t5545: f64 = t5543.plus(t5544);
-        let t5546: f64 = t5542.plus(t5545);
-        let t5547 = product(arm1_crank_length, t5546);
-        let t5548 = product(t520, t5062);
-        let t5549: f64 = t525 * t5071;
-        let t5550 = product(t515, t5076);
-        let t5551: f64 = t5548.plus(t5549);
-        let t5552: f64 = t5550.plus(t5551);
-        let t5553: f64 = t447 * t5552;
-        let t5554: f64 = t5547.minus(t5553);
-        let t5555 = product(t312, t5097);
-        let t5556: f64 = t316 * t5111;
-        let t5557 = product(t320, t5121);
-        let t5558 = product(t452, t5339);
-        let t5559: f64 = t458 * t5343;
-        let t5560 = product(t462, t5347);
-        let t5561: f64 = t5558.plus(t5559);
-        let t5562: f64 = t5560.plus(t5561);
-        let t5563: f64 = arm1_crank_length * t5562;
-        let t5564: f64 = t5555.plus(t5556);
-        let t5565: f64 = t5557.plus(t5563);
-        let t5566: f64 = t5564 + t5565;
-        let t5567 = product(t538, t5566);
-        let t5568: f64 = t857 * t5499;
-        let t5569: f64 = t5567.minus(t5568);
-        let t5570: f64 = t5554 + t5569;
-        let t5571: f64 = t5570 * 2.0;
-        let t5572 = product(t428, t5571);
-        let t5573 = product(az, t5438);
-        let t5574 = product(ax, t5087);
-        let t5575: f64 = ay * t5431;
-        let t5576: f64 = t5574.plus(t5575);
-        let t5577: f64 = t5573.plus(t5576);
-        let t5578 = product(t498, t5459);
-        let t5579: f64 = t871 * t5516;
-        let t5580: f64 = t5578.plus(t5579);
-        let t5581: f64 = t5577 - t5580;
-        let t5582: f64 = t5581 * 2.0;
-        let t5583: f64 = t5572.plus(t5582);
-        let t5584 = product(arm1_rod_mz, t5583);
-        let t5585 = product(t510, t5083);
-        let t5586 = product(t475, t5412);
-        let t5587: f64 = t5586.minus(t5546);
-        let t5588 = product(arm1_crank_length, t5587);
-        let t5589 = product(t1936, t5062);
-        let t5590: f64 = t1918 * t5071;
-        let t5591 = product(t1920, t5076);
-        let t5592: f64 = t5589.plus(t5590);
-        let t5593: f64 = t5591.plus(t5592);
-        let t5594: f64 = t447 * t5593;
-        let t5595: f64 = t5585.plus(t5594);
-        let t5596: f64 = t5588.minus(t5595);
-        let t5597: f64 = arm1_rod_mass * t5596;
-        let t5598: f64 = t5597 * 2.0;
-        let t5599: f64 = t5584.plus(t5598);
-        let t5600 = product(t475, t5599);
-        let t5601: f64 = t5319.plus(t5320);
-        let t5602: f64 = t5330.plus(t5601);
-        let t5603: f64 = t5466.plus(t5541);
-        let t5604: f64 = t5600.plus(t5603);
-        let t5605: f64 = t5602 - t5604;
-        let t5606: f64 = t467 * t5605;
-        let t5607 = product(t912, t5220);
-        let t5608: f64 = t953 * t5176;
-        let t5609 = product(t566, t4813);
-        let t5610: f64 = t569 * t4817;
-        let t5611 = product(t564, t4821);
-        let t5612 = product(t168, t5137);
-        let t5613: f64 = t1633 * t4832;
-        let t5614: f64 = t5609.plus(t5610);
-        let t5615: f64 = t5611.plus(t5614);
-        let t5616: f64 = t5612.plus(t5613);
-        let t5617: f64 = t5615 - t5616;
-        let t5618 = product(t980, t5617);
-        let t5619 = product(t369, t4813);
-        let t5620 = product(t345, t4813);
-        let t5621 = product(vx, t4928);
-        let t5622: f64 = vy * t4840;
-        let t5623 = product(vz, t4911);
-        let t5624: f64 = t5621.plus(t5622);
-        let t5625: f64 = t5623.plus(t5624);
-        let t5626: f64 = t160 * t5625;
-        let t5627: f64 = t5620.minus(t5626);
-        let t5628 = product(t356, t5627);
-        let t5629 = product(t345, t4817);
-        let t5630: f64 = t164 * t5625;
-        let t5631: f64 = t5629.minus(t5630);
-        let t5632: f64 = t360 * t5631;
-        let t5633 = product(t345, t4821);
-        let t5634: f64 = t168 * t5625;
-        let t5635: f64 = t5633.minus(t5634);
-        let t5636 = product(t364, t5635);
-        let t5637: f64 = t351 * t5625;
-        let t5638 = product(t157, t4829);
-        let t5639: f64 = t150 * t4809;
-        let t5640 = product(t175, t4825);
-        let t5641 = product(t153, t4829);
-        let t5642: f64 = t146 * t4809;
-        let t5643 = product(t171, t4825);
-        let t5644: f64 = t5641.plus(t5642);
-        let t5645: f64 = t5643.plus(t5644);
-        let t5646 = product(arm2_crank_length, t5645);
-        let t5647: f64 = t5646.added_to(t171);
-        let t5648: f64 = t5638.plus(t5639);
-        let t5649: f64 = t5640.plus(t5648);
-        let t5650: f64 = t5647 - t5649;
-        let t5651 = product(t345, t5650);
-        let t5652: f64 = t5637 * 2.0;
-        let t5653: f64 = t5651.plus(t5652);
-        let t5654 = product(t345, t5653);
-        let t5655 = product(t369, t4838);
-        let t5656: f64 = t5628.plus(t5632);
-        let t5657: f64 = t5636.plus(t5656);
-        let t5658: f64 = t5657 * 2.0;
-        let t5659: f64 = t5654.plus(t5658);
-        let t5660: f64 = t5655.subtracted_from(t5659);
-        let t5661: f64 = t179 * t5660;
-        let t5662: f64 = -t5661;
-        let t5663: f64 = t160 * t5662;
-        let t5664 = product(t345, t4829);
-        let t5665: f64 = t153 * t5625;
-        let t5666: f64 = t5665 * 2.0;
-        let t5667: f64 = t5664.minus(t5666);
-        let t5668 = product(t345, t5667);
-        let t5669: f64 = t5619.plus(t5663);
-        let t5670: f64 = t5668.subtracted_from(t5669);
-        let t5671 = product(t566, t5670);
-        let t5672 = product(t369, t4817);
-        let t5673: f64 = t164 * t5662;
-        let t5674 = product(t345, t4809);
-        let t5675: f64 = t146 * t5625;
-        let t5676: f64 = t5675 * 2.0;
-        let t5677: f64 = t5674.minus(t5676);
-        let t5678 = product(t345, t5677);
-        let t5679: f64 = t5672.plus(t5673);
-        let t5680: f64 = t5678.subtracted_from(t5679);
-        let t5681: f64 = t569 * t5680;
-        let t5682 = product(t369, t4821);
-        let t5683: f64 = t168 * t5662;
-        let t5684 = product(t345, t4825);
-        let t5685: f64 = t171 * t5625;
-        let t5686: f64 = t5685 * 2.0;
-        let t5687: f64 = t5684.minus(t5686);
-        let t5688 = product(t345, t5687);
-        let t5689: f64 = t5682.plus(t5683);
-        let t5690: f64 = t5688.subtracted_from(t5689);
-        let t5691 = product(t564, t5690);
-        let t5692 = product(t2212, t4809);
-        let t5693: f64 = t2230 * t4829;
-        let t5694: f64 = t5692.plus(t5693);
-        let t5695: f64 = t563 * t5694;
-        let t5696 = product(az, t4911);
-        let t5697 = product(ax, t4928);
-        let t5698: f64 = ay * t4840;
-        let t5699: f64 = t5697.plus(t5698);
-        let t5700: f64 = t5696.plus(t5699);
-        let t5701 = product(t959, t5700);
-        let t5702: f64 = t5671.plus(t5681);
-        let t5703: f64 = t5691.plus(t5695);
-        let t5704: f64 = t5702 + t5703;
-        let t5705: f64 = t5701.subtracted_from(t5704);
-        let t5706 = product(arm2_crank_length, t5705);
-        let t5707: f64 = t645 * t5617;
-        let t5708 = product(t2214, t5137);
-        let t5709: f64 = t5706.plus(t5707);
-        let t5710: f64 = t5708.plus(t5709);
-        let t5711: f64 = -t5710;
-        let t5712: f64 = arm2_rod_mass * t5711;
-        let t5713 = product(vx, t5180);
-        let t5714 = product(t1656, t5164);
-        let t5715 = product(t611, t4840);
-        let t5716: f64 = t2239 * t5176;
-        let t5717: f64 = t5715.minus(t5716);
-        let t5718: f64 = arm2_crank_length * t5717;
-        let t5719: f64 = t5714.minus(t5718);
-        let t5720: f64 = vy * t5719;
-        let t5721 = product(t1656, t5169);
-        let t5722 = product(t611, t4911);
-        let t5723: f64 = t2247 * t5176;
-        let t5724: f64 = t5722.minus(t5723);
-        let t5725: f64 = arm2_crank_length * t5724;
-        let t5726: f64 = t5721.minus(t5725);
-        let t5727 = product(vz, t5726);
-        let t5728: f64 = t5713.plus(t5720);
-        let t5729: f64 = t5727.plus(t5728);
-        let t5730 = product(t626, t5729);
-        let t5731 = product(vx, t5224);
-        let t5732 = product(t563, t5204);
-        let t5733 = product(t601, t4840);
-        let t5734: f64 = t2239 * t5220;
-        let t5735: f64 = t5733.minus(t5734);
-        let t5736: f64 = arm2_crank_length * t5735;
-        let t5737: f64 = t5732.minus(t5736);
-        let t5738: f64 = vy * t5737;
-        let t5739 = product(t563, t5214);
-        let t5740 = product(t601, t4911);
-        let t5741: f64 = t2247 * t5220;
-        let t5742: f64 = t5740.minus(t5741);
-        let t5743: f64 = arm2_crank_length * t5742;
-        let t5744: f64 = t5739.minus(t5743);
-        let t5745 = product(vz, t5744);
-        let t5746: f64 = t5731.plus(t5738);
-        let t5747: f64 = t5745.plus(t5746);
-        let t5748: f64 = t947 * t5747;
-        let t5749: f64 = t5730.plus(t5748);
-        let t5750: f64 = t5749 * 4.0;
-        let t5751 = product(arm2_rod_mz, t5750);
-        let t5752: f64 = t5712 * 2.0;
-        let t5753: f64 = t5751.subtracted_from(t5752);
-        let t5754 = product(t959, t5753);
-        let t5755 = product(ax, t5224);
-        let t5756: f64 = ay * t5737;
-        let t5757 = product(az, t5744);
-        let t5758 = product(t655, t5190);
-        let t5759: f64 = t660 * t5204;
-        let t5760 = product(t650, t5214);
-        let t5761 = product(arm2_axis_z, t5137);
-        let t5762 = product(arm2_axis_x, t4829);
-        let t5763: f64 = arm2_axis_y * t4809;
-        let t5764: f64 = t5762.plus(t5763);
-        let t5765: f64 = t1633 * t5764;
-        let t5766: f64 = t2291 * t5152;
-        let t5767 = product(t5766, 0.5);
-        let t5768: f64 = t5761.plus(t5765);
-        let t5769: f64 = t5767.subtracted_from(t5768);
-        let t5770: f64 = t582 * t5769;
-        let t5771: f64 = -t5770;
-        let t5772 = product(t671, t5771);
-        let t5773 = product(t591, t5627);
-        let t5774: f64 = t583 * t5631;
-        let t5775 = product(t585, t5635);
-        let t5776: f64 = t5773.plus(t5774);
-        let t5777: f64 = t5775.plus(t5776);
-        let t5778 = product(arm2_crank_length, t5777);
-        let t5779 = product(t356, t5155);
-        let t5780: f64 = t360 * t5164;
-        let t5781 = product(t364, t5169);
-        let t5782: f64 = t5779.plus(t5780);
-        let t5783: f64 = t5781.plus(t5782);
-        let t5784: f64 = t582 * t5783;
-        let t5785: f64 = t5778.plus(t5784);
-        let t5786: f64 = t632 * t5785;
-        let t5787: f64 = t5772.minus(t5786);
-        let t5788 = product(t674, t5787);
-        let t5789: f64 = t673 * t5785;
-        let t5790 = product(t597, t5690);
-        let t5791 = product(t587, t5670);
-        let t5792: f64 = t593 * t5680;
-        let t5793: f64 = t5791.plus(t5792);
-        let t5794: f64 = t5790.plus(t5793);
-        let t5795: f64 = arm2_crank_length * t5794;
-        let t5796: f64 = t5758.plus(t5759);
-        let t5797: f64 = t5760.plus(t5789);
-        let t5798: f64 = t5796 + t5797;
-        let t5799: f64 = t5788.plus(t5795);
-        let t5800: f64 = t5798 - t5799;
-        let t5801 = product(t563, t5800);
-        let t5802 = product(t632, t5729);
-        let t5803: f64 = t626 * t5771;
-        let t5804: f64 = t5802.minus(t5803);
-        let t5805 = product(t626, t5804);
-        let t5806: f64 = t633 * t5729;
-        let t5807: f64 = t5805.plus(t5806);
-        let t5808: f64 = t5755.plus(t5756);
-        let t5809: f64 = t5757.plus(t5807);
-        let t5810: f64 = t5808 + t5809;
-        let t5811: f64 = t5801.subtracted_from(t5810);
-        let t5812: f64 = t5811 * 2.0;
-        let t5813 = product(arm2_rod_mz, t5812);
-        let t5814 = product(t645, t5220);
-        let t5815 = product(t600, t5700);
-        let t5816: f64 = t5815.subtracted_from(t5794);
-        let t5817: f64 = arm2_crank_length * t5816;
-        let t5818 = product(t2230, t5190);
-        let t5819: f64 = t2212 * t5204;
-        let t5820 = product(t2214, t5214);
-        let t5821: f64 = t5814.plus(t5817);
-        let t5822: f64 = t5818.plus(t5819);
-        let t5823: f64 = t5821 + t5822;
-        let t5824: f64 = t5820.plus(t5823);
-        let t5825: f64 = -t5824;
-        let t5826: f64 = arm2_rod_mass * t5825;
-        let t5827: f64 = t5826 * 2.0;
-        let t5828: f64 = t5813.plus(t5827);
-        let t5829: f64 = t600 * t5828;
-        let t5830 = product(t585, t5690);
-        let t5831 = product(t591, t5670);
-        let t5832: f64 = t583 * t5680;
-        let t5833: f64 = t5831.plus(t5832);
-        let t5834: f64 = t5830.plus(t5833);
-        let t5835 = product(arm2_crank_length, t5834);
-        let t5836 = product(t655, t5155);
-        let t5837: f64 = t660 * t5164;
-        let t5838 = product(t650, t5169);
-        let t5839: f64 = t5836.plus(t5837);
-        let t5840: f64 = t5838.plus(t5839);
-        let t5841: f64 = t582 * t5840;
-        let t5842: f64 = t5835.minus(t5841);
-        let t5843 = product(t356, t5190);
-        let t5844: f64 = t360 * t5204;
-        let t5845 = product(t364, t5214);
-        let t5846 = product(t587, t5627);
-        let t5847: f64 = t593 * t5631;
-        let t5848 = product(t597, t5635);
-        let t5849: f64 = t5846.plus(t5847);
-        let t5850: f64 = t5848.plus(t5849);
-        let t5851: f64 = arm2_crank_length * t5850;
-        let t5852: f64 = t5843.plus(t5844);
-        let t5853: f64 = t5845.plus(t5851);
-        let t5854: f64 = t5852 + t5853;
-        let t5855 = product(t673, t5854);
-        let t5856: f64 = t933 * t5787;
-        let t5857: f64 = t5855.minus(t5856);
-        let t5858: f64 = t5842 + t5857;
-        let t5859: f64 = t5858 * 2.0;
-        let t5860 = product(t563, t5859);
-        let t5861 = product(az, t5726);
-        let t5862 = product(ax, t5180);
-        let t5863: f64 = ay * t5719;
-        let t5864: f64 = t5862.plus(t5863);
-        let t5865: f64 = t5861.plus(t5864);
-        let t5866 = product(t633, t5747);
-        let t5867: f64 = t947 * t5804;
-        let t5868: f64 = t5866.plus(t5867);
-        let t5869: f64 = t5865 - t5868;
-        let t5870: f64 = t5869 * 2.0;
-        let t5871: f64 = t5860.plus(t5870);
-        let t5872 = product(arm2_rod_mz, t5871);
-        let t5873 = product(t645, t5176);
-        let t5874 = product(t610, t5700);
-        let t5875: f64 = t5874.minus(t5834);
-        let t5876 = product(arm2_crank_length, t5875);
-        let t5877 = product(t2230, t5155);
-        let t5878: f64 = t2212 * t5164;
-        let t5879 = product(t2214, t5169);
-        let t5880: f64 = t5877.plus(t5878);
-        let t5881: f64 = t5879.plus(t5880);
-        let t5882: f64 = t582 * t5881;
-        let t5883: f64 = t5873.plus(t5882);
-        let t5884: f64 = t5876.minus(t5883);
-        let t5885: f64 = arm2_rod_mass * t5884;
-        let t5886: f64 = t5885 * 2.0;
-        let t5887: f64 = t5872.plus(t5886);
-        let t5888 = product(t610, t5887);
-        let t5889: f64 = t5607.plus(t5608);
-        let t5890: f64 = t5618.plus(t5889);
-        let t5891: f64 = t5754.plus(t5829);
-        let t5892: f64 = t5888.plus(t5891);
-        let t5893: f64 = t5890 - t5892;
-        let t5894 = product(t602, t5893);
-        let t5895 = product(t988, t5313);
-        let t5896: f64 = t1029 * t5269;
-        let t5897 = product(t701, t4878);
-        let t5898: f64 = t704 * t4882;
-        let t5899 = product(t699, t4886);
-        let t5900 = product(t266, t5230);
-        let t5901: f64 = t1737 * t4897;
-        let t5902: f64 = t5897.plus(t5898);
-        let t5903: f64 = t5899.plus(t5902);
-        let t5904: f64 = t5900.plus(t5901);
-        let t5905: f64 = t5903 - t5904;
-        let t5906 = product(t1056, t5905);
-        let t5907 = product(t413, t4878);
-        let t5908 = product(t389, t4878);
-        let t5909 = product(vx, t4924);
-        let t5910: f64 = vy * t4915;
-        let t5911 = product(vz, t4906);
-        let t5912: f64 = t5909.plus(t5910);
-        let t5913: f64 = t5911.plus(t5912);
-        let t5914: f64 = t251 * t5913;
-        let t5915: f64 = t5908.minus(t5914);
-        let t5916 = product(t400, t5915);
-        let t5917 = product(t389, t4882);
-        let t5918: f64 = t255 * t5913;
-        let t5919: f64 = t5917.minus(t5918);
-        let t5920: f64 = t404 * t5919;
-        let t5921 = product(t389, t4886);
-        let t5922: f64 = t266 * t5913;
-        let t5923: f64 = t5921.minus(t5922);
-        let t5924 = product(t408, t5923);
-        let t5925: f64 = t395 * t5913;
-        let t5926 = product(t248, t4891);
-        let t5927: f64 = t262 * t4895;
-        let t5928 = product(t241, t4874);
-        let t5929 = product(t244, t4891);
-        let t5930: f64 = t258 * t4895;
-        let t5931 = product(t237, t4874);
-        let t5932: f64 = t5929.plus(t5930);
-        let t5933: f64 = t5931.plus(t5932);
-        let t5934 = product(arm3_crank_length, t5933);
-        let t5935: f64 = t5934.added_to(t237);
-        let t5936: f64 = t5926.plus(t5927);
-        let t5937: f64 = t5928.plus(t5936);
-        let t5938: f64 = t5935 - t5937;
-        let t5939 = product(t389, t5938);
-        let t5940: f64 = t5925 * 2.0;
-        let t5941: f64 = t5939.plus(t5940);
-        let t5942 = product(t389, t5941);
-        let t5943 = product(t413, t4903);
-        let t5944: f64 = t5916.plus(t5920);
-        let t5945: f64 = t5924.plus(t5944);
-        let t5946: f64 = t5945 * 2.0;
-        let t5947: f64 = t5942.plus(t5946);
-        let t5948: f64 = t5943.subtracted_from(t5947);
-        let t5949: f64 = t270 * t5948;
-        let t5950: f64 = -t5949;
-        let t5951: f64 = t251 * t5950;
-        let t5952 = product(t389, t4891);
-        let t5953: f64 = t244 * t5913;
-        let t5954: f64 = t5953 * 2.0;
-        let t5955: f64 = t5952.minus(t5954);
-        let t5956 = product(t389, t5955);
-        let t5957: f64 = t5907.plus(t5951);
-        let t5958: f64 = t5956.subtracted_from(t5957);
-        let t5959 = product(t701, t5958);
-        let t5960 = product(t413, t4882);
-        let t5961: f64 = t255 * t5950;
-        let t5962 = product(t389, t4895);
-        let t5963: f64 = t258 * t5913;
-        let t5964: f64 = t5963 * 2.0;
-        let t5965: f64 = t5962.minus(t5964);
-        let t5966 = product(t389, t5965);
-        let t5967: f64 = t5960.plus(t5961);
-        let t5968: f64 = t5966.subtracted_from(t5967);
-        let t5969: f64 = t704 * t5968;
-        let t5970 = product(t413, t4886);
-        let t5971: f64 = t266 * t5950;
-        let t5972 = product(t389, t4874);
-        let t5973: f64 = t237 * t5913;
-        let t5974: f64 = t5973 * 2.0;
-        let t5975: f64 = t5972.minus(t5974);
-        let t5976 = product(t389, t5975);
-        let t5977: f64 = t5970.plus(t5971);
-        let t5978: f64 = t5976.subtracted_from(t5977);
-        let t5979 = product(t699, t5978);
-        let t5980 = product(t2524, t4891);
-        let t5981: f64 = t2508 * t4895;
-        let t5982: f64 = t5980.plus(t5981);
-        let t5983: f64 = t698 * t5982;
-        let t5984 = product(az, t4906);
-        let t5985 = product(ax, t4924);
-        let t5986: f64 = ay * t4915;
-        let t5987: f64 = t5985.plus(t5986);
-        let t5988: f64 = t5984.plus(t5987);
-        let t5989 = product(t1035, t5988);
-        let t5990: f64 = t5959.plus(t5969);
-        let t5991: f64 = t5979.plus(t5983);
-        let t5992: f64 = t5990 + t5991;
-        let t5993: f64 = t5989.subtracted_from(t5992);
-        let t5994 = product(arm3_crank_length, t5993);
-        let t5995: f64 = t780 * t5905;
-        let t5996 = product(t2506, t5230);
-        let t5997: f64 = t5994.plus(t5995);
-        let t5998: f64 = t5996.plus(t5997);
-        let t5999: f64 = -t5998;
+        let t5039 = product(t628, t5038);
+        let t5040: f64 = t271 * t4926;
+        let t5041: f64 = t5039.plus(t5040);
+        let t5042: f64 = t5024.plus(t5041);
+        let t5043: f64 = t5023.subtracted_from(t5042);
+        let t5044: f64 = arm3_crank_length * t5043;
+        let t5045: f64 = t5019.plus(t5044);
+        let t5046: f64 = -t5045;
+        let t5047 = product(arm3_zero_x, t5046);
+        let t5048: f64 = t4942.plus(t4988);
+        let t5049: f64 = t5047.plus(t5048);
+        let t5050: f64 = t4957.plus(t5003);
+        let t5051: f64 = t5018.plus(t5050);
+        let t5052: f64 = t5049 - t5051;
+        let t5053 = product(t192, t5052);
+        let t5054 = product(t207, t5052);
+        let t5055 = product(t204, t4941);
+        let t5056: f64 = arm3_zero_z * t4956;
+        let t5057 = product(t200, t4987);
+        let t5058: f64 = arm3_zero_y * t5002;
+        let t5059 = product(arm3_zero_x, t5017);
+        let t5060: f64 = t196 * t5046;
+        let t5061: f64 = t5055.plus(t5056);
+        let t5062: f64 = t5057.plus(t5058);
+        let t5063: f64 = t5059.plus(t5060);
+        let t5064: f64 = t5061 + t5062;
+        let t5065: f64 = t5063 + t5064;
+        let t5066: f64 = t192 * t5065;
+        let t5067: f64 = t5054.minus(t5066);
+        let t5068: f64 = t1922 * t5067;
+        let t5069 = product(t207, t5065);
+        let t5070: f64 = t5053.plus(t5068);
+        let t5071: f64 = t5069.plus(t5070);
+        let t5072: f64 = t5071 * 0.5;
+        let t5073 = product(t1929, t5072);
+        let t5074: f64 = t1932 * t5067;
+        let t5075 = product(t229, t5052);
+        let t5076: f64 = t234 * t5065;
+        let t5077: f64 = t5075.plus(t5076);
+        let t5078 = product(t1934, t5077);
+        let t5079: f64 = t5074 * 0.5;
+        let t5080: f64 = t5078.plus(t5079);
+        let t5081: f64 = t207 * t5080;
+        let t5082 = product(t227, t5052);
+        let t5083: f64 = t222 * t5065;
+        let t5084: f64 = t5082.minus(t5083);
+        let t5085 = product(t210, t5084);
+        let t5086: f64 = t5081 * 2.0;
+        let t5087: f64 = t5085.plus(t5086);
+        let t5088: f64 = t196 * t5087;
+        let t5089: f64 = t192 * t5080;
+        let t5090 = product(t222, t5052);
+        let t5091: f64 = t227 * t5065;
+        let t5092: f64 = t5090.plus(t5091);
+        let t5093 = product(t210, t5092);
+        let t5094: f64 = t5089 * 2.0;
+        let t5095: f64 = t5093.minus(t5094);
+        let t5096 = product(arm3_zero_x, t5095);
+        let t5097 = product(t2072, t4602);
+        let t5098: f64 = t1958 * t4552;
+        let t5099 = product(t498, t4563);
+        let t5100: f64 = t589 * t4576;
+        let t5101: f64 = t5098 * 2.0;
+        let t5102: f64 = t5099.plus(t5101);
+        let t5103: f64 = t5100 + t5102;
+        let t5104 = product(az, t5103);
+        let t5105: f64 = t539 * t1967;
+        let t5106: f64 = t879 * t5105;
+        let t5107: f64 = arm2_rod_izz * t592;
+        let t5108: f64 = t4569 - t5107;
+        let t5109: f64 = t5108 * 2.0;
+        let t5110 = product(t604, t5109);
+        let t5111: f64 = t5106 * 4.0;
+        let t5112: f64 = t5110.plus(t5111);
+        let t5113 = product(vz, t5112);
+        let t5114 = product(az, t4560);
+        let t5115: f64 = t5114.minus(t1588);
+        let t5116: f64 = t5113.minus(t5115);
+        let t5117: f64 = t1589 + t5116;
+        let t5118: f64 = t499 * t5117;
+        let t5119: f64 = t603 * t4556;
+        let t5120: f64 = t879 * t5119;
+        let t5121 = product(t1982, t4554);
+        let t5122: f64 = t5121.added_to(t4559);
+        let t5123 = product(t604, t5122);
+        let t5124 = product(t899, t5109);
+        let t5125: f64 = t603 * t5122;
+        let t5126: f64 = t5124.minus(t5125);
+        let t5127 = product(t508, t5126);
+        let t5128: f64 = t5120 * 4.0;
+        let t5129: f64 = t5127.plus(t5128);
+        let t5130: f64 = t5123.subtracted_from(t5129);
+        let t5131 = product(vz, t5130);
+        let t5132 = product(az, t4571);
+        let t5133: f64 = t5132.added_to(t1067);
+        let t5134: f64 = t1066 + t5133;
+        let t5135: f64 = t5131.subtracted_from(t5134);
+        let t5136 = product(t590, t5135);
+        let t5137: f64 = t5104.plus(t5118);
+        let t5138: f64 = t953 + t5137;
+        let t5139: f64 = t5136.subtracted_from(t5138);
+        let t5140 = product(arm2_crank_length, t5139);
+        let t5141 = product(t274, t2080);
+        let t5142: f64 = t2007 * t4602;
+        let t5143: f64 = t2009 * t4602;
+        let t5144: f64 = t592 * t3606;
+        let t5145: f64 = t530 * t5144;
+        let t5146 = product(t529, t4571);
+        let t5147: f64 = t5145 * 2.0;
+        let t5148: f64 = t5146.plus(t5147);
+        let t5149 = product(t538, t5148);
+        let t5150 = product(t529, t4560);
+        let t5151: f64 = t530 * t4560;
+        let t5152 = product(t2022, t5107);
+        let t5153: f64 = t4569 * 2.0;
+        let t5154: f64 = t5152.plus(t5153);
+        let t5155 = product(t938, t5154);
+        let t5156: f64 = t5155.subtracted_from(t5151);
+        let t5157: f64 = t508 * t5156;
+        let t5158: f64 = t5150.plus(t5157);
+        let t5159: f64 = t461 * t5158;
+        let t5160: f64 = -t5159;
+        let t5161: f64 = t483 * t5160;
+        let t5162: f64 = t5149.plus(t5161);
+        let t5163 = product(t5143, 2.0);
+        let t5164: f64 = t5163.added_to(t5162);
+        let t5165 = product(t168, t5164);
+        let t5166: f64 = t2037 * t4602;
+        let t5167 = product(t533, t5148);
+        let t5168: f64 = t481 * t5160;
+        let t5169: f64 = t5167.plus(t5168);
+        let t5170 = product(t5166, 2.0);
+        let t5171: f64 = t5170.added_to(t5169);
+        let t5172: f64 = t164 * t5171;
+        let t5173: f64 = t2045 * t4602;
+        let t5174 = product(t486, t5148);
+        let t5175: f64 = t489 * t5160;
+        let t5176: f64 = t5174.plus(t5175);
+        let t5177 = product(t5173, 2.0);
+        let t5178: f64 = t5177.added_to(t5176);
+        let t5179 = product(t160, t5178);
+        let t5180 = product(t171, t4581);
+        let t5181: f64 = t146 * t4589;
+        let t5182 = product(t153, t4597);
+        let t5183: f64 = t5180.plus(t5181);
+        let t5184: f64 = t5182.plus(t5183);
+        let t5185: f64 = t5184 * 2.0;
+        let t5186: f64 = t513 * t5185;
+        let t5187: f64 = t5165.plus(t5172);
+        let t5188: f64 = t5179.plus(t5186);
+        let t5189: f64 = t5187 + t5188;
+        let t5190 = product(arm2_crank_length, t5189);
+        let t5191: f64 = t5142 * 2.0;
+        let t5192: f64 = t5190.minus(t5191);
+        let t5193: f64 = vz * t5192;
+        let t5194: f64 = t5141.minus(t5193);
+        let t5195: f64 = t5140.plus(t5194);
+        let t5196: f64 = t2122 + t5195;
+        let t5197 = product(t180, t5196);
+        let t5198 = product(t2074, t4602);
+        let t5199: f64 = t5198.added_to(t4580);
+        let t5200: f64 = t4579 + t5199;
+        let t5201: f64 = t543 * t5200;
+        let t5202: f64 = t539 * t2138;
+        let t5203: f64 = -t5202;
+        let t5204 = product(t168, t5203);
+        let t5205 = product(gravity_y, t4563);
+        let t5206 = product(t574, t4564);
+        let t5207 = product(t539, t914);
+        let t5208 = product(ay, t4560);
+        let t5209: f64 = vy * t5112;
+        let t5210: f64 = t5208.minus(t5209);
+        let t5211 = product(t181, t5210);
+        let t5212 = product(ax, t4560);
+        let t5213: f64 = vx * t5112;
+        let t5214: f64 = t5212.minus(t5213);
+        let t5215: f64 = t279 * t5214;
+        let t5216 = product(t274, t5117);
+        let t5217: f64 = t5211.plus(t5215);
+        let t5218: f64 = t5216.subtracted_from(t5217);
+        let t5219: f64 = arm2_crank_length * t5218;
+        let t5220: f64 = -t5219;
+        let t5221: f64 = t461 * t5220;
+        let t5222 = product(t618, t4563);
+        let t5223: f64 = t5207.plus(t5221);
+        let t5224: f64 = t5222.plus(t5223);
+        let t5225: f64 = t164 * t5224;
+        let t5226 = product(t520, t5148);
+        let t5227: f64 = t5226.added_to(t5210);
+        let t5228 = product(t461, t5227);
+        let t5229: f64 = t5206.plus(t5225);
+        let t5230: f64 = t5228.plus(t5229);
+        let t5231: f64 = t5205.minus(t5230);
+        let t5232: f64 = t489 * t5231;
+        let t5233 = product(gravity_x, t4563);
+        let t5234 = product(t568, t4564);
+        let t5235: f64 = t160 * t5224;
+        let t5236 = product(t516, t5148);
+        let t5237: f64 = t5236.added_to(t5214);
+        let t5238 = product(t461, t5237);
+        let t5239: f64 = t5234.plus(t5235);
+        let t5240: f64 = t5238.plus(t5239);
+        let t5241: f64 = t5233.minus(t5240);
+        let t5242 = product(t481, t5241);
+        let t5243 = product(t938, t4571);
+        let t5244: f64 = t5243.subtracted_from(t5151);
+        let t5245 = product(t530, t5244);
+        let t5246 = product(vz, t5126);
+        let t5247: f64 = t5246.subtracted_from(t2181);
+        let t5248 = product(t592, t5247);
+        let t5249: f64 = t602 * t5126;
+        let t5250: f64 = t5245.plus(t5249);
+        let t5251: f64 = t5248.subtracted_from(t5250);
+        let t5252 = product(arm2_axis_z, t5251);
+        let t5253: f64 = t592 * t3790;
+        let t5254: f64 = t530 * t5253;
+        let t5255 = product(t507, t5251);
+        let t5256 = product(gravity_z, t4576);
+        let t5257: f64 = t562 * t4577;
+        let t5258: f64 = t5256.minus(t5257);
+        let t5259 = product(t461, t5135);
+        let t5260: f64 = t5259.subtracted_from(t5258);
+        let t5261 = product(t464, t5231);
+        let t5262: f64 = t524 * t5160;
+        let t5263: f64 = t5261.minus(t5262);
+        let t5264 = product(t467, t5241);
+        let t5265 = product(t539, t950);
+        let t5266 = product(vy, t5130);
+        let t5267: f64 = ay * t4571;
+        let t5268: f64 = t5266.subtracted_from(t5267);
+        let t5269 = product(t181, t5268);
+        let t5270 = product(vx, t5130);
+        let t5271: f64 = ax * t4571;
+        let t5272: f64 = t5270.subtracted_from(t5271);
+        let t5273: f64 = t279 * t5272;
+        let t5274 = product(t274, t5135);
+        let t5275: f64 = t5269.plus(t5273);
+        let t5276: f64 = t5274.plus(t5275);
+        let t5277 = product(t2150, t5276);
+        let t5278: f64 = t618 * t4576;
+        let t5279: f64 = t5265.plus(t5278);
+        let t5280: f64 = t5277.subtracted_from(t5279);
+        let t5281: f64 = t168 * t5280;
+        let t5282: f64 = t5264.plus(t5281);
+        let t5283: f64 = t5263 - t5282;
+        let t5284: f64 = t5260 + t5283;
+        let t5285: f64 = t475 * t5284;
+        let t5286 = product(gravity_y, t4576);
+        let t5287: f64 = t461 * t5268;
+        let t5288: f64 = t5286.minus(t5287);
+        let t5289 = product(t164, t5280);
+        let t5290: f64 = t5289.subtracted_from(t5288);
+        let t5291 = product(t462, t5241);
+        let t5292 = product(gravity_z, t4563);
+        let t5293 = product(t562, t4564);
+        let t5294: f64 = t168 * t5224;
+        let t5295 = product(t524, t5148);
+        let t5296: f64 = t5295.minus(t5117);
+        let t5297 = product(t461, t5296);
+        let t5298: f64 = t5293.plus(t5294);
+        let t5299: f64 = t5297.plus(t5298);
+        let t5300: f64 = t5292.minus(t5299);
+        let t5301: f64 = t464 * t5300;
+        let t5302: f64 = t5291.minus(t5301);
+        let t5303 = product(t574, t4577);
+        let t5304: f64 = t520 * t5160;
+        let t5305: f64 = t5303.plus(t5304);
+        let t5306: f64 = t5302 - t5305;
+        let t5307: f64 = t5290 + t5306;
+        let t5308 = product(t466, t5307);
+        let t5309 = product(gravity_x, t4576);
+        let t5310: f64 = t568 * t4577;
+        let t5311: f64 = t5309.minus(t5310);
+        let t5312 = product(t461, t5272);
+        let t5313: f64 = t5312.subtracted_from(t5311);
+        let t5314 = product(t467, t5300);
+        let t5315: f64 = t516 * t5160;
+        let t5316: f64 = t5314.minus(t5315);
+        let t5317 = product(t462, t5231);
+        let t5318: f64 = t160 * t5280;
+        let t5319: f64 = t5317.plus(t5318);
+        let t5320: f64 = t5316 - t5319;
+        let t5321: f64 = t5313 + t5320;
+        let t5322: f64 = t470 * t5321;
+        let t5323 = product(t5254, 4.0);
+        let t5324: f64 = t5255.plus(t5285);
+        let t5325: f64 = t5308.plus(t5322);
+        let t5326: f64 = t5324 + t5325;
+        let t5327: f64 = t5323.minus(t5326);
+        let t5328 = product(t2261, t5327);
+        let t5329: f64 = t5328.added_to(t5307);
+        let t5330: f64 = arm2_axis_x * t5329;
+        let t5331 = product(t2265, t5327);
+        let t5332: f64 = t5331.added_to(t5321);
+        let t5333 = product(arm2_axis_y, t5332);
+        let t5334: f64 = t5252.plus(t5330);
+        let t5335: f64 = t5333.subtracted_from(t5334);
+        let t5336: f64 = t480 * t5335;
+        let t5337: f64 = t879 * t4552;
+        let t5338 = product(t2273, t5337);
+        let t5339: f64 = t5242.plus(t5336);
+        let t5340: f64 = t5338.plus(t5339);
+        let t5341: f64 = t5204.plus(t5232);
+        let t5342: f64 = t5340 - t5341;
+        let t5343 = product(t461, t5342);
+        let t5344 = product(t274, t2098);
+        let t5345 = product(vy, t5192);
+        let t5346 = product(ay, t5103);
+        let t5347 = product(t499, t5210);
+        let t5348: f64 = t590 * t5268;
+        let t5349: f64 = t5347.plus(t5348);
+        let t5350: f64 = t5346.minus(t5349);
+        let t5351: f64 = arm2_crank_length * t5350;
+        let t5352: f64 = t5344.plus(t5351);
+        let t5353: f64 = t5345.minus(t5352);
+        let t5354 = product(t150, t5353);
+        let t5355 = product(t274, t2004);
+        let t5356 = product(vx, t5192);
+        let t5357 = product(ax, t5103);
+        let t5358 = product(t499, t5214);
+        let t5359: f64 = t590 * t5272;
+        let t5360: f64 = t5358.plus(t5359);
+        let t5361: f64 = t5357.minus(t5360);
+        let t5362: f64 = arm2_crank_length * t5361;
+        let t5363: f64 = t5355.plus(t5362);
+        let t5364: f64 = t5356.minus(t5363);
+        let t5365: f64 = t157 * t5364;
+        let t5366 = product(t175, t5196);
+        let t5367: f64 = t557 * t4602;
+        let t5368: f64 = t5354.plus(t5365);
+        let t5369: f64 = t5366.plus(t5367);
+        let t5370: f64 = t5368 - t5369;
+        let t5371: f64 = t2129 * t5370;
+        let t5372: f64 = -t5371;
+        let t5373: f64 = t168 * t5372;
+        let t5374: f64 = t5343.plus(t5373);
+        let t5375: f64 = t5197.plus(t5201);
+        let t5376: f64 = t5374 - t5375;
+        let t5377: f64 = arm2_crank_length * t5376;
+        let t5378: f64 = t5097.plus(t5377);
+        let t5379: f64 = -t5378;
+        let t5380 = product(arm2_zero_z, t5379);
+        let t5381 = product(t274, t2289);
+        let t5382 = product(t462, t5203);
+        let t5383: f64 = t495 * t5224;
+        let t5384 = product(t483, t5280);
+        let t5385: f64 = t175 * t5372;
+        let t5386 = product(t558, t4581);
+        let t5387: f64 = t513 * t5164;
+        let t5388: f64 = t5386.minus(t5387);
+        let t5389: f64 = arm2_crank_length * t5388;
+        let t5390: f64 = t5382.plus(t5383);
+        let t5391: f64 = t5384.plus(t5389);
+        let t5392: f64 = t5390 + t5391;
+        let t5393: f64 = t5381.plus(t5385);
+        let t5394: f64 = t5392 - t5393;
+        let t5395 = product(t113, t5394);
+        let t5396 = product(t2306, t4602);
+        let t5397 = product(t2308, t4602);
+        let t5398: f64 = t5397.added_to(t4588);
+        let t5399: f64 = t4587 + t5398;
+        let t5400 = product(t543, t5399);
+        let t5401 = product(t164, t5372);
+        let t5402 = product(t164, t5203);
+        let t5403 = product(t489, t5300);
+        let t5404: f64 = t483 * t5241;
+        let t5405 = product(arm2_axis_y, t5251);
+        let t5406 = product(t2318, t5327);
+        let t5407: f64 = t5406.added_to(t5284);
+        let t5408 = product(arm2_axis_x, t5407);
+        let t5409: f64 = arm2_axis_z * t5332;
+        let t5410: f64 = t5405.plus(t5409);
+        let t5411: f64 = t5408.subtracted_from(t5410);
+        let t5412: f64 = t480 * t5411;
+        let t5413 = product(t2327, t5337);
+        let t5414: f64 = t5403.plus(t5412);
+        let t5415: f64 = t5413.plus(t5414);
+        let t5416: f64 = t5402.plus(t5404);
+        let t5417: f64 = t5415 - t5416;
+        let t5418 = product(t461, t5417);
+        let t5419: f64 = t180 * t5353;
+        let t5420: f64 = t5418.plus(t5419);
+        let t5421: f64 = t5401.plus(t5420);
+        let t5422: f64 = t5400.subtracted_from(t5421);
+        let t5423: f64 = arm2_crank_length * t5422;
+        let t5424: f64 = t5396.plus(t5423);
+        let t5425: f64 = -t5424;
+        let t5426: f64 = arm2_zero_y * t5425;
+        let t5427 = product(t274, t2342);
+        let t5428 = product(t467, t5203);
+        let t5429: f64 = t491 * t5224;
+        let t5430 = product(t481, t5280);
+        let t5431: f64 = t150 * t5372;
+        let t5432 = product(t558, t4589);
+        let t5433: f64 = t513 * t5171;
+        let t5434: f64 = t5432.minus(t5433);
+        let t5435: f64 = arm2_crank_length * t5434;
+        let t5436: f64 = t5428.plus(t5429);
+        let t5437: f64 = t5430.plus(t5435);
+        let t5438: f64 = t5436 + t5437;
+        let t5439: f64 = t5427.plus(t5431);
+        let t5440: f64 = t5438 - t5439;
+        let t5441: f64 = t109 * t5440;
+        let t5442 = product(t274, t2358);
+        let t5443 = product(t464, t5203);
+        let t5444: f64 = t485 * t5224;
+        let t5445 = product(t489, t5280);
+        let t5446: f64 = t157 * t5372;
+        let t5447 = product(t558, t4597);
+        let t5448: f64 = t513 * t5178;
+        let t5449: f64 = t5447.minus(t5448);
+        let t5450: f64 = arm2_crank_length * t5449;
+        let t5451: f64 = t5443.plus(t5444);
+        let t5452: f64 = t5445.plus(t5450);
+        let t5453: f64 = t5451 + t5452;
+        let t5454: f64 = t5442.plus(t5446);
+        let t5455: f64 = t5453 - t5454;
+        let t5456 = product(t105, t5455);
+        let t5457 = product(t2375, t4602);
+        let t5458 = product(t1356, t4602);
+        let t5459: f64 = t5458.added_to(t4596);
+        let t5460: f64 = t4595 + t5459;
+        let t5461 = product(t543, t5460);
+        let t5462 = product(t160, t5372);
+        let t5463 = product(t160, t5203);
+        let t5464: f64 = t481 * t5300;
+        let t5465 = product(t483, t5231);
+        let t5466 = product(arm2_axis_x, t5251);
+        let t5467: f64 = arm2_axis_y * t5407;
+        let t5468 = product(arm2_axis_z, t5329);
+        let t5469: f64 = t5466.plus(t5467);
+        let t5470: f64 = t5468.subtracted_from(t5469);
+        let t5471: f64 = t480 * t5470;
+        let t5472 = product(t2392, t5337);
+        let t5473: f64 = t5465.plus(t5471);
+        let t5474: f64 = t5472.plus(t5473);
+        let t5475: f64 = t5463.plus(t5464);
+        let t5476: f64 = t5474 - t5475;
+        let t5477 = product(t461, t5476);
+        let t5478: f64 = t180 * t5364;
+        let t5479: f64 = t5477.plus(t5478);
+        let t5480: f64 = t5462.plus(t5479);
+        let t5481: f64 = t5461.subtracted_from(t5480);
+        let t5482: f64 = arm2_crank_length * t5481;
+        let t5483: f64 = t5457.plus(t5482);
+        let t5484: f64 = -t5483;
+        let t5485 = product(arm2_zero_x, t5484);
+        let t5486: f64 = t5380.plus(t5426);
+        let t5487: f64 = t5485.plus(t5486);
+        let t5488: f64 = t5395.plus(t5441);
+        let t5489: f64 = t5456.plus(t5488);
+        let t5490: f64 = t5487 - t5489;
+        let t5491 = product(t101, t5490);
+        let t5492 = product(t116, t5490);
+        let t5493 = product(t113, t5379);
+        let t5494: f64 = arm2_zero_z * t5394;
+        let t5495 = product(t109, t5425);
+        let t5496: f64 = arm2_zero_y * t5440;
+        let t5497 = product(arm2_zero_x, t5455);
+        let t5498: f64 = t105 * t5484;
+        let t5499: f64 = t5493.plus(t5494);
+        let t5500: f64 = t5495.plus(t5496);
+        let t5501: f64 = t5497.plus(t5498);
+        let t5502: f64 = t5499 + t5500;
+        let t5503: f64 = t5501 + t5502;
+        let t5504: f64 = t101 * t5503;
+        let t5505: f64 = t5492.minus(t5504);
+        let t5506: f64 = t2429 * t5505;
+        let t5507 = product(t116, t5503);
+        let t5508: f64 = t5491.plus(t5506);
+        let t5509: f64 = t5507.plus(t5508);
+        let t5510: f64 = t5509 * 0.5;
+        let t5511: f64 = t2436 * t5510;
+        let t5512: f64 = t2439 * t5505;
+        let t5513 = product(t138, t5490);
+        let t5514: f64 = t143 * t5503;
+        let t5515: f64 = t5513.plus(t5514);
+        let t5516 = product(t2441, t5515);
+        let t5517: f64 = t5512 * 0.5;
+        let t5518: f64 = t5516.plus(t5517);
+        let t5519: f64 = t116 * t5518;
+        let t5520 = product(t136, t5490);
+        let t5521: f64 = t131 * t5503;
+        let t5522: f64 = t5520.minus(t5521);
+        let t5523 = product(t119, t5522);
+        let t5524: f64 = t5519 * 2.0;
+        let t5525: f64 = t5523.plus(t5524);
+        let t5526 = product(t105, t5525);
+        let t5527: f64 = t101 * t5518;
+        let t5528 = product(t131, t5490);
+        let t5529: f64 = t136 * t5503;
+        let t5530: f64 = t5528.plus(t5529);
+        let t5531 = product(t119, t5530);
+        let t5532: f64 = t5527 * 2.0;
+        let t5533: f64 = t5531.minus(t5532);
+        let t5534: f64 = arm2_zero_x * t5533;
+        let t5535 = product(t2579, t4657);
+        let t5536: f64 = t2465 * t4607;
+        let t5537 = product(t331, t4618);
+        let t5538: f64 = t422 * t4631;
+        let t5539: f64 = t5536 * 2.0;
+        let t5540: f64 = t5537.plus(t5539);
+        let t5541: f64 = t5538 + t5540;
+        let t5542 = product(az, t5541);
+        let t5543: f64 = t372 * t2474;
+        let t5544: f64 = t799 * t5543;
+        let t5545: f64 = arm1_rod_izz * t425;
+        let t5546: f64 = t4624 - t5545;
+        let t5547: f64 = t5546 * 2.0;
+        let t5548 = product(t437, t5547);
+        let t5549: f64 = t5544 * 4.0;
+        let t5550: f64 = t5548.plus(t5549);
+        let t5551 = product(vz, t5550);
+        let t5552 = product(az, t4615);
+        let t5553: f64 = t5552.minus(t1584);
+        let t5554: f64 = t5551.minus(t5553);
+        let t5555: f64 = t1585 + t5554;
+        let t5556: f64 = t332 * t5555;
+        let t5557: f64 = t436 * t4611;
+        let t5558: f64 = t799 * t5557;
+        let t5559 = product(t2489, t4609);
+        let t5560: f64 = t5559.added_to(t4614);
+        let t5561 = product(t437, t5560);
+        let t5562 = product(t819, t5547);
+        let t5563: f64 = t436 * t5560;
+        let t5564: f64 = t5562.minus(t5563);
+        let t5565 = product(t341, t5564);
+        let t5566: f64 = t5558 * 4.0;
+        let t5567: f64 = t5565.plus(t5566);
+        let t5568: f64 = t5561.subtracted_from(t5567);
+        let t5569 = product(vz, t5568);
+        let t5570 = product(az, t4626);
+        let t5571: f64 = t5570.added_to(t1049);
+        let t5572: f64 = t1048 + t5571;
+        let t5573: f64 = t5569.subtracted_from(t5572);
+        let t5574 = product(t423, t5573);
+        let t5575: f64 = t5542.plus(t5556);
+        let t5576: f64 = t873 + t5575;
+        let t5577: f64 = t5574.subtracted_from(t5576);
+        let t5578 = product(arm1_crank_length, t5577);
+        let t5579 = product(t282, t2587);
+        let t5580: f64 = t2514 * t4657;
+        let t5581: f64 = t2516 * t4657;
+        let t5582: f64 = t425 * t4046;
+        let t5583: f64 = t363 * t5582;
+        let t5584 = product(t362, t4626);
+        let t5585: f64 = t5583 * 2.0;
+        let t5586: f64 = t5584.plus(t5585);
+        let t5587 = product(t371, t5586);
+        let t5588 = product(t362, t4615);
+        let t5589: f64 = t363 * t4615;
+        let t5590 = product(t2529, t5545);
+        let t5591: f64 = t4624 * 2.0;
+        let t5592: f64 = t5590.plus(t5591);
+        let t5593 = product(t858, t5592);
+        let t5594: f64 = t5593.subtracted_from(t5589);
+        let t5595: f64 = t341 * t5594;
+        let t5596: f64 = t5588.plus(t5595);
+        let t5597: f64 = t294 * t5596;
+        let t5598: f64 = -t5597;
+        let t5599: f64 = t316 * t5598;
+        let t5600: f64 = t5587.plus(t5599);
+        let t5601 = product(t5581, 2.0);
+        let t5602: f64 = t5601.added_to(t5600);
+        let t5603 = product(t77, t5602);
+        let t5604: f64 = t2544 * t4657;
+        let t5605 = product(t366, t5586);
+        let t5606: f64 = t314 * t5598;
+        let t5607: f64 = t5605.plus(t5606);
+        let t5608 = product(t5604, 2.0);
+        let t5609: f64 = t5608.added_to(t5607);
+        let t5610: f64 = t66 * t5609;
+        let t5611: f64 = t2552 * t4657;
+        let t5612 = product(t319, t5586);
+        let t5613: f64 = t322 * t5598;
+        let t5614: f64 = t5612.plus(t5613);
+        let t5615 = product(t5611, 2.0);
+        let t5616: f64 = t5615.added_to(t5614);
+        let t5617 = product(t62, t5616);
+        let t5618 = product(t80, t4636);
+        let t5619: f64 = t69 * t4644;
+        let t5620 = product(t55, t4652);
+        let t5621: f64 = t5618.plus(t5619);
+        let t5622: f64 = t5620.plus(t5621);
+        let t5623: f64 = t5622 * 2.0;
+        let t5624: f64 = t346 * t5623;
+        let t5625: f64 = t5603.plus(t5610);
+        let t5626: f64 = t5617.plus(t5624);
+        let t5627: f64 = t5625 + t5626;
+        let t5628 = product(arm1_crank_length, t5627);
+        let t5629: f64 = t5580 * 2.0;
+        let t5630: f64 = t5628.minus(t5629);
+        let t5631: f64 = vz * t5630;
+        let t5632: f64 = t5579.minus(t5631);
+        let t5633: f64 = t5578.plus(t5632);
+        let t5634: f64 = t2629 + t5633;
+        let t5635 = product(t89, t5634);
+        let t5636 = product(t2581, t4657);
+        let t5637: f64 = t5636.added_to(t4635);
+        let t5638: f64 = t4634 + t5637;
+        let t5639: f64 = t376 * t5638;
+        let t5640: f64 = t372 * t2645;
+        let t5641: f64 = -t5640;
+        let t5642 = product(t77, t5641);
+        let t5643 = product(gravity_y, t4618);
+        let t5644 = product(t407, t4619);
+        let t5645 = product(t372, t834);
+        let t5646 = product(ay, t4615);
+        let t5647: f64 = vy * t5550;
+        let t5648: f64 = t5646.minus(t5647);
+        let t5649 = product(t280, t5648);
+        let t5650 = product(ax, t4615);
+        let t5651: f64 = vx * t5550;
+        let t5652: f64 = t5650.minus(t5651);
+        let t5653: f64 = t90 * t5652;
+        let t5654 = product(t282, t5555);
+        let t5655: f64 = t5649.plus(t5653);
+        let t5656: f64 = t5654.subtracted_from(t5655);
+        let t5657: f64 = arm1_crank_length * t5656;
+        let t5658: f64 = -t5657;
+        let t5659: f64 = t294 * t5658;
+        let t5660 = product(t451, t4618);
+        let t5661: f64 = t5645.plus(t5659);
+        let t5662: f64 = t5660.plus(t5661);
+        let t5663: f64 = t66 * t5662;
+        let t5664 = product(t353, t5586);
+        let t5665: f64 = t5664.added_to(t5648);
+        let t5666 = product(t294, t5665);
+        let t5667: f64 = t5644.plus(t5663);
+        let t5668: f64 = t5666.plus(t5667);
+        let t5669: f64 = t5643.minus(t5668);
+        let t5670: f64 = t322 * t5669;
+        let t5671 = product(gravity_x, t4618);
+        let t5672 = product(t401, t4619);
+        let t5673: f64 = t62 * t5662;
+        let t5674 = product(t349, t5586);
+        let t5675: f64 = t5674.added_to(t5652);
+        let t5676 = product(t294, t5675);
+        let t5677: f64 = t5672.plus(t5673);
+        let t5678: f64 = t5676.plus(t5677);
+        let t5679: f64 = t5671.minus(t5678);
+        let t5680 = product(t314, t5679);
+        let t5681 = product(t858, t4626);
+        let t5682: f64 = t5681.subtracted_from(t5589);
+        let t5683 = product(t363, t5682);
+        let t5684 = product(vz, t5564);
+        let t5685: f64 = t5684.subtracted_from(t2688);
+        let t5686 = product(t425, t5685);
+        let t5687: f64 = t435 * t5564;
+        let t5688: f64 = t5683.plus(t5687);
+        let t5689: f64 = t5686.subtracted_from(t5688);
+        let t5690 = product(arm1_axis_z, t5689);
+        let t5691: f64 = t425 * t4230;
+        let t5692: f64 = t363 * t5691;
+        let t5693 = product(t340, t5689);
+        let t5694 = product(gravity_z, t4631);
+        let t5695: f64 = t395 * t4632;
+        let t5696: f64 = t5694.minus(t5695);
+        let t5697 = product(t294, t5573);
+        let t5698: f64 = t5697.subtracted_from(t5696);
+        let t5699 = product(t297, t5669);
+        let t5700: f64 = t357 * t5598;
+        let t5701: f64 = t5699.minus(t5700);
+        let t5702 = product(t300, t5679);
+        let t5703 = product(t372, t870);
+        let t5704 = product(vy, t5568);
+        let t5705: f64 = ay * t4626;
+        let t5706: f64 = t5704.subtracted_from(t5705);
+        let t5707 = product(t280, t5706);
+        let t5708 = product(vx, t5568);
+        let t5709: f64 = ax * t4626;
+        let t5710: f64 = t5708.subtracted_from(t5709);
+        let t5711: f64 = t90 * t5710;
+        let t5712 = product(t282, t5573);
+        let t5713: f64 = t5707.plus(t5711);
+        let t5714: f64 = t5712.plus(t5713);
+        let t5715 = product(t2657, t5714);
+        let t5716: f64 = t451 * t4631;
+        let t5717: f64 = t5703.plus(t5716);
+        let t5718: f64 = t5715.subtracted_from(t5717);
+        let t5719: f64 = t77 * t5718;
+        let t5720: f64 = t5702.plus(t5719);
+        let t5721: f64 = t5701 - t5720;
+        let t5722: f64 = t5698 + t5721;
+        let t5723: f64 = t308 * t5722;
+        let t5724 = product(gravity_y, t4631);
+        let t5725: f64 = t294 * t5706;
+        let t5726: f64 = t5724.minus(t5725);
+        let t5727 = product(t66, t5718);
+        let t5728: f64 = t5727.subtracted_from(t5726);
+        let t5729 = product(t295, t5679);
+        let t5730 = product(gravity_z, t4618);
+        let t5731 = product(t395, t4619);
+        let t5732: f64 = t77 * t5662;
+        let t5733 = product(t357, t5586);
+        let t5734: f64 = t5733.minus(t5555);
+        let t5735 = product(t294, t5734);
+        let t5736: f64 = t5731.plus(t5732);
+        let t5737: f64 = t5735.plus(t5736);
+        let t5738: f64 = t5730.minus(t5737);
+        let t5739: f64 = t297 * t5738;
+        let t5740: f64 = t5729.minus(t5739);
+        let t5741 = product(t407, t4632);
+        let t5742: f64 = t353 * t5598;
+        let t5743: f64 = t5741.plus(t5742);
+        let t5744: f64 = t5740 - t5743;
+        let t5745: f64 = t5728 + t5744;
+        let t5746 = product(t299, t5745);
+        let t5747 = product(gravity_x, t4631);
+        let t5748: f64 = t401 * t4632;
+        let t5749: f64 = t5747.minus(t5748);
+        let t5750 = product(t294, t5710);
+        let t5751: f64 = t5750.subtracted_from(t5749);
+        let t5752 = product(t300, t5738);
+        let t5753: f64 = t349 * t5598;
+        let t5754: f64 = t5752.minus(t5753);
+        let t5755 = product(t295, t5669);
+        let t5756: f64 = t62 * t5718;
+        let t5757: f64 = t5755.plus(t5756);
+        let t5758: f64 = t5754 - t5757;
+        let t5759: f64 = t5751 + t5758;
+        let t5760: f64 = t303 * t5759;
+        let t5761 = product(t5692, 4.0);
+        let t5762: f64 = t5693.plus(t5723);
+        let t5763: f64 = t5746.plus(t5760);
+        let t5764: f64 = t5762 + t5763;
+        let t5765: f64 = t5761.minus(t5764);
+        let t5766 = product(t2768, t5765);
+        let t5767: f64 = t5766.added_to(t5745);
+        let t5768: f64 = arm1_axis_x * t5767;
+        let t5769 = product(t2772, t5765);
+        let t5770: f64 = t5769.added_to(t5759);
+        let t5771 = product(arm1_axis_y, t5770);
+        let t5772: f64 = t5690.plus(t5768);
+        let t5773: f64 = t5771.subtracted_from(t5772);
+        let t5774: f64 = t313 * t5773;
+        let t5775: f64 = t799 * t4607;
+        let t5776 = product(t2780, t5775);
+        let t5777: f64 = t5680.plus(t5774);
+        let t5778: f64 = t5776.plus(t5777);
+        let t5779: f64 = t5642.plus(t5670);
+        let t5780: f64 = t5778 - t5779;
+        let t5781 = product(t294, t5780);
+        let t5782 = product(t282, t2605);
+        let t5783 = product(vy, t5630);
+        let t5784 = product(ay, t5541);
+        let t5785 = product(t332, t5648);
+        let t5786: f64 = t423 * t5706;
+        let t5787: f64 = t5785.plus(t5786);
+        let t5788: f64 = t5784.minus(t5787);
+        let t5789: f64 = arm1_crank_length * t5788;
+        let t5790: f64 = t5782.plus(t5789);
+        let t5791: f64 = t5783.minus(t5790);
+        let t5792 = product(t73, t5791);
+        let t5793 = product(t282, t2511);
+        let t5794 = product(vx, t5630);
+        let t5795 = product(ax, t5541);
+        let t5796 = product(t332, t5652);
+        let t5797: f64 = t423 * t5710;
+        let t5798: f64 = t5796.plus(t5797);
+        let t5799: f64 = t5795.minus(t5798);
+        let t5800: f64 = arm1_crank_length * t5799;
+        let t5801: f64 = t5793.plus(t5800);
+        let t5802: f64 = t5794.minus(t5801);
+        let t5803: f64 = t59 * t5802;
+        let t5804 = product(t84, t5634);
+        let t5805: f64 = t390 * t4657;
+        let t5806: f64 = t5792.plus(t5803);
+        let t5807: f64 = t5804.plus(t5805);
+        let t5808: f64 = t5806 - t5807;
+        let t5809: f64 = t2636 * t5808;
+        let t5810: f64 = -t5809;
+        let t5811: f64 = t77 * t5810;
+        let t5812: f64 = t5781.plus(t5811);
+        let t5813: f64 = t5635.plus(t5639);
+        let t5814: f64 = t5812 - t5813;
+        let t5815: f64 = arm1_crank_length * t5814;
+        let t5816: f64 = t5535.plus(t5815);
+        let t5817: f64 = -t5816;
+        let t5818 = product(arm1_zero_z, t5817);
+        let t5819 = product(t282, t2796);
+        let t5820 = product(t295, t5641);
+        let t5821: f64 = t328 * t5662;
+        let t5822 = product(t316, t5718);
+        let t5823: f64 = t84 * t5810;
+        let t5824 = product(t391, t4636);
+        let t5825: f64 = t346 * t5602;
+        let t5826: f64 = t5824.minus(t5825);
+        let t5827: f64 = arm1_crank_length * t5826;
+        let t5828: f64 = t5820.plus(t5821);
+        let t5829: f64 = t5822.plus(t5827);
+        let t5830: f64 = t5828 + t5829;
+        let t5831: f64 = t5819.plus(t5823);
+        let t5832: f64 = t5830 - t5831;
+        let t5833 = product(t22, t5832);
+        let t5834 = product(t2813, t4657);
+        let t5835 = product(t2815, t4657);
+        let t5836: f64 = t5835.added_to(t4643);
+        let t5837: f64 = t4642 + t5836;
+        let t5838 = product(t376, t5837);
+        let t5839 = product(t66, t5810);
+        let t5840 = product(t66, t5641);
+        let t5841 = product(t322, t5738);
+        let t5842: f64 = t316 * t5679;
+        let t5843 = product(arm1_axis_y, t5689);
+        let t5844 = product(t2825, t5765);
+        let t5845: f64 = t5844.added_to(t5722);
+        let t5846 = product(arm1_axis_x, t5845);
+        let t5847: f64 = arm1_axis_z * t5770;
+        let t5848: f64 = t5843.plus(t5847);
+        let t5849: f64 = t5846.subtracted_from(t5848);
+        let t5850: f64 = t313 * t5849;
+        let t5851 = product(t2834, t5775);
+        let t5852: f64 = t5841.plus(t5850);
+        let t5853: f64 = t5851.plus(t5852);
+        let t5854: f64 = t5840.plus(t5842);
+        let t5855: f64 = t5853 - t5854;
+        let t5856 = product(t294, t5855);
+        let t5857: f64 = t89 * t5791;
+        let t5858: f64 = t5856.plus(t5857);
+        let t5859: f64 = t5839.plus(t5858);
+        let t5860: f64 = t5838.subtracted_from(t5859);
+        let t5861: f64 = arm1_crank_length * t5860;
+        let t5862: f64 = t5834.plus(t5861);
+        let t5863: f64 = -t5862;
+        let t5864: f64 = arm1_zero_y * t5863;
+        let t5865 = product(t282, t2849);
+        let t5866 = product(t300, t5641);
+        let t5867: f64 = t324 * t5662;
+        let t5868 = product(t314, t5718);
+        let t5869: f64 = t73 * t5810;
+        let t5870 = product(t391, t4644);
+        let t5871: f64 = t346 * t5609;
+        let t5872: f64 = t5870.minus(t5871);
+        let t5873: f64 = arm1_crank_length * t5872;
+        let t5874: f64 = t5866.plus(t5867);
+        let t5875: f64 = t5868.plus(t5873);
+        let t5876: f64 = t5874 + t5875;
+        let t5877: f64 = t5865.plus(t5869);
+        let t5878: f64 = t5876 - t5877;
+        let t5879: f64 = t18 * t5878;
+        let t5880 = product(t282, t2865);
+        let t5881 = product(t297, t5641);
+        let t5882: f64 = t318 * t5662;
+        let t5883 = product(t322, t5718);
+        let t5884: f64 = t59 * t5810;
+        let t5885 = product(t391, t4652);
+        let t5886: f64 = t346 * t5616;
+        let t5887: f64 = t5885.minus(t5886);
+        let t5888: f64 = arm1_crank_length * t5887;
+        let t5889: f64 = t5881.plus(t5882);
+        let t5890: f64 = t5883.plus(t5888);
+        let t5891: f64 = t5889 + t5890;
+        let t5892: f64 = t5880.plus(t5884);
+        let t5893: f64 = t5891 - t5892;
+        let t5894 = product(t14, t5893);
+        let t5895 = product(t2882, t4657);
+        let t5896 = product(t1420, t4657);
+        let t5897: f64 = t5896.added_to(t4651);
+        let t5898: f64 = t4650 + t5897;
+        let t5899 = product(t376, t5898);
+        let t5900 = product(t62, t5810);
+        let t5901 = product(t62, t5641);
+        let t5902: f64 = t314 * t5738;
+        let t5903 = product(t316, t5669);
+        let t5904 = product(arm1_axis_x, t5689);
+        let t5905: f64 = arm1_axis_y * t5845;
+        let t5906 = product(arm1_axis_z, t5767);
+        let t5907: f64 = t5904.plus(t5905);
+        let t5908: f64 = t5906.subtracted_from(t5907);
+        let t5909: f64 = t313 * t5908;
+        let t5910 = product(t2899, t5775);
+        let t5911: f64 = t5903.plus(t5909);
+        let t5912: f64 = t5910.plus(t5911);
+        let t5913: f64 = t5901.plus(t5902);
+        let t5914: f64 = t5912 - t5913;
+        let t5915 = product(t294, t5914);
+        let t5916: f64 = t89 * t5802;
+        let t5917: f64 = t5915.plus(t5916);
+        let t5918: f64 = t5900.plus(t5917);
+        let t5919: f64 = t5899.subtracted_from(t5918);
+        let t5920: f64 = arm1_crank_length * t5919;
+        let t5921: f64 = t5895.plus(t5920);
+        let t5922: f64 = -t5921;
+        let t5923 = product(arm1_zero_x, t5922);
+        let t5924: f64 = t5818.plus(t5864);
+        let t5925: f64 = t5923.plus(t5924);
+        let t5926: f64 = t5833.plus(t5879);
+        let t5927: f64 = t5894.plus(t5926);
+        let t5928: f64 = t5925 - t5927;
+        let t5929 = product(t10, t5928);
+        let t5930 = product(t25, t5928);
+        let t5931 = product(t22, t5817);
+        let t5932: f64 = arm1_zero_z * t5832;
+        let t5933 = product(t18, t5863);
+        let t5934: f64 = arm1_zero_y * t5878;
+        let t5935 = product(arm1_zero_x, t5893);
+        let t5936: f64 = t14 * t5922;
+        let t5937: f64 = t5931.plus(t5932);
+        let t5938: f64 = t5933.plus(t5934);
+        let t5939: f64 = t5935.plus(t5936);
+        let t5940: f64 = t5937 + t5938;
+        let t5941: f64 = t5939 + t5940;
+        let t5942: f64 = t10 * t5941;
+        let t5943: f64 = t5930.minus(t5942);
+        let t5944: f64 = t2936 * t5943;
+        let t5945 = product(t25, t5941);
+        let t5946: f64 = t5929.plus(t5944);
+        let t5947: f64 = t5945.plus(t5946);
+        let t5948: f64 = t5947 * 0.5;
+        let t5949 = product(t2943, t5948);
+        let t5950: f64 = t2946 * t5943;
+        let t5951 = product(t47, t5928);
+        let t5952: f64 = t52 * t5941;
+        let t5953: f64 = t5951.plus(t5952);
+        let t5954 = product(t2948, t5953);
+        let t5955: f64 = t5950 * 0.5;
+        let t5956: f64 = t5954.plus(t5955);
+        let t5957: f64 = t25 * t5956;
+        let t5958 = product(t45, t5928);
+        let t5959: f64 = t40 * t5941;
+        let t5960: f64 = t5958.minus(t5959);
+        let t5961 = product(t28, t5960);
+        let t5962: f64 = t5957 * 2.0;
+        let t5963: f64 = t5961.plus(t5962);
+        let t5964: f64 = t14 * t5963;
+        let t5965: f64 = t10 * t5956;
+        let t5966 = product(t40, t5928);
+        let t5967: f64 = t45 * t5941;
+        let t5968: f64 = t5966.plus(t5967);
+        let t5969 = product(t28, t5968);
+        let t5970: f64 = t5965 * 2.0;
+        let t5971: f64 = t5969.minus(t5970);
+        let t5972 = product(arm1_zero_x, t5971);
+        let t5973: f64 = t5073.plus(t5511);
+        let t5974: f64 = t5949.plus(t5973);
+        let t5975 = product(t5974, 2.0);
+        let t5976: f64 = t5096.plus(t5534);
+        let t5977: f64 = t5972.added_to(t5042);
+        let t5978: f64 = t5480 + t5918;
+        let t5979: f64 = t5976 + t5977;
+        let t5980: f64 = t5975.plus(t5978);
+        let t5981: f64 = t5979 + t5980;
+        let t5982: f64 = t4548.plus(t4603);
+        let t5983: f64 = t4658.plus(t5088);
+        let t5984: f64 = t5526.plus(t5964);
+        let t5985: f64 = t5982 + t5983;
+        let t5986: f64 = t5984 + t5985;
+        let t5987: f64 = t5981 - t5986;
+        let t5988 = product(t1175, t5987);
+        let t5989: f64 = t2989.plus(t4493);
+        let t5990: f64 = t5988.plus(t5989);
+        let t5991: f64 = t293 * t5990;
+        let t5992: f64 = -t5991;
+        let t5993: f64 = t710 * t1801;
+        let t5994 = product(t1291, t5993);
+        let t5995: f64 = t543 * t2308;
+        let t5996: f64 = t1355 * t5995;
+        let t5997: f64 = t376 * t2815;
+        let t5998 = product(t1419, t5997);
+        let t5999: f64 = t186 * t211;
         (
-            t5006,
-            t5012,
-            t5018,
-            t5023,
-            t5032,
-            t5038,
-            t5039,
-            t5059,
+            t5072,
             t5087,
-            t5088,
-            t5132,
-            t5152,
-            t5180,
-            t5181,
-            t5225,
-            t5230,
-            t5245,
-            t5248,
-            t5257,
-            t5262,
-            t5269,
-            t5273,
-            t5274,
-            t5283,
-            t5297,
-            t5307,
-            t5313,
-            t5317,
-            t5318,
-            t5373,
-            t5412,
-            t5431,
-            t5438,
-            t5449,
-            t5456,
-            t5483,
-            t5497,
-            t5519,
-            t5524,
-            t5537,
-            t5566,
-            t5570,
-            t5577,
-            t5580,
-            t5583,
-            t5596,
-            t5605,
-            t5606,
-            t5661,
-            t5700,
-            t5719,
-            t5726,
-            t5737,
-            t5744,
-            t5771,
-            t5785,
-            t5807,
+            t5095,
+            t5100,
+            t5101,
+            t5112,
+            t5130,
+            t5143,
+            t5162,
+            t5166,
+            t5169,
+            t5173,
+            t5176,
+            t5192,
+            t5195,
+            t5374,
+            t5421,
+            t5510,
+            t5525,
+            t5533,
+            t5538,
+            t5539,
+            t5550,
+            t5568,
+            t5581,
+            t5600,
+            t5604,
+            t5607,
+            t5611,
+            t5614,
+            t5630,
+            t5633,
             t5812,
-            t5825,
-            t5854,
-            t5858,
-            t5865,
-            t5868,
-            t5871,
-            t5884,
-            t5893,
-            t5894,
-            t5895,
-            t5896,
-            t5906,
-            t5915,
-            t5919,
-            t5923,
-            t5949,
-            t5958,
-            t5968,
-            t5978,
-            t5988,
+            t5859,
+            t5948,
+            t5963,
+            t5971,
+            t5987,
+            t5992,
+            t5993,
+            t5994,
+            t5995,
+            t5996,
+            t5997,
+            t5998,
             t5999,
         )
     };
     let (
-        t6504,
-        t6533,
-        t6562,
-        t6591,
-        t6619,
-        t6647,
-        t6675,
-        t6683,
-        t6686,
-        t6688,
-        t6689,
-        t6690,
-        t6692,
-        t6694,
-        t6698,
-        t6705,
-        t6712,
-        t6720,
-        t6724,
-        t6727,
-        t6731,
-        t6732,
-        t6740,
-        t6743,
-        t6745,
-        t6746,
-        t6747,
-        t6749,
-        t6751,
-        t6755,
-        t6762,
-        t6769,
-        t6777,
-        t6781,
-        t6784,
-        t6788,
+        t6098,
+        t6204,
+        t6210,
+        t6216,
+        t6222,
+        t6229,
+        t6236,
+        t6243,
+        t6322,
+        t6401,
+        t6480,
+        t6486,
+        t6492,
+        t6498,
+        t6505,
+        t6512,
+        t6519,
+        t6625,
+        t6708,
+        t6768,
+        t6775,
+        t6782,
         t6789,
-        t6797,
-        t6800,
-        t6802,
-        t6803,
-        t6804,
-        t6806,
+        t6795,
+        t6801,
+        t6807,
         t6808,
-        t6812,
-        t6819,
-        t6826,
-        t6834,
-        t6838,
-        t6841,
-        t6845,
-        t6846,
-        t6860,
-        t6862,
-        t6866,
-        t6868,
-        t6871,
-        t6876,
-        t6896,
-        t6897,
-        t6911,
-        t6913,
-        t6917,
-        t6919,
-        t6922,
-        t6927,
-        t6947,
-        t6948,
-        t6962,
-        t6964,
-        t6968,
-        t6970,
-        t6973,
-        t6978,
-        t6998,
-        t6999,
+        t6809,
+        t6810,
+        t6824,
     ) = {
-        let t6000: f64 = arm3_rod_mass * t5999;
-        let t6001 = product(vx, t5273);
-        let t6002 = product(t1760, t5257);
-        let t6003 = product(t746, t4915);
-        let t6004: f64 = t2533 * t5269;
-        let t6005: f64 = t6003.minus(t6004);
-        let t6006: f64 = arm3_crank_length * t6005;
-        let t6007: f64 = t6002.minus(t6006);
-        let t6008: f64 = vy * t6007;
-        let t6009 = product(t1760, t5262);
-        let t6010 = product(t746, t4906);
-        let t6011: f64 = t2541 * t5269;
-        let t6012: f64 = t6010.minus(t6011);
-        let t6013: f64 = arm3_crank_length * t6012;
-        let t6014: f64 = t6009.minus(t6013);
-        let t6015 = product(vz, t6014);
-        let t6016: f64 = t6001.plus(t6008);
-        let t6017: f64 = t6015.plus(t6016);
-        let t6018 = product(t761, t6017);
-        let t6019 = product(vx, t5317);
-        let t6020 = product(t698, t5297);
-        let t6021 = product(t736, t4915);
-        let t6022: f64 = t2533 * t5313;
-        let t6023: f64 = t6021.minus(t6022);
-        let t6024: f64 = arm3_crank_length * t6023;
-        let t6025: f64 = t6020.minus(t6024);
-        let t6026: f64 = vy * t6025;
-        let t6027 = product(t698, t5307);
-        let t6028 = product(t736, t4906);
-        let t6029: f64 = t2541 * t5313;
-        let t6030: f64 = t6028.minus(t6029);
-        let t6031: f64 = arm3_crank_length * t6030;
-        let t6032: f64 = t6027.minus(t6031);
-        let t6033 = product(vz, t6032);
-        let t6034: f64 = t6019.plus(t6026);
-        let t6035: f64 = t6033.plus(t6034);
-        let t6036: f64 = t1023 * t6035;
-        let t6037: f64 = t6018.plus(t6036);
-        let t6038: f64 = t6037 * 4.0;
-        let t6039 = product(arm3_rod_mz, t6038);
-        let t6040: f64 = t6000 * 2.0;
-        let t6041: f64 = t6039.subtracted_from(t6040);
-        let t6042 = product(t1035, t6041);
-        let t6043 = product(ax, t5317);
-        let t6044: f64 = ay * t6025;
-        let t6045 = product(az, t6032);
-        let t6046 = product(t790, t5283);
-        let t6047: f64 = t795 * t5297;
-        let t6048 = product(t785, t5307);
-        let t6049 = product(arm3_axis_z, t5230);
-        let t6050 = product(arm3_axis_x, t4891);
-        let t6051: f64 = arm3_axis_y * t4895;
-        let t6052: f64 = t6050.plus(t6051);
-        let t6053: f64 = t1737 * t6052;
-        let t6054: f64 = t2585 * t5245;
-        let t6055 = product(t6054, 0.5);
-        let t6056: f64 = t6049.plus(t6053);
-        let t6057: f64 = t6055.subtracted_from(t6056);
-        let t6058: f64 = t717 * t6057;
-        let t6059: f64 = -t6058;
-        let t6060 = product(t806, t6059);
-        let t6061 = product(t726, t5915);
-        let t6062: f64 = t718 * t5919;
-        let t6063 = product(t720, t5923);
-        let t6064: f64 = t6061.plus(t6062);
-        let t6065: f64 = t6063.plus(t6064);
-        let t6066 = product(arm3_crank_length, t6065);
-        let t6067 = product(t400, t5248);
-        let t6068: f64 = t404 * t5257;
-        let t6069 = product(t408, t5262);
-        let t6070: f64 = t6067.plus(t6068);
-        let t6071: f64 = t6069.plus(t6070);
-        let t6072: f64 = t717 * t6071;
-        let t6073: f64 = t6066.plus(t6072);
-        let t6074: f64 = t767 * t6073;
-        let t6075: f64 = t6060.minus(t6074);
-        let t6076 = product(t809, t6075);
-        let t6077: f64 = t808 * t6073;
-        let t6078 = product(t732, t5978);
-        let t6079 = product(t722, t5958);
-        let t6080: f64 = t728 * t5968;
-        let t6081: f64 = t6079.plus(t6080);
-        let t6082: f64 = t6078.plus(t6081);
-        let t6083: f64 = arm3_crank_length * t6082;
-        let t6084: f64 = t6046.plus(t6047);
-        let t6085: f64 = t6048.plus(t6077);
-        let t6086: f64 = t6084 + t6085;
-        let t6087: f64 = t6076.plus(t6083);
-        let t6088: f64 = t6086 - t6087;
-        let t6089 = product(t698, t6088);
-        let t6090 = product(t767, t6017);
-        let t6091: f64 = t761 * t6059;
-        let t6092: f64 = t6090.minus(t6091);
-        let t6093 = product(t761, t6092);
-        let t6094: f64 = t768 * t6017;
-        let t6095: f64 = t6093.plus(t6094);
-        let t6096: f64 = t6043.plus(t6044);
-        let t6097: f64 = t6045.plus(t6095);
-        let t6098: f64 = t6096 + t6097;
-        let t6099: f64 = t6089.subtracted_from(t6098);
-        let t6100: f64 = t6099 * 2.0;
-        let t6101 = product(arm3_rod_mz, t6100);
-        let t6102 = product(t780, t5313);
-        let t6103 = product(t735, t5988);
-        let t6104: f64 = t6103.subtracted_from(t6082);
-        let t6105: f64 = arm3_crank_length * t6104;
-        let t6106 = product(t2524, t5283);
-        let t6107: f64 = t2508 * t5297;
-        let t6108 = product(t2506, t5307);
-        let t6109: f64 = t6102.plus(t6105);
-        let t6110: f64 = t6106.plus(t6107);
-        let t6111: f64 = t6109 + t6110;
-        let t6112: f64 = t6108.plus(t6111);
-        let t6113: f64 = -t6112;
-        let t6114: f64 = arm3_rod_mass * t6113;
-        let t6115: f64 = t6114 * 2.0;
-        let t6116: f64 = t6101.plus(t6115);
-        let t6117: f64 = t735 * t6116;
-        let t6118 = product(t720, t5978);
-        let t6119 = product(t726, t5958);
-        let t6120: f64 = t718 * t5968;
-        let t6121: f64 = t6119.plus(t6120);
-        let t6122: f64 = t6118.plus(t6121);
-        let t6123 = product(arm3_crank_length, t6122);
-        let t6124 = product(t790, t5248);
-        let t6125: f64 = t795 * t5257;
-        let t6126 = product(t785, t5262);
-        let t6127: f64 = t6124.plus(t6125);
-        let t6128: f64 = t6126.plus(t6127);
-        let t6129: f64 = t717 * t6128;
-        let t6130: f64 = t6123.minus(t6129);
-        let t6131 = product(t400, t5283);
-        let t6132: f64 = t404 * t5297;
-        let t6133 = product(t408, t5307);
-        let t6134 = product(t722, t5915);
-        let t6135: f64 = t728 * t5919;
-        let t6136 = product(t732, t5923);
-        let t6137: f64 = t6134.plus(t6135);
-        let t6138: f64 = t6136.plus(t6137);
-        let t6139: f64 = arm3_crank_length * t6138;
-        let t6140: f64 = t6131.plus(t6132);
-        let t6141: f64 = t6133.plus(t6139);
-        let t6142: f64 = t6140 + t6141;
-        let t6143 = product(t808, t6142);
-        let t6144: f64 = t1009 * t6075;
-        let t6145: f64 = t6143.minus(t6144);
-        let t6146: f64 = t6130 + t6145;
-        let t6147: f64 = t6146 * 2.0;
-        let t6148 = product(t698, t6147);
-        let t6149 = product(az, t6014);
-        let t6150 = product(ax, t5273);
-        let t6151: f64 = ay * t6007;
-        let t6152: f64 = t6150.plus(t6151);
-        let t6153: f64 = t6149.plus(t6152);
-        let t6154 = product(t768, t6035);
-        let t6155: f64 = t1023 * t6092;
-        let t6156: f64 = t6154.plus(t6155);
-        let t6157: f64 = t6153 - t6156;
-        let t6158: f64 = t6157 * 2.0;
-        let t6159: f64 = t6148.plus(t6158);
-        let t6160 = product(arm3_rod_mz, t6159);
-        let t6161 = product(t780, t5269);
-        let t6162 = product(t745, t5988);
-        let t6163: f64 = t6162.minus(t6122);
-        let t6164 = product(arm3_crank_length, t6163);
-        let t6165 = product(t2524, t5248);
-        let t6166: f64 = t2508 * t5257;
-        let t6167 = product(t2506, t5262);
-        let t6168: f64 = t6165.plus(t6166);
-        let t6169: f64 = t6167.plus(t6168);
-        let t6170: f64 = t717 * t6169;
-        let t6171: f64 = t6161.plus(t6170);
-        let t6172: f64 = t6164.minus(t6171);
-        let t6173: f64 = arm3_rod_mass * t6172;
-        let t6174: f64 = t6173 * 2.0;
-        let t6175: f64 = t6160.plus(t6174);
-        let t6176 = product(t745, t6175);
-        let t6177: f64 = t5895.plus(t5896);
-        let t6178: f64 = t5906.plus(t6177);
-        let t6179: f64 = t6042.plus(t6117);
-        let t6180: f64 = t6176.plus(t6179);
-        let t6181: f64 = t6178 - t6180;
-        let t6182: f64 = t737 * t6181;
-        let t6183: f64 = t2716 * t5006;
-        let t6184 = product(t2719, t4928);
-        let t6185: f64 = t2722 * t4924;
-        let t6186: f64 = t1069 * t5087;
-        let t6187 = product(t1068, t5483);
-        let t6188 = product(t428, t5570);
-        let t6189: f64 = t6188.added_to(t5577);
-        let t6190 = product(t497, t6189);
-        let t6191 = product(t866, t5483);
-        let t6192 = product(t1065, t5059);
-        let t6193 = product(t539, t5566);
-        let t6194: f64 = t857 * t5497;
-        let t6195: f64 = t6193.plus(t6194);
-        let t6196: f64 = t428 * t6195;
-        let t6197: f64 = t6192.minus(t6196);
-        let t6198: f64 = t1063 * t6197;
-        let t6199: f64 = t6191.plus(t6198);
-        let t6200: f64 = t6190.minus(t6199);
-        let t6201: f64 = t497 * t6200;
-        let t6202: f64 = t6187.plus(t6201);
-        let t6203: f64 = t6202 * 2.0;
-        let t6204 = product(t478, t6203);
-        let t6205: f64 = t6186 * 2.0;
-        let t6206: f64 = t6204.subtracted_from(t6205);
-        let t6207 = product(arm1_rod_izz, t6206);
-        let t6208: f64 = t1085 * t5180;
-        let t6209 = product(t1084, t5771);
-        let t6210 = product(t563, t5858);
-        let t6211: f64 = t6210.added_to(t5865);
-        let t6212 = product(t632, t6211);
-        let t6213 = product(t942, t5771);
-        let t6214 = product(t1081, t5152);
-        let t6215 = product(t674, t5854);
-        let t6216: f64 = t933 * t5785;
-        let t6217: f64 = t6215.plus(t6216);
-        let t6218: f64 = t563 * t6217;
-        let t6219: f64 = t6214.minus(t6218);
-        let t6220: f64 = t1079 * t6219;
-        let t6221: f64 = t6213.plus(t6220);
-        let t6222: f64 = t6212.minus(t6221);
-        let t6223: f64 = t632 * t6222;
-        let t6224: f64 = t6209.plus(t6223);
-        let t6225: f64 = t6224 * 2.0;
-        let t6226 = product(t613, t6225);
-        let t6227: f64 = t6208 * 2.0;
-        let t6228: f64 = t6226.subtracted_from(t6227);
-        let t6229: f64 = arm2_rod_izz * t6228;
-        let t6230: f64 = t1101 * t5273;
-        let t6231 = product(t1100, t6059);
-        let t6232 = product(t698, t6146);
-        let t6233: f64 = t6232.added_to(t6153);
-        let t6234 = product(t767, t6233);
-        let t6235 = product(t1018, t6059);
-        let t6236 = product(t1097, t5245);
-        let t6237 = product(t809, t6142);
-        let t6238: f64 = t1009 * t6073;
-        let t6239: f64 = t6237.plus(t6238);
-        let t6240: f64 = t698 * t6239;
-        let t6241: f64 = t6236.minus(t6240);
-        let t6242: f64 = t1095 * t6241;
-        let t6243: f64 = t6235.plus(t6242);
-        let t6244: f64 = t6234.minus(t6243);
-        let t6245: f64 = t767 * t6244;
-        let t6246: f64 = t6231.plus(t6245);
-        let t6247: f64 = t6246 * 2.0;
-        let t6248 = product(t748, t6247);
-        let t6249: f64 = t6230 * 2.0;
-        let t6250: f64 = t6248.subtracted_from(t6249);
-        let t6251 = product(arm3_rod_izz, t6250);
-        let t6252 = product(gravity_x, t4979);
-        let t6253: f64 = gravity_y * t4983;
-        let t6254 = product(gravity_z, t4987);
-        let t6255: f64 = t6252.plus(t6253);
-        let t6256: f64 = t6254.plus(t6255);
-        let t6257 = product(arm1_crank_mx, t6256);
-        let t6258: f64 = t5373 + t5412;
-        let t6259: f64 = arm1_crank_izz * t6258;
-        let t6260: f64 = t6257.plus(t6259);
-        let t6261 = product(t90, t6260);
-        let t6262 = product(arm1_rod_ixx, t5583);
-        let t6263: f64 = t5580 * 2.0;
-        let t6264: f64 = arm1_rod_izz * t6263;
-        let t6265: f64 = arm1_rod_mz * t5596;
-        let t6266 = product(t6265, 2.0);
-        let t6267: f64 = t6262.plus(t6264);
-        let t6268: f64 = t6266.plus(t6267);
-        let t6269: f64 = t478 * t6268;
-        let t6270 = product(arm1_rod_ixx, t5524);
-        let t6271: f64 = t5519 * 2.0;
-        let t6272 = product(arm1_rod_izz, t6271);
-        let t6273: f64 = arm1_rod_mz * t5537;
-        let t6274: f64 = t6273 * 2.0;
-        let t6275: f64 = t6270.plus(t6274);
-        let t6276: f64 = t6272.minus(t6275);
-        let t6277: f64 = t469 * t6276;
-        let t6278 = product(gravity_x, t4813);
-        let t6279: f64 = gravity_y * t4817;
-        let t6280 = product(gravity_z, t4821);
-        let t6281: f64 = t6278.plus(t6279);
-        let t6282: f64 = t6280.plus(t6281);
-        let t6283 = product(arm2_crank_mx, t6282);
-        let t6284: f64 = t5661 + t5700;
-        let t6285: f64 = arm2_crank_izz * t6284;
-        let t6286: f64 = t6283.plus(t6285);
-        let t6287 = product(t279, t6286);
-        let t6288 = product(arm2_rod_ixx, t5871);
-        let t6289: f64 = t5868 * 2.0;
-        let t6290: f64 = arm2_rod_izz * t6289;
-        let t6291: f64 = arm2_rod_mz * t5884;
-        let t6292 = product(t6291, 2.0);
-        let t6293: f64 = t6288.plus(t6290);
-        let t6294: f64 = t6292.plus(t6293);
-        let t6295: f64 = t613 * t6294;
-        let t6296 = product(arm2_rod_ixx, t5812);
-        let t6297: f64 = t5807 * 2.0;
-        let t6298 = product(arm2_rod_izz, t6297);
-        let t6299: f64 = arm2_rod_mz * t5825;
-        let t6300: f64 = t6299 * 2.0;
-        let t6301: f64 = t6296.plus(t6300);
-        let t6302: f64 = t6298.minus(t6301);
-        let t6303 = product(t604, t6302);
-        let t6304 = product(gravity_x, t4878);
-        let t6305: f64 = gravity_y * t4882;
-        let t6306 = product(gravity_z, t4886);
-        let t6307: f64 = t6304.plus(t6305);
-        let t6308: f64 = t6306.plus(t6307);
-        let t6309 = product(arm3_crank_mx, t6308);
-        let t6310: f64 = t5949 + t5988;
-        let t6311: f64 = arm3_crank_izz * t6310;
-        let t6312: f64 = t6309.plus(t6311);
-        let t6313 = product(t286, t6312);
-        let t6314 = product(arm3_rod_ixx, t6159);
-        let t6315: f64 = t6156 * 2.0;
-        let t6316: f64 = arm3_rod_izz * t6315;
-        let t6317: f64 = arm3_rod_mz * t6172;
-        let t6318 = product(t6317, 2.0);
-        let t6319: f64 = t6314.plus(t6316);
+        let t6000: f64 = t210 * t5999;
+        let t6001 = product(t1927, t6000);
+        let t6002: f64 = t200 * t1947;
+        let t6003 = product(arm3_zero_y, t1955);
+        let t6004: f64 = t95 * t120;
+        let t6005: f64 = t119 * t6004;
+        let t6006: f64 = t2434 * t6005;
+        let t6007 = product(t109, t2454);
+        let t6008: f64 = arm2_zero_y * t2462;
+        let t6009: f64 = t4 * t29;
+        let t6010: f64 = t28 * t6009;
+        let t6011 = product(t2941, t6010);
+        let t6012: f64 = t18 * t2961;
+        let t6013 = product(arm1_zero_y, t2969);
+        let t6014: f64 = t6001.plus(t6006);
+        let t6015: f64 = t6011.plus(t6014);
+        let t6016 = product(t6015, 2.0);
+        let t6017: f64 = t6003.plus(t6008);
+        let t6018: f64 = t6013.added_to(t1829);
+        let t6019: f64 = t2336 + t2843;
+        let t6020: f64 = t6017 + t6018;
+        let t6021: f64 = t6016.plus(t6019);
+        let t6022: f64 = t6020 + t6021;
+        let t6023: f64 = t5994.plus(t5996);
+        let t6024: f64 = t5998.plus(t6002);
+        let t6025: f64 = t6007.plus(t6012);
+        let t6026: f64 = t6023 + t6024;
+        let t6027: f64 = t6025 + t6026;
+        let t6028: f64 = t6022 - t6027;
+        let t6029 = product(t277, t6028);
+        let t6030 = product(t3044, t5993);
+        let t6031: f64 = t1423 + t3295;
+        let t6032: f64 = t271 * t6031;
+        let t6033 = product(t3100, t5995);
+        let t6034: f64 = t1957 + t3735;
+        let t6035: f64 = t180 * t6034;
+        let t6036 = product(t3156, t5997);
+        let t6037: f64 = t2464 + t4175;
+        let t6038: f64 = t89 * t6037;
+        let t6039 = product(t3573, t6000);
+        let t6040 = product(t200, t3588);
+        let t6041 = product(arm3_zero_y, t3596);
+        let t6042: f64 = t4013 * t6005;
+        let t6043: f64 = t109 * t4028;
+        let t6044: f64 = arm2_zero_y * t4036;
+        let t6045 = product(t4453, t6010);
+        let t6046 = product(t18, t4468);
+        let t6047 = product(arm1_zero_y, t4476);
+        let t6048: f64 = t6039.plus(t6042);
+        let t6049: f64 = t6045.plus(t6048);
+        let t6050 = product(t6049, 2.0);
+        let t6051: f64 = t6041.plus(t6044);
+        let t6052: f64 = t6047.added_to(t3483);
+        let t6053: f64 = t3923 + t4363;
+        let t6054: f64 = t6051 + t6052;
+        let t6055: f64 = t6050.plus(t6053);
+        let t6056: f64 = t6054 + t6055;
+        let t6057: f64 = t6030.plus(t6032);
+        let t6058: f64 = t6033.plus(t6035);
+        let t6059: f64 = t6036.plus(t6038);
+        let t6060: f64 = t6040.plus(t6043);
+        let t6061: f64 = t6057 + t6058;
+        let t6062: f64 = t6059 + t6060;
+        let t6063: f64 = t6061 + t6062;
+        let t6064: f64 = t6046.plus(t6063);
+        let t6065: f64 = t6056 - t6064;
+        let t6066: f64 = t1145 * t6065;
+        let t6067 = product(t4547, t5993);
+        let t6068: f64 = t4602 * t5995;
+        let t6069 = product(t4657, t5997);
+        let t6070 = product(t5072, t6000);
+        let t6071: f64 = t200 * t5087;
+        let t6072 = product(arm3_zero_y, t5095);
+        let t6073: f64 = t5510 * t6005;
+        let t6074 = product(t109, t5525);
+        let t6075: f64 = arm2_zero_y * t5533;
+        let t6076 = product(t5948, t6010);
+        let t6077: f64 = t18 * t5963;
+        let t6078 = product(arm1_zero_y, t5971);
+        let t6079: f64 = t6070.plus(t6073);
+        let t6080: f64 = t6076.plus(t6079);
+        let t6081 = product(t6080, 2.0);
+        let t6082: f64 = t6072.plus(t6075);
+        let t6083: f64 = t6078.added_to(t4983);
+        let t6084: f64 = t5421 + t5859;
+        let t6085: f64 = t6082 + t6083;
+        let t6086: f64 = t6081.plus(t6084);
+        let t6087: f64 = t6085 + t6086;
+        let t6088: f64 = t6067.plus(t6068);
+        let t6089: f64 = t6069.plus(t6071);
+        let t6090: f64 = t6074.plus(t6077);
+        let t6091: f64 = t6088 + t6089;
+        let t6092: f64 = t6090 + t6091;
+        let t6093: f64 = t6087 - t6092;
+        let t6094 = product(t1175, t6093);
+        let t6095: f64 = t6029.plus(t6066);
+        let t6096: f64 = t6094.plus(t6095);
+        let t6097: f64 = t293 * t6096;
+        let t6098: f64 = -t6097;
+        let t6099: f64 = t710 * t1542;
+        let t6100 = product(t1291, t6099);
+        let t6101: f64 = t543 * t2074;
+        let t6102: f64 = t1355 * t6101;
+        let t6103: f64 = t376 * t2581;
+        let t6104 = product(t1419, t6103);
+        let t6105: f64 = t189 * t211;
+        let t6106: f64 = t210 * t6105;
+        let t6107 = product(t1927, t6106);
+        let t6108: f64 = t204 * t1947;
+        let t6109 = product(arm3_zero_z, t1955);
+        let t6110: f64 = t98 * t120;
+        let t6111: f64 = t119 * t6110;
+        let t6112: f64 = t2434 * t6111;
+        let t6113 = product(t113, t2454);
+        let t6114: f64 = arm2_zero_z * t2462;
+        let t6115: f64 = t7 * t29;
+        let t6116: f64 = t28 * t6115;
+        let t6117 = product(t2941, t6116);
+        let t6118: f64 = t22 * t2961;
+        let t6119 = product(arm1_zero_z, t2969);
+        let t6120: f64 = t6107.plus(t6112);
+        let t6121: f64 = t6117.plus(t6120);
+        let t6122 = product(t6121, 2.0);
+        let t6123: f64 = t6109.plus(t6114);
+        let t6124: f64 = t6119.added_to(t1776);
+        let t6125: f64 = t2283 + t2790;
+        let t6126: f64 = t6123 + t6124;
+        let t6127: f64 = t6122.plus(t6125);
+        let t6128: f64 = t6126 + t6127;
+        let t6129: f64 = t6100.plus(t6102);
+        let t6130: f64 = t6104.plus(t6108);
+        let t6131: f64 = t6113.plus(t6118);
+        let t6132: f64 = t6129 + t6130;
+        let t6133: f64 = t6131 + t6132;
+        let t6134: f64 = t6128 - t6133;
+        let t6135 = product(t277, t6134);
+        let t6136 = product(t3044, t6099);
+        let t6137: f64 = t3100 * t6101;
+        let t6138 = product(t3156, t6103);
+        let t6139 = product(t3573, t6106);
+        let t6140: f64 = t204 * t3588;
+        let t6141 = product(arm3_zero_z, t3596);
+        let t6142: f64 = t4013 * t6111;
+        let t6143 = product(t113, t4028);
+        let t6144: f64 = arm2_zero_z * t4036;
+        let t6145 = product(t4453, t6116);
+        let t6146: f64 = t22 * t4468;
+        let t6147 = product(arm1_zero_z, t4476);
+        let t6148: f64 = t6139.plus(t6142);
+        let t6149: f64 = t6145.plus(t6148);
+        let t6150 = product(t6149, 2.0);
+        let t6151: f64 = t6141.plus(t6144);
+        let t6152: f64 = t6147.added_to(t3438);
+        let t6153: f64 = t3878 + t4318;
+        let t6154: f64 = t6151 + t6152;
+        let t6155: f64 = t6150.plus(t6153);
+        let t6156: f64 = t6154 + t6155;
+        let t6157: f64 = t6136.plus(t6137);
+        let t6158: f64 = t6138.plus(t6140);
+        let t6159: f64 = t6143.plus(t6146);
+        let t6160: f64 = t6157 + t6158;
+        let t6161: f64 = t6159 + t6160;
+        let t6162: f64 = t6156 - t6161;
+        let t6163: f64 = t1145 * t6162;
+        let t6164 = product(t4547, t6099);
+        let t6165: f64 = t1423 + t4757;
+        let t6166: f64 = t271 * t6165;
+        let t6167 = product(t4602, t6101);
+        let t6168: f64 = t1957 + t5195;
+        let t6169: f64 = t180 * t6168;
+        let t6170 = product(t4657, t6103);
+        let t6171: f64 = t2464 + t5633;
+        let t6172: f64 = t89 * t6171;
+        let t6173 = product(t5072, t6106);
+        let t6174 = product(t204, t5087);
+        let t6175 = product(arm3_zero_z, t5095);
+        let t6176: f64 = t5510 * t6111;
+        let t6177: f64 = t113 * t5525;
+        let t6178: f64 = arm2_zero_z * t5533;
+        let t6179 = product(t5948, t6116);
+        let t6180 = product(t22, t5963);
+        let t6181 = product(arm1_zero_z, t5971);
+        let t6182: f64 = t6173.plus(t6176);
+        let t6183: f64 = t6179.plus(t6182);
+        let t6184 = product(t6183, 2.0);
+        let t6185: f64 = t6175.plus(t6178);
+        let t6186: f64 = t6181.added_to(t4936);
+        let t6187: f64 = t5374 + t5812;
+        let t6188: f64 = t6185 + t6186;
+        let t6189: f64 = t6184.plus(t6187);
+        let t6190: f64 = t6188 + t6189;
+        let t6191: f64 = t6164.plus(t6166);
+        let t6192: f64 = t6167.plus(t6169);
+        let t6193: f64 = t6170.plus(t6172);
+        let t6194: f64 = t6174.plus(t6177);
+        let t6195: f64 = t6191 + t6192;
+        let t6196: f64 = t6193 + t6194;
+        let t6197: f64 = t6195 + t6196;
+        let t6198: f64 = t6180.plus(t6197);
+        let t6199: f64 = t6190 - t6198;
+        let t6200 = product(t1175, t6199);
+        let t6201: f64 = t6135.plus(t6163);
+        let t6202: f64 = t6200.plus(t6201);
+        let t6203: f64 = t293 * t6202;
+        let t6204: f64 = -t6203;
+        let t6205 = product(t284, t2988);
+        let t6206 = product(t1209, t4492);
+        let t6207: f64 = t1213 * t5987;
+        let t6208: f64 = t6206.plus(t6207);
+        let t6209: f64 = t6205.minus(t6208);
+        let t6210: f64 = t293 * t6209;
+        let t6211 = product(t284, t6028);
+        let t6212 = product(t1209, t6065);
+        let t6213: f64 = t1213 * t6093;
+        let t6214: f64 = t6212.plus(t6213);
+        let t6215: f64 = t6211.minus(t6214);
+        let t6216: f64 = t293 * t6215;
+        let t6217 = product(t284, t6134);
+        let t6218 = product(t1209, t6162);
+        let t6219: f64 = t1213 * t6199;
+        let t6220: f64 = t6218.plus(t6219);
+        let t6221: f64 = t6217.minus(t6220);
+        let t6222: f64 = t293 * t6221;
+        let t6223 = product(t289, t2988);
+        let t6224: f64 = t1222 * t4492;
+        let t6225 = product(t1226, t5987);
+        let t6226: f64 = t6223.plus(t6224);
+        let t6227: f64 = t6225.plus(t6226);
+        let t6228: f64 = t293 * t6227;
+        let t6229: f64 = -t6228;
+        let t6230 = product(t289, t6028);
+        let t6231: f64 = t1222 * t6065;
+        let t6232 = product(t1226, t6093);
+        let t6233: f64 = t6230.plus(t6231);
+        let t6234: f64 = t6232.plus(t6233);
+        let t6235: f64 = t293 * t6234;
+        let t6236: f64 = -t6235;
+        let t6237 = product(t289, t6134);
+        let t6238: f64 = t1222 * t6162;
+        let t6239 = product(t1226, t6199);
+        let t6240: f64 = t6237.plus(t6238);
+        let t6241: f64 = t6239.plus(t6240);
+        let t6242: f64 = t293 * t6241;
+        let t6243: f64 = -t6242;
+        let t6244 = product(t669, t1441);
+        let t6245: f64 = t286 * t1533;
+        let t6246 = product(t502, t1974);
+        let t6247: f64 = t279 * t2065;
+        let t6248 = product(t335, t2481);
+        let t6249: f64 = t90 * t2572;
+        let t6250 = product(t429, t2500);
+        let t6251: f64 = t596 * t1993;
+        let t6252 = product(t763, t1461);
+        let t6253: f64 = t1514 + t2046;
+        let t6254: f64 = t2553 + t6253;
+        let t6255 = product(t6254, 2.0);
+        let t6256: f64 = t6244.plus(t6245);
+        let t6257: f64 = t6246.plus(t6247);
+        let t6258: f64 = t6248.plus(t6249);
+        let t6259: f64 = t6250.plus(t6251);
+        let t6260: f64 = t6256 + t6257;
+        let t6261: f64 = t6258 + t6259;
+        let t6262: f64 = t6260 + t6261;
+        let t6263: f64 = t6252.plus(t6262);
+        let t6264: f64 = t6255.added_to(t1517);
+        let t6265: f64 = t2049 + t2556;
+        let t6266: f64 = t6264 + t6265;
+        let t6267: f64 = t6263 - t6266;
+        let t6268 = product(t277, t6267);
+        let t6269 = product(t669, t3232);
+        let t6270: f64 = t286 * t3216;
+        let t6271 = product(t502, t3672);
+        let t6272: f64 = t279 * t3656;
+        let t6273 = product(t335, t4112);
+        let t6274: f64 = t90 * t4096;
+        let t6275 = product(t429, t4127);
+        let t6276: f64 = t596 * t3687;
+        let t6277 = product(t763, t3247);
+        let t6278: f64 = t3197 + t3637;
+        let t6279: f64 = t4077 + t6278;
+        let t6280 = product(t6279, 2.0);
+        let t6281: f64 = t6269.plus(t6270);
+        let t6282: f64 = t6271.plus(t6272);
+        let t6283: f64 = t6273.plus(t6274);
+        let t6284: f64 = t6275.plus(t6276);
+        let t6285: f64 = t6281 + t6282;
+        let t6286: f64 = t6283 + t6284;
+        let t6287: f64 = t6285 + t6286;
+        let t6288: f64 = t6277.plus(t6287);
+        let t6289: f64 = t6280.added_to(t3200);
+        let t6290: f64 = t3640 + t4080;
+        let t6291: f64 = t6289 + t6290;
+        let t6292: f64 = t6288 - t6291;
+        let t6293: f64 = t1145 * t6292;
+        let t6294 = product(t669, t4674);
+        let t6295: f64 = t286 * t4754;
+        let t6296 = product(t502, t5112);
+        let t6297: f64 = t279 * t5192;
+        let t6298 = product(t335, t5550);
+        let t6299: f64 = t90 * t5630;
+        let t6300 = product(t429, t5568);
+        let t6301: f64 = t596 * t5130;
+        let t6302 = product(t763, t4692);
+        let t6303: f64 = t4735 + t5173;
+        let t6304: f64 = t5611 + t6303;
+        let t6305 = product(t6304, 2.0);
+        let t6306: f64 = t6294.plus(t6295);
+        let t6307: f64 = t6296.plus(t6297);
+        let t6308: f64 = t6298.plus(t6299);
+        let t6309: f64 = t6300.plus(t6301);
+        let t6310: f64 = t6306 + t6307;
+        let t6311: f64 = t6308 + t6309;
+        let t6312: f64 = t6310 + t6311;
+        let t6313: f64 = t6302.plus(t6312);
+        let t6314: f64 = t6305.added_to(t4738);
+        let t6315: f64 = t5176 + t5614;
+        let t6316: f64 = t6314 + t6315;
+        let t6317: f64 = t6313 - t6316;
+        let t6318 = product(t1175, t6317);
+        let t6319: f64 = t6268.plus(t6293);
         let t6320: f64 = t6318.plus(t6319);
-        let t6321: f64 = t748 * t6320;
-        let t6322 = product(arm3_rod_ixx, t6100);
-        let t6323: f64 = t6095 * 2.0;
-        let t6324 = product(arm3_rod_izz, t6323);
-        let t6325: f64 = arm3_rod_mz * t6113;
-        let t6326: f64 = t6325 * 2.0;
-        let t6327: f64 = t6322.plus(t6326);
-        let t6328: f64 = t6324.minus(t6327);
-        let t6329: f64 = t739 * t6328;
-        let t6330: f64 = t5088.plus(t5181);
-        let t6331: f64 = t5274.plus(t6183);
-        let t6332: f64 = t6184.plus(t6185);
-        let t6333: f64 = t6261.plus(t6269);
-        let t6334: f64 = t6287.plus(t6295);
-        let t6335: f64 = t6313.plus(t6321);
-        let t6336: f64 = t6330 + t6331;
-        let t6337: f64 = t6332 + t6333;
-        let t6338: f64 = t6334 + t6335;
-        let t6339: f64 = t6336 + t6337;
-        let t6340: f64 = t6338 + t6339;
-        let t6341: f64 = t5132.plus(t5225);
-        let t6342: f64 = t5318.plus(t5606);
-        let t6343: f64 = t5894.plus(t6182);
-        let t6344: f64 = t6207.plus(t6229);
-        let t6345: f64 = t6251.plus(t6277);
-        let t6346: f64 = t6303.plus(t6329);
-        let t6347: f64 = t6341 + t6342;
-        let t6348: f64 = t6343 + t6344;
-        let t6349: f64 = t6345 + t6346;
-        let t6350: f64 = t6347 + t6348;
-        let t6351: f64 = t6349 + t6350;
-        let t6352: f64 = t6340 - t6351;
-        let t6353: f64 = t277 * t6352;
-        let t6354 = product(t1525, t5431);
-        let t6355 = product(t561, t5449);
-        let t6356: f64 = t1629 * t5719;
-        let t6357: f64 = t696 * t5737;
-        let t6358 = product(t1733, t6007);
-        let t6359 = product(t831, t6025);
-        let t6360: f64 = t481 * t5605;
-        let t6361 = product(t616, t5893);
-        let t6362: f64 = t751 * t6181;
-        let t6363: f64 = t2719 * t4840;
-        let t6364 = product(t2722, t4915);
-        let t6365: f64 = t2716 * t5012;
-        let t6366: f64 = t2904 * t5483;
-        let t6367 = product(t1068, t5431);
-        let t6368: f64 = t483 * t6200;
-        let t6369: f64 = t6367.minus(t6368);
-        let t6370: f64 = t6369 * 2.0;
-        let t6371 = product(t497, t6370);
-        let t6372: f64 = t6366 * 2.0;
-        let t6373: f64 = t6371.subtracted_from(t6372);
-        let t6374 = product(arm1_rod_izz, t6373);
-        let t6375: f64 = t2914 * t5771;
-        let t6376 = product(t1084, t5719);
-        let t6377: f64 = t618 * t6222;
-        let t6378: f64 = t6376.minus(t6377);
-        let t6379: f64 = t6378 * 2.0;
-        let t6380 = product(t632, t6379);
-        let t6381: f64 = t6375 * 2.0;
-        let t6382: f64 = t6380.subtracted_from(t6381);
-        let t6383: f64 = arm2_rod_izz * t6382;
-        let t6384: f64 = t2924 * t6059;
-        let t6385 = product(t1100, t6007);
-        let t6386: f64 = t753 * t6244;
-        let t6387: f64 = t6385.minus(t6386);
-        let t6388: f64 = t6387 * 2.0;
-        let t6389 = product(t767, t6388);
-        let t6390: f64 = t6384 * 2.0;
-        let t6391: f64 = t6389.subtracted_from(t6390);
-        let t6392 = product(arm3_rod_izz, t6391);
-        let t6393: f64 = t280 * t6260;
-        let t6394 = product(t483, t6268);
-        let t6395 = product(t544, t6276);
-        let t6396: f64 = t181 * t6286;
-        let t6397 = product(t618, t6294);
-        let t6398: f64 = t679 * t6302;
-        let t6399: f64 = t275 * t6312;
-        let t6400 = product(t753, t6320);
-        let t6401 = product(t814, t6328);
-        let t6402: f64 = t6354.plus(t6356);
-        let t6403: f64 = t6358.plus(t6363);
-        let t6404: f64 = t6364.plus(t6365);
-        let t6405: f64 = t6374.plus(t6383);
-        let t6406: f64 = t6392.plus(t6393);
-        let t6407: f64 = t6394.plus(t6396);
-        let t6408: f64 = t6397.plus(t6399);
-        let t6409: f64 = t6402 + t6403;
-        let t6410: f64 = t6404 + t6405;
-        let t6411: f64 = t6406 + t6407;
-        let t6412: f64 = t6400.plus(t6408);
-        let t6413: f64 = t6409 + t6410;
-        let t6414: f64 = t6411 + t6412;
-        let t6415: f64 = t6413 + t6414;
-        let t6416: f64 = t6355.plus(t6357);
-        let t6417: f64 = t6359.plus(t6360);
-        let t6418: f64 = t6361.plus(t6362);
-        let t6419: f64 = t6395.plus(t6398);
-        let t6420: f64 = t6416 + t6417;
-        let t6421: f64 = t6418 + t6419;
-        let t6422: f64 = t6420 + t6421;
-        let t6423: f64 = t6401.plus(t6422);
-        let t6424: f64 = t6415 - t6423;
-        let t6425 = product(t1124, t6424);
-        let t6426 = product(t1525, t5438);
-        let t6427 = product(t561, t5456);
-        let t6428: f64 = t1629 * t5726;
-        let t6429: f64 = t696 * t5744;
-        let t6430 = product(t1733, t6014);
-        let t6431 = product(t831, t6032);
-        let t6432: f64 = t486 * t5605;
-        let t6433 = product(t621, t5893);
-        let t6434: f64 = t756 * t6181;
-        let t6435: f64 = t2722 * t4906;
-        let t6436 = product(t2719, t4911);
-        let t6437: f64 = t2716 * t5018;
-        let t6438: f64 = t2979 * t5483;
-        let t6439 = product(t1068, t5438);
-        let t6440: f64 = t488 * t6200;
-        let t6441: f64 = t6439.minus(t6440);
-        let t6442: f64 = t6441 * 2.0;
-        let t6443 = product(t497, t6442);
-        let t6444: f64 = t6438 * 2.0;
-        let t6445: f64 = t6443.subtracted_from(t6444);
-        let t6446 = product(arm1_rod_izz, t6445);
-        let t6447: f64 = t2989 * t5771;
-        let t6448 = product(t1084, t5726);
-        let t6449: f64 = t623 * t6222;
-        let t6450: f64 = t6448.minus(t6449);
-        let t6451: f64 = t6450 * 2.0;
-        let t6452 = product(t632, t6451);
-        let t6453: f64 = t6447 * 2.0;
-        let t6454: f64 = t6452.subtracted_from(t6453);
-        let t6455: f64 = arm2_rod_izz * t6454;
-        let t6456: f64 = t2999 * t6059;
-        let t6457 = product(t1100, t6014);
-        let t6458: f64 = t758 * t6244;
-        let t6459: f64 = t6457.minus(t6458);
-        let t6460: f64 = t6459 * 2.0;
-        let t6461 = product(t767, t6460);
-        let t6462: f64 = t6456 * 2.0;
-        let t6463: f64 = t6461.subtracted_from(t6462);
-        let t6464 = product(arm3_rod_izz, t6463);
-        let t6465: f64 = t282 * t6260;
-        let t6466 = product(t488, t6268);
-        let t6467 = product(t548, t6276);
-        let t6468: f64 = t274 * t6286;
-        let t6469 = product(t623, t6294);
-        let t6470: f64 = t683 * t6302;
-        let t6471: f64 = t272 * t6312;
-        let t6472 = product(t758, t6320);
-        let t6473 = product(t818, t6328);
-        let t6474: f64 = t6426.plus(t6428);
-        let t6475: f64 = t6430.plus(t6435);
-        let t6476: f64 = t6436.plus(t6437);
-        let t6477: f64 = t6446.plus(t6455);
-        let t6478: f64 = t6464.plus(t6465);
-        let t6479: f64 = t6466.plus(t6468);
-        let t6480: f64 = t6469.plus(t6471);
-        let t6481: f64 = t6474 + t6475;
-        let t6482: f64 = t6476 + t6477;
-        let t6483: f64 = t6478 + t6479;
-        let t6484: f64 = t6472.plus(t6480);
-        let t6485: f64 = t6481 + t6482;
-        let t6486: f64 = t6483 + t6484;
-        let t6487: f64 = t6485 + t6486;
-        let t6488: f64 = t6427.plus(t6429);
-        let t6489: f64 = t6431.plus(t6432);
-        let t6490: f64 = t6433.plus(t6434);
-        let t6491: f64 = t6467.plus(t6470);
-        let t6492: f64 = t6488 + t6489;
-        let t6493: f64 = t6490 + t6491;
-        let t6494: f64 = t6492 + t6493;
-        let t6495: f64 = t6473.plus(t6494);
-        let t6496: f64 = t6487 - t6495;
-        let t6497: f64 = t1154 * t6496;
-        let t6498: f64 = t4920.plus(t4934);
-        let t6499: f64 = t4942.plus(t6353);
-        let t6500: f64 = t6425.plus(t6497);
-        let t6501: f64 = t6498 + t6499;
-        let t6502: f64 = t6500 + t6501;
-        let t6503: f64 = t5039.subtracted_from(t6502);
+        let t6321: f64 = t293 * t6320;
+        let t6322: f64 = -t6321;
+        let t6323 = product(t703, t1441);
+        let t6324: f64 = t275 * t1533;
+        let t6325 = product(t536, t1974);
+        let t6326: f64 = t181 * t2065;
+        let t6327 = product(t369, t2481);
+        let t6328: f64 = t280 * t2572;
+        let t6329 = product(t433, t2500);
+        let t6330: f64 = t600 * t1993;
+        let t6331 = product(t767, t1461);
+        let t6332: f64 = t1506 + t2038;
+        let t6333: f64 = t2545 + t6332;
+        let t6334 = product(t6333, 2.0);
+        let t6335: f64 = t6323.plus(t6324);
+        let t6336: f64 = t6325.plus(t6326);
+        let t6337: f64 = t6327.plus(t6328);
+        let t6338: f64 = t6329.plus(t6330);
+        let t6339: f64 = t6335 + t6336;
+        let t6340: f64 = t6337 + t6338;
+        let t6341: f64 = t6339 + t6340;
+        let t6342: f64 = t6331.plus(t6341);
+        let t6343: f64 = t6334.added_to(t1509);
+        let t6344: f64 = t2041 + t2548;
+        let t6345: f64 = t6343 + t6344;
+        let t6346: f64 = t6342 - t6345;
+        let t6347 = product(t277, t6346);
+        let t6348 = product(t703, t3232);
+        let t6349: f64 = t275 * t3216;
+        let t6350 = product(t536, t3672);
+        let t6351: f64 = t181 * t3656;
+        let t6352 = product(t369, t4112);
+        let t6353: f64 = t280 * t4096;
+        let t6354 = product(t433, t4127);
+        let t6355: f64 = t600 * t3687;
+        let t6356 = product(t767, t3247);
+        let t6357: f64 = t3190 + t3630;
+        let t6358: f64 = t4070 + t6357;
+        let t6359 = product(t6358, 2.0);
+        let t6360: f64 = t6348.plus(t6349);
+        let t6361: f64 = t6350.plus(t6351);
+        let t6362: f64 = t6352.plus(t6353);
+        let t6363: f64 = t6354.plus(t6355);
+        let t6364: f64 = t6360 + t6361;
+        let t6365: f64 = t6362 + t6363;
+        let t6366: f64 = t6364 + t6365;
+        let t6367: f64 = t6356.plus(t6366);
+        let t6368: f64 = t6359.added_to(t3193);
+        let t6369: f64 = t3633 + t4073;
+        let t6370: f64 = t6368 + t6369;
+        let t6371: f64 = t6367 - t6370;
+        let t6372: f64 = t1145 * t6371;
+        let t6373 = product(t703, t4674);
+        let t6374: f64 = t275 * t4754;
+        let t6375 = product(t536, t5112);
+        let t6376: f64 = t181 * t5192;
+        let t6377 = product(t369, t5550);
+        let t6378: f64 = t280 * t5630;
+        let t6379 = product(t433, t5568);
+        let t6380: f64 = t600 * t5130;
+        let t6381 = product(t767, t4692);
+        let t6382: f64 = t4728 + t5166;
+        let t6383: f64 = t5604 + t6382;
+        let t6384 = product(t6383, 2.0);
+        let t6385: f64 = t6373.plus(t6374);
+        let t6386: f64 = t6375.plus(t6376);
+        let t6387: f64 = t6377.plus(t6378);
+        let t6388: f64 = t6379.plus(t6380);
+        let t6389: f64 = t6385 + t6386;
+        let t6390: f64 = t6387 + t6388;
+        let t6391: f64 = t6389 + t6390;
+        let t6392: f64 = t6381.plus(t6391);
+        let t6393: f64 = t6384.added_to(t4731);
+        let t6394: f64 = t5169 + t5607;
+        let t6395: f64 = t6393 + t6394;
+        let t6396: f64 = t6392 - t6395;
+        let t6397 = product(t1175, t6396);
+        let t6398: f64 = t6347.plus(t6372);
+        let t6399: f64 = t6397.plus(t6398);
+        let t6400: f64 = t293 * t6399;
+        let t6401: f64 = -t6400;
+        let t6402 = product(t708, t1441);
+        let t6403: f64 = t272 * t1533;
+        let t6404 = product(t541, t1974);
+        let t6405: f64 = t274 * t2065;
+        let t6406 = product(t374, t2481);
+        let t6407: f64 = t282 * t2572;
+        let t6408 = product(t425, t2500);
+        let t6409: f64 = t592 * t1993;
+        let t6410 = product(t759, t1461);
+        let t6411: f64 = t1478 + t2010;
+        let t6412: f64 = t2517 + t6411;
+        let t6413 = product(t6412, 2.0);
+        let t6414: f64 = t6402.plus(t6403);
+        let t6415: f64 = t6404.plus(t6405);
+        let t6416: f64 = t6406.plus(t6407);
+        let t6417: f64 = t6408.plus(t6409);
+        let t6418: f64 = t6414 + t6415;
+        let t6419: f64 = t6416 + t6417;
+        let t6420: f64 = t6418 + t6419;
+        let t6421: f64 = t6410.plus(t6420);
+        let t6422: f64 = t6413.added_to(t1501);
+        let t6423: f64 = t2033 + t2540;
+        let t6424: f64 = t6422 + t6423;
+        let t6425: f64 = t6421 - t6424;
+        let t6426 = product(t277, t6425);
+        let t6427 = product(t708, t3232);
+        let t6428: f64 = t272 * t3216;
+        let t6429 = product(t541, t3672);
+        let t6430: f64 = t274 * t3656;
+        let t6431 = product(t374, t4112);
+        let t6432: f64 = t282 * t4096;
+        let t6433 = product(t425, t4127);
+        let t6434: f64 = t592 * t3687;
+        let t6435 = product(t759, t3247);
+        let t6436: f64 = t3165 + t3605;
+        let t6437: f64 = t4045 + t6436;
+        let t6438 = product(t6437, 2.0);
+        let t6439: f64 = t6427.plus(t6428);
+        let t6440: f64 = t6429.plus(t6430);
+        let t6441: f64 = t6431.plus(t6432);
+        let t6442: f64 = t6433.plus(t6434);
+        let t6443: f64 = t6439 + t6440;
+        let t6444: f64 = t6441 + t6442;
+        let t6445: f64 = t6443 + t6444;
+        let t6446: f64 = t6435.plus(t6445);
+        let t6447: f64 = t6438.added_to(t3186);
+        let t6448: f64 = t3626 + t4066;
+        let t6449: f64 = t6447 + t6448;
+        let t6450: f64 = t6446 - t6449;
+        let t6451: f64 = t1145 * t6450;
+        let t6452 = product(t708, t4674);
+        let t6453: f64 = t272 * t4754;
+        let t6454 = product(t541, t5112);
+        let t6455: f64 = t274 * t5192;
+        let t6456 = product(t374, t5550);
+        let t6457: f64 = t282 * t5630;
+        let t6458 = product(t425, t5568);
+        let t6459: f64 = t592 * t5130;
+        let t6460 = product(t759, t4692);
+        let t6461: f64 = t4705 + t5143;
+        let t6462: f64 = t5581 + t6461;
+        let t6463 = product(t6462, 2.0);
+        let t6464: f64 = t6452.plus(t6453);
+        let t6465: f64 = t6454.plus(t6455);
+        let t6466: f64 = t6456.plus(t6457);
+        let t6467: f64 = t6458.plus(t6459);
+        let t6468: f64 = t6464 + t6465;
+        let t6469: f64 = t6466 + t6467;
+        let t6470: f64 = t6468 + t6469;
+        let t6471: f64 = t6460.plus(t6470);
+        let t6472: f64 = t6463.added_to(t4724);
+        let t6473: f64 = t5162 + t5600;
+        let t6474: f64 = t6472 + t6473;
+        let t6475: f64 = t6471 - t6474;
+        let t6476 = product(t1175, t6475);
+        let t6477: f64 = t6426.plus(t6451);
+        let t6478: f64 = t6476.plus(t6477);
+        let t6479: f64 = t293 * t6478;
+        let t6480: f64 = -t6479;
+        let t6481 = product(t284, t6267);
+        let t6482 = product(t1209, t6292);
+        let t6483: f64 = t1213 * t6317;
+        let t6484: f64 = t6482.plus(t6483);
+        let t6485: f64 = t6481.minus(t6484);
+        let t6486: f64 = t293 * t6485;
+        let t6487 = product(t284, t6346);
+        let t6488 = product(t1209, t6371);
+        let t6489: f64 = t1213 * t6396;
+        let t6490: f64 = t6488.plus(t6489);
+        let t6491: f64 = t6487.minus(t6490);
+        let t6492: f64 = t293 * t6491;
+        let t6493 = product(t284, t6425);
+        let t6494 = product(t1209, t6450);
+        let t6495: f64 = t1213 * t6475;
+        let t6496: f64 = t6494.plus(t6495);
+        let t6497: f64 = t6493.minus(t6496);
+        let t6498: f64 = t293 * t6497;
+        let t6499 = product(t289, t6267);
+        let t6500: f64 = t1222 * t6292;
+        let t6501 = product(t1226, t6317);
+        let t6502: f64 = t6499.plus(t6500);
+        let t6503: f64 = t6501.plus(t6502);
         let t6504: f64 = t293 * t6503;
-        let t6505 = product(t1120, t1504);
-        let t6506 = product(t272, t1484);
-        let t6507: f64 = t90 * t1362;
-        let t6508 = product(t286, t1499);
-        let t6509: f64 = t282 * t1386;
-        let t6510: f64 = t6506.plus(t6507);
-        let t6511: f64 = t6508.plus(t6509);
-        let t6512: f64 = t6510 - t6511;
-        let t6513 = product(t1150, t6512);
-        let t6514 = product(t286, t1492);
-        let t6515: f64 = t280 * t1386;
-        let t6516 = product(t275, t1484);
-        let t6517: f64 = t90 * t1374;
-        let t6518: f64 = t6514.plus(t6515);
-        let t6519: f64 = t6516.plus(t6517);
-        let t6520: f64 = t6518 - t6519;
-        let t6521: f64 = t1180 * t6520;
-        let t6522 = product(t1196, t1519);
-        let t6523: f64 = t284 * t2890;
-        let t6524: f64 = t1188 * t2965;
-        let t6525 = product(t1192, t3040);
-        let t6526: f64 = t6505.plus(t6523);
-        let t6527: f64 = t6513.plus(t6521);
-        let t6528: f64 = t6522.plus(t6524);
-        let t6529: f64 = t6527 + t6528;
-        let t6530: f64 = t6525.plus(t6529);
-        let t6531: f64 = t6526 - t6530;
-        let t6532: f64 = t293 * t6531;
-        let t6533: f64 = -t6532;
-        let t6534 = product(t1120, t3295);
-        let t6535 = product(t272, t3278);
-        let t6536: f64 = t90 * t3178;
-        let t6537 = product(t286, t3290);
-        let t6538: f64 = t282 * t3196;
-        let t6539: f64 = t6535.plus(t6536);
-        let t6540: f64 = t6537.plus(t6538);
-        let t6541: f64 = t6539 - t6540;
-        let t6542 = product(t1150, t6541);
-        let t6543 = product(t286, t3285);
-        let t6544: f64 = t280 * t3196;
-        let t6545 = product(t275, t3278);
-        let t6546: f64 = t90 * t3187;
-        let t6547: f64 = t6543.plus(t6544);
-        let t6548: f64 = t6545.plus(t6546);
-        let t6549: f64 = t6547 - t6548;
-        let t6550: f64 = t1180 * t6549;
-        let t6551 = product(t1196, t3310);
-        let t6552: f64 = t284 * t4624;
-        let t6553: f64 = t1188 * t4696;
-        let t6554 = product(t1192, t4768);
-        let t6555: f64 = t6534.plus(t6552);
-        let t6556: f64 = t6542.plus(t6550);
-        let t6557: f64 = t6551.plus(t6553);
-        let t6558: f64 = t6556 + t6557;
-        let t6559: f64 = t6554.plus(t6558);
-        let t6560: f64 = t6555 - t6559;
-        let t6561: f64 = t293 * t6560;
-        let t6562: f64 = -t6561;
-        let t6563 = product(t1120, t5023);
-        let t6564 = product(t272, t5006);
-        let t6565: f64 = t90 * t4906;
-        let t6566 = product(t286, t5018);
-        let t6567: f64 = t282 * t4924;
-        let t6568: f64 = t6564.plus(t6565);
-        let t6569: f64 = t6566.plus(t6567);
-        let t6570: f64 = t6568 - t6569;
-        let t6571 = product(t1150, t6570);
-        let t6572 = product(t286, t5012);
-        let t6573: f64 = t280 * t4924;
-        let t6574 = product(t275, t5006);
-        let t6575: f64 = t90 * t4915;
-        let t6576: f64 = t6572.plus(t6573);
-        let t6577: f64 = t6574.plus(t6575);
-        let t6578: f64 = t6576 - t6577;
-        let t6579: f64 = t1180 * t6578;
-        let t6580 = product(t1196, t5038);
-        let t6581: f64 = t284 * t6352;
-        let t6582: f64 = t1188 * t6424;
-        let t6583 = product(t1192, t6496);
-        let t6584: f64 = t6563.plus(t6581);
-        let t6585: f64 = t6571.plus(t6579);
-        let t6586: f64 = t6580.plus(t6582);
-        let t6587: f64 = t6585 + t6586;
-        let t6588: f64 = t6583.plus(t6587);
-        let t6589: f64 = t6584 - t6588;
-        let t6590: f64 = t293 * t6589;
-        let t6591: f64 = -t6590;
-        let t6592 = product(t1120, t1513);
-        let t6593 = product(t279, t1499);
-        let t6594: f64 = t282 * t1393;
-        let t6595 = product(t274, t1484);
-        let t6596: f64 = t90 * t1368;
-        let t6597: f64 = t6593.plus(t6594);
-        let t6598: f64 = t6595.plus(t6596);
-        let t6599: f64 = t6597 - t6598;
-        let t6600: f64 = t1150 * t6599;
-        let t6601 = product(t181, t1484);
-        let t6602: f64 = t90 * t1285;
-        let t6603 = product(t279, t1492);
-        let t6604: f64 = t280 * t1393;
-        let t6605: f64 = t6601.plus(t6602);
-        let t6606: f64 = t6603.plus(t6604);
-        let t6607: f64 = t6605 - t6606;
-        let t6608 = product(t1180, t6607);
-        let t6609 = product(t1209, t1519);
-        let t6610: f64 = t289 * t2890;
-        let t6611 = product(t1201, t2965);
-        let t6612: f64 = t1205 * t3040;
-        let t6613: f64 = t6592.plus(t6600);
-        let t6614: f64 = t6608.plus(t6610);
-        let t6615: f64 = t6611.plus(t6612);
-        let t6616: f64 = t6613 + t6614;
-        let t6617: f64 = t6615 + t6616;
-        let t6618: f64 = t6609.subtracted_from(t6617);
-        let t6619: f64 = t293 * t6618;
-        let t6620 = product(t1120, t3304);
-        let t6621 = product(t279, t3290);
-        let t6622: f64 = t282 * t3200;
-        let t6623 = product(t274, t3278);
-        let t6624: f64 = t90 * t3182;
-        let t6625: f64 = t6621.plus(t6622);
-        let t6626: f64 = t6623.plus(t6624);
-        let t6627: f64 = t6625 - t6626;
-        let t6628: f64 = t1150 * t6627;
-        let t6629 = product(t181, t3278);
-        let t6630: f64 = t90 * t3113;
-        let t6631 = product(t279, t3285);
-        let t6632: f64 = t280 * t3200;
-        let t6633: f64 = t6629.plus(t6630);
-        let t6634: f64 = t6631.plus(t6632);
-        let t6635: f64 = t6633 - t6634;
-        let t6636 = product(t1180, t6635);
-        let t6637 = product(t1209, t3310);
-        let t6638: f64 = t289 * t4624;
-        let t6639 = product(t1201, t4696);
-        let t6640: f64 = t1205 * t4768;
-        let t6641: f64 = t6620.plus(t6628);
-        let t6642: f64 = t6636.plus(t6638);
-        let t6643: f64 = t6639.plus(t6640);
-        let t6644: f64 = t6641 + t6642;
-        let t6645: f64 = t6643 + t6644;
-        let t6646: f64 = t6637.subtracted_from(t6645);
-        let t6647: f64 = t293 * t6646;
-        let t6648 = product(t1120, t5032);
-        let t6649 = product(t279, t5018);
-        let t6650: f64 = t282 * t4928;
-        let t6651 = product(t274, t5006);
-        let t6652: f64 = t90 * t4911;
-        let t6653: f64 = t6649.plus(t6650);
-        let t6654: f64 = t6651.plus(t6652);
-        let t6655: f64 = t6653 - t6654;
-        let t6656: f64 = t1150 * t6655;
-        let t6657 = product(t181, t5006);
-        let t6658: f64 = t90 * t4840;
-        let t6659 = product(t279, t5012);
-        let t6660: f64 = t280 * t4928;
-        let t6661: f64 = t6657.plus(t6658);
-        let t6662: f64 = t6659.plus(t6660);
-        let t6663: f64 = t6661 - t6662;
-        let t6664 = product(t1180, t6663);
-        let t6665 = product(t1209, t5038);
-        let t6666: f64 = t289 * t6352;
-        let t6667 = product(t1201, t6424);
-        let t6668: f64 = t1205 * t6496;
-        let t6669: f64 = t6648.plus(t6656);
-        let t6670: f64 = t6664.plus(t6666);
-        let t6671: f64 = t6667.plus(t6668);
-        let t6672: f64 = t6669 + t6670;
-        let t6673: f64 = t6671 + t6672;
-        let t6674: f64 = t6665.subtracted_from(t6673);
-        let t6675: f64 = t293 * t6674;
-        let t6676 = product(t301, t307);
-        let t6677 = product(t62, t312);
-        let t6678: f64 = t66 * t316;
-        let t6679 = product(t77, t320);
-        let t6680: f64 = t6677.plus(t6678);
-        let t6681: f64 = t6679.plus(t6680);
-        let t6682: f64 = t6676.minus(t6681);
-        let t6683: f64 = t6682 * 2.0;
-        let t6684 = product(t467, t6683);
-        let t6685: f64 = t312 * 2.0;
-        let t6686: f64 = t6684.plus(t6685);
-        let t6687: f64 = arm1_crank_izz * t29;
-        let t6688: f64 = t88 * t6687;
-        let t6689: f64 = t90 * t6688;
-        let t6690 = product(t6686, t6689);
-        let t6691 = product(t467, t475);
-        let t6692: f64 = t6691.subtracted_from(t456);
-        let t6693 = product(t497, t539);
-        let t6694: f64 = t6693.added_to(t538);
-        let t6695 = product(t6692, t6694);
-        let t6696: f64 = t81 * t90;
-        let t6697: f64 = t301 * t6696;
-        let t6698: f64 = t77 * t88;
-        let t6699 = product(t6686, t6698);
-        let t6700: f64 = t6697 * 2.0;
-        let t6701: f64 = t6699.minus(t6700);
-        let t6702 = product(t462, t6701);
-        let t6703: f64 = t56 * t90;
-        let t6704: f64 = t301 * t6703;
-        let t6705: f64 = t62 * t88;
-        let t6706 = product(t6686, t6705);
-        let t6707: f64 = t6704 * 2.0;
-        let t6708: f64 = t6706.minus(t6707);
-        let t6709 = product(t452, t6708);
-        let t6710: f64 = t70 * t90;
-        let t6711: f64 = t301 * t6710;
-        let t6712: f64 = t66 * t88;
-        let t6713 = product(t6686, t6712);
-        let t6714: f64 = t6711 * 2.0;
-        let t6715: f64 = t6713.minus(t6714);
-        let t6716: f64 = t458 * t6715;
-        let t6717: f64 = t6709.plus(t6716);
-        let t6718: f64 = t6702.plus(t6717);
-        let t6719: f64 = t6695.plus(t6718);
-        let t6720: f64 = arm1_rod_ixx * t428;
-        let t6721 = product(t6719, t6720);
-        let t6722: f64 = arm1_rod_mz * t6718;
-        let t6723: f64 = t498 + t498;
-        let t6724: f64 = t6723 * 2.0;
-        let t6725 = product(arm1_rod_ixx, t6724);
-        let t6726: f64 = arm1_rod_izz * t6724;
-        let t6727: f64 = t6725.minus(t6726);
-        let t6728 = product(t478, t6727);
-        let t6729: f64 = t6721.minus(t6722);
-        let t6730: f64 = t6729 * 2.0;
-        let t6731: f64 = t6728.subtracted_from(t6730);
-        let t6732 = product(t469, t6731);
-        let t6733 = product(t345, t351);
-        let t6734 = product(t160, t356);
-        let t6735: f64 = t164 * t360;
-        let t6736 = product(t168, t364);
-        let t6737: f64 = t6734.plus(t6735);
-        let t6738: f64 = t6736.plus(t6737);
-        let t6739: f64 = t6733.minus(t6738);
-        let t6740: f64 = t6739 * 2.0;
-        let t6741 = product(t602, t6740);
-        let t6742: f64 = t356 * 2.0;
-        let t6743: f64 = t6741.plus(t6742);
-        let t6744: f64 = arm2_crank_izz * t120;
-        let t6745: f64 = t179 * t6744;
-        let t6746: f64 = t279 * t6745;
-        let t6747: f64 = t6743 * t6746;
-        let t6748 = product(t602, t610);
-        let t6749: f64 = t6748.subtracted_from(t591);
-        let t6750 = product(t632, t674);
-        let t6751: f64 = t6750.added_to(t673);
-        let t6752 = product(t6749, t6751);
-        let t6753: f64 = t172 * t279;
-        let t6754: f64 = t345 * t6753;
-        let t6755: f64 = t168 * t179;
-        let t6756 = product(t6743, t6755);
-        let t6757: f64 = t6754 * 2.0;
-        let t6758: f64 = t6756.minus(t6757);
-        let t6759 = product(t597, t6758);
-        let t6760: f64 = t154 * t279;
-        let t6761: f64 = t345 * t6760;
-        let t6762: f64 = t160 * t179;
-        let t6763 = product(t6743, t6762);
-        let t6764: f64 = t6761 * 2.0;
-        let t6765: f64 = t6763.minus(t6764);
-        let t6766 = product(t587, t6765);
-        let t6767: f64 = t147 * t279;
-        let t6768: f64 = t345 * t6767;
-        let t6769: f64 = t164 * t179;
-        let t6770 = product(t6743, t6769);
-        let t6771: f64 = t6768 * 2.0;
-        let t6772: f64 = t6770.minus(t6771);
-        let t6773: f64 = t593 * t6772;
-        let t6774: f64 = t6766.plus(t6773);
-        let t6775: f64 = t6759.plus(t6774);
-        let t6776: f64 = t6752.plus(t6775);
-        let t6777: f64 = arm2_rod_ixx * t563;
-        let t6778 = product(t6776, t6777);
-        let t6779: f64 = arm2_rod_mz * t6775;
-        let t6780: f64 = t633 + t633;
-        let t6781: f64 = t6780 * 2.0;
-        let t6782 = product(arm2_rod_ixx, t6781);
-        let t6783: f64 = arm2_rod_izz * t6781;
-        let t6784: f64 = t6782.minus(t6783);
-        let t6785 = product(t613, t6784);
-        let t6786: f64 = t6778.minus(t6779);
-        let t6787: f64 = t6786 * 2.0;
-        let t6788: f64 = t6785.subtracted_from(t6787);
-        let t6789: f64 = t604 * t6788;
-        let t6790 = product(t389, t395);
-        let t6791 = product(t251, t400);
-        let t6792: f64 = t255 * t404;
-        let t6793 = product(t266, t408);
-        let t6794: f64 = t6791.plus(t6792);
-        let t6795: f64 = t6793.plus(t6794);
-        let t6796: f64 = t6790.minus(t6795);
-        let t6797: f64 = t6796 * 2.0;
-        let t6798 = product(t737, t6797);
-        let t6799: f64 = t400 * 2.0;
+        let t6505: f64 = -t6504;
+        let t6506 = product(t289, t6346);
+        let t6507: f64 = t1222 * t6371;
+        let t6508 = product(t1226, t6396);
+        let t6509: f64 = t6506.plus(t6507);
+        let t6510: f64 = t6508.plus(t6509);
+        let t6511: f64 = t293 * t6510;
+        let t6512: f64 = -t6511;
+        let t6513 = product(t289, t6425);
+        let t6514: f64 = t1222 * t6450;
+        let t6515 = product(t1226, t6475);
+        let t6516: f64 = t6513.plus(t6514);
+        let t6517: f64 = t6515.plus(t6516);
+        let t6518: f64 = t293 * t6517;
+        let t6519: f64 = -t6518;
+        let t6520: f64 = t90 * t90;
+        let t6521 = product(arm1_crank_izz, t6520);
+        let t6522 = product(arm1_rod_ixx, t335);
+        let t6523: f64 = t6522.added_to(t1368);
+        let t6524: f64 = t6523 * 2.0;
+        let t6525 = product(t335, t6524);
+        let t6526: f64 = t279 * t279;
+        let t6527: f64 = arm2_crank_izz * t6526;
+        let t6528 = product(arm2_rod_ixx, t502);
+        let t6529: f64 = t6528.added_to(t1304);
+        let t6530: f64 = t6529 * 2.0;
+        let t6531 = product(t502, t6530);
+        let t6532: f64 = t286 * t286;
+        let t6533: f64 = arm3_crank_izz * t6532;
+        let t6534 = product(arm3_rod_ixx, t669);
+        let t6535: f64 = t6534.added_to(t1240);
+        let t6536: f64 = t6535 * 2.0;
+        let t6537 = product(t669, t6536);
+        let t6538 = product(arm1_rod_mz, t335);
+        let t6539: f64 = t6538.added_to(t1364);
+        let t6540: f64 = t6539 * 2.0;
+        let t6541 = product(t331, t6540);
+        let t6542: f64 = t2468 + t2469;
+        let t6543: f64 = t6541.plus(t6542);
+        let t6544: f64 = t333 * t6543;
+        let t6545 = product(arm2_rod_mz, t502);
+        let t6546: f64 = t6545.added_to(t1300);
+        let t6547: f64 = t6546 * 2.0;
+        let t6548 = product(t498, t6547);
+        let t6549: f64 = t1961 + t1962;
+        let t6550: f64 = t6548.plus(t6549);
+        let t6551 = product(t500, t6550);
+        let t6552 = product(arm3_rod_mz, t669);
+        let t6553: f64 = t6552.added_to(t1236);
+        let t6554: f64 = t6553 * 2.0;
+        let t6555 = product(t665, t6554);
+        let t6556: f64 = t1427 + t1428;
+        let t6557: f64 = t6555.plus(t6556);
+        let t6558: f64 = t667 * t6557;
+        let t6559 = product(t429, t1385);
+        let t6560: f64 = t596 * t1321;
+        let t6561 = product(t763, t1257);
+        let t6562: f64 = t6521.added_to(platform_mass);
+        let t6563: f64 = t6525.plus(t6527);
+        let t6564: f64 = t6531.plus(t6533);
+        let t6565: f64 = t6537.plus(t6544);
+        let t6566: f64 = t6551.plus(t6558);
+        let t6567: f64 = t6559.plus(t6560);
+        let t6568: f64 = t6562 + t6563;
+        let t6569: f64 = t6564 + t6565;
+        let t6570: f64 = t6566 + t6567;
+        let t6571: f64 = t6568 + t6569;
+        let t6572: f64 = t6561.plus(t6570);
+        let t6573: f64 = t6571 + t6572;
+        let t6574 = product(t277, t6573);
+        let t6575 = product(t280, t1359);
+        let t6576: f64 = t369 * t6524;
+        let t6577 = product(t181, t1295);
+        let t6578: f64 = t536 * t6530;
+        let t6579 = product(t275, t1231);
+        let t6580: f64 = t703 * t6536;
+        let t6581 = product(t367, t6543);
+        let t6582: f64 = t534 * t6550;
+        let t6583 = product(t701, t6557);
+        let t6584: f64 = t433 * t1385;
+        let t6585 = product(t600, t1321);
+        let t6586: f64 = t767 * t1257;
+        let t6587: f64 = t6575.plus(t6576);
+        let t6588: f64 = t6577.plus(t6578);
+        let t6589: f64 = t6579.plus(t6580);
+        let t6590: f64 = t6581.plus(t6582);
+        let t6591: f64 = t6583.plus(t6584);
+        let t6592: f64 = t6585.plus(t6586);
+        let t6593: f64 = t6587 + t6588;
+        let t6594: f64 = t6589 + t6590;
+        let t6595: f64 = t6591 + t6592;
+        let t6596: f64 = t6593 + t6594;
+        let t6597: f64 = t6595 + t6596;
+        let t6598: f64 = t1145 * t6597;
+        let t6599 = product(t282, t1359);
+        let t6600: f64 = t374 * t6524;
+        let t6601 = product(t274, t1295);
+        let t6602: f64 = t541 * t6530;
+        let t6603 = product(t272, t1231);
+        let t6604: f64 = t708 * t6536;
+        let t6605 = product(t372, t6543);
+        let t6606: f64 = t539 * t6550;
+        let t6607 = product(t706, t6557);
+        let t6608: f64 = t425 * t1385;
+        let t6609 = product(t592, t1321);
+        let t6610: f64 = t759 * t1257;
+        let t6611: f64 = t6599.plus(t6600);
+        let t6612: f64 = t6601.plus(t6602);
+        let t6613: f64 = t6603.plus(t6604);
+        let t6614: f64 = t6605.plus(t6606);
+        let t6615: f64 = t6607.plus(t6608);
+        let t6616: f64 = t6609.plus(t6610);
+        let t6617: f64 = t6611 + t6612;
+        let t6618: f64 = t6613 + t6614;
+        let t6619: f64 = t6615 + t6616;
+        let t6620: f64 = t6617 + t6618;
+        let t6621: f64 = t6619 + t6620;
+        let t6622 = product(t1175, t6621);
+        let t6623: f64 = t6574.plus(t6598);
+        let t6624: f64 = t6622.plus(t6623);
+        let t6625: f64 = t293 * t6624;
+        let t6626 = product(t277, t6597);
+        let t6627: f64 = t280 * t280;
+        let t6628 = product(arm1_crank_izz, t6627);
+        let t6629 = product(arm1_rod_ixx, t369);
+        let t6630: f64 = t6629.added_to(t3110);
+        let t6631: f64 = t6630 * 2.0;
+        let t6632 = product(t369, t6631);
+        let t6633: f64 = t181 * t181;
+        let t6634: f64 = arm2_crank_izz * t6633;
+        let t6635 = product(arm2_rod_ixx, t536);
+        let t6636: f64 = t6635.added_to(t3054);
+        let t6637: f64 = t6636 * 2.0;
+        let t6638 = product(t536, t6637);
+        let t6639: f64 = t275 * t275;
+        let t6640: f64 = arm3_crank_izz * t6639;
+        let t6641 = product(arm3_rod_ixx, t703);
+        let t6642: f64 = t6641.added_to(t2998);
+        let t6643: f64 = t6642 * 2.0;
+        let t6644 = product(t703, t6643);
+        let t6645 = product(arm1_rod_mz, t369);
+        let t6646: f64 = t6645.added_to(t3106);
+        let t6647: f64 = t6646 * 2.0;
+        let t6648 = product(t331, t6647);
+        let t6649: f64 = t4100 + t4101;
+        let t6650: f64 = t6648.plus(t6649);
+        let t6651: f64 = t367 * t6650;
+        let t6652 = product(arm2_rod_mz, t536);
+        let t6653: f64 = t6652.added_to(t3050);
+        let t6654: f64 = t6653 * 2.0;
+        let t6655 = product(t498, t6654);
+        let t6656: f64 = t3660 + t3661;
+        let t6657: f64 = t6655.plus(t6656);
+        let t6658 = product(t534, t6657);
+        let t6659 = product(arm3_rod_mz, t703);
+        let t6660: f64 = t6659.added_to(t2994);
+        let t6661: f64 = t6660 * 2.0;
+        let t6662 = product(t665, t6661);
+        let t6663: f64 = t3220 + t3221;
+        let t6664: f64 = t6662.plus(t6663);
+        let t6665: f64 = t701 * t6664;
+        let t6666 = product(t433, t3125);
+        let t6667: f64 = t600 * t3069;
+        let t6668 = product(t767, t3013);
+        let t6669: f64 = t6628.added_to(platform_mass);
+        let t6670: f64 = t6632.plus(t6634);
+        let t6671: f64 = t6638.plus(t6640);
+        let t6672: f64 = t6644.plus(t6651);
+        let t6673: f64 = t6658.plus(t6665);
+        let t6674: f64 = t6666.plus(t6667);
+        let t6675: f64 = t6669 + t6670;
+        let t6676: f64 = t6671 + t6672;
+        let t6677: f64 = t6673 + t6674;
+        let t6678: f64 = t6675 + t6676;
+        let t6679: f64 = t6668.plus(t6677);
+        let t6680: f64 = t6678 + t6679;
+        let t6681: f64 = t1145 * t6680;
+        let t6682 = product(t282, t3102);
+        let t6683: f64 = t374 * t6631;
+        let t6684 = product(t274, t3046);
+        let t6685: f64 = t541 * t6637;
+        let t6686 = product(t272, t2990);
+        let t6687: f64 = t708 * t6643;
+        let t6688 = product(t372, t6650);
+        let t6689: f64 = t539 * t6657;
+        let t6690 = product(t706, t6664);
+        let t6691: f64 = t425 * t3125;
+        let t6692 = product(t592, t3069);
+        let t6693: f64 = t759 * t3013;
+        let t6694: f64 = t6682.plus(t6683);
+        let t6695: f64 = t6684.plus(t6685);
+        let t6696: f64 = t6686.plus(t6687);
+        let t6697: f64 = t6688.plus(t6689);
+        let t6698: f64 = t6690.plus(t6691);
+        let t6699: f64 = t6692.plus(t6693);
+        let t6700: f64 = t6694 + t6695;
+        let t6701: f64 = t6696 + t6697;
+        let t6702: f64 = t6698 + t6699;
+        let t6703: f64 = t6700 + t6701;
+        let t6704: f64 = t6702 + t6703;
+        let t6705 = product(t1175, t6704);
+        let t6706: f64 = t6626.plus(t6681);
+        let t6707: f64 = t6705.plus(t6706);
+        let t6708: f64 = t293 * t6707;
+        let t6709 = product(t277, t6621);
+        let t6710: f64 = t1145 * t6704;
+        let t6711: f64 = t282 * t282;
+        let t6712 = product(arm1_crank_izz, t6711);
+        let t6713 = product(arm1_rod_ixx, t374);
+        let t6714: f64 = t6713.added_to(t4612);
+        let t6715: f64 = t6714 * 2.0;
+        let t6716 = product(t374, t6715);
+        let t6717: f64 = t274 * t274;
+        let t6718: f64 = arm2_crank_izz * t6717;
+        let t6719 = product(arm2_rod_ixx, t541);
+        let t6720: f64 = t6719.added_to(t4557);
+        let t6721: f64 = t6720 * 2.0;
+        let t6722 = product(t541, t6721);
+        let t6723: f64 = t272 * t272;
+        let t6724: f64 = arm3_crank_izz * t6723;
+        let t6725 = product(arm3_rod_ixx, t708);
+        let t6726: f64 = t6725.added_to(t4502);
+        let t6727: f64 = t6726 * 2.0;
+        let t6728 = product(t708, t6727);
+        let t6729 = product(arm1_rod_mz, t374);
+        let t6730: f64 = t6729.added_to(t4608);
+        let t6731: f64 = t6730 * 2.0;
+        let t6732 = product(t331, t6731);
+        let t6733: f64 = t5538 + t5539;
+        let t6734: f64 = t6732.plus(t6733);
+        let t6735: f64 = t372 * t6734;
+        let t6736 = product(arm2_rod_mz, t541);
+        let t6737: f64 = t6736.added_to(t4553);
+        let t6738: f64 = t6737 * 2.0;
+        let t6739 = product(t498, t6738);
+        let t6740: f64 = t5100 + t5101;
+        let t6741: f64 = t6739.plus(t6740);
+        let t6742 = product(t539, t6741);
+        let t6743 = product(arm3_rod_mz, t708);
+        let t6744: f64 = t6743.added_to(t4498);
+        let t6745: f64 = t6744 * 2.0;
+        let t6746 = product(t665, t6745);
+        let t6747: f64 = t4662 + t4663;
+        let t6748: f64 = t6746.plus(t6747);
+        let t6749: f64 = t706 * t6748;
+        let t6750 = product(t425, t4626);
+        let t6751: f64 = t592 * t4571;
+        let t6752 = product(t759, t4516);
+        let t6753: f64 = t6712.added_to(platform_mass);
+        let t6754: f64 = t6716.plus(t6718);
+        let t6755: f64 = t6722.plus(t6724);
+        let t6756: f64 = t6728.plus(t6735);
+        let t6757: f64 = t6742.plus(t6749);
+        let t6758: f64 = t6750.plus(t6751);
+        let t6759: f64 = t6753 + t6754;
+        let t6760: f64 = t6755 + t6756;
+        let t6761: f64 = t6757 + t6758;
+        let t6762: f64 = t6759 + t6760;
+        let t6763: f64 = t6752.plus(t6761);
+        let t6764: f64 = t6762 + t6763;
+        let t6765 = product(t1175, t6764);
+        let t6766: f64 = t6709.plus(t6710);
+        let t6767: f64 = t6765.plus(t6766);
+        let t6768: f64 = t293 * t6767;
+        let t6769 = product(t284, t6573);
+        let t6770 = product(t1209, t6597);
+        let t6771: f64 = t1213 * t6621;
+        let t6772: f64 = t6770.plus(t6771);
+        let t6773: f64 = t6769.minus(t6772);
+        let t6774: f64 = t293 * t6773;
+        let t6775: f64 = -t6774;
+        let t6776 = product(t284, t6597);
+        let t6777 = product(t1209, t6680);
+        let t6778: f64 = t1213 * t6704;
+        let t6779: f64 = t6777.plus(t6778);
+        let t6780: f64 = t6776.minus(t6779);
+        let t6781: f64 = t293 * t6780;
+        let t6782: f64 = -t6781;
+        let t6783 = product(t284, t6621);
+        let t6784 = product(t1209, t6704);
+        let t6785: f64 = t1213 * t6764;
+        let t6786: f64 = t6784.plus(t6785);
+        let t6787: f64 = t6783.minus(t6786);
+        let t6788: f64 = t293 * t6787;
+        let t6789: f64 = -t6788;
+        let t6790 = product(t289, t6573);
+        let t6791: f64 = t1222 * t6597;
+        let t6792 = product(t1226, t6621);
+        let t6793: f64 = t6790.plus(t6791);
+        let t6794: f64 = t6792.plus(t6793);
+        let t6795: f64 = t293 * t6794;
+        let t6796 = product(t289, t6597);
+        let t6797: f64 = t1222 * t6680;
+        let t6798 = product(t1226, t6704);
+        let t6799: f64 = t6796.plus(t6797);
         let t6800: f64 = t6798.plus(t6799);
-        let t6801: f64 = arm3_crank_izz * t211;
-        let t6802: f64 = t270 * t6801;
-        let t6803: f64 = t286 * t6802;
-        let t6804 = product(t6800, t6803);
-        let t6805 = product(t737, t745);
-        let t6806: f64 = t6805.subtracted_from(t726);
-        let t6807 = product(t767, t809);
-        let t6808: f64 = t6807.added_to(t808);
-        let t6809 = product(t6806, t6808);
-        let t6810: f64 = t238 * t286;
-        let t6811: f64 = t389 * t6810;
-        let t6812: f64 = t266 * t270;
-        let t6813 = product(t6800, t6812);
-        let t6814: f64 = t6811 * 2.0;
-        let t6815: f64 = t6813.minus(t6814);
-        let t6816 = product(t732, t6815);
-        let t6817: f64 = t245 * t286;
-        let t6818: f64 = t389 * t6817;
-        let t6819: f64 = t251 * t270;
-        let t6820 = product(t6800, t6819);
-        let t6821: f64 = t6818 * 2.0;
-        let t6822: f64 = t6820.minus(t6821);
-        let t6823 = product(t722, t6822);
-        let t6824: f64 = t259 * t286;
-        let t6825: f64 = t389 * t6824;
-        let t6826: f64 = t255 * t270;
-        let t6827 = product(t6800, t6826);
-        let t6828: f64 = t6825 * 2.0;
-        let t6829: f64 = t6827.minus(t6828);
-        let t6830: f64 = t728 * t6829;
-        let t6831: f64 = t6823.plus(t6830);
-        let t6832: f64 = t6816.plus(t6831);
-        let t6833: f64 = t6809.plus(t6832);
-        let t6834: f64 = arm3_rod_ixx * t698;
-        let t6835 = product(t6833, t6834);
-        let t6836: f64 = arm3_rod_mz * t6832;
-        let t6837: f64 = t768 + t768;
-        let t6838: f64 = t6837 * 2.0;
-        let t6839 = product(arm3_rod_ixx, t6838);
-        let t6840: f64 = arm3_rod_izz * t6838;
-        let t6841: f64 = t6839.minus(t6840);
-        let t6842 = product(t748, t6841);
-        let t6843: f64 = t6835.minus(t6836);
-        let t6844: f64 = t6843 * 2.0;
-        let t6845: f64 = t6842.subtracted_from(t6844);
-        let t6846 = product(t739, t6845);
-        let t6847: f64 = arm1_rod_mass * t6718;
-        let t6848: f64 = t428 * t6719;
-        let t6849 = product(t478, t6724);
-        let t6850: f64 = t6848 * 2.0;
-        let t6851: f64 = t6849.subtracted_from(t6850);
-        let t6852 = product(arm1_rod_mz, t6851);
-        let t6853: f64 = t6847 * 2.0;
-        let t6854: f64 = t6852.subtracted_from(t6853);
-        let t6855 = product(t465, t6854);
-        let t6856 = product(t450, t6701);
-        let t6857 = product(t456, t6708);
-        let t6858: f64 = t448 * t6715;
-        let t6859: f64 = t6857.plus(t6858);
-        let t6860: f64 = t6856.plus(t6859);
-        let t6861: f64 = arm1_rod_mass * t6860;
-        let t6862: f64 = t469 * t498;
-        let t6863: f64 = t478 * t497;
-        let t6864 = product(t871, t6863);
-        let t6865 = product(t465, t467);
-        let t6866: f64 = t6865.subtracted_from(t452);
-        let t6867 = product(t538, t6866);
-        let t6868: f64 = t497 * t857;
-        let t6869: f64 = t6692 * t6868;
-        let t6870: f64 = t6867.plus(t6869);
-        let t6871: f64 = t6860 - t6870;
-        let t6872: f64 = t6871 * 2.0;
-        let t6873 = product(t428, t6872);
-        let t6874: f64 = t6864.added_to(t6862);
-        let t6875: f64 = t6874 * 2.0;
-        let t6876: f64 = t6873.plus(t6875);
-        let t6877 = product(arm1_rod_mz, t6876);
-        let t6878: f64 = t6861 * 2.0;
-        let t6879: f64 = t6877.subtracted_from(t6878);
-        let t6880: f64 = t475 * t6879;
-        let t6881 = product(t431, t6708);
-        let t6882: f64 = t434 * t6715;
-        let t6883 = product(t429, t6701);
-        let t6884: f64 = t6881.plus(t6882);
-        let t6885: f64 = t6883.plus(t6884);
-        let t6886: f64 = arm1_rod_mass * t6885;
-        let t6887 = product(t478, t491);
-        let t6888: f64 = t469 * t871;
-        let t6889: f64 = t6887.plus(t6888);
-        let t6890: f64 = t6889 * 4.0;
-        let t6891 = product(arm1_rod_mz, t6890);
-        let t6892: f64 = t6886 * 2.0;
-        let t6893: f64 = t6891.subtracted_from(t6892);
-        let t6894 = product(t883, t6893);
-        let t6895: f64 = t6855.plus(t6880);
-        let t6896: f64 = t6894.plus(t6895);
-        let t6897: f64 = t467 * t6896;
-        let t6898: f64 = arm2_rod_mass * t6775;
-        let t6899: f64 = t563 * t6776;
-        let t6900 = product(t613, t6781);
-        let t6901: f64 = t6899 * 2.0;
-        let t6902: f64 = t6900.subtracted_from(t6901);
-        let t6903 = product(arm2_rod_mz, t6902);
-        let t6904: f64 = t6898 * 2.0;
-        let t6905: f64 = t6903.subtracted_from(t6904);
-        let t6906 = product(t600, t6905);
-        let t6907 = product(t585, t6758);
-        let t6908 = product(t591, t6765);
-        let t6909: f64 = t583 * t6772;
-        let t6910: f64 = t6908.plus(t6909);
-        let t6911: f64 = t6907.plus(t6910);
-        let t6912: f64 = arm2_rod_mass * t6911;
-        let t6913: f64 = t604 * t633;
-        let t6914: f64 = t613 * t632;
-        let t6915 = product(t947, t6914);
-        let t6916 = product(t600, t602);
-        let t6917: f64 = t6916.subtracted_from(t587);
-        let t6918 = product(t673, t6917);
-        let t6919: f64 = t632 * t933;
-        let t6920: f64 = t6749 * t6919;
-        let t6921: f64 = t6918.plus(t6920);
-        let t6922: f64 = t6911 - t6921;
-        let t6923: f64 = t6922 * 2.0;
-        let t6924 = product(t563, t6923);
-        let t6925: f64 = t6915.added_to(t6913);
-        let t6926: f64 = t6925 * 2.0;
-        let t6927: f64 = t6924.plus(t6926);
-        let t6928 = product(arm2_rod_mz, t6927);
-        let t6929: f64 = t6912 * 2.0;
-        let t6930: f64 = t6928.subtracted_from(t6929);
-        let t6931: f64 = t610 * t6930;
-        let t6932 = product(t566, t6765);
-        let t6933: f64 = t569 * t6772;
-        let t6934 = product(t564, t6758);
-        let t6935: f64 = t6932.plus(t6933);
-        let t6936: f64 = t6934.plus(t6935);
-        let t6937: f64 = arm2_rod_mass * t6936;
-        let t6938 = product(t613, t626);
-        let t6939: f64 = t604 * t947;
-        let t6940: f64 = t6938.plus(t6939);
-        let t6941: f64 = t6940 * 4.0;
-        let t6942 = product(arm2_rod_mz, t6941);
-        let t6943: f64 = t6937 * 2.0;
-        let t6944: f64 = t6942.subtracted_from(t6943);
-        let t6945 = product(t959, t6944);
-        let t6946: f64 = t6906.plus(t6931);
-        let t6947: f64 = t6945.plus(t6946);
-        let t6948 = product(t602, t6947);
-        let t6949: f64 = arm3_rod_mass * t6832;
-        let t6950: f64 = t698 * t6833;
-        let t6951 = product(t748, t6838);
-        let t6952: f64 = t6950 * 2.0;
-        let t6953: f64 = t6951.subtracted_from(t6952);
-        let t6954 = product(arm3_rod_mz, t6953);
-        let t6955: f64 = t6949 * 2.0;
-        let t6956: f64 = t6954.subtracted_from(t6955);
-        let t6957 = product(t735, t6956);
-        let t6958 = product(t720, t6815);
-        let t6959 = product(t726, t6822);
-        let t6960: f64 = t718 * t6829;
-        let t6961: f64 = t6959.plus(t6960);
-        let t6962: f64 = t6958.plus(t6961);
-        let t6963: f64 = arm3_rod_mass * t6962;
-        let t6964: f64 = t739 * t768;
-        let t6965: f64 = t748 * t767;
-        let t6966 = product(t1023, t6965);
-        let t6967 = product(t735, t737);
-        let t6968: f64 = t6967.subtracted_from(t722);
-        let t6969 = product(t808, t6968);
-        let t6970: f64 = t767 * t1009;
-        let t6971: f64 = t6806 * t6970;
-        let t6972: f64 = t6969.plus(t6971);
-        let t6973: f64 = t6962 - t6972;
-        let t6974: f64 = t6973 * 2.0;
-        let t6975 = product(t698, t6974);
-        let t6976: f64 = t6966.added_to(t6964);
-        let t6977: f64 = t6976 * 2.0;
-        let t6978: f64 = t6975.plus(t6977);
-        let t6979 = product(arm3_rod_mz, t6978);
-        let t6980: f64 = t6963 * 2.0;
-        let t6981: f64 = t6979.subtracted_from(t6980);
-        let t6982: f64 = t745 * t6981;
-        let t6983 = product(t701, t6822);
-        let t6984: f64 = t704 * t6829;
-        let t6985 = product(t699, t6815);
-        let t6986: f64 = t6983.plus(t6984);
-        let t6987: f64 = t6985.plus(t6986);
-        let t6988: f64 = arm3_rod_mass * t6987;
-        let t6989 = product(t748, t761);
-        let t6990: f64 = t739 * t1023;
-        let t6991: f64 = t6989.plus(t6990);
-        let t6992: f64 = t6991 * 4.0;
-        let t6993 = product(arm3_rod_mz, t6992);
-        let t6994: f64 = t6988 * 2.0;
-        let t6995: f64 = t6993.subtracted_from(t6994);
-        let t6996 = product(t1035, t6995);
-        let t6997: f64 = t6957.plus(t6982);
-        let t6998: f64 = t6996.plus(t6997);
-        let t6999: f64 = t737 * t6998;
+        let t6801: f64 = t293 * t6800;
+        let t6802 = product(t289, t6621);
+        let t6803: f64 = t1222 * t6704;
+        let t6804 = product(t1226, t6764);
+        let t6805: f64 = t6802.plus(t6803);
+        let t6806: f64 = t6804.plus(t6805);
+        let t6807: f64 = t293 * t6806;
+        let t6808: f64 = t28 * t43;
+        let t6809: f64 = t119 * t134;
+        let t6810: f64 = t210 * t225;
+        let t6811 = product(t280, t1145);
+        let t6812 = product(t282, t1175);
+        let t6813: f64 = t6811.added_to(t278);
+        let t6814: f64 = t6812.plus(t6813);
+        let t6815: f64 = t6814 * t6814;
+        let t6816: f64 = t6520 + t6627;
+        let t6817: f64 = t6711 + t6816;
+        let t6818: f64 = t6526 + t6633;
+        let t6819: f64 = t6717 + t6818;
+        let t6820: f64 = t6532 + t6639;
+        let t6821: f64 = t6723 + t6820;
+        let t6822: f64 = t6817 * t6819;
+        let t6823: f64 = t6821 * t6822;
+        let t6824: f64 = t6815 / t6823;
         (
-            t6504,
-            t6533,
-            t6562,
-            t6591,
-            t6619,
-            t6647,
-            t6675,
-            t6683,
-            t6686,
-            t6688,
-            t6689,
-            t6690,
-            t6692,
-            t6694,
-            t6698,
-            t6705,
-            t6712,
-            t6720,
-            t6724,
-            t6727,
-            t6731,
-            t6732,
-            t6740,
-            t6743,
-            t6745,
-            t6746,
-            t6747,
-            t6749,
-            t6751,
-            t6755,
-            t6762,
-            t6769,
-            t6777,
-            t6781,
-            t6784,
-            t6788,
+            t6098,
+            t6204,
+            t6210,
+            t6216,
+            t6222,
+            t6229,
+            t6236,
+            t6243,
+            t6322,
+            t6401,
+            t6480,
+            t6486,
+            t6492,
+            t6498,
+            t6505,
+            t6512,
+            t6519,
+            t6625,
+            t6708,
+            t6768,
+            t6775,
+            t6782,
             t6789,
-            t6797,
-            t6800,
-            t6802,
-            t6803,
-            t6804,
-            t6806,
+            t6795,
+            t6801,
+            t6807,
             t6808,
-            t6812,
-            t6819,
-            t6826,
-            t6834,
-            t6838,
-            t6841,
-            t6845,
-            t6846,
-            t6860,
-            t6862,
-            t6866,
-            t6868,
-            t6871,
-            t6876,
-            t6896,
-            t6897,
-            t6911,
-            t6913,
-            t6917,
-            t6919,
-            t6922,
-            t6927,
-            t6947,
-            t6948,
-            t6962,
-            t6964,
-            t6968,
-            t6970,
-            t6973,
-            t6978,
-            t6998,
-            t6999,
-        )
-    };
-    let (
-        t7128,
-        t7506,
-        t7884,
-        t7891,
-        t7898,
-        t7905,
-        t7911,
-        t7917,
-        t7923,
-        t7924,
-        t7925,
-        t7930,
-        t7931,
-        t7932,
-        t7933,
-        t7938,
-        t7939,
-        t7940,
-        t7941,
-        t7946,
-        t7947,
-        t7948,
-        t7949,
-        t7956,
-        t7962,
-        t7965,
-        t7966,
-        t7967,
-        t7974,
-        t7980,
-        t7983,
-        t7984,
-        t7985,
-        t7992,
-        t7998,
-        t7999,
-    ) = {
-        let t7000: f64 = arm1_rod_mz * t6860;
-        let t7001 = product(arm1_rod_ixx, t6876);
-        let t7002 = product(t539, t6866);
-        let t7003: f64 = t857 * t6692;
-        let t7004: f64 = t7002.plus(t7003);
-        let t7005 = product(t1063, t7004);
-        let t7006: f64 = t497 * t6871;
-        let t7007: f64 = t7005.minus(t7006);
-        let t7008 = product(t428, t7007);
-        let t7009: f64 = t478 * t871;
-        let t7010: f64 = t7008.plus(t7009);
-        let t7011: f64 = t7010 * 2.0;
-        let t7012 = product(t497, t7011);
-        let t7013: f64 = t6862 * 2.0;
-        let t7014: f64 = t7012.plus(t7013);
-        let t7015 = product(arm1_rod_izz, t7014);
-        let t7016: f64 = t7000 * 2.0;
-        let t7017: f64 = t7015.plus(t7016);
-        let t7018: f64 = t7001.subtracted_from(t7017);
-        let t7019 = product(t478, t7018);
-        let t7020: f64 = arm2_rod_mz * t6911;
-        let t7021 = product(arm2_rod_ixx, t6927);
-        let t7022 = product(t674, t6917);
-        let t7023: f64 = t933 * t6749;
-        let t7024: f64 = t7022.plus(t7023);
-        let t7025 = product(t1079, t7024);
-        let t7026: f64 = t632 * t6922;
-        let t7027: f64 = t7025.minus(t7026);
-        let t7028 = product(t563, t7027);
-        let t7029: f64 = t613 * t947;
-        let t7030: f64 = t7028.plus(t7029);
-        let t7031: f64 = t7030 * 2.0;
-        let t7032 = product(t632, t7031);
-        let t7033: f64 = t6913 * 2.0;
-        let t7034: f64 = t7032.plus(t7033);
-        let t7035 = product(arm2_rod_izz, t7034);
-        let t7036: f64 = t7020 * 2.0;
-        let t7037: f64 = t7035.plus(t7036);
-        let t7038: f64 = t7021.subtracted_from(t7037);
-        let t7039: f64 = t613 * t7038;
-        let t7040: f64 = arm3_rod_mz * t6962;
-        let t7041 = product(arm3_rod_ixx, t6978);
-        let t7042 = product(t809, t6968);
-        let t7043: f64 = t1009 * t6806;
-        let t7044: f64 = t7042.plus(t7043);
-        let t7045 = product(t1095, t7044);
-        let t7046: f64 = t767 * t6973;
-        let t7047: f64 = t7045.minus(t7046);
-        let t7048 = product(t698, t7047);
-        let t7049: f64 = t748 * t1023;
-        let t7050: f64 = t7048.plus(t7049);
-        let t7051: f64 = t7050 * 2.0;
-        let t7052 = product(t767, t7051);
-        let t7053: f64 = t6964 * 2.0;
-        let t7054: f64 = t7052.plus(t7053);
-        let t7055 = product(arm3_rod_izz, t7054);
-        let t7056: f64 = t7040 * 2.0;
-        let t7057: f64 = t7055.plus(t7056);
-        let t7058: f64 = t7041.subtracted_from(t7057);
-        let t7059 = product(t748, t7058);
-        let t7060: f64 = t6690.plus(t6747);
-        let t7061: f64 = t6804.plus(t6897);
-        let t7062: f64 = t6948.plus(t6999);
-        let t7063: f64 = t7019.plus(t7039);
-        let t7064: f64 = t7060 + t7061;
-        let t7065: f64 = t7062 + t7063;
-        let t7066: f64 = t7064 + t7065;
-        let t7067: f64 = t7059.plus(t7066);
-        let t7068: f64 = t6732.plus(t6789);
-        let t7069: f64 = t6846.plus(t7068);
-        let t7070: f64 = t7067 - t7069;
-        let t7071 = product(t277, t7070);
-        let t7072: f64 = t280 * t6688;
-        let t7073 = product(t6686, t7072);
-        let t7074 = product(t544, t6731);
-        let t7075: f64 = t181 * t6745;
-        let t7076: f64 = t6743 * t7075;
-        let t7077: f64 = t679 * t6788;
-        let t7078: f64 = t275 * t6802;
-        let t7079 = product(t6800, t7078);
-        let t7080 = product(t814, t6845);
-        let t7081: f64 = t481 * t6896;
-        let t7082 = product(t616, t6947);
-        let t7083: f64 = t751 * t6998;
-        let t7084 = product(t483, t7018);
-        let t7085: f64 = t618 * t7038;
-        let t7086 = product(t753, t7058);
-        let t7087: f64 = t7073.plus(t7076);
-        let t7088: f64 = t7079.plus(t7081);
-        let t7089: f64 = t7082.plus(t7083);
-        let t7090: f64 = t7084.plus(t7085);
-        let t7091: f64 = t7087 + t7088;
-        let t7092: f64 = t7089 + t7090;
-        let t7093: f64 = t7091 + t7092;
-        let t7094: f64 = t7086.plus(t7093);
-        let t7095: f64 = t7074.plus(t7077);
-        let t7096: f64 = t7080.plus(t7095);
-        let t7097: f64 = t7094 - t7096;
-        let t7098: f64 = t1124 * t7097;
-        let t7099: f64 = t282 * t6688;
-        let t7100 = product(t6686, t7099);
-        let t7101 = product(t548, t6731);
-        let t7102: f64 = t274 * t6745;
-        let t7103: f64 = t6743 * t7102;
-        let t7104: f64 = t683 * t6788;
-        let t7105: f64 = t272 * t6802;
-        let t7106 = product(t6800, t7105);
-        let t7107 = product(t818, t6845);
-        let t7108: f64 = t486 * t6896;
-        let t7109 = product(t621, t6947);
-        let t7110: f64 = t756 * t6998;
-        let t7111 = product(t488, t7018);
-        let t7112: f64 = t623 * t7038;
-        let t7113 = product(t758, t7058);
-        let t7114: f64 = t7100.plus(t7103);
-        let t7115: f64 = t7106.plus(t7108);
-        let t7116: f64 = t7109.plus(t7110);
-        let t7117: f64 = t7111.plus(t7112);
-        let t7118: f64 = t7114 + t7115;
-        let t7119: f64 = t7116 + t7117;
-        let t7120: f64 = t7118 + t7119;
-        let t7121: f64 = t7113.plus(t7120);
-        let t7122: f64 = t7101.plus(t7104);
-        let t7123: f64 = t7107.plus(t7122);
-        let t7124: f64 = t7121 - t7123;
-        let t7125 = product(t1154, t7124);
-        let t7126: f64 = t7071.plus(t7098);
-        let t7127: f64 = t7125.plus(t7126);
-        let t7128: f64 = t293 * t7127;
-        let t7129 = product(t481, t6683);
-        let t7130: f64 = t316 * 2.0;
-        let t7131: f64 = t7129.plus(t7130);
-        let t7132 = product(t6689, t7131);
-        let t7133 = product(t475, t481);
-        let t7134: f64 = t7133.subtracted_from(t448);
-        let t7135 = product(t6694, t7134);
-        let t7136: f64 = t81 * t280;
-        let t7137: f64 = t301 * t7136;
-        let t7138 = product(t6698, t7131);
-        let t7139: f64 = t7137 * 2.0;
-        let t7140: f64 = t7138.minus(t7139);
-        let t7141 = product(t462, t7140);
-        let t7142: f64 = t56 * t280;
-        let t7143: f64 = t301 * t7142;
-        let t7144 = product(t6705, t7131);
-        let t7145: f64 = t7143 * 2.0;
-        let t7146: f64 = t7144.minus(t7145);
-        let t7147 = product(t452, t7146);
-        let t7148: f64 = t70 * t280;
-        let t7149: f64 = t301 * t7148;
-        let t7150 = product(t6712, t7131);
-        let t7151: f64 = t7149 * 2.0;
-        let t7152: f64 = t7150.minus(t7151);
-        let t7153: f64 = t458 * t7152;
-        let t7154: f64 = t7147.plus(t7153);
-        let t7155: f64 = t7141.plus(t7154);
-        let t7156: f64 = t7135.plus(t7155);
-        let t7157 = product(t6720, t7156);
-        let t7158: f64 = arm1_rod_mz * t7155;
-        let t7159 = product(t483, t6727);
-        let t7160: f64 = t7157.minus(t7158);
-        let t7161: f64 = t7160 * 2.0;
-        let t7162: f64 = t7159.subtracted_from(t7161);
-        let t7163 = product(t469, t7162);
-        let t7164 = product(t616, t6740);
-        let t7165: f64 = t360 * 2.0;
-        let t7166: f64 = t7164.plus(t7165);
-        let t7167: f64 = t6746 * t7166;
-        let t7168 = product(t610, t616);
-        let t7169: f64 = t7168.subtracted_from(t583);
-        let t7170 = product(t6751, t7169);
-        let t7171: f64 = t172 * t181;
-        let t7172: f64 = t345 * t7171;
-        let t7173 = product(t6755, t7166);
-        let t7174: f64 = t7172 * 2.0;
-        let t7175: f64 = t7173.minus(t7174);
-        let t7176 = product(t597, t7175);
-        let t7177: f64 = t154 * t181;
-        let t7178: f64 = t345 * t7177;
-        let t7179 = product(t6762, t7166);
-        let t7180: f64 = t7178 * 2.0;
-        let t7181: f64 = t7179.minus(t7180);
-        let t7182 = product(t587, t7181);
-        let t7183: f64 = t147 * t181;
-        let t7184: f64 = t345 * t7183;
-        let t7185 = product(t6769, t7166);
-        let t7186: f64 = t7184 * 2.0;
-        let t7187: f64 = t7185.minus(t7186);
-        let t7188: f64 = t593 * t7187;
-        let t7189: f64 = t7182.plus(t7188);
-        let t7190: f64 = t7176.plus(t7189);
-        let t7191: f64 = t7170.plus(t7190);
-        let t7192 = product(t6777, t7191);
-        let t7193: f64 = arm2_rod_mz * t7190;
-        let t7194 = product(t618, t6784);
-        let t7195: f64 = t7192.minus(t7193);
-        let t7196: f64 = t7195 * 2.0;
-        let t7197: f64 = t7194.subtracted_from(t7196);
-        let t7198: f64 = t604 * t7197;
-        let t7199 = product(t751, t6797);
-        let t7200: f64 = t404 * 2.0;
-        let t7201: f64 = t7199.plus(t7200);
-        let t7202 = product(t6803, t7201);
-        let t7203 = product(t745, t751);
-        let t7204: f64 = t7203.subtracted_from(t718);
-        let t7205 = product(t6808, t7204);
-        let t7206: f64 = t238 * t275;
-        let t7207: f64 = t389 * t7206;
-        let t7208 = product(t6812, t7201);
-        let t7209: f64 = t7207 * 2.0;
-        let t7210: f64 = t7208.minus(t7209);
-        let t7211 = product(t732, t7210);
-        let t7212: f64 = t245 * t275;
-        let t7213: f64 = t389 * t7212;
-        let t7214 = product(t6819, t7201);
-        let t7215: f64 = t7213 * 2.0;
-        let t7216: f64 = t7214.minus(t7215);
-        let t7217 = product(t722, t7216);
-        let t7218: f64 = t259 * t275;
-        let t7219: f64 = t389 * t7218;
-        let t7220 = product(t6826, t7201);
-        let t7221: f64 = t7219 * 2.0;
-        let t7222: f64 = t7220.minus(t7221);
-        let t7223: f64 = t728 * t7222;
-        let t7224: f64 = t7217.plus(t7223);
-        let t7225: f64 = t7211.plus(t7224);
-        let t7226: f64 = t7205.plus(t7225);
-        let t7227 = product(t6834, t7226);
-        let t7228: f64 = arm3_rod_mz * t7225;
-        let t7229 = product(t753, t6841);
-        let t7230: f64 = t7227.minus(t7228);
-        let t7231: f64 = t7230 * 2.0;
-        let t7232: f64 = t7229.subtracted_from(t7231);
-        let t7233 = product(t739, t7232);
-        let t7234: f64 = arm1_rod_mass * t7155;
-        let t7235: f64 = t428 * t7156;
-        let t7236 = product(t483, t6724);
-        let t7237: f64 = t7235 * 2.0;
-        let t7238: f64 = t7236.subtracted_from(t7237);
-        let t7239 = product(arm1_rod_mz, t7238);
-        let t7240: f64 = t7234 * 2.0;
-        let t7241: f64 = t7239.subtracted_from(t7240);
-        let t7242 = product(t465, t7241);
-        let t7243 = product(t450, t7140);
-        let t7244 = product(t456, t7146);
-        let t7245: f64 = t448 * t7152;
-        let t7246: f64 = t7244.plus(t7245);
-        let t7247: f64 = t7243.plus(t7246);
-        let t7248: f64 = arm1_rod_mass * t7247;
-        let t7249: f64 = t498 * t544;
-        let t7250: f64 = t483 * t497;
-        let t7251 = product(t871, t7250);
-        let t7252 = product(t465, t481);
-        let t7253: f64 = t7252.subtracted_from(t458);
-        let t7254 = product(t538, t7253);
-        let t7255: f64 = t6868 * t7134;
-        let t7256: f64 = t7254.plus(t7255);
-        let t7257: f64 = t7247 - t7256;
-        let t7258: f64 = t7257 * 2.0;
-        let t7259 = product(t428, t7258);
-        let t7260: f64 = t7251.added_to(t7249);
-        let t7261: f64 = t7260 * 2.0;
-        let t7262: f64 = t7259.plus(t7261);
-        let t7263 = product(arm1_rod_mz, t7262);
-        let t7264: f64 = t7248 * 2.0;
-        let t7265: f64 = t7263.subtracted_from(t7264);
-        let t7266: f64 = t475 * t7265;
-        let t7267 = product(t431, t7146);
-        let t7268: f64 = t434 * t7152;
-        let t7269 = product(t429, t7140);
-        let t7270: f64 = t7267.plus(t7268);
-        let t7271: f64 = t7269.plus(t7270);
-        let t7272: f64 = arm1_rod_mass * t7271;
-        let t7273 = product(t483, t491);
-        let t7274: f64 = t544 * t871;
-        let t7275: f64 = t7273.plus(t7274);
-        let t7276: f64 = t7275 * 4.0;
-        let t7277 = product(arm1_rod_mz, t7276);
-        let t7278: f64 = t7272 * 2.0;
-        let t7279: f64 = t7277.subtracted_from(t7278);
-        let t7280 = product(t883, t7279);
-        let t7281: f64 = t7242.plus(t7266);
-        let t7282: f64 = t7280.plus(t7281);
-        let t7283: f64 = t467 * t7282;
-        let t7284: f64 = arm2_rod_mass * t7190;
-        let t7285: f64 = t563 * t7191;
-        let t7286 = product(t618, t6781);
-        let t7287: f64 = t7285 * 2.0;
-        let t7288: f64 = t7286.subtracted_from(t7287);
-        let t7289 = product(arm2_rod_mz, t7288);
-        let t7290: f64 = t7284 * 2.0;
-        let t7291: f64 = t7289.subtracted_from(t7290);
-        let t7292 = product(t600, t7291);
-        let t7293 = product(t585, t7175);
-        let t7294 = product(t591, t7181);
-        let t7295: f64 = t583 * t7187;
-        let t7296: f64 = t7294.plus(t7295);
-        let t7297: f64 = t7293.plus(t7296);
-        let t7298: f64 = arm2_rod_mass * t7297;
-        let t7299: f64 = t633 * t679;
-        let t7300: f64 = t618 * t632;
-        let t7301 = product(t947, t7300);
-        let t7302 = product(t600, t616);
-        let t7303: f64 = t7302.subtracted_from(t593);
-        let t7304 = product(t673, t7303);
-        let t7305: f64 = t6919 * t7169;
-        let t7306: f64 = t7304.plus(t7305);
-        let t7307: f64 = t7297 - t7306;
-        let t7308: f64 = t7307 * 2.0;
-        let t7309 = product(t563, t7308);
-        let t7310: f64 = t7301.added_to(t7299);
-        let t7311: f64 = t7310 * 2.0;
-        let t7312: f64 = t7309.plus(t7311);
-        let t7313 = product(arm2_rod_mz, t7312);
-        let t7314: f64 = t7298 * 2.0;
-        let t7315: f64 = t7313.subtracted_from(t7314);
-        let t7316: f64 = t610 * t7315;
-        let t7317 = product(t566, t7181);
-        let t7318: f64 = t569 * t7187;
-        let t7319 = product(t564, t7175);
-        let t7320: f64 = t7317.plus(t7318);
-        let t7321: f64 = t7319.plus(t7320);
-        let t7322: f64 = arm2_rod_mass * t7321;
-        let t7323 = product(t618, t626);
-        let t7324: f64 = t679 * t947;
-        let t7325: f64 = t7323.plus(t7324);
-        let t7326: f64 = t7325 * 4.0;
-        let t7327 = product(arm2_rod_mz, t7326);
-        let t7328: f64 = t7322 * 2.0;
-        let t7329: f64 = t7327.subtracted_from(t7328);
-        let t7330 = product(t959, t7329);
-        let t7331: f64 = t7292.plus(t7316);
-        let t7332: f64 = t7330.plus(t7331);
-        let t7333 = product(t602, t7332);
-        let t7334: f64 = arm3_rod_mass * t7225;
-        let t7335: f64 = t698 * t7226;
-        let t7336 = product(t753, t6838);
-        let t7337: f64 = t7335 * 2.0;
-        let t7338: f64 = t7336.subtracted_from(t7337);
-        let t7339 = product(arm3_rod_mz, t7338);
-        let t7340: f64 = t7334 * 2.0;
-        let t7341: f64 = t7339.subtracted_from(t7340);
-        let t7342 = product(t735, t7341);
-        let t7343 = product(t720, t7210);
-        let t7344 = product(t726, t7216);
-        let t7345: f64 = t718 * t7222;
-        let t7346: f64 = t7344.plus(t7345);
-        let t7347: f64 = t7343.plus(t7346);
-        let t7348: f64 = arm3_rod_mass * t7347;
-        let t7349: f64 = t768 * t814;
-        let t7350: f64 = t753 * t767;
-        let t7351 = product(t1023, t7350);
-        let t7352 = product(t735, t751);
-        let t7353: f64 = t7352.subtracted_from(t728);
-        let t7354 = product(t808, t7353);
-        let t7355: f64 = t6970 * t7204;
-        let t7356: f64 = t7354.plus(t7355);
-        let t7357: f64 = t7347 - t7356;
-        let t7358: f64 = t7357 * 2.0;
-        let t7359 = product(t698, t7358);
-        let t7360: f64 = t7351.added_to(t7349);
-        let t7361: f64 = t7360 * 2.0;
-        let t7362: f64 = t7359.plus(t7361);
-        let t7363 = product(arm3_rod_mz, t7362);
-        let t7364: f64 = t7348 * 2.0;
-        let t7365: f64 = t7363.subtracted_from(t7364);
-        let t7366: f64 = t745 * t7365;
-        let t7367 = product(t701, t7216);
-        let t7368: f64 = t704 * t7222;
-        let t7369 = product(t699, t7210);
-        let t7370: f64 = t7367.plus(t7368);
-        let t7371: f64 = t7369.plus(t7370);
-        let t7372: f64 = arm3_rod_mass * t7371;
-        let t7373 = product(t753, t761);
-        let t7374: f64 = t814 * t1023;
-        let t7375: f64 = t7373.plus(t7374);
-        let t7376: f64 = t7375 * 4.0;
-        let t7377 = product(arm3_rod_mz, t7376);
-        let t7378: f64 = t7372 * 2.0;
-        let t7379: f64 = t7377.subtracted_from(t7378);
-        let t7380 = product(t1035, t7379);
-        let t7381: f64 = t7342.plus(t7366);
-        let t7382: f64 = t7380.plus(t7381);
-        let t7383: f64 = t737 * t7382;
-        let t7384: f64 = arm1_rod_mz * t7247;
-        let t7385 = product(arm1_rod_ixx, t7262);
-        let t7386 = product(t539, t7253);
-        let t7387: f64 = t857 * t7134;
-        let t7388: f64 = t7386.plus(t7387);
-        let t7389 = product(t1063, t7388);
-        let t7390: f64 = t497 * t7257;
-        let t7391: f64 = t7389.minus(t7390);
-        let t7392 = product(t428, t7391);
-        let t7393: f64 = t483 * t871;
-        let t7394: f64 = t7392.plus(t7393);
-        let t7395: f64 = t7394 * 2.0;
-        let t7396 = product(t497, t7395);
-        let t7397: f64 = t7249 * 2.0;
-        let t7398: f64 = t7396.plus(t7397);
-        let t7399 = product(arm1_rod_izz, t7398);
-        let t7400: f64 = t7384 * 2.0;
-        let t7401: f64 = t7399.plus(t7400);
-        let t7402: f64 = t7385.subtracted_from(t7401);
-        let t7403 = product(t478, t7402);
-        let t7404: f64 = arm2_rod_mz * t7297;
-        let t7405 = product(arm2_rod_ixx, t7312);
-        let t7406 = product(t674, t7303);
-        let t7407: f64 = t933 * t7169;
-        let t7408: f64 = t7406.plus(t7407);
-        let t7409 = product(t1079, t7408);
-        let t7410: f64 = t632 * t7307;
-        let t7411: f64 = t7409.minus(t7410);
-        let t7412 = product(t563, t7411);
-        let t7413: f64 = t618 * t947;
-        let t7414: f64 = t7412.plus(t7413);
-        let t7415: f64 = t7414 * 2.0;
-        let t7416 = product(t632, t7415);
-        let t7417: f64 = t7299 * 2.0;
-        let t7418: f64 = t7416.plus(t7417);
-        let t7419 = product(arm2_rod_izz, t7418);
-        let t7420: f64 = t7404 * 2.0;
-        let t7421: f64 = t7419.plus(t7420);
-        let t7422: f64 = t7405.subtracted_from(t7421);
-        let t7423: f64 = t613 * t7422;
-        let t7424: f64 = arm3_rod_mz * t7347;
-        let t7425 = product(arm3_rod_ixx, t7362);
-        let t7426 = product(t809, t7353);
-        let t7427: f64 = t1009 * t7204;
-        let t7428: f64 = t7426.plus(t7427);
-        let t7429 = product(t1095, t7428);
-        let t7430: f64 = t767 * t7357;
-        let t7431: f64 = t7429.minus(t7430);
-        let t7432 = product(t698, t7431);
-        let t7433: f64 = t753 * t1023;
-        let t7434: f64 = t7432.plus(t7433);
-        let t7435: f64 = t7434 * 2.0;
-        let t7436 = product(t767, t7435);
-        let t7437: f64 = t7349 * 2.0;
-        let t7438: f64 = t7436.plus(t7437);
-        let t7439 = product(arm3_rod_izz, t7438);
-        let t7440: f64 = t7424 * 2.0;
-        let t7441: f64 = t7439.plus(t7440);
-        let t7442: f64 = t7425.subtracted_from(t7441);
-        let t7443 = product(t748, t7442);
-        let t7444: f64 = t7132.plus(t7167);
-        let t7445: f64 = t7202.plus(t7283);
-        let t7446: f64 = t7333.plus(t7383);
-        let t7447: f64 = t7403.plus(t7423);
-        let t7448: f64 = t7444 + t7445;
-        let t7449: f64 = t7446 + t7447;
-        let t7450: f64 = t7448 + t7449;
-        let t7451: f64 = t7443.plus(t7450);
-        let t7452: f64 = t7163.plus(t7198);
-        let t7453: f64 = t7233.plus(t7452);
-        let t7454: f64 = t7451 - t7453;
-        let t7455 = product(t277, t7454);
-        let t7456 = product(t7072, t7131);
-        let t7457 = product(t544, t7162);
-        let t7458: f64 = t7075 * t7166;
-        let t7459: f64 = t679 * t7197;
-        let t7460 = product(t7078, t7201);
-        let t7461 = product(t814, t7232);
-        let t7462: f64 = t481 * t7282;
-        let t7463 = product(t616, t7332);
-        let t7464: f64 = t751 * t7382;
-        let t7465 = product(t483, t7402);
-        let t7466: f64 = t618 * t7422;
-        let t7467 = product(t753, t7442);
-        let t7468: f64 = t7456.plus(t7458);
-        let t7469: f64 = t7460.plus(t7462);
-        let t7470: f64 = t7463.plus(t7464);
-        let t7471: f64 = t7465.plus(t7466);
-        let t7472: f64 = t7468 + t7469;
-        let t7473: f64 = t7470 + t7471;
-        let t7474: f64 = t7472 + t7473;
-        let t7475: f64 = t7467.plus(t7474);
-        let t7476: f64 = t7457.plus(t7459);
-        let t7477: f64 = t7461.plus(t7476);
-        let t7478: f64 = t7475 - t7477;
-        let t7479: f64 = t1124 * t7478;
-        let t7480 = product(t7099, t7131);
-        let t7481 = product(t548, t7162);
-        let t7482: f64 = t7102 * t7166;
-        let t7483: f64 = t683 * t7197;
-        let t7484 = product(t7105, t7201);
-        let t7485 = product(t818, t7232);
-        let t7486: f64 = t486 * t7282;
-        let t7487 = product(t621, t7332);
-        let t7488: f64 = t756 * t7382;
-        let t7489 = product(t488, t7402);
-        let t7490: f64 = t623 * t7422;
-        let t7491 = product(t758, t7442);
-        let t7492: f64 = t7480.plus(t7482);
-        let t7493: f64 = t7484.plus(t7486);
-        let t7494: f64 = t7487.plus(t7488);
-        let t7495: f64 = t7489.plus(t7490);
-        let t7496: f64 = t7492 + t7493;
-        let t7497: f64 = t7494 + t7495;
-        let t7498: f64 = t7496 + t7497;
-        let t7499: f64 = t7491.plus(t7498);
-        let t7500: f64 = t7481.plus(t7483);
-        let t7501: f64 = t7485.plus(t7500);
-        let t7502: f64 = t7499 - t7501;
-        let t7503 = product(t1154, t7502);
-        let t7504: f64 = t7455.plus(t7479);
-        let t7505: f64 = t7503.plus(t7504);
-        let t7506: f64 = t293 * t7505;
-        let t7507 = product(t486, t6683);
-        let t7508: f64 = t320 * 2.0;
-        let t7509: f64 = t7507.plus(t7508);
-        let t7510 = product(t6689, t7509);
-        let t7511 = product(t475, t486);
-        let t7512: f64 = t7511.subtracted_from(t450);
-        let t7513 = product(t6694, t7512);
-        let t7514: f64 = t81 * t282;
-        let t7515: f64 = t301 * t7514;
-        let t7516 = product(t6698, t7509);
-        let t7517: f64 = t7515 * 2.0;
-        let t7518: f64 = t7516.minus(t7517);
-        let t7519 = product(t462, t7518);
-        let t7520: f64 = t56 * t282;
-        let t7521: f64 = t301 * t7520;
-        let t7522 = product(t6705, t7509);
-        let t7523: f64 = t7521 * 2.0;
-        let t7524: f64 = t7522.minus(t7523);
-        let t7525 = product(t452, t7524);
-        let t7526: f64 = t70 * t282;
-        let t7527: f64 = t301 * t7526;
-        let t7528 = product(t6712, t7509);
-        let t7529: f64 = t7527 * 2.0;
-        let t7530: f64 = t7528.minus(t7529);
-        let t7531: f64 = t458 * t7530;
-        let t7532: f64 = t7525.plus(t7531);
-        let t7533: f64 = t7519.plus(t7532);
-        let t7534: f64 = t7513.plus(t7533);
-        let t7535 = product(t6720, t7534);
-        let t7536: f64 = arm1_rod_mz * t7533;
-        let t7537 = product(t488, t6727);
-        let t7538: f64 = t7535.minus(t7536);
-        let t7539: f64 = t7538 * 2.0;
-        let t7540: f64 = t7537.subtracted_from(t7539);
-        let t7541 = product(t469, t7540);
-        let t7542 = product(t621, t6740);
-        let t7543: f64 = t364 * 2.0;
-        let t7544: f64 = t7542.plus(t7543);
-        let t7545: f64 = t6746 * t7544;
-        let t7546 = product(t610, t621);
-        let t7547: f64 = t7546.subtracted_from(t585);
-        let t7548 = product(t6751, t7547);
-        let t7549: f64 = t172 * t274;
-        let t7550: f64 = t345 * t7549;
-        let t7551 = product(t6755, t7544);
-        let t7552: f64 = t7550 * 2.0;
-        let t7553: f64 = t7551.minus(t7552);
-        let t7554 = product(t597, t7553);
-        let t7555: f64 = t154 * t274;
-        let t7556: f64 = t345 * t7555;
-        let t7557 = product(t6762, t7544);
-        let t7558: f64 = t7556 * 2.0;
-        let t7559: f64 = t7557.minus(t7558);
-        let t7560 = product(t587, t7559);
-        let t7561: f64 = t147 * t274;
-        let t7562: f64 = t345 * t7561;
-        let t7563 = product(t6769, t7544);
-        let t7564: f64 = t7562 * 2.0;
-        let t7565: f64 = t7563.minus(t7564);
-        let t7566: f64 = t593 * t7565;
-        let t7567: f64 = t7560.plus(t7566);
-        let t7568: f64 = t7554.plus(t7567);
-        let t7569: f64 = t7548.plus(t7568);
-        let t7570 = product(t6777, t7569);
-        let t7571: f64 = arm2_rod_mz * t7568;
-        let t7572 = product(t623, t6784);
-        let t7573: f64 = t7570.minus(t7571);
-        let t7574: f64 = t7573 * 2.0;
-        let t7575: f64 = t7572.subtracted_from(t7574);
-        let t7576: f64 = t604 * t7575;
-        let t7577 = product(t756, t6797);
-        let t7578: f64 = t408 * 2.0;
-        let t7579: f64 = t7577.plus(t7578);
-        let t7580 = product(t6803, t7579);
-        let t7581 = product(t745, t756);
-        let t7582: f64 = t7581.subtracted_from(t720);
-        let t7583 = product(t6808, t7582);
-        let t7584: f64 = t238 * t272;
-        let t7585: f64 = t389 * t7584;
-        let t7586 = product(t6812, t7579);
-        let t7587: f64 = t7585 * 2.0;
-        let t7588: f64 = t7586.minus(t7587);
-        let t7589 = product(t732, t7588);
-        let t7590: f64 = t245 * t272;
-        let t7591: f64 = t389 * t7590;
-        let t7592 = product(t6819, t7579);
-        let t7593: f64 = t7591 * 2.0;
-        let t7594: f64 = t7592.minus(t7593);
-        let t7595 = product(t722, t7594);
-        let t7596: f64 = t259 * t272;
-        let t7597: f64 = t389 * t7596;
-        let t7598 = product(t6826, t7579);
-        let t7599: f64 = t7597 * 2.0;
-        let t7600: f64 = t7598.minus(t7599);
-        let t7601: f64 = t728 * t7600;
-        let t7602: f64 = t7595.plus(t7601);
-        let t7603: f64 = t7589.plus(t7602);
-        let t7604: f64 = t7583.plus(t7603);
-        let t7605 = product(t6834, t7604);
-        let t7606: f64 = arm3_rod_mz * t7603;
-        let t7607 = product(t758, t6841);
-        let t7608: f64 = t7605.minus(t7606);
-        let t7609: f64 = t7608 * 2.0;
-        let t7610: f64 = t7607.subtracted_from(t7609);
-        let t7611 = product(t739, t7610);
-        let t7612: f64 = arm1_rod_mass * t7533;
-        let t7613: f64 = t428 * t7534;
-        let t7614 = product(t488, t6724);
-        let t7615: f64 = t7613 * 2.0;
-        let t7616: f64 = t7614.subtracted_from(t7615);
-        let t7617 = product(arm1_rod_mz, t7616);
-        let t7618: f64 = t7612 * 2.0;
-        let t7619: f64 = t7617.subtracted_from(t7618);
-        let t7620 = product(t465, t7619);
-        let t7621 = product(t450, t7518);
-        let t7622 = product(t456, t7524);
-        let t7623: f64 = t448 * t7530;
-        let t7624: f64 = t7622.plus(t7623);
-        let t7625: f64 = t7621.plus(t7624);
-        let t7626: f64 = arm1_rod_mass * t7625;
-        let t7627: f64 = t498 * t548;
-        let t7628: f64 = t488 * t497;
-        let t7629 = product(t871, t7628);
-        let t7630 = product(t465, t486);
-        let t7631: f64 = t7630.subtracted_from(t462);
-        let t7632 = product(t538, t7631);
-        let t7633: f64 = t6868 * t7512;
-        let t7634: f64 = t7632.plus(t7633);
-        let t7635: f64 = t7625 - t7634;
-        let t7636: f64 = t7635 * 2.0;
-        let t7637 = product(t428, t7636);
-        let t7638: f64 = t7629.added_to(t7627);
-        let t7639: f64 = t7638 * 2.0;
-        let t7640: f64 = t7637.plus(t7639);
-        let t7641 = product(arm1_rod_mz, t7640);
-        let t7642: f64 = t7626 * 2.0;
-        let t7643: f64 = t7641.subtracted_from(t7642);
-        let t7644: f64 = t475 * t7643;
-        let t7645 = product(t431, t7524);
-        let t7646: f64 = t434 * t7530;
-        let t7647 = product(t429, t7518);
-        let t7648: f64 = t7645.plus(t7646);
-        let t7649: f64 = t7647.plus(t7648);
-        let t7650: f64 = arm1_rod_mass * t7649;
-        let t7651 = product(t488, t491);
-        let t7652: f64 = t548 * t871;
-        let t7653: f64 = t7651.plus(t7652);
-        let t7654: f64 = t7653 * 4.0;
-        let t7655 = product(arm1_rod_mz, t7654);
-        let t7656: f64 = t7650 * 2.0;
-        let t7657: f64 = t7655.subtracted_from(t7656);
-        let t7658 = product(t883, t7657);
-        let t7659: f64 = t7620.plus(t7644);
-        let t7660: f64 = t7658.plus(t7659);
-        let t7661: f64 = t467 * t7660;
-        let t7662: f64 = arm2_rod_mass * t7568;
-        let t7663: f64 = t563 * t7569;
-        let t7664 = product(t623, t6781);
-        let t7665: f64 = t7663 * 2.0;
-        let t7666: f64 = t7664.subtracted_from(t7665);
-        let t7667 = product(arm2_rod_mz, t7666);
-        let t7668: f64 = t7662 * 2.0;
-        let t7669: f64 = t7667.subtracted_from(t7668);
-        let t7670 = product(t600, t7669);
-        let t7671 = product(t585, t7553);
-        let t7672 = product(t591, t7559);
-        let t7673: f64 = t583 * t7565;
-        let t7674: f64 = t7672.plus(t7673);
-        let t7675: f64 = t7671.plus(t7674);
-        let t7676: f64 = arm2_rod_mass * t7675;
-        let t7677: f64 = t633 * t683;
-        let t7678: f64 = t623 * t632;
-        let t7679 = product(t947, t7678);
-        let t7680 = product(t600, t621);
-        let t7681: f64 = t7680.subtracted_from(t597);
-        let t7682 = product(t673, t7681);
-        let t7683: f64 = t6919 * t7547;
-        let t7684: f64 = t7682.plus(t7683);
-        let t7685: f64 = t7675 - t7684;
-        let t7686: f64 = t7685 * 2.0;
-        let t7687 = product(t563, t7686);
-        let t7688: f64 = t7679.added_to(t7677);
-        let t7689: f64 = t7688 * 2.0;
-        let t7690: f64 = t7687.plus(t7689);
-        let t7691 = product(arm2_rod_mz, t7690);
-        let t7692: f64 = t7676 * 2.0;
-        let t7693: f64 = t7691.subtracted_from(t7692);
-        let t7694: f64 = t610 * t7693;
-        let t7695 = product(t566, t7559);
-        let t7696: f64 = t569 * t7565;
-        let t7697 = product(t564, t7553);
-        let t7698: f64 = t7695.plus(t7696);
-        let t7699: f64 = t7697.plus(t7698);
-        let t7700: f64 = arm2_rod_mass * t7699;
-        let t7701 = product(t623, t626);
-        let t7702: f64 = t683 * t947;
-        let t7703: f64 = t7701.plus(t7702);
-        let t7704: f64 = t7703 * 4.0;
-        let t7705 = product(arm2_rod_mz, t7704);
-        let t7706: f64 = t7700 * 2.0;
-        let t7707: f64 = t7705.subtracted_from(t7706);
-        let t7708 = product(t959, t7707);
-        let t7709: f64 = t7670.plus(t7694);
-        let t7710: f64 = t7708.plus(t7709);
-        let t7711 = product(t602, t7710);
-        let t7712: f64 = arm3_rod_mass * t7603;
-        let t7713: f64 = t698 * t7604;
-        let t7714 = product(t758, t6838);
-        let t7715: f64 = t7713 * 2.0;
-        let t7716: f64 = t7714.subtracted_from(t7715);
-        let t7717 = product(arm3_rod_mz, t7716);
-        let t7718: f64 = t7712 * 2.0;
-        let t7719: f64 = t7717.subtracted_from(t7718);
-        let t7720 = product(t735, t7719);
-        let t7721 = product(t720, t7588);
-        let t7722 = product(t726, t7594);
-        let t7723: f64 = t718 * t7600;
-        let t7724: f64 = t7722.plus(t7723);
-        let t7725: f64 = t7721.plus(t7724);
-        let t7726: f64 = arm3_rod_mass * t7725;
-        let t7727: f64 = t768 * t818;
-        let t7728: f64 = t758 * t767;
-        let t7729 = product(t1023, t7728);
-        let t7730 = product(t735, t756);
-        let t7731: f64 = t7730.subtracted_from(t732);
-        let t7732 = product(t808, t7731);
-        let t7733: f64 = t6970 * t7582;
-        let t7734: f64 = t7732.plus(t7733);
-        let t7735: f64 = t7725 - t7734;
-        let t7736: f64 = t7735 * 2.0;
-        let t7737 = product(t698, t7736);
-        let t7738: f64 = t7729.added_to(t7727);
-        let t7739: f64 = t7738 * 2.0;
-        let t7740: f64 = t7737.plus(t7739);
-        let t7741 = product(arm3_rod_mz, t7740);
-        let t7742: f64 = t7726 * 2.0;
-        let t7743: f64 = t7741.subtracted_from(t7742);
-        let t7744: f64 = t745 * t7743;
-        let t7745 = product(t701, t7594);
-        let t7746: f64 = t704 * t7600;
-        let t7747 = product(t699, t7588);
-        let t7748: f64 = t7745.plus(t7746);
-        let t7749: f64 = t7747.plus(t7748);
-        let t7750: f64 = arm3_rod_mass * t7749;
-        let t7751 = product(t758, t761);
-        let t7752: f64 = t818 * t1023;
-        let t7753: f64 = t7751.plus(t7752);
-        let t7754: f64 = t7753 * 4.0;
-        let t7755 = product(arm3_rod_mz, t7754);
-        let t7756: f64 = t7750 * 2.0;
-        let t7757: f64 = t7755.subtracted_from(t7756);
-        let t7758 = product(t1035, t7757);
-        let t7759: f64 = t7720.plus(t7744);
-        let t7760: f64 = t7758.plus(t7759);
-        let t7761: f64 = t737 * t7760;
-        let t7762: f64 = arm1_rod_mz * t7625;
-        let t7763 = product(arm1_rod_ixx, t7640);
-        let t7764 = product(t539, t7631);
-        let t7765: f64 = t857 * t7512;
-        let t7766: f64 = t7764.plus(t7765);
-        let t7767 = product(t1063, t7766);
-        let t7768: f64 = t497 * t7635;
-        let t7769: f64 = t7767.minus(t7768);
-        let t7770 = product(t428, t7769);
-        let t7771: f64 = t488 * t871;
-        let t7772: f64 = t7770.plus(t7771);
-        let t7773: f64 = t7772 * 2.0;
-        let t7774 = product(t497, t7773);
-        let t7775: f64 = t7627 * 2.0;
-        let t7776: f64 = t7774.plus(t7775);
-        let t7777 = product(arm1_rod_izz, t7776);
-        let t7778: f64 = t7762 * 2.0;
-        let t7779: f64 = t7777.plus(t7778);
-        let t7780: f64 = t7763.subtracted_from(t7779);
-        let t7781 = product(t478, t7780);
-        let t7782: f64 = arm2_rod_mz * t7675;
-        let t7783 = product(arm2_rod_ixx, t7690);
-        let t7784 = product(t674, t7681);
-        let t7785: f64 = t933 * t7547;
-        let t7786: f64 = t7784.plus(t7785);
-        let t7787 = product(t1079, t7786);
-        let t7788: f64 = t632 * t7685;
-        let t7789: f64 = t7787.minus(t7788);
-        let t7790 = product(t563, t7789);
-        let t7791: f64 = t623 * t947;
-        let t7792: f64 = t7790.plus(t7791);
-        let t7793: f64 = t7792 * 2.0;
-        let t7794 = product(t632, t7793);
-        let t7795: f64 = t7677 * 2.0;
-        let t7796: f64 = t7794.plus(t7795);
-        let t7797 = product(arm2_rod_izz, t7796);
-        let t7798: f64 = t7782 * 2.0;
-        let t7799: f64 = t7797.plus(t7798);
-        let t7800: f64 = t7783.subtracted_from(t7799);
-        let t7801: f64 = t613 * t7800;
-        let t7802: f64 = arm3_rod_mz * t7725;
-        let t7803 = product(arm3_rod_ixx, t7740);
-        let t7804 = product(t809, t7731);
-        let t7805: f64 = t1009 * t7582;
-        let t7806: f64 = t7804.plus(t7805);
-        let t7807 = product(t1095, t7806);
-        let t7808: f64 = t767 * t7735;
-        let t7809: f64 = t7807.minus(t7808);
-        let t7810 = product(t698, t7809);
-        let t7811: f64 = t758 * t1023;
-        let t7812: f64 = t7810.plus(t7811);
-        let t7813: f64 = t7812 * 2.0;
-        let t7814 = product(t767, t7813);
-        let t7815: f64 = t7727 * 2.0;
-        let t7816: f64 = t7814.plus(t7815);
-        let t7817 = product(arm3_rod_izz, t7816);
-        let t7818: f64 = t7802 * 2.0;
-        let t7819: f64 = t7817.plus(t7818);
-        let t7820: f64 = t7803.subtracted_from(t7819);
-        let t7821 = product(t748, t7820);
-        let t7822: f64 = t7510.plus(t7545);
-        let t7823: f64 = t7580.plus(t7661);
-        let t7824: f64 = t7711.plus(t7761);
-        let t7825: f64 = t7781.plus(t7801);
-        let t7826: f64 = t7822 + t7823;
-        let t7827: f64 = t7824 + t7825;
-        let t7828: f64 = t7826 + t7827;
-        let t7829: f64 = t7821.plus(t7828);
-        let t7830: f64 = t7541.plus(t7576);
-        let t7831: f64 = t7611.plus(t7830);
-        let t7832: f64 = t7829 - t7831;
-        let t7833 = product(t277, t7832);
-        let t7834 = product(t7072, t7509);
-        let t7835 = product(t544, t7540);
-        let t7836: f64 = t7075 * t7544;
-        let t7837: f64 = t679 * t7575;
-        let t7838 = product(t7078, t7579);
-        let t7839 = product(t814, t7610);
-        let t7840: f64 = t481 * t7660;
-        let t7841 = product(t616, t7710);
-        let t7842: f64 = t751 * t7760;
-        let t7843 = product(t483, t7780);
-        let t7844: f64 = t618 * t7800;
-        let t7845 = product(t753, t7820);
-        let t7846: f64 = t7834.plus(t7836);
-        let t7847: f64 = t7838.plus(t7840);
-        let t7848: f64 = t7841.plus(t7842);
-        let t7849: f64 = t7843.plus(t7844);
-        let t7850: f64 = t7846 + t7847;
-        let t7851: f64 = t7848 + t7849;
-        let t7852: f64 = t7850 + t7851;
-        let t7853: f64 = t7845.plus(t7852);
-        let t7854: f64 = t7835.plus(t7837);
-        let t7855: f64 = t7839.plus(t7854);
-        let t7856: f64 = t7853 - t7855;
-        let t7857: f64 = t1124 * t7856;
-        let t7858 = product(t7099, t7509);
-        let t7859 = product(t548, t7540);
-        let t7860: f64 = t7102 * t7544;
-        let t7861: f64 = t683 * t7575;
-        let t7862 = product(t7105, t7579);
-        let t7863 = product(t818, t7610);
-        let t7864: f64 = t486 * t7660;
-        let t7865 = product(t621, t7710);
-        let t7866: f64 = t756 * t7760;
-        let t7867 = product(t488, t7780);
-        let t7868: f64 = t623 * t7800;
-        let t7869 = product(t758, t7820);
-        let t7870: f64 = t7858.plus(t7860);
-        let t7871: f64 = t7862.plus(t7864);
-        let t7872: f64 = t7865.plus(t7866);
-        let t7873: f64 = t7867.plus(t7868);
-        let t7874: f64 = t7870 + t7871;
-        let t7875: f64 = t7872 + t7873;
-        let t7876: f64 = t7874 + t7875;
-        let t7877: f64 = t7869.plus(t7876);
-        let t7878: f64 = t7859.plus(t7861);
-        let t7879: f64 = t7863.plus(t7878);
-        let t7880: f64 = t7877 - t7879;
-        let t7881 = product(t1154, t7880);
-        let t7882: f64 = t7833.plus(t7857);
-        let t7883: f64 = t7881.plus(t7882);
-        let t7884: f64 = t293 * t7883;
-        let t7885 = product(t284, t7070);
-        let t7886 = product(t1188, t7097);
-        let t7887: f64 = t1192 * t7124;
-        let t7888: f64 = t7886.plus(t7887);
-        let t7889: f64 = t7885.minus(t7888);
-        let t7890: f64 = t293 * t7889;
-        let t7891: f64 = -t7890;
-        let t7892 = product(t284, t7454);
-        let t7893 = product(t1188, t7478);
-        let t7894: f64 = t1192 * t7502;
-        let t7895: f64 = t7893.plus(t7894);
-        let t7896: f64 = t7892.minus(t7895);
-        let t7897: f64 = t293 * t7896;
-        let t7898: f64 = -t7897;
-        let t7899 = product(t284, t7832);
-        let t7900 = product(t1188, t7856);
-        let t7901: f64 = t1192 * t7880;
-        let t7902: f64 = t7900.plus(t7901);
-        let t7903: f64 = t7899.minus(t7902);
-        let t7904: f64 = t293 * t7903;
-        let t7905: f64 = -t7904;
-        let t7906 = product(t289, t7070);
-        let t7907: f64 = t1201 * t7097;
-        let t7908 = product(t1205, t7124);
-        let t7909: f64 = t7906.plus(t7907);
-        let t7910: f64 = t7908.plus(t7909);
-        let t7911: f64 = t293 * t7910;
-        let t7912 = product(t289, t7454);
-        let t7913: f64 = t1201 * t7478;
-        let t7914 = product(t1205, t7502);
-        let t7915: f64 = t7912.plus(t7913);
-        let t7916: f64 = t7914.plus(t7915);
-        let t7917: f64 = t293 * t7916;
-        let t7918 = product(t289, t7832);
-        let t7919: f64 = t1201 * t7856;
-        let t7920 = product(t1205, t7880);
-        let t7921: f64 = t7918.plus(t7919);
-        let t7922: f64 = t7920.plus(t7921);
-        let t7923: f64 = t293 * t7922;
-        let t7924: f64 = t90 * t90;
-        let t7925 = product(arm1_crank_izz, t7924);
-        let t7926 = product(arm1_rod_ixx, t469);
-        let t7927: f64 = arm1_rod_mz * t467;
-        let t7928: f64 = t465 * t7927;
-        let t7929: f64 = t7926.plus(t7928);
-        let t7930: f64 = t7929 * 2.0;
-        let t7931 = product(t469, t7930);
-        let t7932: f64 = t279 * t279;
-        let t7933: f64 = arm2_crank_izz * t7932;
-        let t7934 = product(arm2_rod_ixx, t604);
-        let t7935: f64 = arm2_rod_mz * t602;
-        let t7936: f64 = t600 * t7935;
-        let t7937: f64 = t7934.plus(t7936);
-        let t7938: f64 = t7937 * 2.0;
-        let t7939 = product(t604, t7938);
-        let t7940: f64 = t286 * t286;
-        let t7941: f64 = arm3_crank_izz * t7940;
-        let t7942 = product(arm3_rod_ixx, t739);
-        let t7943: f64 = arm3_rod_mz * t737;
-        let t7944: f64 = t735 * t7943;
-        let t7945: f64 = t7942.plus(t7944);
-        let t7946: f64 = t7945 * 2.0;
-        let t7947 = product(t739, t7946);
-        let t7948: f64 = t883 * t883;
-        let t7949: f64 = arm1_rod_mass * t467;
-        let t7950: f64 = t7948 * t7949;
-        let t7951 = product(t465, t7949);
-        let t7952: f64 = arm1_rod_mz * t469;
-        let t7953: f64 = t7951.plus(t7952);
-        let t7954: f64 = t7953 * 2.0;
-        let t7955 = product(t465, t7954);
-        let t7956: f64 = arm1_rod_mass * t475;
-        let t7957 = product(t467, t7956);
-        let t7958: f64 = arm1_rod_mz * t478;
-        let t7959: f64 = t7957.plus(t7958);
-        let t7960: f64 = t7959 * 2.0;
-        let t7961: f64 = t475 * t7960;
-        let t7962: f64 = t7955.plus(t7961);
-        let t7963 = product(t7950, 2.0);
-        let t7964: f64 = t7963.added_to(t7962);
-        let t7965: f64 = t467 * t7964;
-        let t7966: f64 = t959 * t959;
-        let t7967: f64 = arm2_rod_mass * t602;
-        let t7968: f64 = t7966 * t7967;
-        let t7969 = product(t600, t7967);
-        let t7970: f64 = arm2_rod_mz * t604;
-        let t7971: f64 = t7969.plus(t7970);
-        let t7972: f64 = t7971 * 2.0;
-        let t7973 = product(t600, t7972);
-        let t7974: f64 = arm2_rod_mass * t610;
-        let t7975 = product(t602, t7974);
-        let t7976: f64 = arm2_rod_mz * t613;
-        let t7977: f64 = t7975.plus(t7976);
-        let t7978: f64 = t7977 * 2.0;
-        let t7979: f64 = t610 * t7978;
-        let t7980: f64 = t7973.plus(t7979);
-        let t7981 = product(t7968, 2.0);
-        let t7982: f64 = t7981.added_to(t7980);
-        let t7983 = product(t602, t7982);
-        let t7984: f64 = t1035 * t1035;
-        let t7985: f64 = arm3_rod_mass * t737;
-        let t7986: f64 = t7984 * t7985;
-        let t7987 = product(t735, t7985);
-        let t7988: f64 = arm3_rod_mz * t739;
-        let t7989: f64 = t7987.plus(t7988);
-        let t7990: f64 = t7989 * 2.0;
-        let t7991 = product(t735, t7990);
-        let t7992: f64 = arm3_rod_mass * t745;
-        let t7993 = product(t737, t7992);
-        let t7994: f64 = arm3_rod_mz * t748;
-        let t7995: f64 = t7993.plus(t7994);
-        let t7996: f64 = t7995 * 2.0;
-        let t7997: f64 = t745 * t7996;
-        let t7998: f64 = t7991.plus(t7997);
-        let t7999 = product(t7986, 2.0);
-        (
-            t7128,
-            t7506,
-            t7884,
-            t7891,
-            t7898,
-            t7905,
-            t7911,
-            t7917,
-            t7923,
-            t7924,
-            t7925,
-            t7930,
-            t7931,
-            t7932,
-            t7933,
-            t7938,
-            t7939,
-            t7940,
-            t7941,
-            t7946,
-            t7947,
-            t7948,
-            t7949,
-            t7956,
-            t7962,
-            t7965,
-            t7966,
-            t7967,
-            t7974,
-            t7980,
-            t7983,
-            t7984,
-            t7985,
-            t7992,
-            t7998,
-            t7999,
-        )
-    };
-    let (
-        t8145,
-        t8323,
-        t8475,
-        t8482,
-        t8489,
-        t8496,
-        t8502,
-        t8508,
-        t8514,
-        t8515,
-        t8516,
-        t8517,
-        t8531,
-    ) = {
-        let t8000: f64 = t7999.added_to(t7998);
-        let t8001: f64 = t737 * t8000;
-        let t8002: f64 = arm1_rod_mz * t475;
-        let t8003: f64 = t467 * t8002;
-        let t8004: f64 = t497 * t497;
-        let t8005: f64 = arm1_rod_izz * t8004;
-        let t8006: f64 = arm1_rod_ixx + t8005;
-        let t8007: f64 = t8006 * 2.0;
-        let t8008 = product(t478, t8007);
-        let t8009: f64 = t8003 * 2.0;
-        let t8010: f64 = t8008.plus(t8009);
-        let t8011 = product(t478, t8010);
-        let t8012: f64 = arm2_rod_mz * t610;
-        let t8013: f64 = t602 * t8012;
-        let t8014: f64 = t632 * t632;
-        let t8015: f64 = arm2_rod_izz * t8014;
-        let t8016: f64 = arm2_rod_ixx + t8015;
-        let t8017: f64 = t8016 * 2.0;
-        let t8018 = product(t613, t8017);
-        let t8019: f64 = t8013 * 2.0;
-        let t8020: f64 = t8018.plus(t8019);
-        let t8021: f64 = t613 * t8020;
-        let t8022: f64 = arm3_rod_mz * t745;
-        let t8023: f64 = t737 * t8022;
-        let t8024: f64 = t767 * t767;
-        let t8025: f64 = arm3_rod_izz * t8024;
-        let t8026: f64 = arm3_rod_ixx + t8025;
-        let t8027: f64 = t8026 * 2.0;
-        let t8028 = product(t748, t8027);
-        let t8029: f64 = t8023 * 2.0;
-        let t8030: f64 = t8028.plus(t8029);
-        let t8031 = product(t748, t8030);
-        let t8032: f64 = t7925.added_to(platform_mass);
-        let t8033: f64 = t7931.plus(t7933);
-        let t8034: f64 = t7939.plus(t7941);
-        let t8035: f64 = t7947.plus(t7965);
-        let t8036: f64 = t7983.plus(t8001);
-        let t8037: f64 = t8011.plus(t8021);
-        let t8038: f64 = t8032 + t8033;
-        let t8039: f64 = t8034 + t8035;
-        let t8040: f64 = t8036 + t8037;
-        let t8041: f64 = t8038 + t8039;
-        let t8042: f64 = t8031.plus(t8040);
-        let t8043: f64 = t8041 + t8042;
-        let t8044 = product(t277, t8043);
-        let t8045 = product(arm1_rod_ixx, t478);
-        let t8046: f64 = t8045.added_to(t8003);
-        let t8047: f64 = t8046 * 2.0;
-        let t8048 = product(t483, t8047);
-        let t8049: f64 = t544 * t7930;
-        let t8050 = product(arm2_rod_ixx, t613);
-        let t8051: f64 = t8050.added_to(t8013);
-        let t8052: f64 = t8051 * 2.0;
-        let t8053 = product(t618, t8052);
-        let t8054: f64 = t679 * t7938;
-        let t8055 = product(arm3_rod_ixx, t748);
-        let t8056: f64 = t8055.added_to(t8023);
-        let t8057: f64 = t8056 * 2.0;
-        let t8058 = product(t753, t8057);
-        let t8059: f64 = t814 * t7946;
-        let t8060 = product(t481, t7962);
-        let t8061: f64 = t616 * t7980;
-        let t8062 = product(t751, t7998);
-        let t8063: f64 = arm3_crank_izz * t286;
-        let t8064 = product(t275, t8063);
-        let t8065: f64 = arm1_crank_izz * t90;
-        let t8066 = product(t280, t8065);
-        let t8067: f64 = arm2_crank_izz * t279;
-        let t8068: f64 = t181 * t8067;
-        let t8069: f64 = t8066.plus(t8068);
-        let t8070: f64 = t8064.plus(t8069);
-        let t8071: f64 = arm3_rod_izz * t748;
-        let t8072: f64 = t8024 * t8071;
-        let t8073 = product(t753, t8072);
-        let t8074: f64 = t751 * t7985;
-        let t8075: f64 = t7984 * t8074;
-        let t8076: f64 = t8073.plus(t8075);
-        let t8077: f64 = arm1_rod_izz * t478;
-        let t8078: f64 = t8004 * t8077;
-        let t8079 = product(t483, t8078);
-        let t8080: f64 = t481 * t7949;
-        let t8081: f64 = t7948 * t8080;
-        let t8082: f64 = t8079.plus(t8081);
-        let t8083: f64 = arm2_rod_izz * t613;
-        let t8084: f64 = t8014 * t8083;
-        let t8085 = product(t618, t8084);
-        let t8086: f64 = t616 * t7967;
-        let t8087: f64 = t7966 * t8086;
-        let t8088: f64 = t8085.plus(t8087);
-        let t8089: f64 = t8082 + t8088;
-        let t8090: f64 = t8076 + t8089;
-        let t8091: f64 = t8090 * 2.0;
-        let t8092: f64 = t8048.plus(t8049);
-        let t8093: f64 = t8053.plus(t8054);
-        let t8094: f64 = t8058.plus(t8059);
-        let t8095: f64 = t8060.plus(t8061);
-        let t8096: f64 = t8062.plus(t8070);
-        let t8097: f64 = t8092 + t8093;
-        let t8098: f64 = t8094 + t8095;
-        let t8099: f64 = t8091 + t8096;
-        let t8100: f64 = t8097 + t8098;
-        let t8101: f64 = t8099 + t8100;
-        let t8102: f64 = t1124 * t8101;
-        let t8103 = product(t488, t8047);
-        let t8104: f64 = t548 * t7930;
-        let t8105 = product(t623, t8052);
-        let t8106: f64 = t683 * t7938;
-        let t8107 = product(t758, t8057);
-        let t8108: f64 = t818 * t7946;
-        let t8109 = product(t486, t7962);
-        let t8110: f64 = t621 * t7980;
-        let t8111 = product(t756, t7998);
-        let t8112 = product(t272, t8063);
-        let t8113 = product(t282, t8065);
-        let t8114: f64 = t274 * t8067;
-        let t8115: f64 = t8113.plus(t8114);
-        let t8116: f64 = t8112.plus(t8115);
-        let t8117 = product(t758, t8072);
-        let t8118: f64 = t756 * t7985;
-        let t8119: f64 = t7984 * t8118;
-        let t8120: f64 = t8117.plus(t8119);
-        let t8121 = product(t488, t8078);
-        let t8122: f64 = t486 * t7949;
-        let t8123: f64 = t7948 * t8122;
-        let t8124: f64 = t8121.plus(t8123);
-        let t8125 = product(t623, t8084);
-        let t8126: f64 = t621 * t7967;
-        let t8127: f64 = t7966 * t8126;
-        let t8128: f64 = t8125.plus(t8127);
-        let t8129: f64 = t8124 + t8128;
-        let t8130: f64 = t8120 + t8129;
-        let t8131: f64 = t8130 * 2.0;
-        let t8132: f64 = t8103.plus(t8104);
-        let t8133: f64 = t8105.plus(t8106);
-        let t8134: f64 = t8107.plus(t8108);
-        let t8135: f64 = t8109.plus(t8110);
-        let t8136: f64 = t8111.plus(t8116);
-        let t8137: f64 = t8132 + t8133;
-        let t8138: f64 = t8134 + t8135;
-        let t8139: f64 = t8131 + t8136;
-        let t8140: f64 = t8137 + t8138;
-        let t8141: f64 = t8139 + t8140;
-        let t8142 = product(t1154, t8141);
-        let t8143: f64 = t8044.plus(t8102);
-        let t8144: f64 = t8142.plus(t8143);
-        let t8145: f64 = t293 * t8144;
-        let t8146 = product(arm1_rod_ixx, t483);
-        let t8147: f64 = t481 * t8002;
-        let t8148: f64 = t8146.plus(t8147);
-        let t8149: f64 = t8148 * 2.0;
-        let t8150 = product(t478, t8149);
-        let t8151 = product(arm1_rod_ixx, t544);
-        let t8152: f64 = arm1_rod_mz * t481;
-        let t8153: f64 = t465 * t8152;
-        let t8154: f64 = t8151.plus(t8153);
-        let t8155: f64 = t8154 * 2.0;
-        let t8156: f64 = t469 * t8155;
-        let t8157 = product(arm2_rod_ixx, t618);
-        let t8158: f64 = t616 * t8012;
-        let t8159: f64 = t8157.plus(t8158);
-        let t8160: f64 = t8159 * 2.0;
-        let t8161 = product(t613, t8160);
-        let t8162 = product(arm2_rod_ixx, t679);
-        let t8163: f64 = arm2_rod_mz * t616;
-        let t8164: f64 = t600 * t8163;
-        let t8165: f64 = t8162.plus(t8164);
-        let t8166: f64 = t8165 * 2.0;
-        let t8167: f64 = t604 * t8166;
-        let t8168 = product(arm3_rod_ixx, t753);
-        let t8169: f64 = t751 * t8022;
-        let t8170: f64 = t8168.plus(t8169);
-        let t8171: f64 = t8170 * 2.0;
-        let t8172 = product(t748, t8171);
-        let t8173 = product(arm3_rod_ixx, t814);
-        let t8174: f64 = arm3_rod_mz * t751;
-        let t8175: f64 = t735 * t8174;
-        let t8176: f64 = t8173.plus(t8175);
-        let t8177: f64 = t8176 * 2.0;
-        let t8178: f64 = t739 * t8177;
-        let t8179: f64 = arm1_rod_mass * t481;
-        let t8180 = product(t465, t8179);
-        let t8181: f64 = arm1_rod_mz * t544;
-        let t8182: f64 = t8180.plus(t8181);
-        let t8183: f64 = t8182 * 2.0;
-        let t8184 = product(t465, t8183);
-        let t8185 = product(t481, t7956);
-        let t8186: f64 = arm1_rod_mz * t483;
-        let t8187: f64 = t8185.plus(t8186);
-        let t8188: f64 = t8187 * 2.0;
-        let t8189: f64 = t475 * t8188;
-        let t8190: f64 = t8184.plus(t8189);
-        let t8191 = product(t467, t8190);
-        let t8192: f64 = arm2_rod_mass * t616;
-        let t8193 = product(t600, t8192);
-        let t8194: f64 = arm2_rod_mz * t679;
-        let t8195: f64 = t8193.plus(t8194);
-        let t8196: f64 = t8195 * 2.0;
-        let t8197 = product(t600, t8196);
-        let t8198 = product(t616, t7974);
-        let t8199: f64 = arm2_rod_mz * t618;
-        let t8200: f64 = t8198.plus(t8199);
-        let t8201: f64 = t8200 * 2.0;
-        let t8202: f64 = t610 * t8201;
-        let t8203: f64 = t8197.plus(t8202);
-        let t8204: f64 = t602 * t8203;
-        let t8205: f64 = arm3_rod_mass * t751;
-        let t8206 = product(t735, t8205);
-        let t8207: f64 = arm3_rod_mz * t814;
-        let t8208: f64 = t8206.plus(t8207);
-        let t8209: f64 = t8208 * 2.0;
-        let t8210 = product(t735, t8209);
-        let t8211 = product(t751, t7992);
-        let t8212: f64 = arm3_rod_mz * t753;
-        let t8213: f64 = t8211.plus(t8212);
-        let t8214: f64 = t8213 * 2.0;
-        let t8215: f64 = t745 * t8214;
-        let t8216: f64 = t8210.plus(t8215);
-        let t8217 = product(t737, t8216);
-        let t8218: f64 = t8150.plus(t8156);
-        let t8219: f64 = t8161.plus(t8167);
-        let t8220: f64 = t8172.plus(t8178);
-        let t8221: f64 = t8191.plus(t8204);
-        let t8222: f64 = t8217.added_to(t8070);
-        let t8223: f64 = t8218 + t8219;
-        let t8224: f64 = t8220 + t8221;
-        let t8225: f64 = t8091 + t8222;
-        let t8226: f64 = t8223 + t8224;
-        let t8227: f64 = t8225 + t8226;
-        let t8228 = product(t277, t8227);
-        let t8229: f64 = t280 * t280;
-        let t8230 = product(arm1_crank_izz, t8229);
-        let t8231 = product(t544, t8155);
-        let t8232: f64 = t181 * t181;
-        let t8233: f64 = arm2_crank_izz * t8232;
-        let t8234 = product(t679, t8166);
-        let t8235: f64 = t275 * t275;
-        let t8236: f64 = arm3_crank_izz * t8235;
-        let t8237 = product(t814, t8177);
-        let t8238: f64 = t7948 * t8179;
-        let t8239 = product(t8238, 2.0);
-        let t8240: f64 = t8239.added_to(t8190);
-        let t8241: f64 = t481 * t8240;
-        let t8242: f64 = t7966 * t8192;
-        let t8243 = product(t8242, 2.0);
-        let t8244: f64 = t8243.added_to(t8203);
-        let t8245 = product(t616, t8244);
-        let t8246: f64 = t7984 * t8205;
-        let t8247 = product(t8246, 2.0);
-        let t8248: f64 = t8247.added_to(t8216);
-        let t8249: f64 = t751 * t8248;
-        let t8250 = product(t483, t8007);
-        let t8251: f64 = t8147 * 2.0;
-        let t8252: f64 = t8250.plus(t8251);
-        let t8253 = product(t483, t8252);
-        let t8254 = product(t618, t8017);
-        let t8255: f64 = t8158 * 2.0;
-        let t8256: f64 = t8254.plus(t8255);
-        let t8257: f64 = t618 * t8256;
-        let t8258 = product(t753, t8027);
-        let t8259: f64 = t8169 * 2.0;
-        let t8260: f64 = t8258.plus(t8259);
-        let t8261 = product(t753, t8260);
-        let t8262: f64 = t8230.added_to(platform_mass);
-        let t8263: f64 = t8231.plus(t8233);
-        let t8264: f64 = t8234.plus(t8236);
-        let t8265: f64 = t8237.plus(t8241);
-        let t8266: f64 = t8245.plus(t8249);
-        let t8267: f64 = t8253.plus(t8257);
-        let t8268: f64 = t8262 + t8263;
-        let t8269: f64 = t8264 + t8265;
-        let t8270: f64 = t8266 + t8267;
-        let t8271: f64 = t8268 + t8269;
-        let t8272: f64 = t8261.plus(t8270);
-        let t8273: f64 = t8271 + t8272;
-        let t8274: f64 = t1124 * t8273;
-        let t8275 = product(t488, t8149);
-        let t8276: f64 = t548 * t8155;
-        let t8277 = product(t623, t8160);
-        let t8278: f64 = t683 * t8166;
-        let t8279 = product(t758, t8171);
-        let t8280: f64 = t818 * t8177;
-        let t8281 = product(t486, t8190);
-        let t8282: f64 = t621 * t8203;
-        let t8283 = product(t756, t8216);
-        let t8284: f64 = arm3_crank_izz * t275;
-        let t8285 = product(t272, t8284);
-        let t8286: f64 = arm1_crank_izz * t280;
-        let t8287 = product(t282, t8286);
-        let t8288: f64 = arm2_crank_izz * t181;
-        let t8289: f64 = t274 * t8288;
-        let t8290: f64 = t8287.plus(t8289);
-        let t8291: f64 = t8285.plus(t8290);
-        let t8292: f64 = t753 * t8025;
-        let t8293 = product(t758, t8292);
-        let t8294: f64 = t756 * t8205;
-        let t8295: f64 = t7984 * t8294;
-        let t8296: f64 = t8293.plus(t8295);
-        let t8297: f64 = t483 * t8005;
-        let t8298 = product(t488, t8297);
-        let t8299: f64 = t486 * t8179;
-        let t8300: f64 = t7948 * t8299;
-        let t8301: f64 = t8298.plus(t8300);
-        let t8302: f64 = t618 * t8015;
-        let t8303 = product(t623, t8302);
-        let t8304: f64 = t621 * t8192;
-        let t8305: f64 = t7966 * t8304;
-        let t8306: f64 = t8303.plus(t8305);
-        let t8307: f64 = t8301 + t8306;
-        let t8308: f64 = t8296 + t8307;
-        let t8309: f64 = t8308 * 2.0;
-        let t8310: f64 = t8275.plus(t8276);
-        let t8311: f64 = t8277.plus(t8278);
-        let t8312: f64 = t8279.plus(t8280);
-        let t8313: f64 = t8281.plus(t8282);
-        let t8314: f64 = t8283.plus(t8291);
-        let t8315: f64 = t8310 + t8311;
-        let t8316: f64 = t8312 + t8313;
-        let t8317: f64 = t8309 + t8314;
-        let t8318: f64 = t8315 + t8316;
-        let t8319: f64 = t8317 + t8318;
-        let t8320 = product(t1154, t8319);
-        let t8321: f64 = t8228.plus(t8274);
-        let t8322: f64 = t8320.plus(t8321);
-        let t8323: f64 = t293 * t8322;
-        let t8324 = product(arm1_rod_ixx, t488);
-        let t8325: f64 = t486 * t8002;
-        let t8326: f64 = t8324.plus(t8325);
-        let t8327: f64 = t8326 * 2.0;
-        let t8328 = product(t478, t8327);
-        let t8329 = product(arm1_rod_ixx, t548);
-        let t8330: f64 = arm1_rod_mz * t486;
-        let t8331: f64 = t465 * t8330;
-        let t8332: f64 = t8329.plus(t8331);
-        let t8333: f64 = t8332 * 2.0;
-        let t8334: f64 = t469 * t8333;
-        let t8335 = product(arm2_rod_ixx, t623);
-        let t8336: f64 = t621 * t8012;
-        let t8337: f64 = t8335.plus(t8336);
-        let t8338: f64 = t8337 * 2.0;
-        let t8339 = product(t613, t8338);
-        let t8340 = product(arm2_rod_ixx, t683);
-        let t8341: f64 = arm2_rod_mz * t621;
-        let t8342: f64 = t600 * t8341;
-        let t8343: f64 = t8340.plus(t8342);
-        let t8344: f64 = t8343 * 2.0;
-        let t8345: f64 = t604 * t8344;
-        let t8346 = product(arm3_rod_ixx, t758);
-        let t8347: f64 = t756 * t8022;
-        let t8348: f64 = t8346.plus(t8347);
-        let t8349: f64 = t8348 * 2.0;
-        let t8350 = product(t748, t8349);
-        let t8351 = product(arm3_rod_ixx, t818);
-        let t8352: f64 = arm3_rod_mz * t756;
-        let t8353: f64 = t735 * t8352;
-        let t8354: f64 = t8351.plus(t8353);
-        let t8355: f64 = t8354 * 2.0;
-        let t8356: f64 = t739 * t8355;
-        let t8357: f64 = arm1_rod_mass * t486;
-        let t8358 = product(t465, t8357);
-        let t8359: f64 = arm1_rod_mz * t548;
-        let t8360: f64 = t8358.plus(t8359);
-        let t8361: f64 = t8360 * 2.0;
-        let t8362 = product(t465, t8361);
-        let t8363 = product(t486, t7956);
-        let t8364: f64 = arm1_rod_mz * t488;
-        let t8365: f64 = t8363.plus(t8364);
-        let t8366: f64 = t8365 * 2.0;
-        let t8367: f64 = t475 * t8366;
-        let t8368: f64 = t8362.plus(t8367);
-        let t8369 = product(t467, t8368);
-        let t8370: f64 = arm2_rod_mass * t621;
-        let t8371 = product(t600, t8370);
-        let t8372: f64 = arm2_rod_mz * t683;
-        let t8373: f64 = t8371.plus(t8372);
-        let t8374: f64 = t8373 * 2.0;
-        let t8375 = product(t600, t8374);
-        let t8376 = product(t621, t7974);
-        let t8377: f64 = arm2_rod_mz * t623;
-        let t8378: f64 = t8376.plus(t8377);
-        let t8379: f64 = t8378 * 2.0;
-        let t8380: f64 = t610 * t8379;
-        let t8381: f64 = t8375.plus(t8380);
-        let t8382: f64 = t602 * t8381;
-        let t8383: f64 = arm3_rod_mass * t756;
-        let t8384 = product(t735, t8383);
-        let t8385: f64 = arm3_rod_mz * t818;
-        let t8386: f64 = t8384.plus(t8385);
-        let t8387: f64 = t8386 * 2.0;
-        let t8388 = product(t735, t8387);
-        let t8389 = product(t756, t7992);
-        let t8390: f64 = arm3_rod_mz * t758;
-        let t8391: f64 = t8389.plus(t8390);
-        let t8392: f64 = t8391 * 2.0;
-        let t8393: f64 = t745 * t8392;
-        let t8394: f64 = t8388.plus(t8393);
-        let t8395 = product(t737, t8394);
-        let t8396: f64 = t8328.plus(t8334);
-        let t8397: f64 = t8339.plus(t8345);
-        let t8398: f64 = t8350.plus(t8356);
-        let t8399: f64 = t8369.plus(t8382);
-        let t8400: f64 = t8395.added_to(t8116);
-        let t8401: f64 = t8396 + t8397;
-        let t8402: f64 = t8398 + t8399;
-        let t8403: f64 = t8131 + t8400;
-        let t8404: f64 = t8401 + t8402;
-        let t8405: f64 = t8403 + t8404;
-        let t8406 = product(t277, t8405);
-        let t8407 = product(t483, t8327);
-        let t8408: f64 = t544 * t8333;
-        let t8409 = product(t618, t8338);
-        let t8410: f64 = t679 * t8344;
-        let t8411 = product(t753, t8349);
-        let t8412: f64 = t814 * t8355;
-        let t8413 = product(t481, t8368);
-        let t8414: f64 = t616 * t8381;
-        let t8415 = product(t751, t8394);
-        let t8416: f64 = t8407.plus(t8408);
-        let t8417: f64 = t8409.plus(t8410);
-        let t8418: f64 = t8411.plus(t8412);
-        let t8419: f64 = t8413.plus(t8414);
-        let t8420: f64 = t8415.added_to(t8291);
-        let t8421: f64 = t8416 + t8417;
-        let t8422: f64 = t8418 + t8419;
-        let t8423: f64 = t8309 + t8420;
-        let t8424: f64 = t8421 + t8422;
-        let t8425: f64 = t8423 + t8424;
-        let t8426: f64 = t1124 * t8425;
-        let t8427: f64 = t282 * t282;
-        let t8428 = product(arm1_crank_izz, t8427);
-        let t8429 = product(t548, t8333);
-        let t8430: f64 = t274 * t274;
-        let t8431: f64 = arm2_crank_izz * t8430;
-        let t8432 = product(t683, t8344);
-        let t8433: f64 = t272 * t272;
-        let t8434: f64 = arm3_crank_izz * t8433;
-        let t8435 = product(t818, t8355);
-        let t8436: f64 = t7948 * t8357;
-        let t8437 = product(t8436, 2.0);
-        let t8438: f64 = t8437.added_to(t8368);
-        let t8439: f64 = t486 * t8438;
-        let t8440: f64 = t7966 * t8370;
-        let t8441 = product(t8440, 2.0);
-        let t8442: f64 = t8441.added_to(t8381);
-        let t8443 = product(t621, t8442);
-        let t8444: f64 = t7984 * t8383;
-        let t8445 = product(t8444, 2.0);
-        let t8446: f64 = t8445.added_to(t8394);
-        let t8447: f64 = t756 * t8446;
-        let t8448 = product(t488, t8007);
-        let t8449: f64 = t8325 * 2.0;
-        let t8450: f64 = t8448.plus(t8449);
-        let t8451 = product(t488, t8450);
-        let t8452 = product(t623, t8017);
-        let t8453: f64 = t8336 * 2.0;
-        let t8454: f64 = t8452.plus(t8453);
-        let t8455: f64 = t623 * t8454;
-        let t8456 = product(t758, t8027);
-        let t8457: f64 = t8347 * 2.0;
-        let t8458: f64 = t8456.plus(t8457);
-        let t8459 = product(t758, t8458);
-        let t8460: f64 = t8428.added_to(platform_mass);
-        let t8461: f64 = t8429.plus(t8431);
-        let t8462: f64 = t8432.plus(t8434);
-        let t8463: f64 = t8435.plus(t8439);
-        let t8464: f64 = t8443.plus(t8447);
-        let t8465: f64 = t8451.plus(t8455);
-        let t8466: f64 = t8460 + t8461;
-        let t8467: f64 = t8462 + t8463;
-        let t8468: f64 = t8464 + t8465;
-        let t8469: f64 = t8466 + t8467;
-        let t8470: f64 = t8459.plus(t8468);
-        let t8471: f64 = t8469 + t8470;
-        let t8472 = product(t1154, t8471);
-        let t8473: f64 = t8406.plus(t8426);
-        let t8474: f64 = t8472.plus(t8473);
-        let t8475: f64 = t293 * t8474;
-        let t8476 = product(t284, t8043);
-        let t8477 = product(t1188, t8101);
-        let t8478: f64 = t1192 * t8141;
-        let t8479: f64 = t8477.plus(t8478);
-        let t8480: f64 = t8476.minus(t8479);
-        let t8481: f64 = t293 * t8480;
-        let t8482: f64 = -t8481;
-        let t8483 = product(t284, t8227);
-        let t8484 = product(t1188, t8273);
-        let t8485: f64 = t1192 * t8319;
-        let t8486: f64 = t8484.plus(t8485);
-        let t8487: f64 = t8483.minus(t8486);
-        let t8488: f64 = t293 * t8487;
-        let t8489: f64 = -t8488;
-        let t8490 = product(t284, t8405);
-        let t8491 = product(t1188, t8425);
-        let t8492: f64 = t1192 * t8471;
-        let t8493: f64 = t8491.plus(t8492);
-        let t8494: f64 = t8490.minus(t8493);
-        let t8495: f64 = t293 * t8494;
-        let t8496: f64 = -t8495;
-        let t8497 = product(t289, t8043);
-        let t8498: f64 = t1201 * t8101;
-        let t8499 = product(t1205, t8141);
-        let t8500: f64 = t8497.plus(t8498);
-        let t8501: f64 = t8499.plus(t8500);
-        let t8502: f64 = t293 * t8501;
-        let t8503 = product(t289, t8227);
-        let t8504: f64 = t1201 * t8273;
-        let t8505 = product(t1205, t8319);
-        let t8506: f64 = t8503.plus(t8504);
-        let t8507: f64 = t8505.plus(t8506);
-        let t8508: f64 = t293 * t8507;
-        let t8509 = product(t289, t8405);
-        let t8510: f64 = t1201 * t8425;
-        let t8511 = product(t1205, t8471);
-        let t8512: f64 = t8509.plus(t8510);
-        let t8513: f64 = t8511.plus(t8512);
-        let t8514: f64 = t293 * t8513;
-        let t8515: f64 = t28 * t43;
-        let t8516: f64 = t119 * t134;
-        let t8517: f64 = t210 * t225;
-        let t8518 = product(t280, t1124);
-        let t8519 = product(t282, t1154);
-        let t8520: f64 = t8518.added_to(t278);
-        let t8521: f64 = t8519.plus(t8520);
-        let t8522: f64 = t8521 * t8521;
-        let t8523: f64 = t7924 + t8229;
-        let t8524: f64 = t8427 + t8523;
-        let t8525: f64 = t7932 + t8232;
-        let t8526: f64 = t8430 + t8525;
-        let t8527: f64 = t7940 + t8235;
-        let t8528: f64 = t8433 + t8527;
-        let t8529: f64 = t8524 * t8526;
-        let t8530: f64 = t8528 * t8529;
-        let t8531: f64 = t8522 / t8530;
-        (
-            t8145,
-            t8323,
-            t8475,
-            t8482,
-            t8489,
-            t8496,
-            t8502,
-            t8508,
-            t8514,
-            t8515,
-            t8516,
-            t8517,
-            t8531,
+            t6809,
+            t6810,
+            t6824,
         )
     };
     (
-        [t1184, t1197, t1209],
-        [[t3048, t4776, t6504], [t6533, t6562, t6591], [t6619, t6647, t6675]],
-        [[t7128, t7506, t7884], [t7891, t7898, t7905], [t7911, t7917, t7923]],
-        [[t8145, t8323, t8475], [t8482, t8489, t8496], [t8502, t8508, t8514]],
-        [t446, t581, t716, t8515, t8516, t8517, t8531],
+        [t1205, t1218, t1230],
+        [[t5992, t6098, t6204], [t6210, t6216, t6222], [t6229, t6236, t6243]],
+        [[t6322, t6401, t6480], [t6486, t6492, t6498], [t6505, t6512, t6519]],
+        [[t6625, t6708, t6768], [t6775, t6782, t6789], [t6795, t6801, t6807]],
+        [t312, t479, t646, t6808, t6809, t6810, t6824],
     )
 }
 /// Forward dynamics and its exact Jacobians: `a_C`, `∂a_C/∂C`, `∂a_C/∂v_C`, `∂a_C/∂Γ`; rows `ax ay az`. `∂a_C/∂Γ = M_x⁻¹ J⁻ᵀ`; `∂a_C/∂x = -(∂a_C/∂Γ) ∂ID/∂x`.

@@ -3,7 +3,7 @@
 //
 // Kernel operation counts (mul, div, add, neg, calls):
 //   inverse_dynamics_derivatives_params  1906    5  1421   43  3 sin_cos
-//   forward_dynamics_derivatives_params  2819   10  2177   74  3 sin_cos
+//   forward_dynamics_derivatives_params  2738   10  2126   72  3 sin_cos
 //   inverse_dynamics_joint_derivatives_params  5264    7  3239   70  3 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
@@ -4454,7 +4454,7 @@ pub fn inverse_dynamics_derivatives_params_separate(
 /// - `d_gamma`: `∂a/∂Γ` (rad/s²/N, m/s²/N)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 2819 mul, 10 div, 2177 add, 74 neg, 3 sin_cos (chapter convention: 2829m + 2177a).
+/// Operations: 2738 mul, 10 div, 2126 add, 72 neg, 3 sin_cos (chapter convention: 2748m + 2126a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -4642,68 +4642,68 @@ pub fn forward_dynamics_derivatives_params_separate(
         t605,
         t606,
         t607,
+        t608,
         t610,
+        t611,
         t612,
-        t613,
-        t614,
-        t616,
+        t615,
         t617,
         t618,
-        t621,
-        t623,
+        t619,
+        t622,
         t624,
         t625,
-        t628,
-        t631,
+        t626,
+        t629,
         t632,
         t633,
         t634,
-        t636,
+        t635,
+        t637,
+        t638,
+        t639,
         t640,
         t641,
-        t642,
+        t643,
         t644,
-        t648,
-        t649,
+        t645,
         t650,
         t651,
-        t653,
-        t655,
-        t656,
         t658,
-        t665,
-        t666,
+        t659,
+        t660,
+        t661,
         t667,
         t668,
         t669,
-        t670,
-        t671,
-        t672,
-        t678,
-        t679,
-        t680,
+        t674,
+        t676,
+        t677,
+        t681,
+        t682,
         t683,
-        t684,
+        t685,
+        t689,
         t690,
         t691,
         t692,
-        t693,
+        t694,
+        t696,
+        t697,
         t699,
-        t701,
-        t703,
         t706,
-        t707,
-        t708,
-        t710,
-        t711,
+        t712,
+        t713,
         t714,
+        t716,
+        t719,
+        t720,
         t722,
+        t723,
         t727,
-        t733,
+        t728,
+        t731,
         t734,
-        t736,
-        t739,
-        t742,
         t751,
         t753,
         t754,
@@ -4752,15 +4752,13 @@ pub fn forward_dynamics_derivatives_params_separate(
         t895,
         t929,
         t930,
-        t939,
-        t955,
         t964,
         t965,
         t967,
-        t969,
+        t968,
         t970,
-        t972,
-        t975,
+        t973,
+        t974,
         t976,
         t978,
         t984,
@@ -5370,169 +5368,169 @@ pub fn forward_dynamics_derivatives_params_separate(
         let t597: f64 = t383.plus(t568);
         let t598: f64 = t596 - t597;
         let t599: f64 = 1.0 / t598;
-        let t600: f64 = t165 * t425;
-        let t601: f64 = t151 * t422;
-        let t602: f64 = t600 - t601;
-        let t603: f64 = t445 + t449;
-        let t604: f64 = t602 + t603;
-        let t605: f64 = joint1_mz + joint2_mz;
-        let t606: f64 = joint3_mz + joint4_mz;
-        let t607: f64 = joint5_mz + joint6_mz;
-        let t608: f64 = platform_mz + t605;
-        let t609: f64 = t606 + t607;
-        let t610: f64 = t608 + t609;
-        let t611 = product(t77, t610);
-        let t612: f64 = joint5_mass * t0;
-        let t613: f64 = joint6_mass * t3;
-        let t614: f64 = t612 + t613;
-        let t615: f64 = t611.plus(t614);
-        let t616: f64 = joint5_mx + joint6_mx;
-        let t617: f64 = joint1_mx + joint2_mx;
-        let t618: f64 = joint3_mx + joint4_mx;
-        let t619: f64 = platform_mx + t616;
-        let t620: f64 = t617 + t618;
-        let t621: f64 = t619 + t620;
-        let t622 = product(t154, t621);
-        let t623: f64 = joint5_my + joint6_my;
-        let t624: f64 = joint1_my + joint2_my;
-        let t625: f64 = joint3_my + joint4_my;
-        let t626: f64 = platform_my + t623;
-        let t627: f64 = t624 + t625;
-        let t628: f64 = t626 + t627;
-        let t629: f64 = t145 * t628;
-        let t630: f64 = t622.plus(t629);
-        let t631: f64 = t615 - t630;
-        let t632: f64 = t604 + t631;
-        let t633: f64 = t409 + t632;
-        let t634: f64 = t247 * t633;
-        let t635 = product(t359, t634);
-        let t636: f64 = xc * t463;
-        let t637 = product(t459, t634);
-        let t638 = product(t315, t336);
-        let t639: f64 = t320 * t340;
-        let t640: f64 = t638.plus(t639);
-        let t641: f64 = t344 + t348;
-        let t642: f64 = t640 - t641;
-        let t643 = product(t6, t610);
-        let t644: f64 = t7 * t16;
-        let t645 = product(t621, t644);
-        let t646: f64 = t149 * t628;
-        let t647: f64 = t645.minus(t646);
-        let t648: f64 = t643.plus(t647);
-        let t649: f64 = joint3_mass * t163;
-        let t650: f64 = joint4_mass * t148;
-        let t651: f64 = t649 + t650;
-        let t652: f64 = t648 - t651;
-        let t653: f64 = t642 + t652;
-        let t654: f64 = t637.added_to(t636);
-        let t655: f64 = t653 - t654;
-        let t656: f64 = t509 * t566;
-        let t657: f64 = t655 * t656;
-        let t658: f64 = t635.minus(t657);
-        let t659: f64 = t633 * t633;
-        let t660 = product(t247, t659);
-        let t661: f64 = t655 * t655;
-        let t662: f64 = t509 * t661;
-        let t663: f64 = t658 * t658;
-        let t664 = product(t599, t663);
-        let t665: f64 = joint1_mass * t108;
-        let t666: f64 = joint2_mass * t116;
-        let t667: f64 = t665 + t666;
-        let t668: f64 = t309 + t326;
-        let t669: f64 = t79 * t525;
-        let t670: f64 = t98 * t529;
-        let t671: f64 = t669 + t670;
-        let t672: f64 = t668 - t671;
-        let t673: f64 = t667 + t672;
-        let t674 = product(t248, t610);
-        let t675 = product(t85, t621);
-        let t676: f64 = t90 * t628;
-        let t677: f64 = t675.plus(t676);
-        let t678: f64 = t674.plus(t677);
-        let t679: f64 = t673 - t678;
-        let t680: f64 = t517 + t679;
-        let t681: f64 = t680 * t680;
-        let t682 = product(t509, t681);
-        let t683: f64 = yc * t569;
-        let t684: f64 = t509 * t680;
-        let t685 = product(t566, t684);
-        let t686: f64 = t632 + t683;
-        let t687: f64 = t685.subtracted_from(t686);
-        let t688: f64 = t687 * t687;
-        let t689: f64 = t599 * t688;
-        let t690: f64 = joint1_mass + joint2_mass;
-        let t691: f64 = joint3_mass + joint4_mass;
+        let t600: f64 = yc * t569;
+        let t601: f64 = joint1_mass * t108;
+        let t602: f64 = joint2_mass * t116;
+        let t603: f64 = t601 + t602;
+        let t604: f64 = t309 + t326;
+        let t605: f64 = t79 * t525;
+        let t606: f64 = t98 * t529;
+        let t607: f64 = t605 + t606;
+        let t608: f64 = t604 - t607;
+        let t609: f64 = t603 + t608;
+        let t610: f64 = joint1_mz + joint2_mz;
+        let t611: f64 = joint3_mz + joint4_mz;
+        let t612: f64 = joint5_mz + joint6_mz;
+        let t613: f64 = platform_mz + t610;
+        let t614: f64 = t611 + t612;
+        let t615: f64 = t613 + t614;
+        let t616 = product(t248, t615);
+        let t617: f64 = joint5_mx + joint6_mx;
+        let t618: f64 = joint1_mx + joint2_mx;
+        let t619: f64 = joint3_mx + joint4_mx;
+        let t620: f64 = platform_mx + t617;
+        let t621: f64 = t618 + t619;
+        let t622: f64 = t620 + t621;
+        let t623 = product(t85, t622);
+        let t624: f64 = joint5_my + joint6_my;
+        let t625: f64 = joint1_my + joint2_my;
+        let t626: f64 = joint3_my + joint4_my;
+        let t627: f64 = platform_my + t624;
+        let t628: f64 = t625 + t626;
+        let t629: f64 = t627 + t628;
+        let t630: f64 = t90 * t629;
+        let t631: f64 = t623.plus(t630);
+        let t632: f64 = t616.plus(t631);
+        let t633: f64 = t609 - t632;
+        let t634: f64 = t517 + t633;
+        let t635: f64 = t509 * t634;
+        let t636 = product(t566, t635);
+        let t637: f64 = t165 * t425;
+        let t638: f64 = t151 * t422;
+        let t639: f64 = t637 - t638;
+        let t640: f64 = t445 + t449;
+        let t641: f64 = t639 + t640;
+        let t642 = product(t77, t615);
+        let t643: f64 = joint5_mass * t0;
+        let t644: f64 = joint6_mass * t3;
+        let t645: f64 = t643 + t644;
+        let t646: f64 = t642.plus(t645);
+        let t647 = product(t154, t622);
+        let t648: f64 = t145 * t629;
+        let t649: f64 = t647.plus(t648);
+        let t650: f64 = t646 - t649;
+        let t651: f64 = t641 + t650;
+        let t652: f64 = t600 + t651;
+        let t653: f64 = t636.subtracted_from(t652);
+        let t654: f64 = t634 * t634;
+        let t655 = product(t509, t654);
+        let t656: f64 = t653 * t653;
+        let t657: f64 = t599 * t656;
+        let t658: f64 = joint1_mass + joint2_mass;
+        let t659: f64 = joint3_mass + joint4_mass;
+        let t660: f64 = t658 + t659;
+        let t661: f64 = joint5_mass + joint6_mass;
+        let t662: f64 = platform_mass + t661;
+        let t663: f64 = t660 + t662;
+        let t664: f64 = t569 + t663;
+        let t665: f64 = t655.plus(t657);
+        let t666: f64 = t664 - t665;
+        let t667: f64 = 1.0 / t666;
+        let t668: f64 = zc * t36;
+        let t669: f64 = t633 + t668;
+        let t670: f64 = t247 * t634;
+        let t671: f64 = t459 * t670;
+        let t672: f64 = t509 * t671;
+        let t673 = product(t669, t672);
+        let t674: f64 = t459 * t509;
+        let t675 = product(t566, t674);
+        let t676: f64 = t675.added_to(t359);
+        let t677: f64 = t247 * t669;
+        let t678 = product(t676, t677);
+        let t679 = product(t315, t336);
+        let t680: f64 = t320 * t340;
+        let t681: f64 = t679.plus(t680);
+        let t682: f64 = t344 + t348;
+        let t683: f64 = t681 - t682;
+        let t684 = product(t6, t615);
+        let t685: f64 = t7 * t16;
+        let t686 = product(t622, t685);
+        let t687: f64 = t149 * t629;
+        let t688: f64 = t686.minus(t687);
+        let t689: f64 = t684.plus(t688);
+        let t690: f64 = joint3_mass * t163;
+        let t691: f64 = joint4_mass * t148;
         let t692: f64 = t690 + t691;
-        let t693: f64 = joint5_mass + joint6_mass;
-        let t694: f64 = platform_mass + t693;
-        let t695: f64 = t692 + t694;
-        let t696: f64 = t569 + t695;
-        let t697: f64 = t682.plus(t689);
-        let t698: f64 = t696 - t697;
-        let t699: f64 = 1.0 / t698;
-        let t700 = product(t655, t684);
-        let t701: f64 = t599 * t687;
-        let t702: f64 = t658 * t701;
-        let t703: f64 = t700.plus(t702);
-        let t704: f64 = t703 * t703;
-        let t705: f64 = t699 * t704;
-        let t706: f64 = zc * t36;
-        let t707: f64 = t679 + t706;
-        let t708: f64 = t459 * t509;
-        let t709 = product(t566, t708);
-        let t710: f64 = t709.added_to(t359);
-        let t711: f64 = t247 * t707;
-        let t712 = product(t710, t711);
-        let t713: f64 = t712.added_to(t252);
-        let t714: f64 = t653 - t713;
-        let t715: f64 = t714 * t714;
-        let t716 = product(t599, t715);
-        let t717: f64 = t247 * t680;
-        let t718: f64 = t459 * t717;
-        let t719: f64 = t509 * t718;
-        let t720 = product(t707, t719);
-        let t721: f64 = t701 * t714;
-        let t722: f64 = t720.plus(t721);
-        let t723: f64 = t722 * t722;
-        let t724: f64 = t699 * t723;
-        let t725: f64 = t461 * t509;
-        let t726 = product(t707, t725);
-        let t727: f64 = t726.added_to(t707);
-        let t728 = product(t711, t727);
-        let t729: f64 = t36 + t695;
-        let t730: f64 = t716.plus(t724);
-        let t731: f64 = t728.plus(t730);
-        let t732: f64 = t729 - t731;
-        let t733: f64 = 1.0 / t732;
-        let t734: f64 = t599 * t714;
-        let t735 = product(t658, t734);
-        let t736: f64 = t699 * t722;
-        let t737: f64 = t703 * t736;
-        let t738 = product(t655, t708);
-        let t739: f64 = t738.subtracted_from(t633);
-        let t740 = product(t711, t739);
-        let t741: f64 = t735.plus(t737);
-        let t742: f64 = t740.minus(t741);
-        let t743: f64 = t742 * t742;
-        let t744 = product(t733, t743);
-        let t745: f64 = t463 + t695;
-        let t746: f64 = t660.plus(t662);
-        let t747: f64 = t664.plus(t705);
+        let t693: f64 = t689 - t692;
+        let t694: f64 = t683 + t693;
+        let t695: f64 = t678.added_to(t252);
+        let t696: f64 = t694 - t695;
+        let t697: f64 = t599 * t653;
+        let t698: f64 = t696 * t697;
+        let t699: f64 = t673.plus(t698);
+        let t700: f64 = t696 * t696;
+        let t701 = product(t599, t700);
+        let t702: f64 = t699 * t699;
+        let t703: f64 = t667 * t702;
+        let t704: f64 = t461 * t509;
+        let t705 = product(t669, t704);
+        let t706: f64 = t705.added_to(t669);
+        let t707 = product(t677, t706);
+        let t708: f64 = t36 + t663;
+        let t709: f64 = t701.plus(t703);
+        let t710: f64 = t707.plus(t709);
+        let t711: f64 = t708 - t710;
+        let t712: f64 = 1.0 / t711;
+        let t713: f64 = t409 + t651;
+        let t714: f64 = t247 * t713;
+        let t715 = product(t359, t714);
+        let t716: f64 = xc * t463;
+        let t717 = product(t459, t714);
+        let t718: f64 = t717.added_to(t716);
+        let t719: f64 = t694 - t718;
+        let t720: f64 = t509 * t566;
+        let t721: f64 = t719 * t720;
+        let t722: f64 = t715.minus(t721);
+        let t723: f64 = t599 * t696;
+        let t724 = product(t722, t723);
+        let t725 = product(t635, t719);
+        let t726: f64 = t697 * t722;
+        let t727: f64 = t725.plus(t726);
+        let t728: f64 = t667 * t699;
+        let t729: f64 = t727 * t728;
+        let t730 = product(t674, t719);
+        let t731: f64 = t730.subtracted_from(t713);
+        let t732 = product(t677, t731);
+        let t733: f64 = t724.plus(t729);
+        let t734: f64 = t732.minus(t733);
+        let t735: f64 = t713 * t713;
+        let t736 = product(t247, t735);
+        let t737: f64 = t719 * t719;
+        let t738: f64 = t509 * t737;
+        let t739: f64 = t722 * t722;
+        let t740 = product(t599, t739);
+        let t741: f64 = t727 * t727;
+        let t742: f64 = t667 * t741;
+        let t743: f64 = t734 * t734;
+        let t744 = product(t712, t743);
+        let t745: f64 = t463 + t663;
+        let t746: f64 = t736.plus(t738);
+        let t747: f64 = t740.plus(t742);
         let t748: f64 = t746 + t747;
         let t749: f64 = t744.plus(t748);
         let t750: f64 = t745 - t749;
         let t751: f64 = 1.0 / t750;
-        let t752 = product(gravity_z, t695);
-        let t753: f64 = wz * t653;
-        let t754: f64 = wx * t679;
+        let t752 = product(gravity_z, t663);
+        let t753: f64 = wz * t694;
+        let t754: f64 = wx * t633;
         let t755: f64 = t753 + t754;
         let t756 = product(wx, t755);
-        let t757: f64 = wy * t679;
-        let t758: f64 = wz * t632;
+        let t757: f64 = wy * t633;
+        let t758: f64 = wz * t651;
         let t759: f64 = t757 - t758;
         let t760: f64 = wy * t759;
-        let t761 = product(gravity_z, t632);
-        let t762: f64 = gravity_y * t679;
+        let t761 = product(gravity_z, t651);
+        let t762: f64 = gravity_y * t633;
         let t763: f64 = t761.minus(t762);
         let t764: f64 = wx * t7;
         let t765 = product(t16, t764);
@@ -5620,7 +5618,7 @@ pub fn forward_dynamics_derivatives_params_separate(
         let t847: f64 = t828 + t846;
         let t848: f64 = t805 + t847;
         let t849: f64 = -t848;
-        let t850: f64 = t633 * t849;
+        let t850: f64 = t713 * t849;
         let t851: f64 = t247 * t850;
         let t852: f64 = t247 * t849;
         let t853 = product(t459, t852);
@@ -5654,15 +5652,15 @@ pub fn forward_dynamics_derivatives_params_separate(
         let t881 = product(wz, t880);
         let t882: f64 = wx * t836;
         let t883: f64 = t881.minus(t882);
-        let t884 = product(gravity_x, t679);
-        let t885: f64 = gravity_z * t653;
+        let t884 = product(gravity_x, t633);
+        let t885: f64 = gravity_z * t694;
         let t886: f64 = t884.plus(t885);
         let t887: f64 = t883 + t886;
         let t888: f64 = t874 + t887;
         let t889: f64 = t863 + t888;
         let t890: f64 = t853.plus(t889);
         let t891: f64 = t509 * t890;
-        let t892 = product(t655, t891);
+        let t892 = product(t719, t891);
         let t893 = product(t566, t891);
         let t894 = product(t569, t867);
         let t895: f64 = g1 + g2;
@@ -5680,8 +5678,8 @@ pub fn forward_dynamics_derivatives_params_separate(
         let t907 = product(wx, t843);
         let t908: f64 = wy * t880;
         let t909: f64 = t907.minus(t908);
-        let t910 = product(gravity_y, t653);
-        let t911: f64 = gravity_x * t632;
+        let t910 = product(gravity_y, t694);
+        let t911: f64 = gravity_x * t651;
         let t912: f64 = t910.plus(t911);
         let t913: f64 = t909 - t912;
         let t914 = product(t85, t820);
@@ -5695,38 +5693,38 @@ pub fn forward_dynamics_derivatives_params_separate(
         let t922: f64 = t906 + t921;
         let t923: f64 = -t922;
         let t924: f64 = t599 * t923;
-        let t925: f64 = t658 * t924;
-        let t926 = product(t687, t924);
+        let t925: f64 = t722 * t924;
+        let t926 = product(t653, t924);
         let t927: f64 = t926.subtracted_from(t896);
-        let t928 = product(gravity_x, t695);
-        let t929: f64 = wx * t632;
-        let t930: f64 = wy * t653;
+        let t928 = product(gravity_x, t663);
+        let t929: f64 = wx * t651;
+        let t930: f64 = wy * t694;
         let t931: f64 = t929 + t930;
         let t932: f64 = wy * t931;
         let t933: f64 = t928.plus(t932);
         let t934 = product(wz, t755);
-        let t935: f64 = t684 * t890;
+        let t935: f64 = t635 * t890;
         let t936: f64 = t934.minus(t935);
         let t937: f64 = t933 + t936;
         let t938: f64 = t927 + t937;
-        let t939: f64 = t699 * t938;
-        let t940 = product(t703, t939);
-        let t941 = product(gravity_y, t695);
+        let t939: f64 = t667 * t938;
+        let t940 = product(t727, t939);
+        let t941 = product(gravity_y, t663);
         let t942: f64 = wz * t759;
         let t943: f64 = t941.plus(t942);
         let t944: f64 = t802 + t943;
-        let t945 = product(t722, t939);
-        let t946 = product(t708, t890);
+        let t945 = product(t699, t939);
+        let t946 = product(t674, t890);
         let t947: f64 = t946.subtracted_from(t848);
-        let t948: f64 = t711 * t947;
+        let t948: f64 = t677 * t947;
         let t949: f64 = t945.plus(t948);
         let t950 = product(wx, t931);
-        let t951: f64 = t714 * t924;
+        let t951: f64 = t696 * t924;
         let t952: f64 = t950.plus(t951);
         let t953: f64 = t949 - t952;
         let t954: f64 = t944 + t953;
-        let t955: f64 = t733 * t954;
-        let t956 = product(t742, t955);
+        let t955: f64 = t712 * t954;
+        let t956 = product(t734, t955);
         let t957: f64 = t752.plus(t851);
         let t958: f64 = t940.added_to(t860);
         let t959: f64 = t957 + t958;
@@ -5735,43 +5733,43 @@ pub fn forward_dynamics_derivatives_params_separate(
         let t962: f64 = t960 + t961;
         let t963: f64 = t956.plus(t962);
         let t964: f64 = t959 - t963;
-        let t965: f64 = t658 * t751;
+        let t965: f64 = t734 * t751;
         let t966 = product(t964, t965);
-        let t967: f64 = t742 * t751;
-        let t968 = product(t964, t967);
-        let t969: f64 = t968.subtracted_from(t954);
-        let t970: f64 = t722 * t733;
-        let t971 = product(t969, t970);
-        let t972: f64 = t703 * t751;
-        let t973: f64 = t964 * t972;
-        let t974: f64 = t971.plus(t973);
-        let t975: f64 = t938 + t974;
-        let t976: f64 = t687 * t699;
-        let t977: f64 = t975 * t976;
-        let t978: f64 = t714 * t733;
-        let t979 = product(t969, t978);
-        let t980: f64 = t966.plus(t977);
+        let t967: f64 = t966.subtracted_from(t954);
+        let t968: f64 = t699 * t712;
+        let t969 = product(t967, t968);
+        let t970: f64 = t727 * t751;
+        let t971: f64 = t964 * t970;
+        let t972: f64 = t969.plus(t971);
+        let t973: f64 = t938 + t972;
+        let t974: f64 = t653 * t667;
+        let t975 = product(t973, t974);
+        let t976: f64 = t696 * t712;
+        let t977: f64 = t967 * t976;
+        let t978: f64 = t722 * t751;
+        let t979 = product(t964, t978);
+        let t980: f64 = t975.plus(t977);
         let t981: f64 = t979.added_to(t922);
         let t982: f64 = t980 + t981;
         let t983: f64 = t599 * t982;
         let t984: f64 = -t983;
         let t985 = product(t359, t984);
-        let t986: f64 = t633 * t751;
+        let t986: f64 = t713 * t751;
         let t987 = product(t964, t986);
         let t988 = product(t566, t984);
-        let t989: f64 = t680 * t699;
-        let t990: f64 = t975 * t989;
-        let t991: f64 = t655 * t751;
+        let t989: f64 = t634 * t667;
+        let t990: f64 = t973 * t989;
+        let t991: f64 = t719 * t751;
         let t992 = product(t964, t991);
-        let t993: f64 = t707 * t733;
-        let t994 = product(t969, t993);
+        let t993: f64 = t669 * t712;
+        let t994 = product(t967, t993);
         let t995: f64 = t994.added_to(t848);
         let t996: f64 = t513 * t995;
         let t997: f64 = t988.plus(t990);
         let t998: f64 = t992.plus(t996);
         let t999: f64 = t997 + t998;
         let t1000: f64 = t889 - t999;
-        let t1001: f64 = t708 * t1000;
+        let t1001: f64 = t674 * t1000;
         let t1002: f64 = t985.plus(t995);
         (
             t0,
@@ -5914,68 +5912,68 @@ pub fn forward_dynamics_derivatives_params_separate(
             t605,
             t606,
             t607,
+            t608,
             t610,
+            t611,
             t612,
-            t613,
-            t614,
-            t616,
+            t615,
             t617,
             t618,
-            t621,
-            t623,
+            t619,
+            t622,
             t624,
             t625,
-            t628,
-            t631,
+            t626,
+            t629,
             t632,
             t633,
             t634,
-            t636,
+            t635,
+            t637,
+            t638,
+            t639,
             t640,
             t641,
-            t642,
+            t643,
             t644,
-            t648,
-            t649,
+            t645,
             t650,
             t651,
-            t653,
-            t655,
-            t656,
             t658,
-            t665,
-            t666,
+            t659,
+            t660,
+            t661,
             t667,
             t668,
             t669,
-            t670,
-            t671,
-            t672,
-            t678,
-            t679,
-            t680,
+            t674,
+            t676,
+            t677,
+            t681,
+            t682,
             t683,
-            t684,
+            t685,
+            t689,
             t690,
             t691,
             t692,
-            t693,
+            t694,
+            t696,
+            t697,
             t699,
-            t701,
-            t703,
             t706,
-            t707,
-            t708,
-            t710,
-            t711,
+            t712,
+            t713,
             t714,
+            t716,
+            t719,
+            t720,
             t722,
+            t723,
             t727,
-            t733,
+            t728,
+            t731,
             t734,
-            t736,
-            t739,
-            t742,
             t751,
             t753,
             t754,
@@ -6024,15 +6022,13 @@ pub fn forward_dynamics_derivatives_params_separate(
             t895,
             t929,
             t930,
-            t939,
-            t955,
             t964,
             t965,
             t967,
-            t969,
+            t968,
             t970,
-            t972,
-            t975,
+            t973,
+            t974,
             t976,
             t978,
             t984,
@@ -6049,623 +6045,615 @@ pub fn forward_dynamics_derivatives_params_separate(
     let (
         t1006,
         t1007,
-        t1008,
         t1010,
         t1011,
-        t1013,
         t1014,
-        t1017,
+        t1015,
         t1020,
+        t1021,
+        t1022,
         t1023,
-        t1024,
-        t1029,
-        t1030,
-        t1040,
-        t1045,
-        t1047,
-        t1054,
-        t1055,
-        t1057,
-        t1062,
-        t1102,
+        t1032,
+        t1033,
+        t1035,
+        t1039,
+        t1077,
+        t1083,
+        t1091,
+        t1093,
+        t1105,
+        t1108,
+        t1111,
+        t1122,
         t1123,
-        t1138,
-        t1146,
-        t1154,
-        t1156,
-        t1168,
-        t1171,
-        t1173,
-        t1174,
-        t1177,
-        t1181,
-        t1186,
-        t1193,
-        t1195,
+        t1124,
+        t1143,
+        t1158,
+        t1165,
+        t1170,
+        t1175,
+        t1182,
+        t1184,
+        t1189,
+        t1191,
         t1200,
-        t1202,
-        t1211,
-        t1220,
-        t1234,
-        t1236,
-        t1242,
-        t1246,
+        t1209,
+        t1223,
+        t1225,
+        t1231,
+        t1235,
+        t1245,
+        t1254,
         t1256,
-        t1261,
-        t1267,
-        t1279,
-        t1280,
-        t1281,
-        t1282,
-        t1290,
+        t1262,
+        t1265,
+        t1271,
+        t1284,
+        t1295,
+        t1296,
+        t1300,
+        t1301,
         t1302,
-        t1303,
-        t1308,
-        t1309,
-        t1310,
-        t1315,
-        t1316,
-        t1321,
-        t1322,
-        t1323,
-        t1330,
-        t1331,
-        t1341,
-        t1354,
-        t1358,
-        t1376,
-        t1396,
+        t1306,
+        t1307,
+        t1312,
+        t1313,
+        t1314,
+        t1326,
+        t1343,
+        t1352,
+        t1366,
+        t1381,
+        t1388,
+        t1394,
         t1400,
-        t1406,
-        t1412,
+        t1404,
+        t1419,
+        t1424,
+        t1430,
         t1438,
-        t1453,
-        t1460,
-        t1484,
-        t1491,
+        t1462,
+        t1469,
+        t1477,
+        t1490,
         t1492,
         t1493,
         t1494,
         t1499,
         t1500,
         t1508,
-        t1515,
-        t1519,
-        t1552,
-        t1560,
-        t1567,
-        t1571,
-        t1588,
-        t1599,
-        t1605,
-        t1612,
-        t1619,
-        t1632,
-        t1638,
-        t1667,
-        t1676,
-        t1741,
-        t1744,
-        t1745,
-        t1749,
-        t1750,
-        t1760,
-        t1762,
-        t1795,
-        t1826,
-        t1828,
-        t1839,
-        t1848,
-        t1860,
-        t1885,
-        t1888,
-        t1895,
-        t1896,
-        t1901,
-        t1918,
-        t1931,
-        t1947,
-        t1952,
-        t1953,
-        t1962,
-        t1963,
-        t1970,
+        t1576,
+        t1582,
+        t1591,
+        t1600,
+        t1613,
+        t1640,
+        t1660,
+        t1663,
+        t1664,
+        t1668,
+        t1669,
+        t1679,
+        t1681,
+        t1711,
+        t1742,
+        t1747,
+        t1751,
+        t1782,
+        t1784,
+        t1790,
+        t1794,
+        t1808,
+        t1821,
+        t1830,
+        t1842,
+        t1867,
+        t1870,
+        t1879,
+        t1887,
+        t1893,
+        t1914,
+        t1916,
+        t1929,
+        t1957,
         t1974,
-        t1981,
-        t1982,
-        t1988,
-        t1999,
+        t1984,
+        t1990,
+        t1992,
+        t1996,
+        t1997,
+        t2001,
         t2002,
     ) = {
         let t1003: f64 = t987.plus(t1001);
         let t1004: f64 = t1002 - t1003;
         let t1005: f64 = t247 * t1004;
         let t1006: f64 = -t1005;
-        let t1007: f64 = t699 * t703;
-        let t1008: f64 = t751 * t1007;
-        let t1009 = product(t964, t1008);
-        let t1010: f64 = t733 * t742;
-        let t1011: f64 = t751 * t1010;
-        let t1012 = product(t964, t1011);
-        let t1013: f64 = t1012.minus(t955);
-        let t1014: f64 = -t1013;
-        let t1015 = product(t736, t1014);
-        let t1016: f64 = t1015.added_to(t939);
-        let t1017: f64 = t1009.plus(t1016);
-        let t1018 = product(t684, t1017);
-        let t1019: f64 = t509 * t513;
-        let t1020: f64 = t707 * t1019;
-        let t1021: f64 = t1014 * t1020;
-        let t1022: f64 = t1018.plus(t1021);
-        let t1023: f64 = t509 * t655;
-        let t1024: f64 = t751 * t1023;
-        let t1025 = product(t964, t1024);
-        let t1026 = product(t656, t984);
-        let t1027: f64 = t1026.subtracted_from(t891);
-        let t1028: f64 = t1025.minus(t1027);
-        let t1029: f64 = t1022 + t1028;
-        let t1030: f64 = t751 * t964;
-        let t1031: f64 = yc * t85;
-        let t1032 = product(t108, t154);
-        let t1033: f64 = t1032.subtracted_from(t1031);
-        let t1034 = product(t180, t1033);
-        let t1035 = product(t116, t154);
-        let t1036: f64 = t1035.subtracted_from(t1031);
-        let t1037: f64 = t187 * t1036;
-        let t1038 = product(joint1_mass, t1033);
-        let t1039: f64 = joint2_mass * t1036;
-        let t1040: f64 = t1038.plus(t1039);
-        let t1041 = product(yc, t1040);
-        let t1042: f64 = t1034.plus(t1037);
-        let t1043: f64 = t1041.subtracted_from(t1042);
-        let t1044 = product(t316, t1043);
-        let t1045: f64 = t261 - t649;
-        let t1046 = product(t165, t1045);
-        let t1047: f64 = t269 - t650;
-        let t1048: f64 = t151 * t1047;
-        let t1049: f64 = t1046.minus(t1048);
-        let t1050: f64 = t90 * t228;
-        let t1051: f64 = t1049 * t1050;
-        let t1052: f64 = t1044.plus(t1051);
-        let t1053: f64 = t271 + t333;
-        let t1054: f64 = t1052 - t1053;
-        let t1055: f64 = t509 * t1000;
-        let t1056 = product(t1054, t1055);
-        let t1057: f64 = t154 * t984;
-        let t1058: f64 = t85 * t509;
-        let t1059 = product(t1000, t1058);
-        let t1060: f64 = t1059.added_to(t1057);
-        let t1061 = product(t22, t1060);
-        let t1062: f64 = t145 * t984;
-        let t1063: f64 = t90 * t509;
-        let t1064 = product(t1000, t1063);
-        let t1065: f64 = t1064.added_to(t1062);
-        let t1066: f64 = t29 * t1065;
-        let t1067 = product(wy, t85);
-        let t1068: f64 = wz * t154;
-        let t1069: f64 = t1067.minus(t1068);
-        let t1070 = product(t44, t1069);
-        let t1071 = product(wy, t90);
-        let t1072: f64 = wz * t145;
-        let t1073: f64 = t1071.minus(t1072);
-        let t1074: f64 = t51 * t1073;
-        let t1075 = product(wy, t73);
-        let t1076: f64 = wz * t72;
-        let t1077: f64 = t1075.plus(t1076);
-        let t1078: f64 = t7 * t22;
-        let t1079 = product(t1077, t1078);
-        let t1080: f64 = t1070.plus(t1074);
-        let t1081: f64 = t1079.plus(t1080);
-        let t1082 = product(t776, t1081);
-        let t1083: f64 = t792 * t1073;
-        let t1084: f64 = t1082.minus(t1083);
-        let t1085 = product(t786, t1069);
-        let t1086 = product(t51, t1069);
-        let t1087: f64 = t64 * t1073;
-        let t1088: f64 = t7 * t29;
-        let t1089 = product(t1077, t1088);
-        let t1090: f64 = t1086.plus(t1087);
-        let t1091: f64 = t1089.plus(t1090);
-        let t1092: f64 = t769 * t1091;
-        let t1093: f64 = t1085.plus(t1092);
-        let t1094 = product(t72, t984);
-        let t1095: f64 = t73 * t509;
-        let t1096: f64 = t1000 * t1095;
-        let t1097: f64 = t1094.minus(t1096);
-        let t1098: f64 = t7 * t1097;
-        let t1099: f64 = -t1098;
-        let t1100 = product(t13, t1099);
-        let t1101: f64 = t1100.subtracted_from(t1093);
-        let t1102: f64 = t1084 + t1101;
-        let t1103: f64 = t1061.plus(t1066);
-        let t1104: f64 = t1102 - t1103;
-        let t1105 = product(t6, t1104);
-        let t1106 = product(t44, t1060);
-        let t1107: f64 = t51 * t1065;
-        let t1108 = product(t817, t1073);
-        let t1109 = product(t22, t1069);
-        let t1110: f64 = t29 * t1073;
-        let t1111: f64 = t7 * t13;
-        let t1112 = product(t1077, t1111);
-        let t1113: f64 = t1109.plus(t1110);
-        let t1114: f64 = t1112.plus(t1113);
-        let t1115: f64 = t776 * t1114;
-        let t1116: f64 = t1108.minus(t1115);
-        let t1117 = product(t22, t1099);
-        let t1118: f64 = t1117.subtracted_from(t1116);
-        let t1119: f64 = t7 * t786;
-        let t1120 = product(t1077, t1119);
-        let t1121: f64 = t783 * t1091;
-        let t1122: f64 = t1120.plus(t1121);
-        let t1123: f64 = t1118 - t1122;
-        let t1124: f64 = t1106.plus(t1107);
-        let t1125: f64 = t1123 - t1124;
-        let t1126 = product(t16, t1125);
-        let t1127 = product(t51, t1060);
-        let t1128: f64 = t64 * t1065;
-        let t1129: f64 = t7 * t792;
-        let t1130 = product(t1077, t1129);
-        let t1131: f64 = t783 * t1081;
-        let t1132: f64 = t1130.plus(t1131);
-        let t1133 = product(t29, t1099);
-        let t1134: f64 = t1133.subtracted_from(t1132);
-        let t1135 = product(t817, t1069);
-        let t1136: f64 = t769 * t1114;
-        let t1137: f64 = t1135.plus(t1136);
-        let t1138: f64 = t1134 - t1137;
-        let t1139: f64 = t1127.plus(t1128);
-        let t1140: f64 = t1138 - t1139;
-        let t1141: f64 = t15 * t1140;
-        let t1142: f64 = t1126.minus(t1141);
-        let t1143 = product(t7, t1142);
-        let t1144: f64 = joint5_mass * t79;
-        let t1145: f64 = joint6_mass * t98;
-        let t1146: f64 = t1144 + t1145;
-        let t1147 = product(xc, t1146);
-        let t1148 = product(t79, t296);
-        let t1149: f64 = t98 * t304;
-        let t1150: f64 = t1148.plus(t1149);
-        let t1151: f64 = t1147.subtracted_from(t1150);
-        let t1152: f64 = t72 * t208;
-        let t1153 = product(t1151, t1152);
-        let t1154: f64 = t114 - t665;
-        let t1155 = product(t1033, t1154);
-        let t1156: f64 = t122 - t666;
-        let t1157: f64 = t1036 * t1156;
-        let t1158: f64 = t1155.plus(t1157);
-        let t1159: f64 = t312 * t1158;
-        let t1160: f64 = t1153.minus(t1159);
-        let t1161 = product(t75, t1160);
-        let t1162: f64 = t419 + t444;
-        let t1163: f64 = t1161.minus(t1162);
-        let t1164 = product(t984, t1163);
-        let t1165: f64 = joint4_mass * t228;
-        let t1166: f64 = t90 * t1165;
-        let t1167 = product(t151, t1166);
-        let t1168: f64 = joint3_mass * t228;
-        let t1169: f64 = t90 * t1168;
-        let t1170: f64 = t165 * t1169;
-        let t1171: f64 = t1167.minus(t1170);
-        let t1172: f64 = t668 + t1171;
-        let t1173: f64 = t1172 - t678;
-        let t1174: f64 = gravity_z - t1030;
-        let t1175: f64 = t1173 * t1174;
-        let t1176: f64 = t1164.plus(t1175);
-        let t1177: f64 = t1143.plus(t1176);
-        let t1178: f64 = t1105.plus(t1177);
-        let t1179: f64 = t165 * t1050;
-        let t1180: f64 = zc - t1179;
-        let t1181: f64 = t1180 * 2.0;
-        let t1182: f64 = joint3_mass * t165;
-        let t1183 = product(t1181, t1182);
-        let t1184: f64 = t151 * t1050;
-        let t1185: f64 = zc + t1184;
-        let t1186: f64 = t1185 * 2.0;
-        let t1187: f64 = joint4_mass * t151;
-        let t1188: f64 = t1186 * t1187;
-        let t1189: f64 = t1183.minus(t1188);
-        let t1190: f64 = t146 * t1189;
-        let t1191: f64 = joint1_mass * t209;
-        let t1192: f64 = t482 * t1191;
-        let t1193: f64 = t315 * t1192;
-        let t1194 = product(t1033, t1193);
-        let t1195: f64 = t278 * t316;
-        let t1196: f64 = t1033 * t1195;
-        let t1197: f64 = t1194.plus(t1196);
-        let t1198: f64 = joint2_mass * t209;
-        let t1199: f64 = t482 * t1198;
-        let t1200: f64 = t320 * t1199;
-        let t1201 = product(t1036, t1200);
-        let t1202: f64 = t286 * t316;
-        let t1203: f64 = t1036 * t1202;
-        let t1204: f64 = t1201.plus(t1203);
-        let t1205: f64 = t1197 + t1204;
-        let t1206 = product(t171, t1179);
-        let t1207: f64 = t160 * t1184;
-        let t1208: f64 = t1206.minus(t1207);
-        let t1209: f64 = t551 + t1208;
-        let t1210: f64 = t1205 + t1209;
-        let t1211: f64 = t1210 * 2.0;
-        let t1212: f64 = t1190 + t1211;
-        let t1213: f64 = -t1212;
-        let t1214 = product(wz, t1213);
-        let t1215 = product(wx, t1163);
-        let t1216 = product(joint5_mass, t1);
-        let t1217: f64 = joint6_mass * t4;
-        let t1218 = product(zc, t1172);
-        let t1219: f64 = t532 - t557;
-        let t1220: f64 = t72 * t74;
-        let t1221: f64 = t1219 * t1220;
-        let t1222 = product(t131, t165);
-        let t1223: f64 = t138 * t151;
-        let t1224: f64 = t1222.minus(t1223);
-        let t1225 = product(t1050, t1224);
-        let t1226: f64 = t140 - t205;
-        let t1227 = product(t1226, 2.0);
-        let t1228: f64 = t1216.plus(t1217);
-        let t1229: f64 = t1227.added_to(t190);
-        let t1230: f64 = t1228 + t1229;
-        let t1231: f64 = t1218.plus(t1221);
-        let t1232: f64 = t1225.added_to(t125);
-        let t1233: f64 = t1231 + t1232;
-        let t1234: f64 = t1230 - t1233;
-        let t1235: f64 = wy * t1234;
-        let t1236: f64 = t1215.plus(t1235);
-        let t1237: f64 = t1214.subtracted_from(t1236);
-        let t1238 = product(wy, t1237);
-        let t1239: f64 = t75 * t1152;
-        let t1240: f64 = t79 * t1239;
-        let t1241: f64 = t0 - t1240;
-        let t1242: f64 = t1241 * 2.0;
-        let t1243 = product(t1144, t1242);
-        let t1244: f64 = t98 * t1239;
-        let t1245: f64 = t3 - t1244;
-        let t1246: f64 = t1245 * 2.0;
-        let t1247: f64 = t1145 * t1246;
-        let t1248: f64 = t1243.plus(t1247);
-        let t1249: f64 = t94 * t1248;
-        let t1250 = product(t93, t1240);
-        let t1251: f64 = t104 * t1244;
-        let t1252: f64 = t1250.plus(t1251);
-        let t1253: f64 = t558 - t1252;
-        let t1254: f64 = t550 + t1253;
-        let t1255: f64 = t1205 + t1254;
-        let t1256: f64 = t1255 * 2.0;
-        let t1257: f64 = t1249 + t1256;
-        let t1258 = product(wy, t1257);
-        let t1259 = product(wx, t1054);
-        let t1260: f64 = wz * t1234;
-        let t1261: f64 = t1259.minus(t1260);
-        let t1262: f64 = t1258.subtracted_from(t1261);
-        let t1263: f64 = wz * t1262;
-        let t1264: f64 = t1238.plus(t1263);
-        let t1265: f64 = t543 + t1208;
-        let t1266: f64 = t1253 + t1265;
-        let t1267: f64 = t1266 * 2.0;
-        let t1268: f64 = t1190 + t1249;
-        let t1269: f64 = t1267 + t1268;
-        let t1270 = product(t1006, t1269);
-        let t1271: f64 = joint5_mass * t72;
-        let t1272: f64 = t208 * t1271;
-        let t1273: f64 = t75 * t1272;
-        let t1274 = product(t79, t1273);
-        let t1275: f64 = joint6_mass * t72;
-        let t1276: f64 = t208 * t1275;
-        let t1277: f64 = t75 * t1276;
-        let t1278: f64 = t98 * t1277;
-        let t1279: f64 = t1274.plus(t1278);
-        let t1280: f64 = t631 - t1279;
-        let t1281: f64 = t733 * t969;
-        let t1282: f64 = gravity_y - t1281;
-        let t1283: f64 = t1280 * t1282;
-        let t1284: f64 = t1270.plus(t1283);
-        let t1285: f64 = t1264 + t1284;
-        let t1286: f64 = t1178 + t1285;
-        let t1287: f64 = t1056.plus(t1286);
-        let t1288 = product(t634, t1287);
-        let t1289 = product(t90, t1140);
-        let t1290: f64 = t247 * t359;
-        let t1291: f64 = t1287 * t1290;
-        let t1292: f64 = t1289.minus(t1291);
-        let t1293 = product(t1000, t1234);
-        let t1294 = product(t513, t1287);
-        let t1295 = product(t6, t1006);
-        let t1296 = product(t73, t984);
-        let t1297: f64 = t72 * t509;
-        let t1298: f64 = t1000 * t1297;
-        let t1299: f64 = t1296.plus(t1298);
-        let t1300: f64 = t7 * t1299;
-        let t1301: f64 = t1295.plus(t1300);
-        let t1302: f64 = t22 * t1301;
-        let t1303: f64 = t820 - t1302;
-        let t1304: f64 = t145 * t509;
-        let t1305 = product(t1000, t1304);
-        let t1306 = product(t149, t1006);
-        let t1307: f64 = t90 * t984;
-        let t1308: f64 = t1306.minus(t1307);
-        let t1309: f64 = t1305.plus(t1308);
-        let t1310: f64 = t51 * t1309;
-        let t1311: f64 = t154 * t509;
-        let t1312 = product(t1000, t1311);
-        let t1313 = product(t644, t1006);
-        let t1314: f64 = t85 * t984;
-        let t1315: f64 = t1313.plus(t1314);
-        let t1316: f64 = t1312.subtracted_from(t1315);
-        let t1317 = product(t44, t1316);
-        let t1318: f64 = t1317.subtracted_from(t1310);
-        let t1319: f64 = t1303 + t1318;
-        let t1320 = product(t85, t1319);
-        let t1321: f64 = t29 * t1301;
-        let t1322: f64 = t824 + t1321;
-        let t1323: f64 = t51 * t1316;
-        let t1324 = product(t64, t1309);
-        let t1325: f64 = t1324.subtracted_from(t1323);
-        let t1326: f64 = t1322 + t1325;
-        let t1327: f64 = t90 * t1326;
-        let t1328: f64 = t1320.minus(t1327);
-        let t1329 = product(t1055, t1257);
-        let t1330: f64 = t699 * t975;
-        let t1331: f64 = gravity_x - t1330;
-        let t1332: f64 = t1280 * t1331;
-        let t1333: f64 = t1329.plus(t1332);
-        let t1334: f64 = t1328 + t1333;
-        let t1335 = product(t154, t1125);
-        let t1336: f64 = t145 * t1140;
-        let t1337: f64 = t1335.plus(t1336);
-        let t1338 = product(t984, t1234);
-        let t1339: f64 = t1006 * t1054;
-        let t1340: f64 = t1338.minus(t1339);
-        let t1341: f64 = t316 * t1040;
-        let t1342 = product(t1174, t1341);
-        let t1343 = product(t13, t1301);
-        let t1344: f64 = t22 * t1316;
-        let t1345: f64 = t1343.plus(t1344);
-        let t1346 = product(t29, t1309);
-        let t1347: f64 = t1346.subtracted_from(t794);
-        let t1348: f64 = t1345 + t1347;
-        let t1349 = product(t73, t1348);
-        let t1350: f64 = t72 * t1104;
-        let t1351: f64 = t1349.minus(t1350);
-        let t1352: f64 = t7 * t1351;
-        let t1353: f64 = t1342.plus(t1352);
-        let t1354: f64 = t1340 + t1353;
-        let t1355 = product(wx, t1269);
-        let t1356 = product(wz, t1163);
-        let t1357: f64 = wy * t1054;
-        let t1358: f64 = t1356.minus(t1357);
-        let t1359: f64 = t1355.plus(t1358);
-        let t1360 = product(wz, t1359);
-        let t1361: f64 = wx * t1237;
-        let t1362: f64 = t1360.minus(t1361);
-        let t1363: f64 = t1354 + t1362;
-        let t1364: f64 = t1337 + t1363;
-        let t1365: f64 = t1334 - t1364;
-        let t1366: f64 = t1294.plus(t1365);
-        let t1367: f64 = -t1366;
-        let t1368: f64 = t566 * t1367;
-        let t1369: f64 = t1293.minus(t1368);
-        let t1370 = product(t509, t1369);
-        let t1371 = product(t1006, t1163);
-        let t1372 = product(t72, t1348);
-        let t1373: f64 = t73 * t1104;
-        let t1374: f64 = t1372.plus(t1373);
-        let t1375: f64 = t7 * t1374;
-        let t1376: f64 = t1371.plus(t1375);
-        let t1377: f64 = t1370.minus(t1376);
-        let t1378: f64 = t1292 - t1377;
-        let t1379 = product(wx, t1262);
-        let t1380: f64 = wy * t1359;
-        let t1381: f64 = t1379.plus(t1380);
-        let t1382 = product(t154, t1319);
-        let t1383: f64 = t145 * t1326;
-        let t1384: f64 = t1382.minus(t1383);
-        let t1385: f64 = t1381 - t1384;
-        let t1386 = product(t984, t1213);
-        let t1387: f64 = t1282 * t1341;
-        let t1388: f64 = t1386.plus(t1387);
-        let t1389 = product(t1173, t1331);
-        let t1390: f64 = t85 * t1125;
-        let t1391: f64 = t1389.minus(t1390);
-        let t1392: f64 = t1388 + t1391;
-        let t1393: f64 = t1385 + t1392;
-        let t1394: f64 = t1378 - t1393;
-        let t1395: f64 = -t1394;
-        let t1396: f64 = t599 * t658;
-        let t1397: f64 = t1395 * t1396;
-        let t1398 = product(wx, t1173);
-        let t1399: f64 = wy * t75;
-        let t1400: f64 = t312 * t1399;
-        let t1401: f64 = t1040 * t1400;
-        let t1402: f64 = t1398.plus(t1401);
-        let t1403 = product(wy, t1402);
-        let t1404 = product(wx, t1280);
-        let t1405: f64 = wz * t75;
-        let t1406: f64 = t312 * t1405;
-        let t1407: f64 = t1040 * t1406;
-        let t1408: f64 = t1404.subtracted_from(t1407);
-        let t1409: f64 = wz * t1408;
-        let t1410: f64 = t1403.plus(t1409);
-        let t1411 = product(t984, t1173);
-        let t1412: f64 = t1411.subtracted_from(t1410);
-        let t1413 = product(t1000, t1280);
-        let t1414: f64 = t680 * t1367;
-        let t1415: f64 = t1413.minus(t1414);
-        let t1416 = product(t509, t1415);
-        let t1417: f64 = t701 * t1395;
-        let t1418: f64 = t1416.minus(t1417);
-        let t1419: f64 = t1412 + t1418;
-        let t1420 = product(t1007, t1419);
-        let t1421: f64 = t316 * t984;
-        let t1422 = product(t1040, t1421);
-        let t1423: f64 = t1006 * t1280;
-        let t1424: f64 = t1422.minus(t1423);
-        let t1425 = product(wy, t1280);
-        let t1426: f64 = wz * t1173;
-        let t1427: f64 = t1425.plus(t1426);
-        let t1428 = product(wz, t1427);
-        let t1429: f64 = wx * t1402;
-        let t1430: f64 = t1428.plus(t1429);
-        let t1431 = product(t1000, t1054);
-        let t1432: f64 = t459 * t1367;
-        let t1433: f64 = t1431.minus(t1432);
-        let t1434 = product(t509, t1433);
-        let t1435: f64 = t1434.added_to(t1286);
-        let t1436 = product(t711, t1435);
-        let t1437: f64 = t1436.subtracted_from(t1430);
-        let t1438: f64 = t1424 + t1437;
-        let t1439 = product(t734, t1395);
-        let t1440: f64 = t736 * t1419;
-        let t1441: f64 = t1439.minus(t1440);
-        let t1442: f64 = t1438 + t1441;
-        let t1443: f64 = t1010 * t1442;
-        let t1444: f64 = t316 * t1000;
-        let t1445 = product(t1040, t1444);
-        let t1446: f64 = t655 * t1367;
-        let t1447: f64 = t1445.plus(t1446);
-        let t1448 = product(t509, t1447);
-        let t1449 = product(wx, t1408);
-        let t1450: f64 = wy * t1427;
-        let t1451: f64 = t1449.minus(t1450);
-        let t1452 = product(t1006, t1173);
-        let t1453: f64 = t1452.subtracted_from(t1451);
-        let t1454: f64 = t1288.plus(t1397);
-        let t1455: f64 = t1448.plus(t1453);
-        let t1456: f64 = t1454 + t1455;
-        let t1457: f64 = t1420.plus(t1443);
-        let t1458: f64 = t1456 - t1457;
-        let t1459 = product(t967, t1458);
-        let t1460: f64 = t1459.subtracted_from(t1442);
-        let t1461 = product(t970, t1460);
-        let t1462: f64 = t972 * t1458;
-        let t1463: f64 = t1461.plus(t1462);
-        let t1464: f64 = t1419 - t1463;
-        let t1465 = product(t976, t1464);
-        let t1466 = product(t978, t1460);
-        let t1467: f64 = t965 * t1458;
-        let t1468: f64 = t1465.added_to(t1394);
-        let t1469: f64 = t1466.plus(t1467);
-        let t1470: f64 = t1468 - t1469;
-        let t1471: f64 = t599 * t1470;
-        let t1472: f64 = -t1471;
-        let t1473 = product(t566, t1472);
-        let t1474: f64 = t989 * t1464;
-        let t1475 = product(t991, t1458);
-        let t1476 = product(t993, t1460);
-        let t1477: f64 = t1476.subtracted_from(t1287);
-        let t1478 = product(t513, t1477);
-        let t1479: f64 = t1473.plus(t1474);
-        let t1480: f64 = t1478.added_to(t1365);
-        let t1481: f64 = t1479 + t1480;
-        let t1482: f64 = t1475.subtracted_from(t1481);
-        let t1483: f64 = t509 * t1482;
-        let t1484: f64 = -t1483;
-        let t1485 = product(t459, t1484);
-        let t1486 = product(t359, t1472);
-        let t1487: f64 = t986 * t1458;
-        let t1488: f64 = t1486.plus(t1487);
-        let t1489: f64 = t1477 + t1488;
-        let t1490: f64 = t1485.subtracted_from(t1489);
-        let t1491: f64 = t247 * t1490;
+        let t1007: f64 = t635 * t667;
+        let t1008 = product(t973, t1007);
+        let t1009: f64 = t509 * t513;
+        let t1010: f64 = t669 * t1009;
+        let t1011: f64 = t712 * t1010;
+        let t1012: f64 = t967 * t1011;
+        let t1013: f64 = t1008.plus(t1012);
+        let t1014: f64 = t509 * t719;
+        let t1015: f64 = t751 * t1014;
+        let t1016 = product(t964, t1015);
+        let t1017 = product(t720, t984);
+        let t1018: f64 = t1017.subtracted_from(t891);
+        let t1019: f64 = t1016.minus(t1018);
+        let t1020: f64 = t1013 + t1019;
+        let t1021: f64 = t667 * t973;
+        let t1022: f64 = t712 * t967;
+        let t1023: f64 = t751 * t964;
+        let t1024: f64 = yc * t85;
+        let t1025 = product(t108, t154);
+        let t1026: f64 = t1025.subtracted_from(t1024);
+        let t1027 = product(joint1_mass, t1026);
+        let t1028 = product(t116, t154);
+        let t1029: f64 = t1028.subtracted_from(t1024);
+        let t1030: f64 = joint2_mass * t1029;
+        let t1031: f64 = t1027.plus(t1030);
+        let t1032: f64 = t509 * t1000;
+        let t1033: f64 = t316 * t1031;
+        let t1034 = product(t1032, t1033);
+        let t1035: f64 = t154 * t984;
+        let t1036 = product(t85, t1032);
+        let t1037: f64 = t1036.added_to(t1035);
+        let t1038 = product(t22, t1037);
+        let t1039: f64 = t145 * t984;
+        let t1040 = product(t90, t1032);
+        let t1041: f64 = t1040.added_to(t1039);
+        let t1042: f64 = t29 * t1041;
+        let t1043 = product(wy, t85);
+        let t1044: f64 = wz * t154;
+        let t1045: f64 = t1043.minus(t1044);
+        let t1046 = product(t44, t1045);
+        let t1047 = product(wy, t90);
+        let t1048: f64 = wz * t145;
+        let t1049: f64 = t1047.minus(t1048);
+        let t1050: f64 = t51 * t1049;
+        let t1051 = product(wy, t73);
+        let t1052: f64 = wz * t72;
+        let t1053: f64 = t1051.plus(t1052);
+        let t1054: f64 = t7 * t22;
+        let t1055 = product(t1053, t1054);
+        let t1056: f64 = t1046.plus(t1050);
+        let t1057: f64 = t1055.plus(t1056);
+        let t1058 = product(t776, t1057);
+        let t1059: f64 = t792 * t1049;
+        let t1060: f64 = t1058.minus(t1059);
+        let t1061 = product(t786, t1045);
+        let t1062 = product(t51, t1045);
+        let t1063: f64 = t64 * t1049;
+        let t1064: f64 = t7 * t29;
+        let t1065 = product(t1053, t1064);
+        let t1066: f64 = t1062.plus(t1063);
+        let t1067: f64 = t1065.plus(t1066);
+        let t1068: f64 = t769 * t1067;
+        let t1069: f64 = t1061.plus(t1068);
+        let t1070 = product(t72, t984);
+        let t1071: f64 = t73 * t1032;
+        let t1072: f64 = t1070.minus(t1071);
+        let t1073: f64 = t7 * t1072;
+        let t1074: f64 = -t1073;
+        let t1075 = product(t13, t1074);
+        let t1076: f64 = t1075.subtracted_from(t1069);
+        let t1077: f64 = t1060 + t1076;
+        let t1078: f64 = t1038.plus(t1042);
+        let t1079: f64 = t1077 - t1078;
+        let t1080 = product(t6, t1079);
+        let t1081: f64 = joint5_mass * t79;
+        let t1082: f64 = joint6_mass * t98;
+        let t1083: f64 = t1081 + t1082;
+        let t1084 = product(xc, t1083);
+        let t1085 = product(t79, t296);
+        let t1086: f64 = t98 * t304;
+        let t1087: f64 = t1085.plus(t1086);
+        let t1088: f64 = t1084.subtracted_from(t1087);
+        let t1089: f64 = t72 * t208;
+        let t1090 = product(t1088, t1089);
+        let t1091: f64 = t114 - t601;
+        let t1092 = product(t1026, t1091);
+        let t1093: f64 = t122 - t602;
+        let t1094: f64 = t1029 * t1093;
+        let t1095: f64 = t1092.plus(t1094);
+        let t1096: f64 = t312 * t1095;
+        let t1097: f64 = t1090.minus(t1096);
+        let t1098 = product(t75, t1097);
+        let t1099: f64 = t419 + t444;
+        let t1100: f64 = t1098.minus(t1099);
+        let t1101 = product(t984, t1100);
+        let t1102: f64 = joint4_mass * t228;
+        let t1103: f64 = t90 * t1102;
+        let t1104 = product(t151, t1103);
+        let t1105: f64 = joint3_mass * t228;
+        let t1106: f64 = t90 * t1105;
+        let t1107: f64 = t165 * t1106;
+        let t1108: f64 = t1104.minus(t1107);
+        let t1109: f64 = t604 + t1108;
+        let t1110: f64 = t1109 - t632;
+        let t1111: f64 = gravity_z - t1023;
+        let t1112: f64 = t1110 * t1111;
+        let t1113: f64 = t1101.plus(t1112);
+        let t1114: f64 = joint5_mass * t72;
+        let t1115: f64 = t208 * t1114;
+        let t1116: f64 = t75 * t1115;
+        let t1117 = product(t79, t1116);
+        let t1118: f64 = joint6_mass * t72;
+        let t1119: f64 = t208 * t1118;
+        let t1120: f64 = t75 * t1119;
+        let t1121: f64 = t98 * t1120;
+        let t1122: f64 = t1117.plus(t1121);
+        let t1123: f64 = t650 - t1122;
+        let t1124: f64 = gravity_y - t1022;
+        let t1125 = product(t1123, t1124);
+        let t1126 = product(t44, t1037);
+        let t1127: f64 = t51 * t1041;
+        let t1128 = product(t817, t1049);
+        let t1129 = product(t22, t1045);
+        let t1130: f64 = t29 * t1049;
+        let t1131: f64 = t7 * t13;
+        let t1132 = product(t1053, t1131);
+        let t1133: f64 = t1129.plus(t1130);
+        let t1134: f64 = t1132.plus(t1133);
+        let t1135: f64 = t776 * t1134;
+        let t1136: f64 = t1128.minus(t1135);
+        let t1137 = product(t22, t1074);
+        let t1138: f64 = t1137.subtracted_from(t1136);
+        let t1139: f64 = t7 * t786;
+        let t1140 = product(t1053, t1139);
+        let t1141: f64 = t783 * t1067;
+        let t1142: f64 = t1140.plus(t1141);
+        let t1143: f64 = t1138 - t1142;
+        let t1144: f64 = t1126.plus(t1127);
+        let t1145: f64 = t1143 - t1144;
+        let t1146 = product(t16, t1145);
+        let t1147 = product(t51, t1037);
+        let t1148: f64 = t64 * t1041;
+        let t1149: f64 = t7 * t792;
+        let t1150 = product(t1053, t1149);
+        let t1151: f64 = t783 * t1057;
+        let t1152: f64 = t1150.plus(t1151);
+        let t1153 = product(t29, t1074);
+        let t1154: f64 = t1153.subtracted_from(t1152);
+        let t1155 = product(t817, t1045);
+        let t1156: f64 = t769 * t1134;
+        let t1157: f64 = t1155.plus(t1156);
+        let t1158: f64 = t1154 - t1157;
+        let t1159: f64 = t1147.plus(t1148);
+        let t1160: f64 = t1158 - t1159;
+        let t1161: f64 = t15 * t1160;
+        let t1162: f64 = t1146.minus(t1161);
+        let t1163: f64 = t7 * t1162;
+        let t1164: f64 = t1125.plus(t1163);
+        let t1165: f64 = t1113 + t1164;
+        let t1166: f64 = t1080.plus(t1165);
+        let t1167: f64 = t90 * t228;
+        let t1168: f64 = t165 * t1167;
+        let t1169: f64 = zc - t1168;
+        let t1170: f64 = t1169 * 2.0;
+        let t1171: f64 = joint3_mass * t165;
+        let t1172 = product(t1170, t1171);
+        let t1173: f64 = t151 * t1167;
+        let t1174: f64 = zc + t1173;
+        let t1175: f64 = t1174 * 2.0;
+        let t1176: f64 = joint4_mass * t151;
+        let t1177: f64 = t1175 * t1176;
+        let t1178: f64 = t1172.minus(t1177);
+        let t1179: f64 = t146 * t1178;
+        let t1180: f64 = joint1_mass * t209;
+        let t1181: f64 = t482 * t1180;
+        let t1182: f64 = t315 * t1181;
+        let t1183 = product(t1026, t1182);
+        let t1184: f64 = t278 * t316;
+        let t1185: f64 = t1026 * t1184;
+        let t1186: f64 = t1183.plus(t1185);
+        let t1187: f64 = joint2_mass * t209;
+        let t1188: f64 = t482 * t1187;
+        let t1189: f64 = t320 * t1188;
+        let t1190 = product(t1029, t1189);
+        let t1191: f64 = t286 * t316;
+        let t1192: f64 = t1029 * t1191;
+        let t1193: f64 = t1190.plus(t1192);
+        let t1194: f64 = t1186 + t1193;
+        let t1195 = product(t171, t1168);
+        let t1196: f64 = t160 * t1173;
+        let t1197: f64 = t1195.minus(t1196);
+        let t1198: f64 = t551 + t1197;
+        let t1199: f64 = t1194 + t1198;
+        let t1200: f64 = t1199 * 2.0;
+        let t1201: f64 = t1179 + t1200;
+        let t1202: f64 = -t1201;
+        let t1203 = product(wz, t1202);
+        let t1204 = product(wx, t1100);
+        let t1205 = product(joint5_mass, t1);
+        let t1206: f64 = joint6_mass * t4;
+        let t1207 = product(zc, t1109);
+        let t1208: f64 = t532 - t557;
+        let t1209: f64 = t72 * t74;
+        let t1210: f64 = t1208 * t1209;
+        let t1211 = product(t131, t165);
+        let t1212: f64 = t138 * t151;
+        let t1213: f64 = t1211.minus(t1212);
+        let t1214 = product(t1167, t1213);
+        let t1215: f64 = t140 - t205;
+        let t1216 = product(t1215, 2.0);
+        let t1217: f64 = t1205.plus(t1206);
+        let t1218: f64 = t1216.added_to(t190);
+        let t1219: f64 = t1217 + t1218;
+        let t1220: f64 = t1207.plus(t1210);
+        let t1221: f64 = t1214.added_to(t125);
+        let t1222: f64 = t1220 + t1221;
+        let t1223: f64 = t1219 - t1222;
+        let t1224: f64 = wy * t1223;
+        let t1225: f64 = t1204.plus(t1224);
+        let t1226: f64 = t1203.subtracted_from(t1225);
+        let t1227 = product(wy, t1226);
+        let t1228: f64 = t75 * t1089;
+        let t1229: f64 = t79 * t1228;
+        let t1230: f64 = t0 - t1229;
+        let t1231: f64 = t1230 * 2.0;
+        let t1232 = product(t1081, t1231);
+        let t1233: f64 = t98 * t1228;
+        let t1234: f64 = t3 - t1233;
+        let t1235: f64 = t1234 * 2.0;
+        let t1236: f64 = t1082 * t1235;
+        let t1237: f64 = t1232.plus(t1236);
+        let t1238: f64 = t94 * t1237;
+        let t1239 = product(t93, t1229);
+        let t1240: f64 = t104 * t1233;
+        let t1241: f64 = t1239.plus(t1240);
+        let t1242: f64 = t558 - t1241;
+        let t1243: f64 = t550 + t1242;
+        let t1244: f64 = t1194 + t1243;
+        let t1245: f64 = t1244 * 2.0;
+        let t1246: f64 = t1238 + t1245;
+        let t1247 = product(wy, t1246);
+        let t1248 = product(t180, t1026);
+        let t1249: f64 = t187 * t1029;
+        let t1250 = product(yc, t1031);
+        let t1251: f64 = t1248.plus(t1249);
+        let t1252: f64 = t1250.subtracted_from(t1251);
+        let t1253 = product(t316, t1252);
+        let t1254: f64 = t261 - t690;
+        let t1255 = product(t165, t1254);
+        let t1256: f64 = t269 - t691;
+        let t1257: f64 = t151 * t1256;
+        let t1258: f64 = t1255.minus(t1257);
+        let t1259: f64 = t1167 * t1258;
+        let t1260: f64 = t1253.plus(t1259);
+        let t1261: f64 = t271 + t333;
+        let t1262: f64 = t1260 - t1261;
+        let t1263 = product(wx, t1262);
+        let t1264: f64 = wz * t1223;
+        let t1265: f64 = t1263.minus(t1264);
+        let t1266: f64 = t1247.subtracted_from(t1265);
+        let t1267: f64 = wz * t1266;
+        let t1268: f64 = t1227.plus(t1267);
+        let t1269: f64 = t543 + t1197;
+        let t1270: f64 = t1242 + t1269;
+        let t1271: f64 = t1270 * 2.0;
+        let t1272: f64 = t1179 + t1238;
+        let t1273: f64 = t1271 + t1272;
+        let t1274 = product(t1006, t1273);
+        let t1275: f64 = t1032 * t1262;
+        let t1276: f64 = t1274.plus(t1275);
+        let t1277: f64 = t1268 + t1276;
+        let t1278: f64 = t1166 + t1277;
+        let t1279: f64 = t714 * t1278;
+        let t1280 = product(t513, t1278);
+        let t1281 = product(wx, t1273);
+        let t1282 = product(wz, t1100);
+        let t1283: f64 = wy * t1262;
+        let t1284: f64 = t1282.minus(t1283);
+        let t1285: f64 = t1281.plus(t1284);
+        let t1286 = product(wz, t1285);
+        let t1287: f64 = wx * t1226;
+        let t1288: f64 = t1286.minus(t1287);
+        let t1289 = product(t6, t1006);
+        let t1290 = product(t73, t984);
+        let t1291: f64 = t72 * t1032;
+        let t1292: f64 = t1290.plus(t1291);
+        let t1293: f64 = t7 * t1292;
+        let t1294: f64 = t1289.plus(t1293);
+        let t1295: f64 = t22 * t1294;
+        let t1296: f64 = t820 - t1295;
+        let t1297 = product(t145, t1032);
+        let t1298 = product(t149, t1006);
+        let t1299: f64 = t90 * t984;
+        let t1300: f64 = t1298.minus(t1299);
+        let t1301: f64 = t1297.plus(t1300);
+        let t1302: f64 = t51 * t1301;
+        let t1303 = product(t154, t1032);
+        let t1304 = product(t685, t1006);
+        let t1305: f64 = t85 * t984;
+        let t1306: f64 = t1304.plus(t1305);
+        let t1307: f64 = t1303.subtracted_from(t1306);
+        let t1308 = product(t44, t1307);
+        let t1309: f64 = t1308.subtracted_from(t1302);
+        let t1310: f64 = t1296 + t1309;
+        let t1311 = product(t85, t1310);
+        let t1312: f64 = t29 * t1294;
+        let t1313: f64 = t824 + t1312;
+        let t1314: f64 = t51 * t1307;
+        let t1315 = product(t64, t1301);
+        let t1316: f64 = t1315.subtracted_from(t1314);
+        let t1317: f64 = t1313 + t1316;
+        let t1318: f64 = t90 * t1317;
+        let t1319: f64 = t1311.minus(t1318);
+        let t1320: f64 = t1288 - t1319;
+        let t1321 = product(t1032, t1246);
+        let t1322: f64 = t154 * t1145;
+        let t1323: f64 = t1321.minus(t1322);
+        let t1324 = product(t145, t1160);
+        let t1325 = product(t1033, t1111);
+        let t1326: f64 = gravity_x - t1021;
+        let t1327: f64 = t1123 * t1326;
+        let t1328: f64 = t1325.minus(t1327);
+        let t1329 = product(t13, t1294);
+        let t1330: f64 = t22 * t1307;
+        let t1331: f64 = t1329.plus(t1330);
+        let t1332 = product(t29, t1301);
+        let t1333: f64 = t1332.subtracted_from(t794);
+        let t1334: f64 = t1331 + t1333;
+        let t1335 = product(t73, t1334);
+        let t1336: f64 = t72 * t1079;
+        let t1337: f64 = t1335.minus(t1336);
+        let t1338 = product(t7, t1337);
+        let t1339 = product(t984, t1223);
+        let t1340: f64 = t1006 * t1262;
+        let t1341: f64 = t1339.minus(t1340);
+        let t1342: f64 = t1338.plus(t1341);
+        let t1343: f64 = t1328 + t1342;
+        let t1344: f64 = t1324.plus(t1343);
+        let t1345: f64 = t1323 - t1344;
+        let t1346: f64 = t1320 - t1345;
+        let t1347: f64 = t1280.subtracted_from(t1346);
+        let t1348 = product(t1014, t1347);
+        let t1349 = product(t85, t1145);
+        let t1350: f64 = t90 * t1160;
+        let t1351: f64 = t1349.plus(t1350);
+        let t1352: f64 = t247 * t359;
+        let t1353 = product(t1278, t1352);
+        let t1354: f64 = t720 * t1347;
+        let t1355: f64 = t1353.minus(t1354);
+        let t1356: f64 = t1351 - t1355;
+        let t1357 = product(t1033, t1124);
+        let t1358: f64 = t1006 * t1100;
+        let t1359: f64 = t1357.minus(t1358);
+        let t1360 = product(t1110, t1326);
+        let t1361 = product(t72, t1334);
+        let t1362: f64 = t73 * t1079;
+        let t1363: f64 = t1361.plus(t1362);
+        let t1364: f64 = t7 * t1363;
+        let t1365: f64 = t1360.minus(t1364);
+        let t1366: f64 = t1359 + t1365;
+        let t1367 = product(wx, t1266);
+        let t1368: f64 = wy * t1285;
+        let t1369: f64 = t1367.plus(t1368);
+        let t1370: f64 = t1366 + t1369;
+        let t1371 = product(t154, t1310);
+        let t1372: f64 = t145 * t1317;
+        let t1373: f64 = t1371.minus(t1372);
+        let t1374 = product(t1032, t1223);
+        let t1375: f64 = t984 * t1202;
+        let t1376: f64 = t1374.plus(t1375);
+        let t1377: f64 = t1373 - t1376;
+        let t1378: f64 = t1370 - t1377;
+        let t1379: f64 = t1356 - t1378;
+        let t1380: f64 = -t1379;
+        let t1381: f64 = t599 * t722;
+        let t1382: f64 = t1380 * t1381;
+        let t1383 = product(t1032, t1123);
+        let t1384: f64 = t635 * t1347;
+        let t1385: f64 = t1383.minus(t1384);
+        let t1386 = product(wx, t1110);
+        let t1387: f64 = wy * t75;
+        let t1388: f64 = t312 * t1387;
+        let t1389: f64 = t1031 * t1388;
+        let t1390: f64 = t1386.plus(t1389);
+        let t1391 = product(wy, t1390);
+        let t1392 = product(wx, t1123);
+        let t1393: f64 = wz * t75;
+        let t1394: f64 = t312 * t1393;
+        let t1395: f64 = t1031 * t1394;
+        let t1396: f64 = t1392.subtracted_from(t1395);
+        let t1397: f64 = wz * t1396;
+        let t1398: f64 = t1391.plus(t1397);
+        let t1399 = product(t984, t1110);
+        let t1400: f64 = t1399.subtracted_from(t1398);
+        let t1401 = product(t697, t1380);
+        let t1402: f64 = t1401.subtracted_from(t1400);
+        let t1403: f64 = t1385 + t1402;
+        let t1404: f64 = t667 * t727;
+        let t1405 = product(t1403, t1404);
+        let t1406 = product(t984, t1033);
+        let t1407: f64 = t1006 * t1123;
+        let t1408: f64 = t1406.minus(t1407);
+        let t1409 = product(wy, t1123);
+        let t1410: f64 = wz * t1110;
+        let t1411: f64 = t1409.plus(t1410);
+        let t1412 = product(wz, t1411);
+        let t1413: f64 = wx * t1390;
+        let t1414: f64 = t1412.plus(t1413);
+        let t1415 = product(t674, t1347);
+        let t1416: f64 = t1415.subtracted_from(t1278);
+        let t1417 = product(t677, t1416);
+        let t1418: f64 = t1417.subtracted_from(t1414);
+        let t1419: f64 = t1408 + t1418;
+        let t1420 = product(t723, t1380);
+        let t1421: f64 = t728 * t1403;
+        let t1422: f64 = t1420.minus(t1421);
+        let t1423: f64 = t1419 + t1422;
+        let t1424: f64 = t712 * t734;
+        let t1425: f64 = t1423 * t1424;
+        let t1426 = product(wx, t1396);
+        let t1427: f64 = wy * t1411;
+        let t1428: f64 = t1426.minus(t1427);
+        let t1429 = product(t1006, t1110);
+        let t1430: f64 = t1429.subtracted_from(t1428);
+        let t1431: f64 = t1034.plus(t1279);
+        let t1432: f64 = t1348.plus(t1382);
+        let t1433: f64 = t1431 + t1432;
+        let t1434: f64 = t1430 + t1433;
+        let t1435: f64 = t1405.plus(t1425);
+        let t1436: f64 = t1434 - t1435;
+        let t1437 = product(t965, t1436);
+        let t1438: f64 = t1437.subtracted_from(t1423);
+        let t1439 = product(t968, t1438);
+        let t1440: f64 = t970 * t1436;
+        let t1441: f64 = t1439.plus(t1440);
+        let t1442: f64 = t1403 - t1441;
+        let t1443 = product(t974, t1442);
+        let t1444 = product(t976, t1438);
+        let t1445: f64 = t978 * t1436;
+        let t1446: f64 = t1443.added_to(t1379);
+        let t1447: f64 = t1444.plus(t1445);
+        let t1448: f64 = t1446 - t1447;
+        let t1449: f64 = t599 * t1448;
+        let t1450: f64 = -t1449;
+        let t1451 = product(t566, t1450);
+        let t1452: f64 = t989 * t1442;
+        let t1453 = product(t991, t1436);
+        let t1454 = product(t993, t1438);
+        let t1455: f64 = t1454.subtracted_from(t1278);
+        let t1456 = product(t513, t1455);
+        let t1457: f64 = t1451.plus(t1452);
+        let t1458: f64 = t1456.plus(t1457);
+        let t1459: f64 = t1453.added_to(t1346);
+        let t1460: f64 = t1458 - t1459;
+        let t1461: f64 = t509 * t1460;
+        let t1462: f64 = -t1461;
+        let t1463 = product(t459, t1462);
+        let t1464 = product(t359, t1450);
+        let t1465: f64 = t986 * t1436;
+        let t1466: f64 = t1464.plus(t1465);
+        let t1467: f64 = t1455 + t1466;
+        let t1468: f64 = t1463.subtracted_from(t1467);
+        let t1469: f64 = t247 * t1468;
+        let t1470 = product(t7, t615);
+        let t1471 = product(t16, t622);
+        let t1472 = product(t15, t629);
+        let t1473: f64 = t75 * t681;
+        let t1474: f64 = t1472.plus(t1473);
+        let t1475: f64 = t1471.minus(t1474);
+        let t1476 = product(t6, t1475);
+        let t1477: f64 = yc * t72;
+        let t1478: f64 = t7 * t1477;
+        let t1479: f64 = t16 * t1478;
+        let t1480: f64 = t16 * t248;
+        let t1481 = product(t108, t1480);
+        let t1482: f64 = t1481.subtracted_from(t1479);
+        let t1483 = product(joint1_mass, t1482);
+        let t1484 = product(t116, t1480);
+        let t1485: f64 = t1484.subtracted_from(t1479);
+        let t1486: f64 = joint2_mass * t1485;
+        let t1487: f64 = t1483.plus(t1486);
+        let t1488: f64 = t316 * t1487;
+        let t1489: f64 = t1470.plus(t1488);
+        let t1490: f64 = t1476.subtracted_from(t1489);
+        let t1491 = product(t1032, t1490);
         let t1492: f64 = xc * t7;
         let t1493: f64 = t0 * t72;
         let t1494: f64 = t75 * t79;
@@ -6681,4248 +6669,4029 @@ pub fn forward_dynamics_derivatives_params_separate(
         let t1504: f64 = joint6_mass * t1503;
         let t1505: f64 = t1498.plus(t1504);
         let t1506 = product(t94, t1505);
-        let t1507: f64 = t73 * t648;
+        let t1507: f64 = t73 * t689;
         let t1508: f64 = t1506.minus(t1507);
-        let t1509 = product(t1282, t1508);
-        let t1510: f64 = t289 * 2.0;
-        let t1511: f64 = t73 * t1510;
-        let t1512: f64 = t1495 * 2.0;
-        let t1513 = product(t6, t1512);
-        let t1514: f64 = t1492 * 2.0;
-        let t1515: f64 = t1513.plus(t1514);
-        let t1516 = product(t1144, t1515);
-        let t1517: f64 = t1501 * 2.0;
-        let t1518 = product(t6, t1517);
-        let t1519: f64 = t1518.added_to(t1514);
-        let t1520: f64 = t1145 * t1519;
-        let t1521: f64 = t1516.plus(t1520);
-        let t1522: f64 = t75 * t208;
-        let t1523 = product(t1521, t1522);
-        let t1524: f64 = t1150 * 2.0;
-        let t1525: f64 = t1523.subtracted_from(t1524);
-        let t1526 = product(t75, t1525);
-        let t1527: f64 = t421 * 2.0;
-        let t1528 = product(t72, t1527);
-        let t1529: f64 = zc * t15;
-        let t1530: f64 = t73 * t1529;
-        let t1531: f64 = t7 * t1530;
-        let t1532 = product(t6, t163);
-        let t1533: f64 = t77 * t146;
-        let t1534: f64 = t165 * t1533;
-        let t1535: f64 = t1532.minus(t1534);
-        let t1536: f64 = t1535 * 2.0;
-        let t1537 = product(t15, t1536);
-        let t1538: f64 = t1531 * 2.0;
-        let t1539: f64 = t1537.plus(t1538);
-        let t1540: f64 = t165 * t228;
-        let t1541: f64 = t1539 * t1540;
-        let t1542: f64 = -t1541;
-        let t1543 = product(joint3_mass, t1542);
-        let t1544 = product(t6, t148);
-        let t1545: f64 = t151 * t1533;
-        let t1546: f64 = t1544.plus(t1545);
-        let t1547: f64 = t1546 * 2.0;
-        let t1548 = product(t15, t1547);
-        let t1549: f64 = t1548.added_to(t1538);
-        let t1550: f64 = t151 * t1165;
-        let t1551: f64 = t1549 * t1550;
-        let t1552: f64 = t1543.plus(t1551);
-        let t1553: f64 = t1528.minus(t1552);
-        let t1554: f64 = t7 * t82;
-        let t1555: f64 = t228 * t1554;
-        let t1556: f64 = t165 * t1555;
-        let t1557 = product(t171, t1556);
-        let t1558 = product(t88, t163);
-        let t1559: f64 = t1558.added_to(t1531);
-        let t1560: f64 = t146 * t171;
-        let t1561: f64 = t1559 * t1560;
-        let t1562: f64 = t1557.minus(t1561);
-        let t1563: f64 = t151 * t1555;
-        let t1564 = product(t160, t1563);
-        let t1565 = product(t88, t148);
-        let t1566: f64 = t1565.added_to(t1531);
-        let t1567: f64 = t146 * t160;
-        let t1568: f64 = t1566 * t1567;
-        let t1569: f64 = t1564.plus(t1568);
-        let t1570: f64 = t1562 - t1569;
-        let t1571: f64 = t6 * t74;
-        let t1572: f64 = t209 * t1571;
-        let t1573: f64 = t79 * t1572;
-        let t1574 = product(t93, t1573);
-        let t1575 = product(t0, t143);
-        let t1576: f64 = t1575.added_to(t1492);
-        let t1577: f64 = t93 * t94;
-        let t1578: f64 = t1576 * t1577;
-        let t1579: f64 = t1574.plus(t1578);
-        let t1580: f64 = t98 * t1572;
-        let t1581 = product(t104, t1580);
-        let t1582 = product(t3, t143);
-        let t1583: f64 = t1582.added_to(t1492);
-        let t1584: f64 = t94 * t104;
-        let t1585: f64 = t1583 * t1584;
-        let t1586: f64 = t1581.plus(t1585);
-        let t1587: f64 = t1579 + t1586;
-        let t1588: f64 = t1570 - t1587;
-        let t1589 = product(t1588, 2.0);
-        let t1590: f64 = t1526.plus(t1553);
-        let t1591: f64 = t1589.plus(t1590);
-        let t1592: f64 = t1591 - t1511;
-        let t1593: f64 = t1006 * t1592;
-        let t1594: f64 = t1509.minus(t1593);
-        let t1595 = product(joint1_mz, t7);
-        let t1596 = product(joint1_mx, t16);
-        let t1597: f64 = t1596.subtracted_from(t275);
-        let t1598: f64 = t6 * t1597;
-        let t1599: f64 = t1595.plus(t1598);
-        let t1600 = product(t108, t1599);
-        let t1601 = product(joint2_mz, t7);
-        let t1602 = product(joint2_mx, t16);
-        let t1603: f64 = t1602.subtracted_from(t283);
-        let t1604: f64 = t6 * t1603;
-        let t1605: f64 = t1601.plus(t1604);
-        let t1606: f64 = t116 * t1605;
-        let t1607 = product(t296, t1576);
-        let t1608 = product(joint5_mz, t7);
-        let t1609 = product(joint5_mx, t16);
-        let t1610: f64 = t1609.subtracted_from(t293);
-        let t1611: f64 = t6 * t1610;
-        let t1612: f64 = t1608.plus(t1611);
-        let t1613: f64 = t79 * t1612;
-        let t1614 = product(t304, t1583);
-        let t1615 = product(joint6_mz, t7);
-        let t1616 = product(joint6_mx, t16);
-        let t1617: f64 = t1616.subtracted_from(t301);
-        let t1618: f64 = t6 * t1617;
-        let t1619: f64 = t1615.plus(t1618);
-        let t1620: f64 = t98 * t1619;
-        let t1621 = product(xc, t1505);
-        let t1622: f64 = t6 * t75;
-        let t1623 = product(t1150, t1622);
-        let t1624: f64 = t1607.plus(t1613);
-        let t1625: f64 = t1614.plus(t1620);
-        let t1626: f64 = t1624 + t1625;
-        let t1627: f64 = t1623.plus(t1626);
-        let t1628: f64 = t1621.subtracted_from(t1627);
-        let t1629 = product(t74, t1628);
-        let t1630 = product(t315, t1154);
-        let t1631: f64 = t320 * t1156;
-        let t1632: f64 = t1630.plus(t1631);
-        let t1633 = product(t1622, t1632);
-        let t1634 = product(t278, t315);
-        let t1635: f64 = t286 * t320;
+        let t1509 = product(t1124, t1508);
+        let t1510 = product(t6, t781);
+        let t1511: f64 = t1510.added_to(t764);
+        let t1512 = product(t29, t1511);
+        let t1513: f64 = t66 * t783;
+        let t1514: f64 = t1512.subtracted_from(t1513);
+        let t1515 = product(t769, t1514);
+        let t1516 = product(t22, t1511);
+        let t1517: f64 = t53 * t783;
+        let t1518: f64 = t1516.subtracted_from(t1517);
+        let t1519: f64 = t776 * t1518;
+        let t1520 = product(t7, t1006);
+        let t1521: f64 = t6 * t1292;
+        let t1522: f64 = t1520.minus(t1521);
+        let t1523 = product(t13, t1522);
+        let t1524 = product(t1312, 2.0);
+        let t1525: f64 = t1524.added_to(t1316);
+        let t1526: f64 = t823 - t1525;
+        let t1527 = product(t15, t1526);
+        let t1528 = product(t1295, 2.0);
+        let t1529: f64 = t818 + t1309;
+        let t1530: f64 = t1528.subtracted_from(t1529);
+        let t1531: f64 = t16 * t1530;
+        let t1532: f64 = t1515.plus(t1519);
+        let t1533: f64 = t1527.plus(t1532);
+        let t1534: f64 = t1523.plus(t1531);
+        let t1535: f64 = t1533 - t1534;
+        let t1536: f64 = t6 * t1535;
+        let t1537: f64 = t1509.minus(t1536);
+        let t1538 = product(t13, t1511);
+        let t1539: f64 = t31 * t783;
+        let t1540: f64 = t1538.subtracted_from(t1539);
+        let t1541 = product(t776, t1540);
+        let t1542 = product(t786, t1511);
+        let t1543: f64 = t783 * t1514;
+        let t1544: f64 = t45 * t1294;
+        let t1545 = product(t22, t1522);
+        let t1546: f64 = t783 * t817;
+        let t1547: f64 = t51 * t1294;
+        let t1548: f64 = t1546 + t1547;
+        let t1549: f64 = t15 * t1548;
+        let t1550: f64 = t1541.plus(t1543);
+        let t1551: f64 = t1545.plus(t1549);
+        let t1552: f64 = t1550 + t1551;
+        let t1553: f64 = t1542.plus(t1544);
+        let t1554: f64 = t1552 - t1553;
+        let t1555 = product(t16, t1554);
+        let t1556 = product(t792, t1511);
+        let t1557 = product(t783, t1518);
+        let t1558: f64 = t769 * t1540;
+        let t1559 = product(t65, t1294);
+        let t1560: f64 = t29 * t1522;
+        let t1561: f64 = t1546 - t1547;
+        let t1562 = product(t16, t1561);
+        let t1563: f64 = t1556.plus(t1558);
+        let t1564: f64 = t1559.plus(t1560);
+        let t1565: f64 = t1563 + t1564;
+        let t1566: f64 = t1562.plus(t1565);
+        let t1567: f64 = t1557.subtracted_from(t1566);
+        let t1568 = product(t15, t1567);
+        let t1569: f64 = t1555.added_to(t1334);
+        let t1570: f64 = t1568.subtracted_from(t1569);
+        let t1571 = product(t7, t1570);
+        let t1572 = product(joint1_mz, t7);
+        let t1573 = product(joint1_mx, t16);
+        let t1574: f64 = t1573.minus(t275);
+        let t1575: f64 = t6 * t1574;
+        let t1576: f64 = t1572.minus(t1575);
+        let t1577 = product(t108, t1576);
+        let t1578 = product(joint2_mz, t7);
+        let t1579 = product(joint2_mx, t16);
+        let t1580: f64 = t1579.minus(t283);
+        let t1581: f64 = t6 * t1580;
+        let t1582: f64 = t1578.minus(t1581);
+        let t1583: f64 = t116 * t1582;
+        let t1584 = product(t0, t143);
+        let t1585: f64 = t1584.added_to(t1492);
+        let t1586 = product(t296, t1585);
+        let t1587 = product(joint5_mz, t7);
+        let t1588 = product(joint5_mx, t16);
+        let t1589: f64 = t1588.minus(t293);
+        let t1590: f64 = t6 * t1589;
+        let t1591: f64 = t1587.minus(t1590);
+        let t1592: f64 = t79 * t1591;
+        let t1593 = product(t3, t143);
+        let t1594: f64 = t1593.added_to(t1492);
+        let t1595 = product(t304, t1594);
+        let t1596 = product(joint6_mz, t7);
+        let t1597 = product(joint6_mx, t16);
+        let t1598: f64 = t1597.minus(t301);
+        let t1599: f64 = t6 * t1598;
+        let t1600: f64 = t1596.minus(t1599);
+        let t1601: f64 = t98 * t1600;
+        let t1602 = product(xc, t1505);
+        let t1603: f64 = t6 * t75;
+        let t1604 = product(t1087, t1603);
+        let t1605: f64 = t1586.plus(t1592);
+        let t1606: f64 = t1595.plus(t1601);
+        let t1607: f64 = t1605 + t1606;
+        let t1608: f64 = t1604.plus(t1607);
+        let t1609: f64 = t1602.subtracted_from(t1608);
+        let t1610 = product(t74, t1609);
+        let t1611 = product(t315, t1091);
+        let t1612: f64 = t320 * t1093;
+        let t1613: f64 = t1611.plus(t1612);
+        let t1614 = product(t1603, t1613);
+        let t1615 = product(t278, t315);
+        let t1616: f64 = t286 * t320;
+        let t1617: f64 = t1615.plus(t1616);
+        let t1618 = product(t73, t1617);
+        let t1619: f64 = t1091 * t1482;
+        let t1620 = product(t1093, t1485);
+        let t1621: f64 = t1614.plus(t1619);
+        let t1622: f64 = t1620.plus(t1621);
+        let t1623: f64 = t1618.subtracted_from(t1622);
+        let t1624: f64 = t312 * t1623;
+        let t1625: f64 = t1610.plus(t1624);
+        let t1626 = product(t75, t1625);
+        let t1627: f64 = t73 * t474;
+        let t1628 = product(t15, t626);
+        let t1629: f64 = t16 * t619;
+        let t1630: f64 = t1628.minus(t1629);
+        let t1631 = product(t6, t1630);
+        let t1632: f64 = t7 * t611;
+        let t1633: f64 = t1631.plus(t1632);
+        let t1634 = product(zc, t1633);
+        let t1635: f64 = t1577.plus(t1583);
         let t1636: f64 = t1634.plus(t1635);
-        let t1637 = product(t73, t1636);
-        let t1638: f64 = yc * t72;
-        let t1639: f64 = t7 * t1638;
-        let t1640: f64 = t16 * t1639;
-        let t1641: f64 = t16 * t248;
-        let t1642 = product(t108, t1641);
-        let t1643: f64 = t1642.subtracted_from(t1640);
-        let t1644: f64 = t1154 * t1643;
-        let t1645 = product(t116, t1641);
-        let t1646: f64 = t1645.subtracted_from(t1640);
-        let t1647 = product(t1156, t1646);
-        let t1648: f64 = t1633.plus(t1644);
-        let t1649: f64 = t1647.plus(t1648);
-        let t1650: f64 = t1637.subtracted_from(t1649);
-        let t1651: f64 = t312 * t1650;
-        let t1652: f64 = t1629.plus(t1651);
-        let t1653 = product(t75, t1652);
-        let t1654: f64 = t73 * t474;
-        let t1655 = product(t15, t625);
-        let t1656: f64 = t16 * t618;
-        let t1657: f64 = t1655.minus(t1656);
-        let t1658 = product(t6, t1657);
-        let t1659: f64 = t7 * t606;
-        let t1660: f64 = t1658.plus(t1659);
-        let t1661 = product(zc, t1660);
-        let t1662: f64 = t1600.plus(t1606);
-        let t1663: f64 = t1661.plus(t1662);
-        let t1664: f64 = t1653.plus(t1654);
-        let t1665: f64 = t1663 - t1664;
-        let t1666 = product(t984, t1665);
-        let t1667: f64 = t146 * t149;
-        let t1668 = product(t602, t1667);
-        let t1669: f64 = t1668.subtracted_from(t648);
-        let t1670 = product(t72, t1669);
-        let t1671 = product(joint3_mass, t1559);
-        let t1672: f64 = joint4_mass * t1566;
-        let t1673: f64 = t1671.plus(t1672);
-        let t1674: f64 = t146 * t1673;
-        let t1675: f64 = t1670.plus(t1674);
-        let t1676: f64 = -t1675;
-        let t1677: f64 = t1174 * t1676;
-        let t1678: f64 = t1666.plus(t1677);
-        let t1679 = product(t6, t781);
-        let t1680: f64 = t1679.added_to(t764);
-        let t1681 = product(t13, t1680);
-        let t1682: f64 = t31 * t783;
-        let t1683: f64 = t1681.subtracted_from(t1682);
-        let t1684 = product(t776, t1683);
-        let t1685 = product(t786, t1680);
-        let t1686 = product(t29, t1680);
-        let t1687: f64 = t66 * t783;
-        let t1688: f64 = t1686.subtracted_from(t1687);
-        let t1689: f64 = t783 * t1688;
-        let t1690: f64 = t45 * t1301;
-        let t1691 = product(t7, t1006);
-        let t1692: f64 = t6 * t1299;
-        let t1693: f64 = t1691.minus(t1692);
-        let t1694 = product(t22, t1693);
-        let t1695: f64 = t783 * t817;
-        let t1696: f64 = t51 * t1301;
-        let t1697: f64 = t1695 + t1696;
-        let t1698: f64 = t15 * t1697;
-        let t1699: f64 = t1684.plus(t1689);
-        let t1700: f64 = t1694.plus(t1698);
-        let t1701: f64 = t1699 + t1700;
-        let t1702: f64 = t1685.plus(t1690);
-        let t1703: f64 = t1701 - t1702;
-        let t1704 = product(t16, t1703);
-        let t1705 = product(t792, t1680);
-        let t1706 = product(t22, t1680);
-        let t1707: f64 = t53 * t783;
-        let t1708: f64 = t1706.subtracted_from(t1707);
-        let t1709 = product(t783, t1708);
-        let t1710: f64 = t769 * t1683;
-        let t1711 = product(t65, t1301);
-        let t1712: f64 = t29 * t1693;
-        let t1713: f64 = t1695 - t1696;
-        let t1714 = product(t16, t1713);
-        let t1715: f64 = t1705.plus(t1710);
-        let t1716: f64 = t1711.plus(t1712);
-        let t1717: f64 = t1715 + t1716;
-        let t1718: f64 = t1714.plus(t1717);
-        let t1719: f64 = t1709.subtracted_from(t1718);
-        let t1720 = product(t15, t1719);
-        let t1721: f64 = t1704.added_to(t1348);
-        let t1722: f64 = t1720.subtracted_from(t1721);
-        let t1723 = product(t7, t1722);
-        let t1724 = product(t769, t1688);
-        let t1725: f64 = t776 * t1708;
-        let t1726 = product(t13, t1693);
-        let t1727 = product(t1321, 2.0);
-        let t1728: f64 = t1727.added_to(t1325);
-        let t1729: f64 = t823 - t1728;
-        let t1730 = product(t15, t1729);
-        let t1731 = product(t1302, 2.0);
-        let t1732: f64 = t818 + t1318;
-        let t1733: f64 = t1731.subtracted_from(t1732);
-        let t1734: f64 = t16 * t1733;
-        let t1735: f64 = t1724.plus(t1725);
-        let t1736: f64 = t1730.plus(t1735);
-        let t1737: f64 = t1726.plus(t1734);
-        let t1738: f64 = t1736 - t1737;
-        let t1739: f64 = t6 * t1738;
-        let t1740: f64 = t1723.minus(t1739);
-        let t1741: f64 = t1678 + t1740;
-        let t1742 = product(t315, t1622);
-        let t1743: f64 = t1742.added_to(t1643);
-        let t1744: f64 = t1743 * 2.0;
-        let t1745: f64 = joint1_mass * t315;
-        let t1746 = product(t1744, t1745);
-        let t1747 = product(t320, t1622);
-        let t1748: f64 = t1747.added_to(t1646);
-        let t1749: f64 = t1748 * 2.0;
-        let t1750: f64 = joint2_mass * t320;
-        let t1751: f64 = t1749 * t1750;
-        let t1752: f64 = t1746.plus(t1751);
-        let t1753 = product(t316, t1752);
-        let t1754 = product(t315, t1599);
-        let t1755: f64 = t320 * t1605;
-        let t1756: f64 = t1754.plus(t1755);
-        let t1757: f64 = t1756 * 2.0;
-        let t1758: f64 = t1753.plus(t1757);
-        let t1759 = product(t316, t1758);
-        let t1760: f64 = t623 * 2.0;
-        let t1761 = product(t15, t1760);
-        let t1762: f64 = t616 * 2.0;
-        let t1763: f64 = t16 * t1762;
-        let t1764: f64 = t1761.minus(t1763);
-        let t1765 = product(t6, t1764);
-        let t1766: f64 = t607 * 2.0;
-        let t1767: f64 = t7 * t1766;
-        let t1768: f64 = t1765.plus(t1767);
-        let t1769: f64 = xc * t1768;
-        let t1770: f64 = t6 * t209;
-        let t1771: f64 = t312 * t1770;
-        let t1772: f64 = t315 * t1771;
-        let t1773 = product(t278, t1772);
-        let t1774: f64 = t1195 * t1643;
-        let t1775: f64 = t1773.plus(t1774);
-        let t1776: f64 = t320 * t1771;
-        let t1777 = product(t286, t1776);
-        let t1778: f64 = t1202 * t1646;
-        let t1779: f64 = t1777.plus(t1778);
-        let t1780: f64 = t1775 + t1779;
-        let t1781 = product(joint3_mz, t7);
-        let t1782 = product(joint3_mx, t16);
-        let t1783: f64 = t1782.subtracted_from(t258);
-        let t1784: f64 = t6 * t1783;
-        let t1785: f64 = t1781.plus(t1784);
-        let t1786 = product(t163, t1785);
-        let t1787 = product(joint4_mz, t7);
-        let t1788 = product(joint4_mx, t16);
-        let t1789: f64 = t1788.subtracted_from(t266);
-        let t1790: f64 = t6 * t1789;
-        let t1791: f64 = t1787.plus(t1790);
-        let t1792: f64 = t148 * t1791;
-        let t1793: f64 = t1786.plus(t1792);
-        let t1794: f64 = t1780 - t1793;
-        let t1795: f64 = t1794 - t1570;
-        let t1796: f64 = t1795 * 2.0;
-        let t1797: f64 = t1759.plus(t1796);
-        let t1798: f64 = t1553 + t1769;
-        let t1799: f64 = t1797 - t1798;
-        let t1800 = product(wz, t1799);
-        let t1801 = product(wx, t1665);
-        let t1802: f64 = t523 + t539;
-        let t1803 = product(t1667, t1802);
-        let t1804: f64 = t1803.subtracted_from(t307);
-        let t1805 = product(t72, t1804);
-        let t1806: f64 = t196 - t612;
-        let t1807 = product(t79, t1806);
-        let t1808: f64 = t203 - t613;
-        let t1809: f64 = t98 * t1808;
-        let t1810: f64 = t1807.plus(t1809);
-        let t1811 = product(t1622, t1810);
-        let t1812: f64 = t1576 * t1806;
-        let t1813 = product(t1583, t1808);
-        let t1814: f64 = t1811.plus(t1812);
-        let t1815: f64 = t1813.plus(t1814);
-        let t1816 = product(t94, t1815);
-        let t1817: f64 = t73 * t421;
-        let t1818 = product(t131, t1559);
-        let t1819: f64 = t138 * t1566;
-        let t1820 = product(zc, t1673);
-        let t1821: f64 = t1818.plus(t1819);
-        let t1822: f64 = t1820.subtracted_from(t1821);
-        let t1823 = product(t146, t1822);
-        let t1824: f64 = t1816.plus(t1817);
-        let t1825: f64 = t1823.plus(t1824);
-        let t1826: f64 = t1805.minus(t1825);
-        let t1827: f64 = wy * t1826;
-        let t1828: f64 = t1801.plus(t1827);
-        let t1829: f64 = t1800.plus(t1828);
-        let t1830 = product(wy, t1829);
-        let t1831 = product(t208, t1521);
-        let t1832: f64 = t482 * t1752;
-        let t1833: f64 = t1831.plus(t1832);
-        let t1834 = product(t75, t1833);
-        let t1835: f64 = t312 * t1757;
-        let t1836: f64 = t1834.plus(t1835);
-        let t1837: f64 = t1524 - t1836;
-        let t1838 = product(t75, t1837);
-        let t1839: f64 = t1587 + t1794;
-        let t1840 = product(t1839, 2.0);
-        let t1841: f64 = t1840.added_to(t1511);
-        let t1842: f64 = t1838.added_to(t1769);
-        let t1843: f64 = t1841 - t1842;
-        let t1844 = product(wy, t1843);
-        let t1845 = product(t0, t1612);
-        let t1846: f64 = t3 * t1619;
-        let t1847: f64 = t416 + t428;
-        let t1848: f64 = -t1847;
-        let t1849 = product(t1667, t1848);
-        let t1850: f64 = t1849.added_to(t475);
-        let t1851 = product(t72, t1850);
-        let t1852 = product(t180, t1643);
-        let t1853: f64 = t187 * t1646;
-        let t1854 = product(joint1_mass, t1743);
-        let t1855: f64 = joint2_mass * t1748;
-        let t1856: f64 = t1854.plus(t1855);
-        let t1857 = product(yc, t1856);
-        let t1858 = product(t180, t315);
-        let t1859: f64 = t187 * t320;
-        let t1860: f64 = t1858.plus(t1859);
-        let t1861 = product(t1622, t1860);
-        let t1862: f64 = t1852.plus(t1853);
-        let t1863: f64 = t1861.plus(t1862);
-        let t1864: f64 = t1857.subtracted_from(t1863);
-        let t1865: f64 = t316 * t1864;
-        let t1866 = product(t165, t1785);
-        let t1867 = product(t151, t1791);
-        let t1868: f64 = t1045 * t1559;
-        let t1869 = product(t1047, t1566);
-        let t1870: f64 = t1867.plus(t1868);
-        let t1871: f64 = t1869.plus(t1870);
-        let t1872: f64 = t1866.minus(t1871);
-        let t1873 = product(t146, t1872);
-        let t1874 = product(t15, t624);
-        let t1875: f64 = t16 * t617;
-        let t1876: f64 = t1874.minus(t1875);
-        let t1877 = product(t6, t1876);
-        let t1878: f64 = t7 * t605;
-        let t1879: f64 = t1877.plus(t1878);
-        let t1880: f64 = yc * t1879;
-        let t1881: f64 = t1845.plus(t1846);
-        let t1882: f64 = t1873.plus(t1880);
-        let t1883: f64 = t1881 + t1882;
-        let t1884: f64 = t1851.plus(t1865);
-        let t1885: f64 = t1883 - t1884;
-        let t1886 = product(wx, t1885);
-        let t1887: f64 = wz * t1826;
-        let t1888: f64 = t1886.plus(t1887);
-        let t1889: f64 = t1844.plus(t1888);
-        let t1890: f64 = wz * t1889;
-        let t1891: f64 = t1830.minus(t1890);
-        let t1892: f64 = t1741 + t1891;
-        let t1893: f64 = t1594 + t1892;
-        let t1894 = product(t1055, t1885);
-        let t1895: f64 = t1894.subtracted_from(t1893);
-        let t1896 = product(t634, t1895);
-        let t1897 = product(wx, t1889);
-        let t1898 = product(wx, t1592);
-        let t1899 = product(wy, t1885);
-        let t1900: f64 = wz * t1665;
-        let t1901: f64 = t1899.plus(t1900);
-        let t1902: f64 = t1898.minus(t1901);
-        let t1903: f64 = wy * t1902;
-        let t1904: f64 = t1897.plus(t1903);
-        let t1905 = product(t984, t1799);
-        let t1906 = product(t7, t610);
-        let t1907 = product(t16, t621);
-        let t1908 = product(t15, t628);
-        let t1909: f64 = t75 * t640;
-        let t1910: f64 = t1908.plus(t1909);
-        let t1911: f64 = t1907.minus(t1910);
-        let t1912 = product(t6, t1911);
-        let t1913 = product(joint1_mass, t1643);
-        let t1914: f64 = joint2_mass * t1646;
-        let t1915: f64 = t1913.plus(t1914);
-        let t1916: f64 = t316 * t1915;
-        let t1917: f64 = t1906.plus(t1916);
-        let t1918: f64 = t1912.subtracted_from(t1917);
-        let t1919: f64 = t1282 * t1918;
-        let t1920: f64 = t1905.minus(t1919);
-        let t1921: f64 = t1904 + t1920;
-        let t1922 = product(t1006, t1665);
-        let t1923: f64 = t85 * t1703;
-        let t1924: f64 = t1922.plus(t1923);
-        let t1925 = product(t90, t1719);
-        let t1926 = product(t6, t1348);
-        let t1927: f64 = t7 * t1738;
-        let t1928: f64 = t1926.plus(t1927);
-        let t1929: f64 = t73 * t1928;
-        let t1930: f64 = t1925.minus(t1929);
-        let t1931: f64 = t1924 + t1930;
-        let t1932 = product(t1000, t1826);
-        let t1933 = product(t513, t1895);
-        let t1934 = product(t1055, t1843);
-        let t1935: f64 = t1331 * t1508;
-        let t1936: f64 = t1934.plus(t1935);
-        let t1937 = product(t145, t1719);
-        let t1938: f64 = t72 * t1928;
+        let t1637: f64 = t1626.plus(t1627);
+        let t1638: f64 = t1636 - t1637;
+        let t1639 = product(t984, t1638);
+        let t1640: f64 = t146 * t149;
+        let t1641 = product(t639, t1640);
+        let t1642: f64 = t1641.subtracted_from(t689);
+        let t1643 = product(t72, t1642);
+        let t1644 = product(t88, t163);
+        let t1645: f64 = zc * t15;
+        let t1646: f64 = t73 * t1645;
+        let t1647: f64 = t7 * t1646;
+        let t1648: f64 = t1644.plus(t1647);
+        let t1649 = product(joint3_mass, t1648);
+        let t1650 = product(t88, t148);
+        let t1651: f64 = t1650.added_to(t1647);
+        let t1652: f64 = joint4_mass * t1651;
+        let t1653: f64 = t1649.plus(t1652);
+        let t1654: f64 = t146 * t1653;
+        let t1655: f64 = t1643.plus(t1654);
+        let t1656: f64 = -t1655;
+        let t1657: f64 = t1111 * t1656;
+        let t1658: f64 = t1639.plus(t1657);
+        let t1659: f64 = t1571.plus(t1658);
+        let t1660: f64 = t1537 + t1659;
+        let t1661 = product(t315, t1603);
+        let t1662: f64 = t1661.added_to(t1482);
+        let t1663: f64 = t1662 * 2.0;
+        let t1664: f64 = joint1_mass * t315;
+        let t1665 = product(t1663, t1664);
+        let t1666 = product(t320, t1603);
+        let t1667: f64 = t1666.added_to(t1485);
+        let t1668: f64 = t1667 * 2.0;
+        let t1669: f64 = joint2_mass * t320;
+        let t1670: f64 = t1668 * t1669;
+        let t1671: f64 = t1665.plus(t1670);
+        let t1672 = product(t316, t1671);
+        let t1673 = product(t315, t1576);
+        let t1674: f64 = t320 * t1582;
+        let t1675: f64 = t1673.plus(t1674);
+        let t1676: f64 = t1675 * 2.0;
+        let t1677: f64 = t1672.plus(t1676);
+        let t1678 = product(t316, t1677);
+        let t1679: f64 = t624 * 2.0;
+        let t1680 = product(t15, t1679);
+        let t1681: f64 = t617 * 2.0;
+        let t1682: f64 = t16 * t1681;
+        let t1683: f64 = t1680.minus(t1682);
+        let t1684 = product(t6, t1683);
+        let t1685: f64 = t612 * 2.0;
+        let t1686: f64 = t7 * t1685;
+        let t1687: f64 = t1684.plus(t1686);
+        let t1688: f64 = xc * t1687;
+        let t1689: f64 = t421 * 2.0;
+        let t1690 = product(t72, t1689);
+        let t1691 = product(t6, t163);
+        let t1692: f64 = t77 * t146;
+        let t1693: f64 = t165 * t1692;
+        let t1694: f64 = t1691.minus(t1693);
+        let t1695: f64 = t1694 * 2.0;
+        let t1696 = product(t15, t1695);
+        let t1697: f64 = t1647 * 2.0;
+        let t1698: f64 = t1696.plus(t1697);
+        let t1699: f64 = t165 * t228;
+        let t1700: f64 = t1698 * t1699;
+        let t1701: f64 = -t1700;
+        let t1702 = product(joint3_mass, t1701);
+        let t1703 = product(t6, t148);
+        let t1704: f64 = t151 * t1692;
+        let t1705: f64 = t1703.plus(t1704);
+        let t1706: f64 = t1705 * 2.0;
+        let t1707 = product(t15, t1706);
+        let t1708: f64 = t1707.added_to(t1697);
+        let t1709: f64 = t151 * t1102;
+        let t1710: f64 = t1708 * t1709;
+        let t1711: f64 = t1702.plus(t1710);
+        let t1712: f64 = t1690.minus(t1711);
+        let t1713: f64 = t6 * t209;
+        let t1714: f64 = t312 * t1713;
+        let t1715: f64 = t315 * t1714;
+        let t1716 = product(t278, t1715);
+        let t1717: f64 = t1184 * t1482;
+        let t1718: f64 = t1716.plus(t1717);
+        let t1719: f64 = t320 * t1714;
+        let t1720 = product(t286, t1719);
+        let t1721: f64 = t1191 * t1485;
+        let t1722: f64 = t1720.plus(t1721);
+        let t1723: f64 = t1718 + t1722;
+        let t1724 = product(joint3_mz, t7);
+        let t1725 = product(joint3_mx, t16);
+        let t1726: f64 = t1725.minus(t258);
+        let t1727: f64 = t6 * t1726;
+        let t1728: f64 = t1724.minus(t1727);
+        let t1729 = product(t163, t1728);
+        let t1730 = product(joint4_mz, t7);
+        let t1731 = product(joint4_mx, t16);
+        let t1732: f64 = t1731.minus(t266);
+        let t1733: f64 = t6 * t1732;
+        let t1734: f64 = t1730.minus(t1733);
+        let t1735: f64 = t148 * t1734;
+        let t1736: f64 = t1729.plus(t1735);
+        let t1737: f64 = t1723 - t1736;
+        let t1738: f64 = t7 * t82;
+        let t1739: f64 = t228 * t1738;
+        let t1740: f64 = t165 * t1739;
+        let t1741 = product(t171, t1740);
+        let t1742: f64 = t146 * t171;
+        let t1743: f64 = t1648 * t1742;
+        let t1744: f64 = t1741.minus(t1743);
+        let t1745: f64 = t151 * t1739;
+        let t1746 = product(t160, t1745);
+        let t1747: f64 = t146 * t160;
+        let t1748: f64 = t1651 * t1747;
+        let t1749: f64 = t1746.plus(t1748);
+        let t1750: f64 = t1744 - t1749;
+        let t1751: f64 = t1737 - t1750;
+        let t1752: f64 = t1751 * 2.0;
+        let t1753: f64 = t1678.plus(t1752);
+        let t1754: f64 = t1688 + t1712;
+        let t1755: f64 = t1753 - t1754;
+        let t1756 = product(wz, t1755);
+        let t1757 = product(wx, t1638);
+        let t1758: f64 = t523 + t539;
+        let t1759 = product(t1640, t1758);
+        let t1760: f64 = t1759.subtracted_from(t307);
+        let t1761 = product(t72, t1760);
+        let t1762: f64 = t196 - t643;
+        let t1763 = product(t79, t1762);
+        let t1764: f64 = t203 - t644;
+        let t1765: f64 = t98 * t1764;
+        let t1766: f64 = t1763.plus(t1765);
+        let t1767 = product(t1603, t1766);
+        let t1768: f64 = t1585 * t1762;
+        let t1769 = product(t1594, t1764);
+        let t1770: f64 = t1767.plus(t1768);
+        let t1771: f64 = t1769.plus(t1770);
+        let t1772 = product(t94, t1771);
+        let t1773: f64 = t73 * t421;
+        let t1774 = product(t131, t1648);
+        let t1775: f64 = t138 * t1651;
+        let t1776 = product(zc, t1653);
+        let t1777: f64 = t1774.plus(t1775);
+        let t1778: f64 = t1776.subtracted_from(t1777);
+        let t1779 = product(t146, t1778);
+        let t1780: f64 = t1772.plus(t1773);
+        let t1781: f64 = t1779.plus(t1780);
+        let t1782: f64 = t1761.minus(t1781);
+        let t1783: f64 = wy * t1782;
+        let t1784: f64 = t1757.plus(t1783);
+        let t1785: f64 = t1756.plus(t1784);
+        let t1786 = product(wy, t1785);
+        let t1787: f64 = t1495 * 2.0;
+        let t1788 = product(t6, t1787);
+        let t1789: f64 = t1492 * 2.0;
+        let t1790: f64 = t1788.plus(t1789);
+        let t1791 = product(t1081, t1790);
+        let t1792: f64 = t1501 * 2.0;
+        let t1793 = product(t6, t1792);
+        let t1794: f64 = t1793.added_to(t1789);
+        let t1795: f64 = t1082 * t1794;
+        let t1796: f64 = t1791.plus(t1795);
+        let t1797 = product(t208, t1796);
+        let t1798: f64 = t482 * t1671;
+        let t1799: f64 = t1797.plus(t1798);
+        let t1800 = product(t75, t1799);
+        let t1801: f64 = t312 * t1676;
+        let t1802: f64 = t1087 * 2.0;
+        let t1803: f64 = t1800.plus(t1801);
+        let t1804: f64 = t1802 - t1803;
+        let t1805 = product(t75, t1804);
+        let t1806: f64 = t289 * 2.0;
+        let t1807: f64 = t73 * t1806;
+        let t1808: f64 = t6 * t74;
+        let t1809: f64 = t209 * t1808;
+        let t1810: f64 = t79 * t1809;
+        let t1811 = product(t93, t1810);
+        let t1812: f64 = t93 * t94;
+        let t1813: f64 = t1585 * t1812;
+        let t1814: f64 = t1811.plus(t1813);
+        let t1815: f64 = t98 * t1809;
+        let t1816 = product(t104, t1815);
+        let t1817: f64 = t94 * t104;
+        let t1818: f64 = t1594 * t1817;
+        let t1819: f64 = t1816.plus(t1818);
+        let t1820: f64 = t1814 + t1819;
+        let t1821: f64 = t1737 + t1820;
+        let t1822 = product(t1821, 2.0);
+        let t1823: f64 = t1822.added_to(t1807);
+        let t1824: f64 = t1805.added_to(t1688);
+        let t1825: f64 = t1823 - t1824;
+        let t1826 = product(wy, t1825);
+        let t1827 = product(t0, t1591);
+        let t1828: f64 = t3 * t1600;
+        let t1829: f64 = t416 + t428;
+        let t1830: f64 = -t1829;
+        let t1831 = product(t1640, t1830);
+        let t1832: f64 = t1831.added_to(t475);
+        let t1833 = product(t72, t1832);
+        let t1834 = product(t180, t1482);
+        let t1835: f64 = t187 * t1485;
+        let t1836 = product(joint1_mass, t1662);
+        let t1837: f64 = joint2_mass * t1667;
+        let t1838: f64 = t1836.plus(t1837);
+        let t1839 = product(yc, t1838);
+        let t1840 = product(t180, t315);
+        let t1841: f64 = t187 * t320;
+        let t1842: f64 = t1840.plus(t1841);
+        let t1843 = product(t1603, t1842);
+        let t1844: f64 = t1834.plus(t1835);
+        let t1845: f64 = t1843.plus(t1844);
+        let t1846: f64 = t1839.subtracted_from(t1845);
+        let t1847: f64 = t316 * t1846;
+        let t1848 = product(t165, t1728);
+        let t1849 = product(t151, t1734);
+        let t1850: f64 = t1254 * t1648;
+        let t1851 = product(t1256, t1651);
+        let t1852: f64 = t1849.plus(t1850);
+        let t1853: f64 = t1851.plus(t1852);
+        let t1854: f64 = t1848.minus(t1853);
+        let t1855 = product(t146, t1854);
+        let t1856 = product(t15, t625);
+        let t1857: f64 = t16 * t618;
+        let t1858: f64 = t1856.minus(t1857);
+        let t1859 = product(t6, t1858);
+        let t1860: f64 = t7 * t610;
+        let t1861: f64 = t1859.plus(t1860);
+        let t1862: f64 = yc * t1861;
+        let t1863: f64 = t1827.plus(t1828);
+        let t1864: f64 = t1855.plus(t1862);
+        let t1865: f64 = t1863 + t1864;
+        let t1866: f64 = t1833.plus(t1847);
+        let t1867: f64 = t1865 - t1866;
+        let t1868 = product(wx, t1867);
+        let t1869: f64 = wz * t1782;
+        let t1870: f64 = t1868.plus(t1869);
+        let t1871: f64 = t1826.plus(t1870);
+        let t1872: f64 = wz * t1871;
+        let t1873: f64 = t1786.minus(t1872);
+        let t1874: f64 = t1660 + t1873;
+        let t1875: f64 = t75 * t208;
+        let t1876 = product(t1796, t1875);
+        let t1877: f64 = t1876.subtracted_from(t1802);
+        let t1878 = product(t75, t1877);
+        let t1879: f64 = t1750 - t1820;
+        let t1880 = product(t1879, 2.0);
+        let t1881: f64 = t1878.added_to(t1712);
+        let t1882: f64 = t1880.plus(t1881);
+        let t1883: f64 = t1882 - t1807;
+        let t1884 = product(t1006, t1883);
+        let t1885: f64 = t1032 * t1867;
+        let t1886: f64 = t1884.plus(t1885);
+        let t1887: f64 = t1874 - t1886;
+        let t1888: f64 = t714 * t1887;
+        let t1889 = product(t513, t1887);
+        let t1890 = product(wx, t1883);
+        let t1891 = product(wy, t1867);
+        let t1892: f64 = wz * t1638;
+        let t1893: f64 = t1891.plus(t1892);
+        let t1894: f64 = t1890.minus(t1893);
+        let t1895 = product(wz, t1894);
+        let t1896: f64 = wx * t1785;
+        let t1897: f64 = t1895.plus(t1896);
+        let t1898 = product(t1032, t1825);
+        let t1899 = product(t1326, t1508);
+        let t1900: f64 = t1111 * t1490;
+        let t1901: f64 = t1899.minus(t1900);
+        let t1902 = product(t154, t1554);
+        let t1903: f64 = t145 * t1567;
+        let t1904: f64 = t1902.plus(t1903);
+        let t1905: f64 = t1901 - t1904;
+        let t1906 = product(t6, t1334);
+        let t1907: f64 = t7 * t1535;
+        let t1908: f64 = t1906.plus(t1907);
+        let t1909 = product(t72, t1908);
+        let t1910 = product(t1006, t1867);
+        let t1911: f64 = t984 * t1782;
+        let t1912: f64 = t1910.plus(t1911);
+        let t1913: f64 = t1909.plus(t1912);
+        let t1914: f64 = t1905 - t1913;
+        let t1915: f64 = t1898.plus(t1914);
+        let t1916: f64 = t1897 + t1915;
+        let t1917: f64 = t1889.plus(t1916);
+        let t1918 = product(t1014, t1917);
+        let t1919 = product(t90, t1567);
+        let t1920: f64 = t73 * t1908;
+        let t1921: f64 = t1919.minus(t1920);
+        let t1922 = product(t1006, t1638);
+        let t1923: f64 = t1124 * t1490;
+        let t1924: f64 = t1922.minus(t1923);
+        let t1925 = product(t85, t1554);
+        let t1926: f64 = t1326 * t1656;
+        let t1927: f64 = t1925.minus(t1926);
+        let t1928: f64 = t1924 + t1927;
+        let t1929: f64 = t1921 + t1928;
+        let t1930 = product(wx, t1871);
+        let t1931: f64 = wy * t1894;
+        let t1932: f64 = t1930.plus(t1931);
+        let t1933: f64 = t1929 + t1932;
+        let t1934 = product(t984, t1755);
+        let t1935: f64 = t1032 * t1782;
+        let t1936: f64 = t1934.minus(t1935);
+        let t1937 = product(t1352, t1887);
+        let t1938: f64 = t720 * t1917;
         let t1939: f64 = t1937.plus(t1938);
-        let t1940 = product(t1006, t1885);
-        let t1941: f64 = t984 * t1826;
-        let t1942: f64 = t1940.plus(t1941);
-        let t1943 = product(t1174, t1918);
-        let t1944: f64 = t154 * t1703;
+        let t1940: f64 = t1936 - t1939;
+        let t1941: f64 = t1933 + t1940;
+        let t1942: f64 = t1381 * t1941;
+        let t1943 = product(t1032, t1508);
+        let t1944: f64 = t635 * t1917;
         let t1945: f64 = t1943.plus(t1944);
-        let t1946: f64 = t1942 + t1945;
-        let t1947: f64 = t1939 + t1946;
-        let t1948 = product(wz, t1902);
-        let t1949: f64 = wx * t1829;
-        let t1950: f64 = t1948.plus(t1949);
-        let t1951: f64 = t1947 - t1950;
-        let t1952: f64 = t1936 - t1951;
-        let t1953: f64 = t1933.plus(t1952);
-        let t1954: f64 = t566 * t1953;
-        let t1955: f64 = t1932.plus(t1954);
-        let t1956 = product(t509, t1955);
-        let t1957: f64 = t1956.subtracted_from(t1931);
-        let t1958 = product(t1331, t1676);
-        let t1959: f64 = t1290 * t1895;
-        let t1960: f64 = t1958.plus(t1959);
-        let t1961: f64 = t1957 - t1960;
-        let t1962: f64 = t1921 + t1961;
-        let t1963 = product(t1396, t1962);
-        let t1964 = product(wx, t1676);
-        let t1965: f64 = wy * t1918;
+        let t1946 = product(t697, t1941);
+        let t1947 = product(wx, t1656);
+        let t1948: f64 = wy * t1490;
+        let t1949: f64 = t1947.plus(t1948);
+        let t1950 = product(wy, t1949);
+        let t1951 = product(wz, t1490);
+        let t1952: f64 = wx * t1508;
+        let t1953: f64 = t1951.minus(t1952);
+        let t1954: f64 = wz * t1953;
+        let t1955: f64 = t1950.plus(t1954);
+        let t1956 = product(t984, t1656);
+        let t1957: f64 = t1956.subtracted_from(t1955);
+        let t1958: f64 = t1946.plus(t1957);
+        let t1959: f64 = t1945 + t1958;
+        let t1960 = product(t1404, t1959);
+        let t1961 = product(t984, t1490);
+        let t1962: f64 = t1006 * t1508;
+        let t1963: f64 = t1961.minus(t1962);
+        let t1964 = product(wy, t1508);
+        let t1965: f64 = wz * t1656;
         let t1966: f64 = t1964.plus(t1965);
-        let t1967 = product(wy, t1966);
-        let t1968 = product(wz, t1918);
-        let t1969: f64 = wx * t1508;
-        let t1970: f64 = t1968.minus(t1969);
-        let t1971: f64 = wz * t1970;
-        let t1972: f64 = t1967.plus(t1971);
-        let t1973 = product(t984, t1676);
-        let t1974: f64 = t1973.subtracted_from(t1972);
-        let t1975 = product(t701, t1962);
-        let t1976 = product(t1000, t1508);
-        let t1977: f64 = t680 * t1953;
-        let t1978: f64 = t1976.plus(t1977);
-        let t1979: f64 = t509 * t1978;
-        let t1980: f64 = t1975.plus(t1979);
-        let t1981: f64 = t1974 + t1980;
-        let t1982: f64 = t1007 * t1981;
-        let t1983 = product(t984, t1918);
-        let t1984: f64 = t1006 * t1508;
-        let t1985: f64 = t1983.minus(t1984);
-        let t1986 = product(wy, t1508);
-        let t1987: f64 = wz * t1676;
-        let t1988: f64 = t1986.plus(t1987);
-        let t1989 = product(wz, t1988);
-        let t1990: f64 = wx * t1966;
-        let t1991: f64 = t1989.plus(t1990);
-        let t1992 = product(t1000, t1885);
-        let t1993: f64 = t459 * t1953;
-        let t1994: f64 = t1992.minus(t1993);
-        let t1995 = product(t509, t1994);
-        let t1996: f64 = t1995.subtracted_from(t1893);
-        let t1997 = product(t711, t1996);
-        let t1998: f64 = t1997.subtracted_from(t1991);
-        let t1999: f64 = t1985 + t1998;
-        let t2000 = product(t734, t1962);
-        let t2001: f64 = t736 * t1981;
-        let t2002: f64 = t2000.plus(t2001);
+        let t1967 = product(wz, t1966);
+        let t1968: f64 = wx * t1949;
+        let t1969: f64 = t1967.plus(t1968);
+        let t1970 = product(t674, t1917);
+        let t1971: f64 = t1970.added_to(t1887);
+        let t1972 = product(t677, t1971);
+        let t1973: f64 = t1972.subtracted_from(t1969);
+        let t1974: f64 = t1963 + t1973;
+        let t1975 = product(t723, t1941);
+        let t1976: f64 = t728 * t1959;
+        let t1977: f64 = t1975.plus(t1976);
+        let t1978: f64 = t1974 - t1977;
+        let t1979: f64 = t1424 * t1978;
+        let t1980 = product(wx, t1953);
+        let t1981: f64 = wy * t1966;
+        let t1982: f64 = t1980.minus(t1981);
+        let t1983 = product(t1006, t1656);
+        let t1984: f64 = t1983.subtracted_from(t1982);
+        let t1985: f64 = t1491.plus(t1888);
+        let t1986: f64 = t1984 + t1985;
+        let t1987: f64 = t1918.plus(t1942);
+        let t1988: f64 = t1960.plus(t1979);
+        let t1989: f64 = t1987 + t1988;
+        let t1990: f64 = t1986 - t1989;
+        let t1991 = product(t965, t1990);
+        let t1992: f64 = t1991.subtracted_from(t1978);
+        let t1993 = product(t968, t1992);
+        let t1994: f64 = t970 * t1990;
+        let t1995: f64 = t1993.plus(t1994);
+        let t1996: f64 = t1959 - t1995;
+        let t1997 = product(t989, t1996);
+        let t1998 = product(t974, t1996);
+        let t1999 = product(t976, t1992);
+        let t2000: f64 = t978 * t1990;
+        let t2001: f64 = t1998.added_to(t1941);
+        let t2002: f64 = t1999.plus(t2000);
         (
             t1006,
             t1007,
-            t1008,
             t1010,
             t1011,
-            t1013,
             t1014,
-            t1017,
+            t1015,
             t1020,
+            t1021,
+            t1022,
             t1023,
-            t1024,
-            t1029,
-            t1030,
-            t1040,
-            t1045,
-            t1047,
-            t1054,
-            t1055,
-            t1057,
-            t1062,
-            t1102,
+            t1032,
+            t1033,
+            t1035,
+            t1039,
+            t1077,
+            t1083,
+            t1091,
+            t1093,
+            t1105,
+            t1108,
+            t1111,
+            t1122,
             t1123,
-            t1138,
-            t1146,
-            t1154,
-            t1156,
-            t1168,
-            t1171,
-            t1173,
-            t1174,
-            t1177,
-            t1181,
-            t1186,
-            t1193,
-            t1195,
+            t1124,
+            t1143,
+            t1158,
+            t1165,
+            t1170,
+            t1175,
+            t1182,
+            t1184,
+            t1189,
+            t1191,
             t1200,
-            t1202,
-            t1211,
-            t1220,
-            t1234,
-            t1236,
-            t1242,
-            t1246,
+            t1209,
+            t1223,
+            t1225,
+            t1231,
+            t1235,
+            t1245,
+            t1254,
             t1256,
-            t1261,
-            t1267,
-            t1279,
-            t1280,
-            t1281,
-            t1282,
-            t1290,
+            t1262,
+            t1265,
+            t1271,
+            t1284,
+            t1295,
+            t1296,
+            t1300,
+            t1301,
             t1302,
-            t1303,
-            t1308,
-            t1309,
-            t1310,
-            t1315,
-            t1316,
-            t1321,
-            t1322,
-            t1323,
-            t1330,
-            t1331,
-            t1341,
-            t1354,
-            t1358,
-            t1376,
-            t1396,
+            t1306,
+            t1307,
+            t1312,
+            t1313,
+            t1314,
+            t1326,
+            t1343,
+            t1352,
+            t1366,
+            t1381,
+            t1388,
+            t1394,
             t1400,
-            t1406,
-            t1412,
+            t1404,
+            t1419,
+            t1424,
+            t1430,
             t1438,
-            t1453,
-            t1460,
-            t1484,
-            t1491,
+            t1462,
+            t1469,
+            t1477,
+            t1490,
             t1492,
             t1493,
             t1494,
             t1499,
             t1500,
             t1508,
-            t1515,
-            t1519,
-            t1552,
-            t1560,
-            t1567,
-            t1571,
-            t1588,
-            t1599,
-            t1605,
-            t1612,
-            t1619,
-            t1632,
-            t1638,
-            t1667,
-            t1676,
-            t1741,
-            t1744,
-            t1745,
-            t1749,
-            t1750,
-            t1760,
-            t1762,
-            t1795,
-            t1826,
-            t1828,
-            t1839,
-            t1848,
-            t1860,
-            t1885,
-            t1888,
-            t1895,
-            t1896,
-            t1901,
-            t1918,
-            t1931,
-            t1947,
-            t1952,
-            t1953,
-            t1962,
-            t1963,
-            t1970,
+            t1576,
+            t1582,
+            t1591,
+            t1600,
+            t1613,
+            t1640,
+            t1660,
+            t1663,
+            t1664,
+            t1668,
+            t1669,
+            t1679,
+            t1681,
+            t1711,
+            t1742,
+            t1747,
+            t1751,
+            t1782,
+            t1784,
+            t1790,
+            t1794,
+            t1808,
+            t1821,
+            t1830,
+            t1842,
+            t1867,
+            t1870,
+            t1879,
+            t1887,
+            t1893,
+            t1914,
+            t1916,
+            t1929,
+            t1957,
             t1974,
-            t1981,
-            t1982,
-            t1988,
-            t1999,
+            t1984,
+            t1990,
+            t1992,
+            t1996,
+            t1997,
+            t2001,
             t2002,
         )
     };
     let (
-        t2013,
+        t2004,
+        t2015,
+        t2017,
         t2024,
-        t2032,
         t2043,
-        t2045,
-        t2052,
+        t2074,
+        t2078,
         t2095,
         t2099,
         t2116,
-        t2120,
-        t2137,
-        t2152,
-        t2158,
-        t2174,
-        t2251,
-        t2255,
-        t2309,
-        t2312,
-        t2325,
-        t2327,
-        t2348,
-        t2388,
-        t2390,
-        t2393,
-        t2400,
-        t2417,
-        t2433,
-        t2449,
-        t2476,
-        t2501,
+        t2131,
+        t2172,
+        t2249,
+        t2253,
+        t2289,
+        t2292,
+        t2305,
+        t2307,
+        t2328,
+        t2368,
+        t2370,
+        t2373,
+        t2380,
+        t2409,
+        t2425,
+        t2453,
+        t2470,
+        t2480,
+        t2492,
+        t2508,
         t2515,
-        t2527,
-        t2544,
-        t2552,
-        t2553,
-        t2576,
-        t2607,
-        t2609,
+        t2516,
+        t2519,
+        t2554,
+        t2556,
+        t2585,
+        t2588,
+        t2610,
+        t2611,
         t2633,
+        t2634,
         t2636,
+        t2640,
         t2646,
-        t2648,
-        t2652,
-        t2654,
-        t2658,
-        t2662,
-        t2676,
-        t2678,
-        t2688,
-        t2691,
-        t2694,
-        t2698,
-        t2711,
-        t2737,
-        t2771,
+        t2665,
+        t2680,
+        t2704,
+        t2729,
+        t2735,
+        t2742,
+        t2754,
+        t2770,
         t2778,
-        t2787,
-        t2799,
+        t2779,
+        t2782,
+        t2808,
+        t2809,
         t2816,
-        t2825,
+        t2821,
+        t2824,
         t2826,
         t2829,
-        t2830,
-        t2831,
-        t2842,
-        t2877,
-        t2882,
-        t2885,
+        t2837,
+        t2861,
         t2887,
-        t2890,
-        t2895,
+        t2896,
         t2903,
-        t2907,
-        t2909,
-        t2910,
-        t2911,
-        t2914,
         t2918,
-        t2923,
-        t2938,
-        t2958,
-        t2963,
-        t2964,
-        t2970,
-        t2971,
-        t2975,
+        t2944,
+        t2965,
+        t2976,
         t2982,
-        t2987,
-        t2995,
-        t2996,
+        t2984,
+        t2988,
+        t2994,
         t2997,
+        t2999,
+        t3001,
         t3002,
     ) = {
-        let t2003: f64 = t1999 - t2002;
-        let t2004 = product(t1010, t2003);
-        let t2005 = product(t1000, t1918);
-        let t2006: f64 = t655 * t1953;
-        let t2007: f64 = t2005.minus(t2006);
-        let t2008: f64 = t509 * t2007;
-        let t2009 = product(wx, t1970);
-        let t2010: f64 = wy * t1988;
-        let t2011: f64 = t2009.minus(t2010);
-        let t2012 = product(t1006, t1676);
-        let t2013: f64 = t2012.subtracted_from(t2011);
-        let t2014: f64 = t1896.plus(t2008);
-        let t2015: f64 = t2013 + t2014;
-        let t2016: f64 = t1963.plus(t1982);
-        let t2017: f64 = t2004.plus(t2016);
-        let t2018: f64 = t2015 - t2017;
-        let t2019 = product(t967, t2018);
-        let t2020: f64 = t2019.subtracted_from(t2003);
-        let t2021 = product(t970, t2020);
-        let t2022: f64 = t972 * t2018;
-        let t2023: f64 = t2021.plus(t2022);
-        let t2024: f64 = t1981 - t2023;
-        let t2025 = product(t989, t2024);
-        let t2026 = product(t976, t2024);
-        let t2027 = product(t978, t2020);
-        let t2028: f64 = t965 * t2018;
-        let t2029: f64 = t2026.added_to(t1962);
-        let t2030: f64 = t2027.plus(t2028);
-        let t2031: f64 = t2029 - t2030;
-        let t2032: f64 = t566 * t599;
-        let t2033 = product(t2031, t2032);
-        let t2034: f64 = t991 * t2018;
-        let t2035 = product(t993, t2020);
-        let t2036: f64 = t2035.subtracted_from(t1895);
-        let t2037: f64 = t513 * t2036;
-        let t2038: f64 = t2033.plus(t2034);
-        let t2039: f64 = t2025.plus(t2037);
-        let t2040: f64 = t1952 + t2039;
-        let t2041: f64 = t2038 - t2040;
-        let t2042: f64 = t509 * t2041;
-        let t2043: f64 = -t2042;
-        let t2044 = product(t459, t2043);
-        let t2045: f64 = t359 * t599;
-        let t2046 = product(t2031, t2045);
-        let t2047: f64 = t986 * t2018;
-        let t2048: f64 = t2044.plus(t2047);
-        let t2049: f64 = t2036 + t2048;
-        let t2050: f64 = t2046.subtracted_from(t2049);
-        let t2051: f64 = t247 * t2050;
-        let t2052: f64 = -t2051;
-        let t2053 = product(joint3_mx, t145);
-        let t2054: f64 = joint3_my * t154;
-        let t2055: f64 = t2053.minus(t2054);
-        let t2056 = product(t163, t2055);
-        let t2057 = product(joint4_mx, t145);
-        let t2058: f64 = joint4_my * t154;
-        let t2059: f64 = t2057.minus(t2058);
-        let t2060: f64 = t148 * t2059;
-        let t2061: f64 = yc * t145;
-        let t2062 = product(t90, t108);
-        let t2063: f64 = t2062.added_to(t2061);
-        let t2064 = product(t180, t2063);
-        let t2065 = product(joint1_mx, t145);
-        let t2066: f64 = joint1_my * t154;
-        let t2067: f64 = t2065.minus(t2066);
-        let t2068: f64 = t315 * t2067;
-        let t2069 = product(t90, t116);
-        let t2070: f64 = t2069.added_to(t2061);
-        let t2071 = product(t187, t2070);
-        let t2072 = product(joint2_mx, t145);
-        let t2073: f64 = joint2_my * t154;
-        let t2074: f64 = t2072.minus(t2073);
-        let t2075: f64 = t320 * t2074;
-        let t2076: f64 = t15 * t312;
-        let t2077 = product(t315, t2076);
-        let t2078: f64 = t2077.added_to(t2063);
-        let t2079 = product(joint1_mass, t2078);
-        let t2080 = product(t320, t2076);
-        let t2081: f64 = t2080.added_to(t2070);
-        let t2082: f64 = joint2_mass * t2081;
-        let t2083: f64 = t2079.plus(t2082);
-        let t2084 = product(yc, t2083);
-        let t2085 = product(t1860, t2076);
-        let t2086: f64 = t2064.plus(t2068);
-        let t2087: f64 = t2071.plus(t2075);
-        let t2088: f64 = t2086 + t2087;
-        let t2089: f64 = t2085.plus(t2088);
-        let t2090: f64 = t2084.subtracted_from(t2089);
-        let t2091 = product(t316, t2090);
-        let t2092 = product(t154, t1848);
-        let t2093 = product(joint3_mx, t15);
-        let t2094: f64 = joint3_my * t16;
+        let t2003: f64 = t2001 - t2002;
+        let t2004: f64 = t566 * t599;
+        let t2005 = product(t2003, t2004);
+        let t2006: f64 = t991 * t1990;
+        let t2007 = product(t993, t1992);
+        let t2008: f64 = t2007.subtracted_from(t1887);
+        let t2009: f64 = t513 * t2008;
+        let t2010: f64 = t2005.plus(t2006);
+        let t2011: f64 = t1997.plus(t2009);
+        let t2012: f64 = t1916 + t2011;
+        let t2013: f64 = t2010 - t2012;
+        let t2014: f64 = t509 * t2013;
+        let t2015: f64 = -t2014;
+        let t2016 = product(t459, t2015);
+        let t2017: f64 = t359 * t599;
+        let t2018 = product(t2003, t2017);
+        let t2019: f64 = t986 * t1990;
+        let t2020: f64 = t2016.plus(t2019);
+        let t2021: f64 = t2008 + t2020;
+        let t2022: f64 = t2018.subtracted_from(t2021);
+        let t2023: f64 = t247 * t2022;
+        let t2024: f64 = -t2023;
+        let t2025: f64 = t15 * t312;
+        let t2026 = product(t315, t2025);
+        let t2027: f64 = yc * t145;
+        let t2028 = product(t90, t108);
+        let t2029: f64 = t2028.added_to(t2027);
+        let t2030: f64 = t2026.plus(t2029);
+        let t2031 = product(joint1_mass, t2030);
+        let t2032 = product(t320, t2025);
+        let t2033 = product(t90, t116);
+        let t2034: f64 = t2033.added_to(t2027);
+        let t2035: f64 = t2032.plus(t2034);
+        let t2036: f64 = joint2_mass * t2035;
+        let t2037: f64 = t2031.plus(t2036);
+        let t2038 = product(t316, t2037);
+        let t2039 = product(t15, t622);
+        let t2040: f64 = t16 * t629;
+        let t2041: f64 = t2039.plus(t2040);
+        let t2042: f64 = t7 * t2041;
+        let t2043: f64 = t2038.minus(t2042);
+        let t2044 = product(t1032, t2043);
+        let t2045 = product(joint3_mx, t145);
+        let t2046: f64 = joint3_my * t154;
+        let t2047: f64 = t2045.minus(t2046);
+        let t2048 = product(t163, t2047);
+        let t2049 = product(joint4_mx, t145);
+        let t2050: f64 = joint4_my * t154;
+        let t2051: f64 = t2049.minus(t2050);
+        let t2052: f64 = t148 * t2051;
+        let t2053 = product(t180, t2029);
+        let t2054 = product(joint1_mx, t145);
+        let t2055: f64 = joint1_my * t154;
+        let t2056: f64 = t2054.minus(t2055);
+        let t2057: f64 = t315 * t2056;
+        let t2058 = product(t187, t2034);
+        let t2059 = product(joint2_mx, t145);
+        let t2060: f64 = joint2_my * t154;
+        let t2061: f64 = t2059.minus(t2060);
+        let t2062: f64 = t320 * t2061;
+        let t2063 = product(yc, t2037);
+        let t2064 = product(t1842, t2025);
+        let t2065: f64 = t2053.plus(t2057);
+        let t2066: f64 = t2058.plus(t2062);
+        let t2067: f64 = t2065 + t2066;
+        let t2068: f64 = t2064.plus(t2067);
+        let t2069: f64 = t2063.subtracted_from(t2068);
+        let t2070 = product(t316, t2069);
+        let t2071 = product(t154, t1830);
+        let t2072 = product(joint3_mx, t15);
+        let t2073: f64 = joint3_my * t16;
+        let t2074: f64 = t2072.plus(t2073);
+        let t2075 = product(t165, t2074);
+        let t2076 = product(joint4_mx, t15);
+        let t2077: f64 = joint4_my * t16;
+        let t2078: f64 = t2076.plus(t2077);
+        let t2079: f64 = t151 * t2078;
+        let t2080: f64 = t2075.minus(t2079);
+        let t2081: f64 = t7 * t2080;
+        let t2082 = product(t163, t685);
+        let t2083: f64 = zc * t85;
+        let t2084: f64 = t2082.plus(t2083);
+        let t2085 = product(t1254, t2084);
+        let t2086 = product(t148, t685);
+        let t2087: f64 = t2086.added_to(t2083);
+        let t2088: f64 = t1256 * t2087;
+        let t2089: f64 = t2071.plus(t2081);
+        let t2090: f64 = t2085.plus(t2088);
+        let t2091: f64 = t2089 - t2090;
+        let t2092: f64 = t146 * t2091;
+        let t2093 = product(joint5_mx, t15);
+        let t2094: f64 = joint5_my * t16;
         let t2095: f64 = t2093.plus(t2094);
-        let t2096 = product(t165, t2095);
-        let t2097 = product(joint4_mx, t15);
-        let t2098: f64 = joint4_my * t16;
+        let t2096 = product(t0, t2095);
+        let t2097 = product(joint6_mx, t15);
+        let t2098: f64 = joint6_my * t16;
         let t2099: f64 = t2097.plus(t2098);
-        let t2100: f64 = t151 * t2099;
-        let t2101: f64 = t2096.minus(t2100);
-        let t2102: f64 = t7 * t2101;
-        let t2103 = product(t163, t644);
-        let t2104: f64 = zc * t85;
-        let t2105: f64 = t2103.plus(t2104);
-        let t2106 = product(t1045, t2105);
-        let t2107 = product(t148, t644);
-        let t2108: f64 = t2107.added_to(t2104);
-        let t2109: f64 = t1047 * t2108;
-        let t2110: f64 = t2092.plus(t2102);
-        let t2111: f64 = t2106.plus(t2109);
-        let t2112: f64 = t2110 - t2111;
-        let t2113: f64 = t146 * t2112;
-        let t2114 = product(joint5_mx, t15);
-        let t2115: f64 = joint5_my * t16;
-        let t2116: f64 = t2114.plus(t2115);
-        let t2117 = product(t0, t2116);
-        let t2118 = product(joint6_mx, t15);
-        let t2119: f64 = joint6_my * t16;
-        let t2120: f64 = t2118.plus(t2119);
-        let t2121: f64 = t3 * t2120;
-        let t2122 = product(t15, t617);
-        let t2123: f64 = t16 * t624;
-        let t2124: f64 = t2122.plus(t2123);
-        let t2125 = product(yc, t2124);
-        let t2126: f64 = t2117.plus(t2121);
-        let t2127: f64 = t2125.plus(t2126);
-        let t2128 = product(t7, t2127);
-        let t2129 = product(t154, t623);
-        let t2130: f64 = t145 * t616;
-        let t2131: f64 = t2129.minus(t2130);
-        let t2132: f64 = xc * t2131;
-        let t2133: f64 = t2056.plus(t2060);
-        let t2134: f64 = t2091.plus(t2113);
-        let t2135: f64 = t2128.plus(t2132);
-        let t2136: f64 = t2134 + t2135;
-        let t2137: f64 = t2133 - t2136;
-        let t2138 = product(t1055, t2137);
-        let t2139 = product(t22, t1309);
-        let t2140: f64 = t29 * t1316;
-        let t2141: f64 = t44 - t64;
-        let t2142 = product(t769, t2141);
-        let t2143 = product(t789, 2.0);
-        let t2144: f64 = t2142.added_to(t790);
-        let t2145: f64 = t2143.minus(t2144);
-        let t2146 = product(t769, t2145);
-        let t2147 = product(t776, t2141);
-        let t2148 = product(t770, 2.0);
-        let t2149: f64 = t2148.added_to(t784);
-        let t2150: f64 = t2147.plus(t2149);
-        let t2151: f64 = t776 * t2150;
-        let t2152: f64 = t2146.plus(t2151);
-        let t2153: f64 = t2139.plus(t2140);
-        let t2154: f64 = t2152 + t2153;
-        let t2155 = product(t6, t2154);
-        let t2156 = product(t90, t621);
-        let t2157: f64 = t85 * t628;
-        let t2158: f64 = t2156.minus(t2157);
-        let t2159: f64 = t1282 * t2158;
-        let t2160: f64 = t2155.minus(t2159);
-        let t2161: f64 = t146 * t154;
-        let t2162 = product(t165, t2161);
-        let t2163: f64 = t2162.added_to(t2105);
-        let t2164: f64 = t2163 * 2.0;
-        let t2165: f64 = t165 * t1168;
-        let t2166 = product(t2164, t2165);
-        let t2167 = product(t151, t2161);
-        let t2168: f64 = t2167.subtracted_from(t2108);
-        let t2169: f64 = t2168 * 2.0;
-        let t2170: f64 = t151 * t228;
-        let t2171: f64 = t2169 * t2170;
-        let t2172: f64 = -t2171;
-        let t2173: f64 = joint4_mass * t2172;
-        let t2174: f64 = t2166.plus(t2173);
-        let t2175 = product(joint5_mx, t90);
-        let t2176: f64 = joint5_my * t85;
-        let t2177: f64 = t2175.minus(t2176);
-        let t2178 = product(t95, t2177);
-        let t2179 = product(joint6_mx, t90);
-        let t2180: f64 = joint6_my * t85;
-        let t2181: f64 = t2179.minus(t2180);
-        let t2182: f64 = t105 * t2181;
-        let t2183: f64 = t2178.plus(t2182);
-        let t2184 = product(joint1_mx, t90);
-        let t2185: f64 = joint1_my * t85;
-        let t2186: f64 = t2184.minus(t2185);
-        let t2187 = product(t108, t2186);
-        let t2188 = product(joint2_mx, t90);
-        let t2189: f64 = joint2_my * t85;
-        let t2190: f64 = t2188.minus(t2189);
-        let t2191: f64 = t116 * t2190;
-        let t2192: f64 = t2187.plus(t2191);
-        let t2193 = product(joint3_mx, t90);
-        let t2194: f64 = joint3_my * t85;
-        let t2195: f64 = t2193.minus(t2194);
-        let t2196 = product(zc, t2195);
-        let t2197 = product(joint4_mx, t90);
-        let t2198: f64 = joint4_my * t85;
-        let t2199: f64 = t2197.minus(t2198);
-        let t2200: f64 = zc * t2199;
-        let t2201: f64 = t2196.plus(t2200);
-        let t2202: f64 = t2192 + t2201;
-        let t2203: f64 = t2183 - t2202;
-        let t2204: f64 = t154 * t228;
-        let t2205: f64 = t151 * t2204;
-        let t2206 = product(t160, t2205);
-        let t2207: f64 = t172 * t2055;
-        let t2208: f64 = t2206.minus(t2207);
-        let t2209 = product(t161, t2059);
-        let t2210: f64 = t1567 * t2108;
-        let t2211: f64 = t2209.minus(t2210);
-        let t2212: f64 = t2208 + t2211;
-        let t2213 = product(joint5_mx, t145);
-        let t2214: f64 = joint5_my * t154;
-        let t2215: f64 = t2213.minus(t2214);
-        let t2216 = product(t0, t2215);
-        let t2217 = product(joint6_mx, t145);
-        let t2218: f64 = joint6_my * t154;
-        let t2219: f64 = t2217.minus(t2218);
-        let t2220: f64 = t3 * t2219;
-        let t2221: f64 = t2216.plus(t2220);
-        let t2222 = product(yc, t2067);
-        let t2223: f64 = yc * t2074;
-        let t2224: f64 = t2222.plus(t2223);
-        let t2225: f64 = t165 * t2204;
-        let t2226 = product(t171, t2225);
-        let t2227: f64 = t1560 * t2105;
-        let t2228: f64 = t2226.plus(t2227);
-        let t2229: f64 = t2224 + t2228;
-        let t2230: f64 = t2221 + t2229;
-        let t2231: f64 = t2212 - t2230;
-        let t2232: f64 = t2203 + t2231;
-        let t2233 = product(t2232, 2.0);
-        let t2234: f64 = t2233.added_to(t2174);
-        let t2235: f64 = -t2234;
-        let t2236 = product(t1006, t2235);
-        let t2237 = product(t163, t2195);
-        let t2238: f64 = t148 * t2199;
-        let t2239 = product(t315, t2186);
-        let t2240: f64 = t320 * t2190;
-        let t2241 = product(t1632, t2076);
-        let t2242: f64 = t1154 * t2063;
-        let t2243 = product(t1156, t2070);
-        let t2244: f64 = t2239.plus(t2240);
-        let t2245: f64 = t2241.plus(t2242);
-        let t2246: f64 = t2244 + t2245;
-        let t2247: f64 = t2243.plus(t2246);
-        let t2248 = product(t316, t2247);
-        let t2249 = product(joint1_mx, t15);
-        let t2250: f64 = joint1_my * t16;
-        let t2251: f64 = t2249.plus(t2250);
-        let t2252 = product(t108, t2251);
-        let t2253 = product(joint2_mx, t15);
-        let t2254: f64 = joint2_my * t16;
-        let t2255: f64 = t2253.plus(t2254);
-        let t2256: f64 = t116 * t2255;
-        let t2257 = product(t15, t618);
-        let t2258: f64 = t16 * t625;
-        let t2259: f64 = t2257.plus(t2258);
-        let t2260 = product(zc, t2259);
-        let t2261: f64 = t2252.plus(t2256);
-        let t2262: f64 = t2260.plus(t2261);
-        let t2263: f64 = t7 * t2262;
-        let t2264 = product(t85, t623);
-        let t2265: f64 = t90 * t616;
-        let t2266: f64 = t2264.minus(t2265);
-        let t2267 = product(xc, t2266);
-        let t2268 = product(t79, t2116);
-        let t2269: f64 = t98 * t2120;
-        let t2270: f64 = t2268.plus(t2269);
-        let t2271 = product(t74, t2270);
-        let t2272: f64 = t2237.plus(t2238);
-        let t2273: f64 = t2271.plus(t2272);
-        let t2274: f64 = t2248.plus(t2263);
-        let t2275: f64 = t2267.plus(t2274);
-        let t2276: f64 = t2273 - t2275;
-        let t2277: f64 = t984 * t2276;
-        let t2278: f64 = t2236.minus(t2277);
-        let t2279 = product(t22, t776);
-        let t2280: f64 = t29 * t769;
-        let t2281: f64 = t2279.plus(t2280);
-        let t2282 = product(t769, t2281);
-        let t2283 = product(t783, t2150);
-        let t2284 = product(t1316, t2141);
-        let t2285: f64 = t1310 * 2.0;
-        let t2286: f64 = t2282.added_to(t1302);
-        let t2287: f64 = t2284.plus(t2286);
-        let t2288: f64 = t2283.plus(t2285);
-        let t2289: f64 = t2287 - t2288;
-        let t2290 = product(t15, t2289);
-        let t2291 = product(t776, t2281);
-        let t2292: f64 = t783 * t2145;
-        let t2293 = product(t1309, t2141);
-        let t2294 = product(t1323, 2.0);
-        let t2295: f64 = t2291.plus(t2292);
-        let t2296: f64 = t2293.added_to(t1321);
-        let t2297: f64 = t2294.plus(t2296);
-        let t2298: f64 = t2295 - t2297;
-        let t2299: f64 = t16 * t2298;
-        let t2300: f64 = t2290.minus(t2299);
-        let t2301 = product(t7, t2300);
-        let t2302 = product(t145, t621);
-        let t2303 = product(t154, t628);
-        let t2304 = product(joint3_mass, t2163);
-        let t2305: f64 = joint4_mass * t2168;
-        let t2306: f64 = t2304.plus(t2305);
-        let t2307: f64 = t146 * t2306;
-        let t2308: f64 = t2303.plus(t2307);
-        let t2309: f64 = t2302.subtracted_from(t2308);
-        let t2310: f64 = t1174 * t2309;
-        let t2311: f64 = t2301.minus(t2310);
-        let t2312: f64 = t2278 + t2311;
-        let t2313 = product(t163, t2095);
-        let t2314: f64 = t148 * t2099;
-        let t2315 = product(t15, t1762);
-        let t2316: f64 = t16 * t1760;
-        let t2317: f64 = t2315.plus(t2316);
-        let t2318 = product(xc, t2317);
-        let t2319: f64 = t2313.plus(t2314);
-        let t2320: f64 = t2319 * 2.0;
-        let t2321: f64 = t2318.plus(t2320);
-        let t2322 = product(t7, t2321);
-        let t2323 = product(t315, t2251);
-        let t2324: f64 = t320 * t2255;
-        let t2325: f64 = t2078 * 2.0;
-        let t2326 = product(t1745, t2325);
-        let t2327: f64 = t2081 * 2.0;
-        let t2328: f64 = t1750 * t2327;
-        let t2329: f64 = t2326.plus(t2328);
-        let t2330: f64 = t209 * t312;
-        let t2331 = product(t2329, t2330);
-        let t2332: f64 = t2323.plus(t2324);
-        let t2333: f64 = t2332 * 2.0;
-        let t2334: f64 = t2331.subtracted_from(t2333);
-        let t2335: f64 = t312 * t2334;
-        let t2336: f64 = t2322.minus(t2335);
-        let t2337: f64 = t15 * t75;
-        let t2338: f64 = t482 * t2337;
-        let t2339: f64 = t315 * t2338;
-        let t2340 = product(t278, t2339);
-        let t2341: f64 = t1195 * t2063;
-        let t2342: f64 = t2340.plus(t2341);
-        let t2343: f64 = t320 * t2338;
-        let t2344 = product(t286, t2343);
-        let t2345: f64 = t1202 * t2070;
-        let t2346: f64 = t2344.plus(t2345);
-        let t2347: f64 = t2342 + t2346;
-        let t2348: f64 = t2203 + t2347;
-        let t2349 = product(t2348, 2.0);
-        let t2350: f64 = t2349.added_to(t2336);
-        let t2351 = product(wy, t2350);
-        let t2352 = product(wx, t2137);
-        let t2353 = product(t108, t2067);
-        let t2354: f64 = t116 * t2074;
-        let t2355 = product(t0, t2177);
-        let t2356: f64 = t3 * t2181;
-        let t2357 = product(t131, t2105);
-        let t2358: f64 = t165 * t2195;
-        let t2359 = product(t138, t2108);
-        let t2360 = product(t151, t2199);
-        let t2361: f64 = zc * t2306;
-        let t2362: f64 = -t539;
-        let t2363: f64 = t154 * t2362;
-        let t2364: f64 = t2357.plus(t2358);
-        let t2365: f64 = t2359.plus(t2363);
-        let t2366: f64 = t2364 + t2365;
-        let t2367: f64 = t2360.plus(t2361);
-        let t2368: f64 = t2366 - t2367;
-        let t2369 = product(t146, t2368);
-        let t2370 = product(t85, t624);
-        let t2371: f64 = t90 * t617;
-        let t2372: f64 = t2370.minus(t2371);
-        let t2373 = product(yc, t2372);
-        let t2374 = product(t154, t625);
-        let t2375: f64 = t145 * t618;
-        let t2376: f64 = t2374.minus(t2375);
-        let t2377: f64 = zc * t2376;
-        let t2378 = product(t79, t2215);
-        let t2379: f64 = t98 * t2219;
+        let t2100: f64 = t3 * t2099;
+        let t2101 = product(t15, t618);
+        let t2102: f64 = t16 * t625;
+        let t2103: f64 = t2101.plus(t2102);
+        let t2104 = product(yc, t2103);
+        let t2105: f64 = t2096.plus(t2100);
+        let t2106: f64 = t2104.plus(t2105);
+        let t2107 = product(t7, t2106);
+        let t2108 = product(t154, t624);
+        let t2109: f64 = t145 * t617;
+        let t2110: f64 = t2108.minus(t2109);
+        let t2111: f64 = xc * t2110;
+        let t2112: f64 = t2048.plus(t2052);
+        let t2113: f64 = t2070.plus(t2092);
+        let t2114: f64 = t2107.plus(t2111);
+        let t2115: f64 = t2113 + t2114;
+        let t2116: f64 = t2112 - t2115;
+        let t2117 = product(t1032, t2116);
+        let t2118 = product(t22, t1301);
+        let t2119: f64 = t29 * t1307;
+        let t2120: f64 = t44 - t64;
+        let t2121 = product(t769, t2120);
+        let t2122 = product(t789, 2.0);
+        let t2123: f64 = t2121.added_to(t790);
+        let t2124: f64 = t2122.minus(t2123);
+        let t2125 = product(t769, t2124);
+        let t2126 = product(t776, t2120);
+        let t2127 = product(t770, 2.0);
+        let t2128: f64 = t2127.added_to(t784);
+        let t2129: f64 = t2126.plus(t2128);
+        let t2130: f64 = t776 * t2129;
+        let t2131: f64 = t2125.plus(t2130);
+        let t2132: f64 = t2118.plus(t2119);
+        let t2133: f64 = t2131 + t2132;
+        let t2134: f64 = t6 * t2133;
+        let t2135: f64 = t2117.plus(t2134);
+        let t2136 = product(t22, t776);
+        let t2137: f64 = t29 * t769;
+        let t2138: f64 = t2136.plus(t2137);
+        let t2139 = product(t769, t2138);
+        let t2140 = product(t783, t2129);
+        let t2141 = product(t1307, t2120);
+        let t2142: f64 = t1302 * 2.0;
+        let t2143: f64 = t2139.added_to(t1295);
+        let t2144: f64 = t2141.plus(t2143);
+        let t2145: f64 = t2140.plus(t2142);
+        let t2146: f64 = t2144 - t2145;
+        let t2147 = product(t15, t2146);
+        let t2148 = product(t776, t2138);
+        let t2149: f64 = t783 * t2124;
+        let t2150 = product(t1301, t2120);
+        let t2151 = product(t1314, 2.0);
+        let t2152: f64 = t2148.plus(t2149);
+        let t2153: f64 = t2150.added_to(t1312);
+        let t2154: f64 = t2151.plus(t2153);
+        let t2155: f64 = t2152 - t2154;
+        let t2156: f64 = t16 * t2155;
+        let t2157: f64 = t2147.minus(t2156);
+        let t2158 = product(t7, t2157);
+        let t2159: f64 = t146 * t154;
+        let t2160 = product(t165, t2159);
+        let t2161: f64 = t2160.added_to(t2084);
+        let t2162: f64 = t2161 * 2.0;
+        let t2163: f64 = t165 * t1105;
+        let t2164 = product(t2162, t2163);
+        let t2165 = product(t151, t2159);
+        let t2166: f64 = t2165.subtracted_from(t2087);
+        let t2167: f64 = t2166 * 2.0;
+        let t2168: f64 = t151 * t228;
+        let t2169: f64 = t2167 * t2168;
+        let t2170: f64 = -t2169;
+        let t2171: f64 = joint4_mass * t2170;
+        let t2172: f64 = t2164.plus(t2171);
+        let t2173 = product(joint5_mx, t90);
+        let t2174: f64 = joint5_my * t85;
+        let t2175: f64 = t2173.minus(t2174);
+        let t2176 = product(t95, t2175);
+        let t2177 = product(joint6_mx, t90);
+        let t2178: f64 = joint6_my * t85;
+        let t2179: f64 = t2177.minus(t2178);
+        let t2180: f64 = t105 * t2179;
+        let t2181: f64 = t2176.plus(t2180);
+        let t2182 = product(joint1_mx, t90);
+        let t2183: f64 = joint1_my * t85;
+        let t2184: f64 = t2182.minus(t2183);
+        let t2185 = product(t108, t2184);
+        let t2186 = product(joint2_mx, t90);
+        let t2187: f64 = joint2_my * t85;
+        let t2188: f64 = t2186.minus(t2187);
+        let t2189: f64 = t116 * t2188;
+        let t2190: f64 = t2185.plus(t2189);
+        let t2191 = product(joint3_mx, t90);
+        let t2192: f64 = joint3_my * t85;
+        let t2193: f64 = t2191.minus(t2192);
+        let t2194 = product(zc, t2193);
+        let t2195 = product(joint4_mx, t90);
+        let t2196: f64 = joint4_my * t85;
+        let t2197: f64 = t2195.minus(t2196);
+        let t2198: f64 = zc * t2197;
+        let t2199: f64 = t2194.plus(t2198);
+        let t2200: f64 = t2190 + t2199;
+        let t2201: f64 = t2181 - t2200;
+        let t2202: f64 = t154 * t228;
+        let t2203: f64 = t151 * t2202;
+        let t2204 = product(t160, t2203);
+        let t2205: f64 = t172 * t2047;
+        let t2206: f64 = t2204.minus(t2205);
+        let t2207 = product(t161, t2051);
+        let t2208: f64 = t1747 * t2087;
+        let t2209: f64 = t2207.minus(t2208);
+        let t2210: f64 = t2206 + t2209;
+        let t2211 = product(joint5_mx, t145);
+        let t2212: f64 = joint5_my * t154;
+        let t2213: f64 = t2211.minus(t2212);
+        let t2214 = product(t0, t2213);
+        let t2215 = product(joint6_mx, t145);
+        let t2216: f64 = joint6_my * t154;
+        let t2217: f64 = t2215.minus(t2216);
+        let t2218: f64 = t3 * t2217;
+        let t2219: f64 = t2214.plus(t2218);
+        let t2220 = product(yc, t2056);
+        let t2221: f64 = yc * t2061;
+        let t2222: f64 = t2220.plus(t2221);
+        let t2223: f64 = t165 * t2202;
+        let t2224 = product(t171, t2223);
+        let t2225: f64 = t1742 * t2084;
+        let t2226: f64 = t2224.plus(t2225);
+        let t2227: f64 = t2222 + t2226;
+        let t2228: f64 = t2219 + t2227;
+        let t2229: f64 = t2210 - t2228;
+        let t2230: f64 = t2201 + t2229;
+        let t2231 = product(t2230, 2.0);
+        let t2232: f64 = t2231.added_to(t2172);
+        let t2233: f64 = -t2232;
+        let t2234 = product(t1006, t2233);
+        let t2235 = product(t163, t2193);
+        let t2236: f64 = t148 * t2197;
+        let t2237 = product(t315, t2184);
+        let t2238: f64 = t320 * t2188;
+        let t2239 = product(t1613, t2025);
+        let t2240: f64 = t1091 * t2029;
+        let t2241 = product(t1093, t2034);
+        let t2242: f64 = t2237.plus(t2238);
+        let t2243: f64 = t2239.plus(t2240);
+        let t2244: f64 = t2242 + t2243;
+        let t2245: f64 = t2241.plus(t2244);
+        let t2246 = product(t316, t2245);
+        let t2247 = product(joint1_mx, t15);
+        let t2248: f64 = joint1_my * t16;
+        let t2249: f64 = t2247.plus(t2248);
+        let t2250 = product(t108, t2249);
+        let t2251 = product(joint2_mx, t15);
+        let t2252: f64 = joint2_my * t16;
+        let t2253: f64 = t2251.plus(t2252);
+        let t2254: f64 = t116 * t2253;
+        let t2255 = product(t15, t619);
+        let t2256: f64 = t16 * t626;
+        let t2257: f64 = t2255.plus(t2256);
+        let t2258 = product(zc, t2257);
+        let t2259: f64 = t2250.plus(t2254);
+        let t2260: f64 = t2258.plus(t2259);
+        let t2261: f64 = t7 * t2260;
+        let t2262 = product(t85, t624);
+        let t2263: f64 = t90 * t617;
+        let t2264: f64 = t2262.minus(t2263);
+        let t2265 = product(xc, t2264);
+        let t2266 = product(t79, t2095);
+        let t2267: f64 = t98 * t2099;
+        let t2268: f64 = t2266.plus(t2267);
+        let t2269 = product(t74, t2268);
+        let t2270: f64 = t2235.plus(t2236);
+        let t2271: f64 = t2269.plus(t2270);
+        let t2272: f64 = t2246.plus(t2261);
+        let t2273: f64 = t2265.plus(t2272);
+        let t2274: f64 = t2271 - t2273;
+        let t2275: f64 = t984 * t2274;
+        let t2276: f64 = t2234.minus(t2275);
+        let t2277: f64 = t2158.plus(t2276);
+        let t2278 = product(t145, t622);
+        let t2279 = product(t154, t629);
+        let t2280 = product(joint3_mass, t2161);
+        let t2281: f64 = joint4_mass * t2166;
+        let t2282: f64 = t2280.plus(t2281);
+        let t2283: f64 = t146 * t2282;
+        let t2284: f64 = t2279.plus(t2283);
+        let t2285: f64 = t2278.subtracted_from(t2284);
+        let t2286 = product(t1111, t2285);
+        let t2287 = product(t90, t622);
+        let t2288: f64 = t85 * t629;
+        let t2289: f64 = t2287.minus(t2288);
+        let t2290: f64 = t1124 * t2289;
+        let t2291: f64 = t2286.plus(t2290);
+        let t2292: f64 = t2277 - t2291;
+        let t2293 = product(t163, t2074);
+        let t2294: f64 = t148 * t2078;
+        let t2295 = product(t15, t1681);
+        let t2296: f64 = t16 * t1679;
+        let t2297: f64 = t2295.plus(t2296);
+        let t2298 = product(xc, t2297);
+        let t2299: f64 = t2293.plus(t2294);
+        let t2300: f64 = t2299 * 2.0;
+        let t2301: f64 = t2298.plus(t2300);
+        let t2302 = product(t7, t2301);
+        let t2303 = product(t315, t2249);
+        let t2304: f64 = t320 * t2253;
+        let t2305: f64 = t2030 * 2.0;
+        let t2306 = product(t1664, t2305);
+        let t2307: f64 = t2035 * 2.0;
+        let t2308: f64 = t1669 * t2307;
+        let t2309: f64 = t2306.plus(t2308);
+        let t2310: f64 = t209 * t312;
+        let t2311 = product(t2309, t2310);
+        let t2312: f64 = t2303.plus(t2304);
+        let t2313: f64 = t2312 * 2.0;
+        let t2314: f64 = t2311.subtracted_from(t2313);
+        let t2315: f64 = t312 * t2314;
+        let t2316: f64 = t2302.minus(t2315);
+        let t2317: f64 = t15 * t75;
+        let t2318: f64 = t482 * t2317;
+        let t2319: f64 = t315 * t2318;
+        let t2320 = product(t278, t2319);
+        let t2321: f64 = t1184 * t2029;
+        let t2322: f64 = t2320.plus(t2321);
+        let t2323: f64 = t320 * t2318;
+        let t2324 = product(t286, t2323);
+        let t2325: f64 = t1191 * t2034;
+        let t2326: f64 = t2324.plus(t2325);
+        let t2327: f64 = t2322 + t2326;
+        let t2328: f64 = t2201 + t2327;
+        let t2329 = product(t2328, 2.0);
+        let t2330: f64 = t2329.added_to(t2316);
+        let t2331 = product(wy, t2330);
+        let t2332 = product(wx, t2116);
+        let t2333 = product(t108, t2056);
+        let t2334: f64 = t116 * t2061;
+        let t2335 = product(t0, t2175);
+        let t2336: f64 = t3 * t2179;
+        let t2337 = product(t131, t2084);
+        let t2338: f64 = t165 * t2193;
+        let t2339 = product(t138, t2087);
+        let t2340 = product(t151, t2197);
+        let t2341: f64 = zc * t2282;
+        let t2342: f64 = -t539;
+        let t2343: f64 = t154 * t2342;
+        let t2344: f64 = t2337.plus(t2338);
+        let t2345: f64 = t2339.plus(t2343);
+        let t2346: f64 = t2344 + t2345;
+        let t2347: f64 = t2340.plus(t2341);
+        let t2348: f64 = t2346 - t2347;
+        let t2349 = product(t146, t2348);
+        let t2350 = product(t85, t625);
+        let t2351: f64 = t90 * t618;
+        let t2352: f64 = t2350.minus(t2351);
+        let t2353 = product(yc, t2352);
+        let t2354 = product(t154, t626);
+        let t2355: f64 = t145 * t619;
+        let t2356: f64 = t2354.minus(t2355);
+        let t2357: f64 = zc * t2356;
+        let t2358 = product(t79, t2213);
+        let t2359: f64 = t98 * t2217;
+        let t2360: f64 = t2358.plus(t2359);
+        let t2361 = product(t94, t2360);
+        let t2362: f64 = t2333.plus(t2334);
+        let t2363: f64 = t2335.plus(t2336);
+        let t2364: f64 = t2362 + t2363;
+        let t2365: f64 = t2349.plus(t2364);
+        let t2366: f64 = t2353.plus(t2357);
+        let t2367: f64 = t2361.plus(t2366);
+        let t2368: f64 = t2365 - t2367;
+        let t2369: f64 = wz * t2368;
+        let t2370: f64 = t2332.plus(t2369);
+        let t2371: f64 = t2331.plus(t2370);
+        let t2372 = product(wz, t2371);
+        let t2373: f64 = t2229 + t2327;
+        let t2374 = product(t2373, 2.0);
+        let t2375: f64 = t2172 + t2316;
+        let t2376: f64 = t2374.plus(t2375);
+        let t2377 = product(wz, t2376);
+        let t2378 = product(wx, t2274);
+        let t2379: f64 = wy * t2368;
         let t2380: f64 = t2378.plus(t2379);
-        let t2381 = product(t94, t2380);
-        let t2382: f64 = t2353.plus(t2354);
-        let t2383: f64 = t2355.plus(t2356);
-        let t2384: f64 = t2382 + t2383;
-        let t2385: f64 = t2369.plus(t2384);
-        let t2386: f64 = t2373.plus(t2377);
-        let t2387: f64 = t2381.plus(t2386);
-        let t2388: f64 = t2385 - t2387;
-        let t2389: f64 = wz * t2388;
-        let t2390: f64 = t2352.plus(t2389);
-        let t2391: f64 = t2351.plus(t2390);
-        let t2392 = product(wz, t2391);
-        let t2393: f64 = t2231 + t2347;
-        let t2394 = product(t2393, 2.0);
-        let t2395: f64 = t2174 + t2336;
-        let t2396: f64 = t2394.plus(t2395);
+        let t2381: f64 = t2377.plus(t2380);
+        let t2382: f64 = wy * t2381;
+        let t2383: f64 = t2372.minus(t2382);
+        let t2384: f64 = t2292 + t2383;
+        let t2385: f64 = t2135 + t2384;
+        let t2386: f64 = -t2385;
+        let t2387: f64 = t714 * t2386;
+        let t2388 = product(t513, t2386);
+        let t2389 = product(wx, t2381);
+        let t2390: f64 = t1032 * t2330;
+        let t2391: f64 = t2389.plus(t2390);
+        let t2392 = product(wx, t2233);
+        let t2393 = product(wy, t2116);
+        let t2394: f64 = wz * t2274;
+        let t2395: f64 = t2393.plus(t2394);
+        let t2396: f64 = t2392.minus(t2395);
         let t2397 = product(wz, t2396);
-        let t2398 = product(wx, t2276);
-        let t2399: f64 = wy * t2388;
-        let t2400: f64 = t2398.plus(t2399);
-        let t2401: f64 = t2397.plus(t2400);
-        let t2402: f64 = wy * t2401;
-        let t2403: f64 = t2392.minus(t2402);
-        let t2404: f64 = t2312 + t2403;
-        let t2405: f64 = t2160 + t2404;
-        let t2406: f64 = t2138.plus(t2405);
-        let t2407: f64 = -t2406;
-        let t2408 = product(t634, t2407);
-        let t2409 = product(wx, t2391);
-        let t2410: f64 = t984 * t2396;
-        let t2411: f64 = t2409.plus(t2410);
-        let t2412 = product(t316, t2083);
-        let t2413 = product(t15, t621);
-        let t2414: f64 = t16 * t628;
-        let t2415: f64 = t2413.plus(t2414);
-        let t2416: f64 = t7 * t2415;
-        let t2417: f64 = t2412.minus(t2416);
-        let t2418 = product(t1282, t2417);
-        let t2419: f64 = t1331 * t2309;
+        let t2398: f64 = t1006 * t2116;
+        let t2399: f64 = t2397.minus(t2398);
+        let t2400 = product(t145, t2146);
+        let t2401: f64 = t2400.subtracted_from(t2399);
+        let t2402 = product(t1326, t2289);
+        let t2403: f64 = t984 * t2368;
+        let t2404: f64 = t2402.minus(t2403);
+        let t2405 = product(t1111, t2043);
+        let t2406: f64 = t154 * t2155;
+        let t2407: f64 = t2405.plus(t2406);
+        let t2408: f64 = t2404 - t2407;
+        let t2409: f64 = t2401 + t2408;
+        let t2410 = product(t77, t2133);
+        let t2411: f64 = t2410.subtracted_from(t2409);
+        let t2412: f64 = t2391 + t2411;
+        let t2413: f64 = t2388.plus(t2412);
+        let t2414 = product(t1014, t2413);
+        let t2415 = product(t85, t2155);
+        let t2416: f64 = t90 * t2146;
+        let t2417: f64 = t2415.plus(t2416);
+        let t2418 = product(wy, t2396);
+        let t2419: f64 = t1006 * t2274;
         let t2420: f64 = t2418.plus(t2419);
-        let t2421: f64 = t2411 - t2420;
-        let t2422 = product(wx, t2235);
-        let t2423 = product(wy, t2137);
-        let t2424: f64 = wz * t2276;
-        let t2425: f64 = t2423.plus(t2424);
-        let t2426: f64 = t2422.minus(t2425);
-        let t2427 = product(wy, t2426);
-        let t2428: f64 = t1006 * t2276;
-        let t2429: f64 = t2427.plus(t2428);
-        let t2430 = product(t85, t2298);
-        let t2431: f64 = t90 * t2289;
-        let t2432: f64 = t2430.plus(t2431);
-        let t2433: f64 = t2429 + t2432;
-        let t2434 = product(t1000, t2388);
-        let t2435 = product(t513, t2407);
-        let t2436 = product(t1331, t2158);
-        let t2437: f64 = t77 * t2154;
-        let t2438: f64 = t2436.minus(t2437);
-        let t2439 = product(wz, t2426);
-        let t2440: f64 = t1006 * t2137;
-        let t2441: f64 = t2439.minus(t2440);
-        let t2442 = product(t984, t2388);
-        let t2443: f64 = t1174 * t2417;
-        let t2444: f64 = t2442.plus(t2443);
-        let t2445: f64 = t2441 - t2444;
-        let t2446 = product(t154, t2298);
-        let t2447: f64 = t145 * t2289;
-        let t2448: f64 = t2446.plus(t2447);
-        let t2449: f64 = t2445 - t2448;
-        let t2450 = product(wx, t2401);
-        let t2451: f64 = t1055 * t2350;
-        let t2452: f64 = t2450.plus(t2451);
-        let t2453: f64 = t2449 + t2452;
-        let t2454: f64 = t2438 + t2453;
-        let t2455: f64 = t2435.plus(t2454);
-        let t2456: f64 = t566 * t2455;
-        let t2457: f64 = t2434.plus(t2456);
-        let t2458 = product(t509, t2457);
-        let t2459: f64 = t2458.subtracted_from(t2433);
-        let t2460 = product(t248, t2154);
-        let t2461: f64 = t1290 * t2407;
-        let t2462: f64 = t2460.plus(t2461);
-        let t2463: f64 = t2459 - t2462;
-        let t2464: f64 = t2421 + t2463;
-        let t2465 = product(t1396, t2464);
-        let t2466 = product(wx, t2309);
-        let t2467: f64 = wy * t2417;
+        let t2421 = product(t1124, t2043);
+        let t2422: f64 = t1326 * t2285;
+        let t2423: f64 = t2421.plus(t2422);
+        let t2424: f64 = t2420 - t2423;
+        let t2425: f64 = t2417 + t2424;
+        let t2426 = product(wx, t2371);
+        let t2427: f64 = t1032 * t2368;
+        let t2428: f64 = t2426.minus(t2427);
+        let t2429: f64 = t2425 + t2428;
+        let t2430 = product(t984, t2376);
+        let t2431: f64 = t248 * t2133;
+        let t2432: f64 = t2430.minus(t2431);
+        let t2433 = product(t1352, t2386);
+        let t2434: f64 = t720 * t2413;
+        let t2435: f64 = t2433.plus(t2434);
+        let t2436: f64 = t2432 - t2435;
+        let t2437: f64 = t2429 + t2436;
+        let t2438: f64 = t1381 * t2437;
+        let t2439 = product(t1032, t2289);
+        let t2440: f64 = t635 * t2413;
+        let t2441: f64 = t2439.plus(t2440);
+        let t2442 = product(t697, t2437);
+        let t2443 = product(wx, t2285);
+        let t2444: f64 = wy * t2043;
+        let t2445: f64 = t2443.plus(t2444);
+        let t2446 = product(wy, t2445);
+        let t2447 = product(wx, t2289);
+        let t2448: f64 = wz * t2043;
+        let t2449: f64 = t2447.subtracted_from(t2448);
+        let t2450: f64 = wz * t2449;
+        let t2451: f64 = t2446.plus(t2450);
+        let t2452 = product(t984, t2285);
+        let t2453: f64 = t2452.subtracted_from(t2451);
+        let t2454: f64 = t2442.plus(t2453);
+        let t2455: f64 = t2441 + t2454;
+        let t2456 = product(t1404, t2455);
+        let t2457 = product(t984, t2043);
+        let t2458: f64 = t1006 * t2289;
+        let t2459: f64 = t2457.minus(t2458);
+        let t2460 = product(t674, t2413);
+        let t2461: f64 = t2460.subtracted_from(t2385);
+        let t2462 = product(t677, t2461);
+        let t2463 = product(wy, t2289);
+        let t2464: f64 = wz * t2285;
+        let t2465: f64 = t2463.plus(t2464);
+        let t2466 = product(wz, t2465);
+        let t2467: f64 = wx * t2445;
         let t2468: f64 = t2466.plus(t2467);
-        let t2469 = product(wy, t2468);
-        let t2470 = product(wx, t2158);
-        let t2471: f64 = wz * t2417;
-        let t2472: f64 = t2470.subtracted_from(t2471);
-        let t2473: f64 = wz * t2472;
-        let t2474: f64 = t2469.plus(t2473);
-        let t2475 = product(t984, t2309);
-        let t2476: f64 = t2475.subtracted_from(t2474);
-        let t2477 = product(t701, t2464);
-        let t2478 = product(t1000, t2158);
-        let t2479: f64 = t680 * t2455;
-        let t2480: f64 = t2478.plus(t2479);
-        let t2481: f64 = t509 * t2480;
-        let t2482: f64 = t2477.plus(t2481);
-        let t2483: f64 = t2476 + t2482;
-        let t2484: f64 = t1007 * t2483;
-        let t2485 = product(t984, t2417);
-        let t2486: f64 = t1006 * t2158;
-        let t2487: f64 = t2485.minus(t2486);
-        let t2488: f64 = t1000 * t2137;
-        let t2489 = product(t459, t2455);
-        let t2490: f64 = t2489.subtracted_from(t2488);
-        let t2491 = product(t509, t2490);
-        let t2492: f64 = t2491.added_to(t2405);
-        let t2493 = product(t711, t2492);
-        let t2494 = product(wy, t2158);
-        let t2495: f64 = wz * t2309;
-        let t2496: f64 = t2494.plus(t2495);
-        let t2497 = product(wz, t2496);
-        let t2498: f64 = wx * t2468;
-        let t2499: f64 = t2497.plus(t2498);
-        let t2500: f64 = t2493.plus(t2499);
-        let t2501: f64 = t2487 + t2500;
-        let t2502 = product(t734, t2464);
-        let t2503: f64 = t736 * t2483;
-        let t2504: f64 = t2502.plus(t2503);
-        let t2505: f64 = t2501 - t2504;
-        let t2506 = product(t1010, t2505);
-        let t2507 = product(t1000, t2417);
-        let t2508: f64 = t655 * t2455;
-        let t2509: f64 = t2507.minus(t2508);
-        let t2510: f64 = t509 * t2509;
-        let t2511 = product(wx, t2472);
-        let t2512: f64 = wy * t2496;
-        let t2513: f64 = t2511.minus(t2512);
-        let t2514 = product(t1006, t2309);
-        let t2515: f64 = t2514.subtracted_from(t2513);
-        let t2516: f64 = t2408.plus(t2510);
-        let t2517: f64 = t2515 + t2516;
-        let t2518: f64 = t2465.plus(t2484);
-        let t2519: f64 = t2506.plus(t2518);
-        let t2520: f64 = t2517 - t2519;
-        let t2521 = product(t967, t2520);
-        let t2522: f64 = t2521.subtracted_from(t2505);
-        let t2523: f64 = t993 * t2522;
-        let t2524 = product(t970, t2522);
-        let t2525: f64 = t972 * t2520;
-        let t2526: f64 = t2524.plus(t2525);
-        let t2527: f64 = t2483 - t2526;
-        let t2528 = product(t976, t2527);
-        let t2529 = product(t978, t2522);
-        let t2530: f64 = t965 * t2520;
-        let t2531: f64 = t2528.added_to(t2464);
-        let t2532: f64 = t2529.plus(t2530);
-        let t2533: f64 = t2531 - t2532;
-        let t2534 = product(t2045, t2533);
-        let t2535 = product(t986, t2520);
-        let t2536 = product(t989, t2527);
-        let t2537 = product(t2032, t2533);
-        let t2538: f64 = t991 * t2520;
-        let t2539: f64 = t2406 + t2523;
-        let t2540 = product(t513, t2539);
-        let t2541: f64 = t2536.added_to(t2454);
-        let t2542: f64 = t2537.plus(t2538);
-        let t2543: f64 = t2540.plus(t2542);
-        let t2544: f64 = t2541 - t2543;
-        let t2545 = product(t459, t2544);
-        let t2546: f64 = t2545.subtracted_from(t2488);
-        let t2547 = product(t509, t2546);
-        let t2548: f64 = t2534.added_to(t2523);
-        let t2549: f64 = t2547.added_to(t2405);
-        let t2550: f64 = t2548 + t2549;
-        let t2551: f64 = t2535.subtracted_from(t2550);
-        let t2552: f64 = t247 * t2551;
-        let t2553: f64 = t75 * t1571;
-        let t2554: f64 = t1282 * t2553;
-        let t2555 = product(t693, t2554);
-        let t2556: f64 = t1174 * t1667;
-        let t2557 = product(t691, t2556);
-        let t2558: f64 = t1146 * 2.0;
-        let t2559: f64 = t6 * t208;
-        let t2560: f64 = t209 * t2559;
-        let t2561 = product(t2558, t2560);
-        let t2562: f64 = t602 * 2.0;
-        let t2563: f64 = t1667 * t2562;
-        let t2564 = product(t171, t1667);
-        let t2565: f64 = t160 * t1667;
-        let t2566: f64 = t2564.plus(t2565);
-        let t2567 = product(t93, t2553);
-        let t2568: f64 = t104 * t2553;
-        let t2569: f64 = t2567.plus(t2568);
-        let t2570: f64 = t2566 - t2569;
-        let t2571 = product(t2570, 2.0);
-        let t2572: f64 = t2561.plus(t2563);
-        let t2573: f64 = t2571.minus(t2572);
-        let t2574: f64 = t1006 * t2573;
-        let t2575: f64 = t2557.minus(t2574);
-        let t2576: f64 = t131 + t138;
-        let t2577: f64 = t296 + t304;
-        let t2578: f64 = t2577 - t641;
-        let t2579 = product(t2553, t2578);
-        let t2580: f64 = t2579.subtracted_from(t2576);
-        let t2581: f64 = t93 + t104;
-        let t2582: f64 = t2581 - t672;
-        let t2583: f64 = t2580 + t2582;
-        let t2584: f64 = t2583 - t706;
-        let t2585 = product(t984, t2584);
-        let t2586: f64 = t149 * t228;
-        let t2587 = product(t165, t2586);
-        let t2588: f64 = t2587.added_to(t163);
-        let t2589: f64 = t2588 * 2.0;
-        let t2590 = product(joint3_mass, t2589);
-        let t2591 = product(t151, t2586);
-        let t2592: f64 = t2591.subtracted_from(t148);
-        let t2593: f64 = t2592 * 2.0;
-        let t2594: f64 = joint4_mass * t2593;
-        let t2595: f64 = t2590.plus(t2594);
-        let t2596: f64 = t261 + t269;
-        let t2597: f64 = t2577 + t2596;
-        let t2598: f64 = t2597 - t641;
-        let t2599: f64 = t2566 + t2598;
-        let t2600: f64 = t2599 * 2.0;
-        let t2601: f64 = t2600 - t2595;
-        let t2602 = product(wz, t2601);
-        let t2603 = product(wx, t2583);
-        let t2604: f64 = t196 + t203;
-        let t2605: f64 = t2604 - t614;
-        let t2606 = product(t2553, t2605);
-        let t2607: f64 = t2576 - t668;
-        let t2608: f64 = t1667 * t2607;
-        let t2609: f64 = t2606.minus(t2608);
-        let t2610: f64 = wy * t2609;
-        let t2611: f64 = t2602.plus(t2610);
-        let t2612: f64 = t2603.minus(t2611);
-        let t2613 = product(wy, t2612);
-        let t2614: f64 = t2597 - t2569;
-        let t2615: f64 = t163 * 2.0;
-        let t2616 = product(joint3_mass, t2615);
-        let t2617: f64 = t148 * 2.0;
-        let t2618: f64 = joint4_mass * t2617;
-        let t2619: f64 = t2616.plus(t2618);
-        let t2620 = product(t79, t2560);
-        let t2621: f64 = t2620.added_to(xc);
-        let t2622: f64 = t2621 * 2.0;
-        let t2623 = product(joint5_mass, t2622);
-        let t2624 = product(t98, t2560);
-        let t2625: f64 = t2624.added_to(xc);
-        let t2626: f64 = t2625 * 2.0;
-        let t2627: f64 = joint6_mass * t2626;
-        let t2628: f64 = t2623.plus(t2627);
-        let t2629: f64 = t2619 + t2628;
-        let t2630: f64 = t2614 * 2.0;
-        let t2631: f64 = t2630 - t2629;
-        let t2632 = product(wy, t2631);
-        let t2633: f64 = t2596 - t651;
-        let t2634 = product(t1667, t2633);
-        let t2635: f64 = t2634.minus(t602);
-        let t2636: f64 = t160 + t171;
-        let t2637: f64 = t2605 + t2636;
-        let t2638: f64 = t2635 + t2637;
-        let t2639 = product(wx, t2638);
-        let t2640: f64 = wz * t2609;
-        let t2641: f64 = t2632.plus(t2640);
-        let t2642: f64 = t2639.minus(t2641);
-        let t2643: f64 = wz * t2642;
-        let t2644: f64 = t2613.minus(t2643);
-        let t2645: f64 = t2585.plus(t2644);
-        let t2646: f64 = t2575 + t2645;
-        let t2647: f64 = t2555.plus(t2646);
-        let t2648: f64 = t2638 - t409;
-        let t2649 = product(t1055, t2648);
-        let t2650: f64 = t2649.subtracted_from(t2647);
-        let t2651 = product(t634, t2650);
-        let t2652: f64 = t163 * t984;
-        let t2653 = product(zc, t1006);
-        let t2654: f64 = t2653.subtracted_from(t799);
-        let t2655: f64 = t2654 - t1281;
-        let t2656: f64 = t2652 + t2655;
-        let t2657 = product(rod3_mass, t2656);
-        let t2658: f64 = t148 * t984;
-        let t2659: f64 = t2655 + t2658;
-        let t2660: f64 = rod4_mass * t2659;
-        let t2661: f64 = t2657.plus(t2660);
-        let t2662: f64 = t801 + t2661;
-        let t2663 = product(wx, t2642);
-        let t2664 = product(wx, t2573);
-        let t2665 = product(wy, t2638);
-        let t2666: f64 = wz * t2583;
-        let t2667: f64 = t2665.plus(t2666);
-        let t2668: f64 = t2664.minus(t2667);
-        let t2669: f64 = wy * t2668;
-        let t2670: f64 = t2663.plus(t2669);
-        let t2671 = product(t1006, t2583);
-        let t2672: f64 = t252 + t2595;
-        let t2673: f64 = t2600 - t2672;
-        let t2674: f64 = t984 * t2673;
-        let t2675: f64 = t2671.minus(t2674);
-        let t2676: f64 = t2670 + t2675;
-        let t2677: f64 = t2662 + t2676;
-        let t2678: f64 = t691 + t693;
-        let t2679 = product(t1282, t2678);
-        let t2680: f64 = t1331 * t1667;
-        let t2681: f64 = t691 * t2680;
-        let t2682: f64 = t2679.minus(t2681);
-        let t2683 = product(t1000, t2609);
-        let t2684 = product(t513, t2650);
-        let t2685: f64 = t1331 * t2553;
-        let t2686 = product(t693, t2685);
-        let t2687: f64 = t636 + t2629;
-        let t2688: f64 = t2630 - t2687;
-        let t2689: f64 = t1055 * t2688;
-        let t2690: f64 = t2686.minus(t2689);
-        let t2691: f64 = t0 * t1006;
-        let t2692: f64 = xc * t509;
-        let t2693 = product(t1000, t2692);
-        let t2694: f64 = t809 - t1030;
-        let t2695: f64 = t2693.plus(t2694);
-        let t2696: f64 = t2691 + t2695;
-        let t2697 = product(rod5_mass, t2696);
-        let t2698: f64 = t3 * t1006;
-        let t2699: f64 = t2695 + t2698;
-        let t2700: f64 = rod6_mass * t2699;
-        let t2701: f64 = t2697.plus(t2700);
-        let t2702: f64 = t859 + t2701;
-        let t2703 = product(t984, t2609);
-        let t2704: f64 = t1006 * t2638;
-        let t2705: f64 = t2703.minus(t2704);
-        let t2706 = product(t1174, t2678);
-        let t2707 = product(wz, t2668);
-        let t2708: f64 = wx * t2612;
-        let t2709: f64 = t2707.plus(t2708);
-        let t2710: f64 = t2706.plus(t2709);
-        let t2711: f64 = t2705 + t2710;
-        let t2712: f64 = t2702 + t2711;
-        let t2713: f64 = t2690 + t2712;
-        let t2714: f64 = t2684.plus(t2713);
-        let t2715: f64 = t566 * t2714;
-        let t2716: f64 = t2683.minus(t2715);
-        let t2717 = product(t509, t2716);
-        let t2718: f64 = t1290 * t2650;
-        let t2719: f64 = t2717.minus(t2718);
-        let t2720: f64 = t2682 + t2719;
-        let t2721: f64 = t2677 + t2720;
-        let t2722 = product(t1396, t2721);
-        let t2723 = product(wy, t2678);
-        let t2724: f64 = t146 * t772;
-        let t2725: f64 = t691 * t2724;
-        let t2726: f64 = t2723.subtracted_from(t2725);
-        let t2727 = product(wy, t2726);
-        let t2728 = product(wz, t2678);
-        let t2729: f64 = t74 * t778;
-        let t2730: f64 = t75 * t2729;
-        let t2731: f64 = t693 * t2730;
-        let t2732: f64 = t2728.plus(t2731);
-        let t2733: f64 = wz * t2732;
-        let t2734: f64 = t2727.minus(t2733);
-        let t2735: f64 = t984 * t1667;
-        let t2736 = product(t691, t2735);
-        let t2737: f64 = t2736.subtracted_from(t2734);
-        let t2738 = product(t701, t2721);
-        let t2739: f64 = t1000 * t2553;
-        let t2740 = product(t693, t2739);
-        let t2741: f64 = t680 * t2714;
-        let t2742: f64 = t2740.plus(t2741);
-        let t2743: f64 = t509 * t2742;
-        let t2744: f64 = t2738.plus(t2743);
-        let t2745: f64 = t2737 + t2744;
-        let t2746: f64 = t1007 * t2745;
-        let t2747: f64 = wy * t6;
-        let t2748: f64 = t74 * t2747;
-        let t2749: f64 = t75 * t2748;
-        let t2750 = product(t693, t2749);
-        let t2751: f64 = wz * t15;
-        let t2752: f64 = t7 * t2751;
-        let t2753: f64 = t146 * t2752;
-        let t2754: f64 = t691 * t2753;
-        let t2755: f64 = t2750.plus(t2754);
-        let t2756 = product(wz, t2755);
-        let t2757: f64 = wx * t2726;
-        let t2758: f64 = t2756.plus(t2757);
-        let t2759: f64 = t1000 * t2648;
-        let t2760 = product(t459, t2714);
-        let t2761: f64 = t2760.subtracted_from(t2759);
-        let t2762 = product(t509, t2761);
-        let t2763: f64 = t2762.subtracted_from(t2647);
-        let t2764 = product(t711, t2763);
-        let t2765: f64 = t2764.subtracted_from(t2758);
-        let t2766: f64 = t1006 * t2553;
-        let t2767 = product(t693, t2766);
-        let t2768: f64 = t36 + t2678;
-        let t2769: f64 = t984 * t2768;
-        let t2770: f64 = t2767.plus(t2769);
-        let t2771: f64 = t2765 - t2770;
-        let t2772 = product(t734, t2721);
-        let t2773: f64 = t736 * t2745;
-        let t2774: f64 = t2772.plus(t2773);
-        let t2775: f64 = t2771 - t2774;
-        let t2776 = product(t1010, t2775);
-        let t2777 = product(t655, t2714);
-        let t2778: f64 = t463 + t2678;
-        let t2779: f64 = t1000 * t2778;
-        let t2780: f64 = t2777.plus(t2779);
-        let t2781: f64 = t509 * t2780;
-        let t2782: f64 = t1006 * t1667;
-        let t2783 = product(t691, t2782);
-        let t2784 = product(wx, t2732);
-        let t2785: f64 = wy * t2755;
+        let t2469: f64 = t2462.plus(t2468);
+        let t2470: f64 = t2459 + t2469;
+        let t2471 = product(t723, t2437);
+        let t2472: f64 = t728 * t2455;
+        let t2473: f64 = t2471.plus(t2472);
+        let t2474: f64 = t2470 - t2473;
+        let t2475: f64 = t1424 * t2474;
+        let t2476 = product(wx, t2449);
+        let t2477: f64 = wy * t2465;
+        let t2478: f64 = t2476.minus(t2477);
+        let t2479 = product(t1006, t2285);
+        let t2480: f64 = t2479.subtracted_from(t2478);
+        let t2481: f64 = t2044.plus(t2387);
+        let t2482: f64 = t2480 + t2481;
+        let t2483: f64 = t2414.plus(t2438);
+        let t2484: f64 = t2456.plus(t2475);
+        let t2485: f64 = t2483 + t2484;
+        let t2486: f64 = t2482 - t2485;
+        let t2487 = product(t965, t2486);
+        let t2488: f64 = t2487.subtracted_from(t2474);
+        let t2489 = product(t968, t2488);
+        let t2490: f64 = t970 * t2486;
+        let t2491: f64 = t2489.plus(t2490);
+        let t2492: f64 = t2455 - t2491;
+        let t2493 = product(t989, t2492);
+        let t2494 = product(t974, t2492);
+        let t2495 = product(t976, t2488);
+        let t2496: f64 = t978 * t2486;
+        let t2497: f64 = t2494.added_to(t2437);
+        let t2498: f64 = t2495.plus(t2496);
+        let t2499: f64 = t2497 - t2498;
+        let t2500 = product(t2004, t2499);
+        let t2501: f64 = t991 * t2486;
+        let t2502 = product(t993, t2488);
+        let t2503: f64 = t2502.added_to(t2385);
+        let t2504 = product(t513, t2503);
+        let t2505: f64 = t2493.added_to(t2412);
+        let t2506: f64 = t2500.plus(t2501);
+        let t2507: f64 = t2504.plus(t2506);
+        let t2508: f64 = t2505 - t2507;
+        let t2509 = product(t674, t2508);
+        let t2510 = product(t2017, t2499);
+        let t2511: f64 = t986 * t2486;
+        let t2512: f64 = t2510.added_to(t2503);
+        let t2513: f64 = t2509.plus(t2511);
+        let t2514: f64 = t2512 - t2513;
+        let t2515: f64 = t247 * t2514;
+        let t2516: f64 = t75 * t1808;
+        let t2517: f64 = t1124 * t2516;
+        let t2518 = product(t661, t2517);
+        let t2519: f64 = t131 + t138;
+        let t2520: f64 = t296 + t304;
+        let t2521: f64 = t2520 - t682;
+        let t2522 = product(t2516, t2521);
+        let t2523: f64 = t2522.subtracted_from(t2519);
+        let t2524: f64 = t93 + t104;
+        let t2525: f64 = t2524 - t608;
+        let t2526: f64 = t2523 + t2525;
+        let t2527: f64 = t2526 - t668;
+        let t2528: f64 = t984 * t2527;
+        let t2529: f64 = t2518.plus(t2528);
+        let t2530: f64 = t149 * t228;
+        let t2531 = product(t165, t2530);
+        let t2532: f64 = t2531.added_to(t163);
+        let t2533: f64 = t2532 * 2.0;
+        let t2534 = product(joint3_mass, t2533);
+        let t2535 = product(t151, t2530);
+        let t2536: f64 = t2535.subtracted_from(t148);
+        let t2537: f64 = t2536 * 2.0;
+        let t2538: f64 = joint4_mass * t2537;
+        let t2539: f64 = t2534.plus(t2538);
+        let t2540 = product(t171, t1640);
+        let t2541: f64 = t160 * t1640;
+        let t2542: f64 = t2540.plus(t2541);
+        let t2543: f64 = t261 + t269;
+        let t2544: f64 = t2520 + t2543;
+        let t2545: f64 = t2544 - t682;
+        let t2546: f64 = t2542 + t2545;
+        let t2547: f64 = t2546 * 2.0;
+        let t2548: f64 = t2547 - t2539;
+        let t2549 = product(wz, t2548);
+        let t2550 = product(wx, t2526);
+        let t2551: f64 = t196 + t203;
+        let t2552: f64 = t2551 - t645;
+        let t2553 = product(t2516, t2552);
+        let t2554: f64 = t2519 - t604;
+        let t2555: f64 = t1640 * t2554;
+        let t2556: f64 = t2553.minus(t2555);
+        let t2557: f64 = wy * t2556;
+        let t2558: f64 = t2549.plus(t2557);
+        let t2559: f64 = t2550.minus(t2558);
+        let t2560 = product(wy, t2559);
+        let t2561 = product(t93, t2516);
+        let t2562: f64 = t104 * t2516;
+        let t2563: f64 = t2561.plus(t2562);
+        let t2564: f64 = t2544 - t2563;
+        let t2565: f64 = t163 * 2.0;
+        let t2566 = product(joint3_mass, t2565);
+        let t2567: f64 = t148 * 2.0;
+        let t2568: f64 = joint4_mass * t2567;
+        let t2569: f64 = t2566.plus(t2568);
+        let t2570: f64 = t6 * t208;
+        let t2571: f64 = t209 * t2570;
+        let t2572 = product(t79, t2571);
+        let t2573: f64 = t2572.added_to(xc);
+        let t2574: f64 = t2573 * 2.0;
+        let t2575 = product(joint5_mass, t2574);
+        let t2576 = product(t98, t2571);
+        let t2577: f64 = t2576.added_to(xc);
+        let t2578: f64 = t2577 * 2.0;
+        let t2579: f64 = joint6_mass * t2578;
+        let t2580: f64 = t2575.plus(t2579);
+        let t2581: f64 = t2569 + t2580;
+        let t2582: f64 = t2564 * 2.0;
+        let t2583: f64 = t2582 - t2581;
+        let t2584 = product(wy, t2583);
+        let t2585: f64 = t2543 - t692;
+        let t2586 = product(t1640, t2585);
+        let t2587: f64 = t2586.minus(t639);
+        let t2588: f64 = t160 + t171;
+        let t2589: f64 = t2552 + t2588;
+        let t2590: f64 = t2587 + t2589;
+        let t2591 = product(wx, t2590);
+        let t2592: f64 = wz * t2556;
+        let t2593: f64 = t2584.plus(t2592);
+        let t2594: f64 = t2591.minus(t2593);
+        let t2595: f64 = wz * t2594;
+        let t2596: f64 = t2560.minus(t2595);
+        let t2597: f64 = t1111 * t1640;
+        let t2598 = product(t659, t2597);
+        let t2599: f64 = t1083 * 2.0;
+        let t2600 = product(t2571, t2599);
+        let t2601: f64 = t639 * 2.0;
+        let t2602: f64 = t1640 * t2601;
+        let t2603: f64 = t2542 - t2563;
+        let t2604 = product(t2603, 2.0);
+        let t2605: f64 = t2600.plus(t2602);
+        let t2606: f64 = t2604.minus(t2605);
+        let t2607: f64 = t1006 * t2606;
+        let t2608: f64 = t2598.minus(t2607);
+        let t2609: f64 = t2596 + t2608;
+        let t2610: f64 = t2529 + t2609;
+        let t2611: f64 = t2590 - t409;
+        let t2612 = product(t1032, t2611);
+        let t2613: f64 = t2612.subtracted_from(t2610);
+        let t2614 = product(t714, t2613);
+        let t2615 = product(t513, t2613);
+        let t2616: f64 = t1326 * t2516;
+        let t2617 = product(t661, t2616);
+        let t2618: f64 = t659 + t661;
+        let t2619: f64 = t1111 * t2618;
+        let t2620: f64 = t2617.plus(t2619);
+        let t2621 = product(wx, t2606);
+        let t2622 = product(wy, t2590);
+        let t2623: f64 = wz * t2526;
+        let t2624: f64 = t2622.plus(t2623);
+        let t2625: f64 = t2621.minus(t2624);
+        let t2626 = product(wz, t2625);
+        let t2627: f64 = wx * t2559;
+        let t2628: f64 = t2626.plus(t2627);
+        let t2629 = product(t984, t2556);
+        let t2630: f64 = t1006 * t2590;
+        let t2631: f64 = t2629.minus(t2630);
+        let t2632: f64 = t2628 + t2631;
+        let t2633: f64 = t2620 + t2632;
+        let t2634: f64 = t0 * t1006;
+        let t2635 = product(xc, t1032);
+        let t2636: f64 = t809 - t1023;
+        let t2637: f64 = t2635.plus(t2636);
+        let t2638: f64 = t2634 + t2637;
+        let t2639 = product(rod5_mass, t2638);
+        let t2640: f64 = t3 * t1006;
+        let t2641: f64 = t2637 + t2640;
+        let t2642: f64 = rod6_mass * t2641;
+        let t2643: f64 = t2639.plus(t2642);
+        let t2644: f64 = t859 + t2643;
+        let t2645: f64 = t716 + t2581;
+        let t2646: f64 = t2582 - t2645;
+        let t2647 = product(t1032, t2646);
+        let t2648: f64 = t2647.subtracted_from(t2644);
+        let t2649: f64 = t2633 + t2648;
+        let t2650: f64 = t2615.plus(t2649);
+        let t2651 = product(t1014, t2650);
+        let t2652 = product(t1032, t2556);
+        let t2653: f64 = t1352 * t2613;
+        let t2654: f64 = t2652.minus(t2653);
+        let t2655 = product(t163, t984);
+        let t2656 = product(zc, t1006);
+        let t2657: f64 = t2656.added_to(t1022);
+        let t2658: f64 = t799 - t2657;
+        let t2659: f64 = t2655.plus(t2658);
+        let t2660 = product(rod3_mass, t2659);
+        let t2661 = product(t148, t984);
+        let t2662: f64 = t2661.added_to(t2658);
+        let t2663: f64 = rod4_mass * t2662;
+        let t2664: f64 = t2660.plus(t2663);
+        let t2665: f64 = t801 + t2664;
+        let t2666 = product(wx, t2594);
+        let t2667: f64 = wy * t2625;
+        let t2668: f64 = t2666.plus(t2667);
+        let t2669: f64 = t2665 + t2668;
+        let t2670 = product(t1006, t2526);
+        let t2671: f64 = t1124 * t2618;
+        let t2672: f64 = t2670.plus(t2671);
+        let t2673: f64 = t1326 * t1640;
+        let t2674 = product(t659, t2673);
+        let t2675: f64 = t252 + t2539;
+        let t2676: f64 = t2547 - t2675;
+        let t2677: f64 = t984 * t2676;
+        let t2678: f64 = t2674.plus(t2677);
+        let t2679: f64 = t2672 - t2678;
+        let t2680: f64 = t2669 + t2679;
+        let t2681 = product(t720, t2650);
+        let t2682: f64 = t2681.subtracted_from(t2680);
+        let t2683: f64 = t2654 + t2682;
+        let t2684: f64 = t1381 * t2683;
+        let t2685: f64 = t1032 * t2516;
+        let t2686 = product(t661, t2685);
+        let t2687: f64 = t635 * t2650;
+        let t2688: f64 = t2686.plus(t2687);
+        let t2689 = product(t697, t2683);
+        let t2690 = product(wy, t2618);
+        let t2691: f64 = t146 * t772;
+        let t2692: f64 = t659 * t2691;
+        let t2693: f64 = t2690.subtracted_from(t2692);
+        let t2694 = product(wy, t2693);
+        let t2695 = product(wz, t2618);
+        let t2696: f64 = t74 * t778;
+        let t2697: f64 = t75 * t2696;
+        let t2698: f64 = t661 * t2697;
+        let t2699: f64 = t2695.plus(t2698);
+        let t2700: f64 = wz * t2699;
+        let t2701: f64 = t2694.minus(t2700);
+        let t2702: f64 = t984 * t1640;
+        let t2703 = product(t659, t2702);
+        let t2704: f64 = t2703.subtracted_from(t2701);
+        let t2705: f64 = t2689.plus(t2704);
+        let t2706: f64 = t2688 + t2705;
+        let t2707 = product(t1404, t2706);
+        let t2708: f64 = wy * t6;
+        let t2709: f64 = t74 * t2708;
+        let t2710: f64 = t75 * t2709;
+        let t2711 = product(t661, t2710);
+        let t2712: f64 = wz * t15;
+        let t2713: f64 = t7 * t2712;
+        let t2714: f64 = t146 * t2713;
+        let t2715: f64 = t659 * t2714;
+        let t2716: f64 = t2711.plus(t2715);
+        let t2717 = product(wz, t2716);
+        let t2718: f64 = wx * t2693;
+        let t2719: f64 = t2717.plus(t2718);
+        let t2720 = product(t674, t2650);
+        let t2721: f64 = t2720.added_to(t2613);
+        let t2722 = product(t677, t2721);
+        let t2723: f64 = t2722.subtracted_from(t2719);
+        let t2724: f64 = t1006 * t2516;
+        let t2725 = product(t661, t2724);
+        let t2726: f64 = t36 + t2618;
+        let t2727: f64 = t984 * t2726;
+        let t2728: f64 = t2725.plus(t2727);
+        let t2729: f64 = t2723 - t2728;
+        let t2730 = product(t723, t2683);
+        let t2731: f64 = t728 * t2706;
+        let t2732: f64 = t2730.plus(t2731);
+        let t2733: f64 = t2729 - t2732;
+        let t2734: f64 = t1424 * t2733;
+        let t2735: f64 = t463 + t2618;
+        let t2736 = product(t1032, t2735);
+        let t2737: f64 = t1006 * t1640;
+        let t2738 = product(t659, t2737);
+        let t2739 = product(wx, t2699);
+        let t2740: f64 = wy * t2716;
+        let t2741: f64 = t2739.plus(t2740);
+        let t2742: f64 = t2738.plus(t2741);
+        let t2743: f64 = t2651.plus(t2684);
+        let t2744: f64 = t2707.plus(t2734);
+        let t2745: f64 = t2736.plus(t2742);
+        let t2746: f64 = t2743 + t2744;
+        let t2747: f64 = t2745 + t2746;
+        let t2748: f64 = t2614.subtracted_from(t2747);
+        let t2749 = product(t965, t2748);
+        let t2750: f64 = t2749.added_to(t2733);
+        let t2751 = product(t968, t2750);
+        let t2752 = product(t970, t2748);
+        let t2753: f64 = t2752.added_to(t2706);
+        let t2754: f64 = t2751.subtracted_from(t2753);
+        let t2755 = product(t989, t2754);
+        let t2756 = product(t974, t2754);
+        let t2757 = product(t976, t2750);
+        let t2758: f64 = t978 * t2748;
+        let t2759: f64 = t2756.plus(t2758);
+        let t2760: f64 = t2683 + t2759;
+        let t2761: f64 = t2757.subtracted_from(t2760);
+        let t2762 = product(t2004, t2761);
+        let t2763: f64 = t991 * t2748;
+        let t2764 = product(t993, t2750);
+        let t2765: f64 = t2764.subtracted_from(t2613);
+        let t2766 = product(t513, t2765);
+        let t2767: f64 = t2755.plus(t2763);
+        let t2768: f64 = t2766.added_to(t2649);
+        let t2769: f64 = t2767 + t2768;
+        let t2770: f64 = t2762.subtracted_from(t2769);
+        let t2771 = product(t674, t2770);
+        let t2772 = product(t2017, t2761);
+        let t2773: f64 = t986 * t2748;
+        let t2774: f64 = t2771.added_to(t2765);
+        let t2775: f64 = t2772.plus(t2773);
+        let t2776: f64 = t2774 - t2775;
+        let t2777: f64 = t247 * t2776;
+        let t2778: f64 = -t2777;
+        let t2779: f64 = t154 * t316;
+        let t2780: f64 = t1032 * t2779;
+        let t2781 = product(t658, t2780);
+        let t2782: f64 = t180 + t187;
+        let t2783: f64 = t2551 + t2782;
+        let t2784 = product(t278, t2779);
+        let t2785: f64 = t286 * t2779;
         let t2786: f64 = t2784.plus(t2785);
-        let t2787: f64 = t2783.plus(t2786);
-        let t2788: f64 = t2722.plus(t2746);
-        let t2789: f64 = t2776.plus(t2781);
-        let t2790: f64 = t2788 + t2789;
-        let t2791: f64 = t2787 + t2790;
-        let t2792: f64 = t2651.subtracted_from(t2791);
-        let t2793 = product(t967, t2792);
-        let t2794: f64 = t2793.added_to(t2775);
-        let t2795: f64 = t993 * t2794;
-        let t2796 = product(t970, t2794);
-        let t2797 = product(t972, t2792);
-        let t2798: f64 = t2797.added_to(t2745);
-        let t2799: f64 = t2796.subtracted_from(t2798);
-        let t2800 = product(t976, t2799);
-        let t2801 = product(t978, t2794);
-        let t2802: f64 = t965 * t2792;
-        let t2803: f64 = t2800.plus(t2802);
-        let t2804: f64 = t2721 + t2803;
-        let t2805: f64 = t2801.subtracted_from(t2804);
-        let t2806 = product(t2045, t2805);
-        let t2807 = product(t986, t2792);
-        let t2808 = product(t989, t2799);
-        let t2809 = product(t2032, t2805);
-        let t2810: f64 = t991 * t2792;
-        let t2811: f64 = t2650 - t2795;
-        let t2812 = product(t513, t2811);
-        let t2813: f64 = t2808.plus(t2810);
-        let t2814: f64 = t2812.added_to(t2713);
-        let t2815: f64 = t2813 + t2814;
-        let t2816: f64 = t2809.subtracted_from(t2815);
-        let t2817 = product(t459, t2816);
-        let t2818: f64 = t2817.subtracted_from(t2759);
-        let t2819: f64 = t509 * t2818;
-        let t2820: f64 = t2806.added_to(t2795);
-        let t2821: f64 = t2807.plus(t2819);
-        let t2822: f64 = t2820 + t2821;
-        let t2823: f64 = t2647 - t2822;
-        let t2824: f64 = t247 * t2823;
-        let t2825: f64 = -t2824;
-        let t2826: f64 = t690 + t693;
-        let t2827 = product(t1174, t2826);
-        let t2828 = product(t1220, t2578);
-        let t2829: f64 = t114 + t122;
-        let t2830: f64 = t2829 - t667;
-        let t2831: f64 = t154 * t316;
-        let t2832: f64 = t2830 * t2831;
-        let t2833: f64 = t2828.subtracted_from(t2832);
-        let t2834: f64 = t984 * t2833;
-        let t2835: f64 = t2827.minus(t2834);
-        let t2836 = product(joint5_mass, t1242);
-        let t2837: f64 = joint6_mass * t1246;
-        let t2838: f64 = t2836.plus(t2837);
-        let t2839 = product(t93, t1220);
-        let t2840: f64 = t104 * t1220;
-        let t2841: f64 = t2839.plus(t2840);
-        let t2842: f64 = t180 + t187;
-        let t2843: f64 = t2604 + t2842;
-        let t2844: f64 = t2843 - t603;
-        let t2845: f64 = t2841 + t2844;
-        let t2846: f64 = t2845 * 2.0;
-        let t2847: f64 = t409 + t2838;
-        let t2848: f64 = t2846 - t2847;
-        let t2849 = product(t1006, t2848);
-        let t2850 = product(t278, t2831);
-        let t2851: f64 = t286 * t2831;
-        let t2852: f64 = t2850.plus(t2851);
-        let t2853: f64 = t2843 - t2852;
-        let t2854: f64 = t154 * t484;
-        let t2855 = product(t315, t2854);
-        let t2856: f64 = t2855.added_to(yc);
-        let t2857: f64 = t2856 * 2.0;
-        let t2858 = product(joint1_mass, t2857);
-        let t2859 = product(t320, t2854);
-        let t2860: f64 = t2859.added_to(yc);
-        let t2861: f64 = t2860 * 2.0;
-        let t2862: f64 = joint2_mass * t2861;
-        let t2863: f64 = t2858.plus(t2862);
-        let t2864: f64 = t0 * 2.0;
-        let t2865 = product(joint5_mass, t2864);
-        let t2866: f64 = t3 * 2.0;
-        let t2867: f64 = joint6_mass * t2866;
-        let t2868: f64 = t2865.plus(t2867);
-        let t2869: f64 = t2863 + t2868;
-        let t2870: f64 = t2853 * 2.0;
-        let t2871: f64 = t2870 - t2869;
-        let t2872 = product(wz, t2871);
-        let t2873: f64 = wx * t2833;
-        let t2874 = product(t1220, t2605);
-        let t2875: f64 = t2874.added_to(t671);
-        let t2876: f64 = t2581 + t2830;
-        let t2877: f64 = t2875 + t2876;
-        let t2878 = product(wy, t2877);
-        let t2879: f64 = t2872.plus(t2873);
-        let t2880: f64 = t2878.subtracted_from(t2879);
-        let t2881 = product(wy, t2880);
-        let t2882: f64 = t2842 - t603;
-        let t2883 = product(t2831, t2882);
-        let t2884: f64 = t2883.subtracted_from(t2577);
-        let t2885: f64 = t278 + t286;
-        let t2886: f64 = t642 + t2885;
-        let t2887: f64 = t2884 + t2886;
-        let t2888 = product(wx, t2887);
-        let t2889: f64 = t1745 + t1750;
-        let t2890: f64 = t2889 * 2.0;
-        let t2891 = product(t2854, t2890);
-        let t2892: f64 = t1279 + t2841;
-        let t2893: f64 = t2892 - t2852;
-        let t2894: f64 = t2893 * 2.0;
-        let t2895: f64 = t2891.subtracted_from(t2894);
-        let t2896 = product(wy, t2895);
-        let t2897: f64 = wz * t2877;
-        let t2898: f64 = t2888.plus(t2897);
-        let t2899: f64 = t2896.subtracted_from(t2898);
-        let t2900: f64 = wz * t2899;
-        let t2901: f64 = t2881.plus(t2900);
-        let t2902: f64 = t2849.plus(t2901);
-        let t2903: f64 = t2835 - t2902;
-        let t2904: f64 = t1220 * t1282;
-        let t2905 = product(t693, t2904);
-        let t2906: f64 = t2905.subtracted_from(t2702);
-        let t2907: f64 = t2903 + t2906;
-        let t2908 = product(t1055, t2887);
-        let t2909: f64 = t2908.subtracted_from(t2907);
-        let t2910 = product(t634, t2909);
-        let t2911: f64 = t108 * t509;
-        let t2912 = product(t1000, t2911);
-        let t2913 = product(yc, t984);
-        let t2914: f64 = t2913.subtracted_from(t867);
-        let t2915: f64 = t2914 - t1330;
-        let t2916: f64 = t2912.subtracted_from(t2915);
-        let t2917 = product(rod1_mass, t2916);
-        let t2918: f64 = t116 * t509;
-        let t2919 = product(t1000, t2918);
-        let t2920: f64 = t2919.subtracted_from(t2915);
-        let t2921: f64 = rod2_mass * t2920;
-        let t2922: f64 = t2917.plus(t2921);
-        let t2923: f64 = t895 + t2922;
-        let t2924 = product(t1006, t2833);
-        let t2925: f64 = t683 + t2869;
-        let t2926: f64 = t2870 - t2925;
-        let t2927: f64 = t984 * t2926;
-        let t2928: f64 = t2924.plus(t2927);
-        let t2929 = product(wx, t2899);
-        let t2930: f64 = t2846 - t2838;
-        let t2931 = product(wx, t2930);
-        let t2932 = product(wy, t2887);
-        let t2933: f64 = wz * t2833;
-        let t2934: f64 = t2931.plus(t2933);
-        let t2935: f64 = t2932.subtracted_from(t2934);
-        let t2936: f64 = wy * t2935;
-        let t2937: f64 = t2929.plus(t2936);
-        let t2938: f64 = t2928 - t2937;
-        let t2939: f64 = t2923 + t2938;
-        let t2940: f64 = t1282 * t2831;
-        let t2941 = product(t690, t2940);
-        let t2942: f64 = t1331 * t2826;
-        let t2943: f64 = t2941.plus(t2942);
-        let t2944 = product(t1290, t2909);
-        let t2945 = product(t1000, t2877);
-        let t2946 = product(t513, t2909);
-        let t2947 = product(wz, t2935);
-        let t2948: f64 = wx * t2880;
-        let t2949: f64 = t2947.minus(t2948);
-        let t2950: f64 = t2887 - t636;
-        let t2951 = product(t1006, t2950);
-        let t2952: f64 = t2951.subtracted_from(t2949);
-        let t2953: f64 = t1174 * t2831;
-        let t2954 = product(t690, t2953);
-        let t2955: f64 = t2877 - t517;
-        let t2956: f64 = t984 * t2955;
-        let t2957: f64 = t2954.plus(t2956);
-        let t2958: f64 = t2952 - t2957;
-        let t2959 = product(t1055, t2895);
-        let t2960: f64 = t1220 * t1331;
-        let t2961: f64 = t693 * t2960;
-        let t2962: f64 = t2959.plus(t2961);
-        let t2963: f64 = t2958 - t2962;
-        let t2964: f64 = t2946.plus(t2963);
-        let t2965: f64 = t566 * t2964;
-        let t2966: f64 = t2945.plus(t2965);
-        let t2967: f64 = t509 * t2966;
-        let t2968: f64 = t2944.plus(t2967);
-        let t2969: f64 = t2943 + t2968;
-        let t2970: f64 = t2939 + t2969;
-        let t2971: f64 = t1396 * t2970;
-        let t2972 = product(wx, t2826);
-        let t2973: f64 = t154 * t1400;
-        let t2974: f64 = t690 * t2973;
-        let t2975: f64 = t2972.plus(t2974);
-        let t2976 = product(wy, t2975);
-        let t2977: f64 = t154 * t1406;
-        let t2978 = product(t690, t2977);
-        let t2979: f64 = wx * t72;
-        let t2980: f64 = t74 * t2979;
-        let t2981: f64 = t693 * t2980;
-        let t2982: f64 = t2978.plus(t2981);
-        let t2983: f64 = wz * t2982;
-        let t2984: f64 = t2976.plus(t2983);
-        let t2985: f64 = t569 + t2826;
-        let t2986 = product(t984, t2985);
-        let t2987: f64 = t2986.subtracted_from(t2984);
-        let t2988 = product(t701, t2970);
-        let t2989: f64 = t1000 * t1220;
-        let t2990 = product(t693, t2989);
-        let t2991: f64 = t680 * t2964;
-        let t2992: f64 = t2990.minus(t2991);
-        let t2993: f64 = t509 * t2992;
-        let t2994: f64 = t2988.plus(t2993);
-        let t2995: f64 = t2987 - t2994;
-        let t2996 = product(t1007, t2995);
-        let t2997: f64 = t1000 * t2887;
-        let t2998 = product(t459, t2964);
-        let t2999: f64 = t2998.subtracted_from(t2997);
-        let t3000 = product(t509, t2999);
-        let t3001: f64 = t3000.subtracted_from(t2907);
-        let t3002 = product(t711, t3001);
+        let t2787: f64 = t2783 - t2786;
+        let t2788: f64 = t154 * t484;
+        let t2789 = product(t315, t2788);
+        let t2790: f64 = t2789.added_to(yc);
+        let t2791: f64 = t2790 * 2.0;
+        let t2792 = product(joint1_mass, t2791);
+        let t2793 = product(t320, t2788);
+        let t2794: f64 = t2793.added_to(yc);
+        let t2795: f64 = t2794 * 2.0;
+        let t2796: f64 = joint2_mass * t2795;
+        let t2797: f64 = t2792.plus(t2796);
+        let t2798: f64 = t0 * 2.0;
+        let t2799 = product(joint5_mass, t2798);
+        let t2800: f64 = t3 * 2.0;
+        let t2801: f64 = joint6_mass * t2800;
+        let t2802: f64 = t2799.plus(t2801);
+        let t2803: f64 = t2797 + t2802;
+        let t2804: f64 = t2787 * 2.0;
+        let t2805: f64 = t2804 - t2803;
+        let t2806 = product(wz, t2805);
+        let t2807 = product(t1209, t2521);
+        let t2808: f64 = t114 + t122;
+        let t2809: f64 = t2808 - t603;
+        let t2810: f64 = t2779 * t2809;
+        let t2811: f64 = t2807.minus(t2810);
+        let t2812 = product(wx, t2811);
+        let t2813 = product(t1209, t2552);
+        let t2814: f64 = t2813.added_to(t607);
+        let t2815: f64 = t2524 + t2809;
+        let t2816: f64 = t2814 + t2815;
+        let t2817: f64 = wy * t2816;
+        let t2818: f64 = t2812.plus(t2817);
+        let t2819: f64 = t2806.subtracted_from(t2818);
+        let t2820 = product(wy, t2819);
+        let t2821: f64 = t2782 - t640;
+        let t2822 = product(t2779, t2821);
+        let t2823: f64 = t2822.subtracted_from(t2520);
+        let t2824: f64 = t278 + t286;
+        let t2825: f64 = t683 + t2824;
+        let t2826: f64 = t2823 + t2825;
+        let t2827 = product(wx, t2826);
+        let t2828: f64 = t1664 + t1669;
+        let t2829: f64 = t2828 * 2.0;
+        let t2830 = product(t2788, t2829);
+        let t2831 = product(t93, t1209);
+        let t2832: f64 = t104 * t1209;
+        let t2833: f64 = t2831.plus(t2832);
+        let t2834: f64 = t1122 + t2833;
+        let t2835: f64 = t2834 - t2786;
+        let t2836: f64 = t2835 * 2.0;
+        let t2837: f64 = t2830.subtracted_from(t2836);
+        let t2838 = product(wy, t2837);
+        let t2839: f64 = wz * t2816;
+        let t2840: f64 = t2827.plus(t2839);
+        let t2841: f64 = t2838.subtracted_from(t2840);
+        let t2842: f64 = wz * t2841;
+        let t2843: f64 = t2820.minus(t2842);
+        let t2844 = product(t984, t2811);
+        let t2845: f64 = t658 + t661;
+        let t2846: f64 = t1111 * t2845;
+        let t2847: f64 = t2844.plus(t2846);
+        let t2848: f64 = t2843 + t2847;
+        let t2849: f64 = t1124 * t1209;
+        let t2850 = product(t661, t2849);
+        let t2851 = product(joint5_mass, t1231);
+        let t2852: f64 = joint6_mass * t1235;
+        let t2853: f64 = t2851.plus(t2852);
+        let t2854: f64 = t2783 - t640;
+        let t2855: f64 = t2833 + t2854;
+        let t2856: f64 = t2855 * 2.0;
+        let t2857: f64 = t409 + t2853;
+        let t2858: f64 = t2856 - t2857;
+        let t2859: f64 = t1006 * t2858;
+        let t2860: f64 = t2850.plus(t2859);
+        let t2861: f64 = t2848 - t2860;
+        let t2862 = product(t1032, t2826);
+        let t2863: f64 = t2862.subtracted_from(t2644);
+        let t2864: f64 = t2861 + t2863;
+        let t2865: f64 = t714 * t2864;
+        let t2866 = product(t513, t2864);
+        let t2867: f64 = t2856 - t2853;
+        let t2868 = product(wx, t2867);
+        let t2869 = product(wy, t2826);
+        let t2870: f64 = wz * t2811;
+        let t2871: f64 = t2869.plus(t2870);
+        let t2872: f64 = t2868.minus(t2871);
+        let t2873 = product(wz, t2872);
+        let t2874: f64 = wx * t2819;
+        let t2875: f64 = t2873.plus(t2874);
+        let t2876: f64 = t1209 * t1326;
+        let t2877 = product(t661, t2876);
+        let t2878: f64 = t1111 * t2779;
+        let t2879: f64 = t658 * t2878;
+        let t2880: f64 = t2877.plus(t2879);
+        let t2881: f64 = t2875 - t2880;
+        let t2882: f64 = t2826 - t716;
+        let t2883 = product(t1006, t2882);
+        let t2884: f64 = t2816 - t517;
+        let t2885: f64 = t984 * t2884;
+        let t2886: f64 = t2883.plus(t2885);
+        let t2887: f64 = t2881 - t2886;
+        let t2888 = product(t1032, t2837);
+        let t2889: f64 = t2888.subtracted_from(t2887);
+        let t2890: f64 = t2866.plus(t2889);
+        let t2891 = product(t1014, t2890);
+        let t2892 = product(t720, t2890);
+        let t2893 = product(t108, t1032);
+        let t2894 = product(yc, t984);
+        let t2895: f64 = t2894.added_to(t1021);
+        let t2896: f64 = t867 - t2895;
+        let t2897: f64 = t2893.subtracted_from(t2896);
+        let t2898 = product(rod1_mass, t2897);
+        let t2899 = product(t116, t1032);
+        let t2900: f64 = t2899.subtracted_from(t2896);
+        let t2901: f64 = rod2_mass * t2900;
+        let t2902: f64 = t2898.plus(t2901);
+        let t2903: f64 = t895 + t2902;
+        let t2904: f64 = t2892.plus(t2903);
+        let t2905 = product(t1326, t2845);
+        let t2906: f64 = t600 + t2803;
+        let t2907: f64 = t2804 - t2906;
+        let t2908: f64 = t984 * t2907;
+        let t2909: f64 = t2905.plus(t2908);
+        let t2910: f64 = t1124 * t2779;
+        let t2911 = product(t658, t2910);
+        let t2912: f64 = t1006 * t2811;
+        let t2913: f64 = t2911.minus(t2912);
+        let t2914 = product(wx, t2841);
+        let t2915: f64 = wy * t2872;
+        let t2916: f64 = t2914.plus(t2915);
+        let t2917: f64 = t2913 - t2916;
+        let t2918: f64 = t2909 + t2917;
+        let t2919 = product(t1032, t2816);
+        let t2920: f64 = t1352 * t2864;
+        let t2921: f64 = t2919.plus(t2920);
+        let t2922: f64 = t2918 + t2921;
+        let t2923: f64 = t2904 + t2922;
+        let t2924 = product(t1381, t2923);
+        let t2925 = product(t635, t2890);
+        let t2926: f64 = t1032 * t1209;
+        let t2927: f64 = t661 * t2926;
+        let t2928: f64 = t2925.minus(t2927);
+        let t2929 = product(wx, t2845);
+        let t2930: f64 = t154 * t1388;
+        let t2931: f64 = t658 * t2930;
+        let t2932: f64 = t2929.plus(t2931);
+        let t2933 = product(wy, t2932);
+        let t2934: f64 = t154 * t1394;
+        let t2935 = product(t658, t2934);
+        let t2936: f64 = wx * t72;
+        let t2937: f64 = t74 * t2936;
+        let t2938: f64 = t661 * t2937;
+        let t2939: f64 = t2935.plus(t2938);
+        let t2940: f64 = wz * t2939;
+        let t2941: f64 = t2933.plus(t2940);
+        let t2942: f64 = t569 + t2845;
+        let t2943 = product(t984, t2942);
+        let t2944: f64 = t2943.subtracted_from(t2941);
+        let t2945 = product(t697, t2923);
+        let t2946: f64 = t2945.subtracted_from(t2944);
+        let t2947: f64 = t2928 + t2946;
+        let t2948: f64 = t1404 * t2947;
+        let t2949 = product(t674, t2890);
+        let t2950: f64 = t2949.added_to(t2864);
+        let t2951 = product(t677, t2950);
+        let t2952 = product(wz, t2845);
+        let t2953: f64 = t74 * t779;
+        let t2954: f64 = t661 * t2953;
+        let t2955: f64 = t2952.subtracted_from(t2954);
+        let t2956 = product(wz, t2955);
+        let t2957: f64 = wx * t2932;
+        let t2958: f64 = t2956.minus(t2957);
+        let t2959: f64 = t2951.plus(t2958);
+        let t2960: f64 = t984 * t2779;
+        let t2961 = product(t658, t2960);
+        let t2962: f64 = t1006 * t1209;
+        let t2963: f64 = t661 * t2962;
+        let t2964: f64 = t2961.plus(t2963);
+        let t2965: f64 = t2959 - t2964;
+        let t2966 = product(t728, t2947);
+        let t2967: f64 = t723 * t2923;
+        let t2968: f64 = t2966.minus(t2967);
+        let t2969: f64 = t2965 + t2968;
+        let t2970: f64 = t1424 * t2969;
+        let t2971 = product(wx, t2939);
+        let t2972: f64 = wy * t2955;
+        let t2973: f64 = t2971.plus(t2972);
+        let t2974: f64 = t463 + t2845;
+        let t2975 = product(t1006, t2974);
+        let t2976: f64 = t2975.subtracted_from(t2973);
+        let t2977: f64 = t2781.plus(t2865);
+        let t2978: f64 = t2924.plus(t2970);
+        let t2979: f64 = t2977 + t2978;
+        let t2980: f64 = t2976 + t2979;
+        let t2981: f64 = t2891.plus(t2948);
+        let t2982: f64 = t2980 - t2981;
+        let t2983 = product(t965, t2982);
+        let t2984: f64 = t2983.added_to(t2969);
+        let t2985 = product(t968, t2984);
+        let t2986 = product(t970, t2982);
+        let t2987: f64 = t2985.added_to(t2947);
+        let t2988: f64 = t2986.subtracted_from(t2987);
+        let t2989 = product(t974, t2988);
+        let t2990: f64 = t976 * t2984;
+        let t2991 = product(t978, t2982);
+        let t2992: f64 = t2991.added_to(t2923);
+        let t2993: f64 = t2989.plus(t2990);
+        let t2994: f64 = t2992 - t2993;
+        let t2995 = product(t2004, t2994);
+        let t2996: f64 = t989 * t2988;
+        let t2997 = product(t991, t2982);
+        let t2998 = product(t993, t2984);
+        let t2999: f64 = t2998.added_to(t2864);
+        let t3000 = product(t513, t2999);
+        let t3001: f64 = t2995.plus(t2996);
+        let t3002: f64 = t3000.added_to(t2889);
         (
-            t2013,
+            t2004,
+            t2015,
+            t2017,
             t2024,
-            t2032,
             t2043,
-            t2045,
-            t2052,
+            t2074,
+            t2078,
             t2095,
             t2099,
             t2116,
-            t2120,
-            t2137,
-            t2152,
-            t2158,
-            t2174,
-            t2251,
-            t2255,
-            t2309,
-            t2312,
-            t2325,
-            t2327,
-            t2348,
-            t2388,
-            t2390,
-            t2393,
-            t2400,
-            t2417,
-            t2433,
-            t2449,
-            t2476,
-            t2501,
+            t2131,
+            t2172,
+            t2249,
+            t2253,
+            t2289,
+            t2292,
+            t2305,
+            t2307,
+            t2328,
+            t2368,
+            t2370,
+            t2373,
+            t2380,
+            t2409,
+            t2425,
+            t2453,
+            t2470,
+            t2480,
+            t2492,
+            t2508,
             t2515,
-            t2527,
-            t2544,
-            t2552,
-            t2553,
-            t2576,
-            t2607,
-            t2609,
+            t2516,
+            t2519,
+            t2554,
+            t2556,
+            t2585,
+            t2588,
+            t2610,
+            t2611,
             t2633,
+            t2634,
             t2636,
+            t2640,
             t2646,
-            t2648,
-            t2652,
-            t2654,
-            t2658,
-            t2662,
-            t2676,
-            t2678,
-            t2688,
-            t2691,
-            t2694,
-            t2698,
-            t2711,
-            t2737,
-            t2771,
+            t2665,
+            t2680,
+            t2704,
+            t2729,
+            t2735,
+            t2742,
+            t2754,
+            t2770,
             t2778,
-            t2787,
-            t2799,
+            t2779,
+            t2782,
+            t2808,
+            t2809,
             t2816,
-            t2825,
+            t2821,
+            t2824,
             t2826,
             t2829,
-            t2830,
-            t2831,
-            t2842,
-            t2877,
-            t2882,
-            t2885,
+            t2837,
+            t2861,
             t2887,
-            t2890,
-            t2895,
+            t2896,
             t2903,
-            t2907,
-            t2909,
-            t2910,
-            t2911,
-            t2914,
             t2918,
-            t2923,
-            t2938,
-            t2958,
-            t2963,
-            t2964,
-            t2970,
-            t2971,
-            t2975,
+            t2944,
+            t2965,
+            t2976,
             t2982,
-            t2987,
-            t2995,
-            t2996,
+            t2984,
+            t2988,
+            t2994,
             t2997,
+            t2999,
+            t3001,
             t3002,
         )
     };
     let (
-        t3070,
-        t3297,
-        t3298,
-        t3299,
-        t3300,
-        t3371,
-        t3377,
-        t3379,
-        t3385,
-        t3391,
-        t3519,
-        t3526,
-        t3632,
-        t3663,
-        t3764,
-        t3830,
-        t3831,
-        t3832,
-        t3833,
-        t3834,
-        t3835,
-        t3836,
-        t3837,
-        t3838,
-        t3839,
+        t3012,
+        t3230,
+        t3231,
+        t3232,
+        t3233,
+        t3281,
+        t3284,
+        t3290,
+        t3292,
+        t3303,
+        t3422,
+        t3429,
+        t3527,
+        t3552,
+        t3559,
+        t3652,
+        t3706,
+        t3707,
+        t3708,
+        t3709,
+        t3710,
+        t3711,
+        t3712,
+        t3713,
+        t3714,
+        t3715,
+        t3716,
+        t3717,
+        t3718,
+        t3719,
+        t3720,
+        t3722,
+        t3724,
+        t3725,
+        t3765,
+        t3767,
+        t3789,
         t3840,
-        t3841,
         t3842,
-        t3843,
-        t3844,
-        t3846,
-        t3848,
-        t3849,
-        t3900,
+        t3861,
+        t3870,
+        t3876,
+        t3894,
         t3902,
-        t3924,
-        t3925,
-        t3940,
-        t3954,
-        t3955,
-        t3973,
-        t3974,
-        t3975,
-        t3977,
-        t3978,
-        t3983,
-        t3996,
-        t3997,
-        t4000,
-        t4001,
+        t3935,
+        t3936,
+        t3941,
+        t3952,
+        t3953,
+        t3970,
+        t3971,
+        t3979,
+        t3980,
+        t3990,
+        t3993,
         t4002,
     ) = {
-        let t3003 = product(wz, t2826);
-        let t3004: f64 = t74 * t779;
-        let t3005: f64 = t693 * t3004;
-        let t3006: f64 = t3003.subtracted_from(t3005);
-        let t3007 = product(wz, t3006);
-        let t3008: f64 = wx * t2975;
-        let t3009: f64 = t3007.minus(t3008);
-        let t3010: f64 = t3002.plus(t3009);
-        let t3011: f64 = t984 * t2831;
-        let t3012 = product(t690, t3011);
-        let t3013: f64 = t1006 * t1220;
-        let t3014: f64 = t693 * t3013;
-        let t3015: f64 = t3012.plus(t3014);
-        let t3016: f64 = t3010 - t3015;
-        let t3017 = product(t736, t2995);
-        let t3018: f64 = t734 * t2970;
-        let t3019: f64 = t3017.minus(t3018);
-        let t3020: f64 = t3016 + t3019;
-        let t3021 = product(t1010, t3020);
-        let t3022: f64 = t1000 * t2831;
-        let t3023 = product(t690, t3022);
-        let t3024: f64 = t655 * t2964;
-        let t3025: f64 = t3023.minus(t3024);
-        let t3026: f64 = t509 * t3025;
-        let t3027 = product(wx, t2982);
-        let t3028: f64 = wy * t3006;
-        let t3029: f64 = t3027.plus(t3028);
-        let t3030: f64 = t463 + t2826;
-        let t3031 = product(t1006, t3030);
-        let t3032: f64 = t3031.subtracted_from(t3029);
-        let t3033: f64 = t2910.plus(t2971);
-        let t3034: f64 = t3021.plus(t3026);
-        let t3035: f64 = t3033 + t3034;
-        let t3036: f64 = t3032 + t3035;
-        let t3037: f64 = t2996.subtracted_from(t3036);
-        let t3038 = product(t967, t3037);
-        let t3039: f64 = t3038.added_to(t3020);
-        let t3040: f64 = t993 * t3039;
-        let t3041 = product(t970, t3039);
-        let t3042 = product(t972, t3037);
-        let t3043: f64 = t3041.added_to(t2995);
-        let t3044: f64 = t3042.subtracted_from(t3043);
-        let t3045 = product(t976, t3044);
-        let t3046: f64 = t978 * t3039;
-        let t3047 = product(t965, t3037);
-        let t3048: f64 = t3047.added_to(t2970);
-        let t3049: f64 = t3045.plus(t3046);
-        let t3050: f64 = t3048 - t3049;
-        let t3051 = product(t2045, t3050);
-        let t3052 = product(t986, t3037);
-        let t3053 = product(t2032, t3050);
-        let t3054: f64 = t989 * t3044;
-        let t3055 = product(t991, t3037);
-        let t3056: f64 = t2909 + t3040;
-        let t3057 = product(t513, t3056);
-        let t3058: f64 = t3053.plus(t3054);
-        let t3059: f64 = t3057.added_to(t2963);
-        let t3060: f64 = t3058 + t3059;
-        let t3061: f64 = t3055.subtracted_from(t3060);
-        let t3062 = product(t459, t3061);
-        let t3063: f64 = t3062.subtracted_from(t2997);
-        let t3064 = product(t509, t3063);
-        let t3065: f64 = t3051.added_to(t3040);
-        let t3066: f64 = t3052.added_to(t2907);
-        let t3067: f64 = t3065 + t3066;
-        let t3068: f64 = t3064.subtracted_from(t3067);
-        let t3069: f64 = t247 * t3068;
-        let t3070: f64 = -t3069;
-        let t3071: f64 = t85 * t316;
-        let t3072 = product(t2882, t3071);
-        let t3073: f64 = t90 * t146;
-        let t3074: f64 = t2633 * t3073;
-        let t3075: f64 = t3072.plus(t3074);
-        let t3076: f64 = -t3075;
-        let t3077 = product(t1055, t3076);
-        let t3078: f64 = t1174 * t3073;
-        let t3079 = product(t691, t3078);
-        let t3080 = product(t2830, t3071);
-        let t3081: f64 = t3080.subtracted_from(t640);
-        let t3082: f64 = t2633 + t2885;
-        let t3083: f64 = t3081 + t3082;
-        let t3084: f64 = t984 * t3083;
-        let t3085: f64 = t3079.minus(t3084);
-        let t3086: f64 = t2576 + t2829;
-        let t3087 = product(t171, t3073);
-        let t3088: f64 = t160 * t3073;
-        let t3089: f64 = t3087.plus(t3088);
-        let t3090: f64 = t3086 - t3089;
-        let t3091: f64 = t108 * 2.0;
-        let t3092 = product(joint1_mass, t3091);
-        let t3093: f64 = t116 * 2.0;
-        let t3094: f64 = joint2_mass * t3093;
-        let t3095: f64 = t3092.plus(t3094);
-        let t3096 = product(joint3_mass, t1181);
-        let t3097: f64 = joint4_mass * t1186;
-        let t3098: f64 = t3096.plus(t3097);
-        let t3099: f64 = t3095 + t3098;
-        let t3100: f64 = t3090 * 2.0;
-        let t3101: f64 = t706 + t3099;
-        let t3102: f64 = t3100 - t3101;
-        let t3103 = product(t1006, t3102);
-        let t3104: f64 = t85 * t484;
-        let t3105 = product(t315, t3104);
-        let t3106: f64 = t3105.added_to(t108);
-        let t3107: f64 = t3106 * 2.0;
-        let t3108 = product(joint1_mass, t3107);
-        let t3109 = product(t320, t3104);
-        let t3110: f64 = t3109.added_to(t116);
-        let t3111: f64 = t3110 * 2.0;
-        let t3112: f64 = joint2_mass * t3111;
-        let t3113: f64 = t3108.plus(t3112);
-        let t3114: f64 = t3086 - t668;
-        let t3115 = product(t278, t3071);
-        let t3116: f64 = t286 * t3071;
-        let t3117: f64 = t3115.plus(t3116);
-        let t3118: f64 = t3114 - t3117;
-        let t3119: f64 = t3118 * 2.0;
-        let t3120: f64 = t3119 - t3113;
-        let t3121 = product(wy, t3120);
-        let t3122 = product(wx, t3076);
-        let t3123 = product(t2607, t3073);
-        let t3124: f64 = t3123.subtracted_from(t2842);
-        let t3125: f64 = t2636 - t604;
-        let t3126: f64 = t3124 + t3125;
-        let t3127: f64 = wz * t3126;
-        let t3128: f64 = t3122.plus(t3127);
-        let t3129: f64 = t3121.subtracted_from(t3128);
-        let t3130 = product(wz, t3129);
-        let t3131 = product(wx, t3083);
-        let t3132: f64 = wy * t3126;
-        let t3133 = product(t2890, t3104);
-        let t3134: f64 = t1171 + t3117;
-        let t3135: f64 = t3089 + t3134;
-        let t3136: f64 = t3135 * 2.0;
-        let t3137: f64 = t3133.plus(t3136);
-        let t3138: f64 = -t3137;
-        let t3139 = product(wz, t3138);
-        let t3140: f64 = t3131.plus(t3132);
-        let t3141: f64 = t3139.subtracted_from(t3140);
-        let t3142: f64 = wy * t3141;
-        let t3143: f64 = t3130.minus(t3142);
-        let t3144: f64 = t3103.plus(t3143);
-        let t3145: f64 = t3085 + t3144;
-        let t3146 = product(t692, t1282);
-        let t3147: f64 = t3146.added_to(t2662);
-        let t3148: f64 = t3145 + t3147;
-        let t3149: f64 = t3077.plus(t3148);
-        let t3150 = product(t634, t3149);
-        let t3151 = product(t1290, t3149);
-        let t3152 = product(t513, t3149);
-        let t3153 = product(t692, t1331);
-        let t3154: f64 = t517 + t3113;
-        let t3155: f64 = t3119 - t3154;
-        let t3156: f64 = t1055 * t3155;
-        let t3157: f64 = t3153.plus(t3156);
-        let t3158 = product(t1006, t3076);
-        let t3159: f64 = t984 * t3126;
-        let t3160: f64 = t3158.plus(t3159);
-        let t3161: f64 = t1174 * t3071;
-        let t3162 = product(t690, t3161);
-        let t3163: f64 = t3100 - t3099;
-        let t3164 = product(wx, t3163);
-        let t3165 = product(wy, t3076);
-        let t3166: f64 = wz * t3083;
-        let t3167: f64 = t3165.plus(t3166);
-        let t3168: f64 = t3164.minus(t3167);
-        let t3169 = product(wz, t3168);
-        let t3170: f64 = wx * t3141;
-        let t3171: f64 = t3169.plus(t3170);
-        let t3172: f64 = t3162.minus(t3171);
-        let t3173: f64 = t3160 + t3172;
-        let t3174: f64 = t2923 + t3173;
-        let t3175: f64 = t3157 + t3174;
-        let t3176: f64 = t3152.plus(t3175);
-        let t3177 = product(t566, t3176);
-        let t3178: f64 = t3126 - t683;
-        let t3179: f64 = t1000 * t3178;
-        let t3180: f64 = t3177.minus(t3179);
-        let t3181: f64 = t509 * t3180;
-        let t3182: f64 = t3151.plus(t3181);
-        let t3183 = product(wx, t3129);
-        let t3184: f64 = wy * t3168;
-        let t3185: f64 = t3183.plus(t3184);
-        let t3186: f64 = t3083 - t252;
-        let t3187 = product(t1006, t3186);
-        let t3188: f64 = t984 * t3138;
-        let t3189: f64 = t3187.minus(t3188);
-        let t3190: f64 = t3185 + t3189;
-        let t3191: f64 = t1331 * t3073;
-        let t3192 = product(t691, t3191);
-        let t3193: f64 = t1282 * t3071;
-        let t3194: f64 = t690 * t3193;
-        let t3195: f64 = t3192.minus(t3194);
-        let t3196: f64 = t3190 + t3195;
-        let t3197: f64 = t3182 + t3196;
-        let t3198: f64 = t1396 * t3197;
-        let t3199: f64 = wx * t146;
-        let t3200: f64 = t90 * t3199;
-        let t3201 = product(t691, t3200);
-        let t3202: f64 = t85 * t1400;
-        let t3203: f64 = t690 * t3202;
-        let t3204: f64 = t3201.minus(t3203);
-        let t3205 = product(wy, t3204);
-        let t3206 = product(wx, t692);
-        let t3207: f64 = t85 * t1406;
-        let t3208: f64 = t690 * t3207;
-        let t3209: f64 = t3206.plus(t3208);
-        let t3210: f64 = wz * t3209;
-        let t3211: f64 = t3205.minus(t3210);
-        let t3212: f64 = t984 * t3073;
-        let t3213 = product(t691, t3212);
-        let t3214: f64 = t3213.subtracted_from(t3211);
-        let t3215 = product(t680, t3176);
-        let t3216: f64 = t569 + t692;
-        let t3217: f64 = t1000 * t3216;
-        let t3218: f64 = t3215.plus(t3217);
-        let t3219 = product(t509, t3218);
-        let t3220: f64 = t701 * t3197;
-        let t3221: f64 = t3219.minus(t3220);
-        let t3222: f64 = t3214 + t3221;
-        let t3223 = product(t1007, t3222);
-        let t3224 = product(wy, t692);
-        let t3225: f64 = wz * t146;
-        let t3226: f64 = t90 * t3225;
-        let t3227: f64 = t691 * t3226;
-        let t3228: f64 = t3224.plus(t3227);
-        let t3229 = product(wz, t3228);
-        let t3230: f64 = wx * t3204;
-        let t3231: f64 = t3229.plus(t3230);
-        let t3232: f64 = t1000 * t3076;
-        let t3233 = product(t459, t3176);
-        let t3234: f64 = t3233.added_to(t3232);
-        let t3235 = product(t509, t3234);
-        let t3236: f64 = t3235.added_to(t3148);
-        let t3237 = product(t711, t3236);
-        let t3238: f64 = t3237.subtracted_from(t3231);
-        let t3239: f64 = t984 * t3071;
-        let t3240 = product(t690, t3239);
-        let t3241: f64 = t36 + t692;
-        let t3242: f64 = t1006 * t3241;
-        let t3243: f64 = t3240.plus(t3242);
-        let t3244: f64 = t3238 - t3243;
-        let t3245 = product(t734, t3197);
-        let t3246: f64 = t736 * t3222;
-        let t3247: f64 = t3245.minus(t3246);
-        let t3248: f64 = t3244 + t3247;
-        let t3249: f64 = t1010 * t3248;
-        let t3250: f64 = t1000 * t3071;
-        let t3251 = product(t690, t3250);
-        let t3252: f64 = t655 * t3176;
-        let t3253: f64 = t3251.plus(t3252);
-        let t3254 = product(t509, t3253);
-        let t3255: f64 = t1006 * t3073;
-        let t3256 = product(t691, t3255);
-        let t3257 = product(wx, t3209);
-        let t3258: f64 = wy * t3228;
-        let t3259: f64 = t3257.plus(t3258);
-        let t3260: f64 = t3256.plus(t3259);
-        let t3261: f64 = t3223.plus(t3249);
-        let t3262: f64 = t3254.plus(t3260);
-        let t3263: f64 = t3261 + t3262;
-        let t3264: f64 = t3150.plus(t3198);
-        let t3265: f64 = t3263 - t3264;
-        let t3266 = product(t967, t3265);
-        let t3267: f64 = t3266.added_to(t3248);
-        let t3268: f64 = t993 * t3267;
-        let t3269 = product(t970, t3267);
-        let t3270 = product(t972, t3265);
-        let t3271: f64 = t3270.added_to(t3222);
-        let t3272: f64 = t3269.subtracted_from(t3271);
-        let t3273 = product(t976, t3272);
-        let t3274 = product(t978, t3267);
-        let t3275: f64 = t965 * t3265;
-        let t3276: f64 = t3274.added_to(t3197);
-        let t3277: f64 = t3273.plus(t3275);
-        let t3278: f64 = t3276 - t3277;
-        let t3279 = product(t2045, t3278);
-        let t3280 = product(t986, t3265);
-        let t3281 = product(t2032, t3278);
-        let t3282: f64 = t989 * t3272;
-        let t3283 = product(t991, t3265);
-        let t3284: f64 = t3149 - t3268;
-        let t3285: f64 = t513 * t3284;
-        let t3286: f64 = t3281.plus(t3282);
-        let t3287: f64 = t3283.plus(t3285);
-        let t3288: f64 = t3286 + t3287;
-        let t3289: f64 = t3175 + t3288;
-        let t3290 = product(t459, t3289);
-        let t3291: f64 = t3290.added_to(t3232);
-        let t3292: f64 = t509 * t3291;
-        let t3293: f64 = t3279.plus(t3292);
-        let t3294: f64 = t3148 + t3293;
-        let t3295: f64 = t3280.added_to(t3268);
-        let t3296: f64 = t3294 - t3295;
-        let t3297: f64 = t247 * t3296;
-        let t3298: f64 = t509 * t2544;
-        let t3299: f64 = t509 * t2816;
-        let t3300: f64 = t509 * t3061;
-        let t3301: f64 = gravity_x - t1017;
-        let t3302 = product(t692, t3301);
-        let t3303: f64 = -t1029;
-        let t3304 = product(t3076, t3303);
-        let t3305: f64 = gravity_y + t1013;
-        let t3306: f64 = t692 * t3305;
-        let t3307: f64 = t1013 + t2654;
-        let t3308: f64 = t2652 + t3307;
-        let t3309 = product(rod3_mass, t3308);
-        let t3310: f64 = t2658 + t3307;
-        let t3311: f64 = rod4_mass * t3310;
-        let t3312: f64 = t3309.plus(t3311);
-        let t3313: f64 = t801 + t3312;
-        let t3314: f64 = t3304.plus(t3306);
-        let t3315: f64 = t3145 + t3313;
-        let t3316: f64 = t3314 + t3315;
-        let t3317: f64 = t513 * t3316;
-        let t3318 = product(t3155, t3303);
-        let t3319 = product(t108, t3303);
-        let t3320: f64 = t2914 - t1017;
-        let t3321: f64 = t3319.subtracted_from(t3320);
-        let t3322 = product(rod1_mass, t3321);
-        let t3323 = product(t116, t3303);
-        let t3324: f64 = t3323.subtracted_from(t3320);
-        let t3325: f64 = rod2_mass * t3324;
-        let t3326: f64 = t3322.plus(t3325);
-        let t3327: f64 = t895 + t3326;
-        let t3328: f64 = t3302.plus(t3317);
-        let t3329: f64 = t3318.added_to(t3173);
-        let t3330: f64 = t3328 + t3329;
-        let t3331: f64 = t3327 + t3330;
-        let t3332 = product(t509, t3331);
-        let t3333: f64 = t3071 * t3305;
-        let t3334 = product(t690, t3333);
-        let t3335: f64 = t3073 * t3301;
-        let t3336 = product(t691, t3335);
-        let t3337: f64 = t1290 * t3316;
-        let t3338 = product(t656, t3331);
-        let t3339: f64 = t3178 * t3303;
-        let t3340: f64 = t3336.plus(t3337);
-        let t3341: f64 = t3338.added_to(t3190);
-        let t3342: f64 = t3340 + t3341;
-        let t3343: f64 = t3334.plus(t3339);
-        let t3344: f64 = t3342 - t3343;
-        let t3345 = product(t599, t3344);
-        let t3346: f64 = t3071 * t3303;
-        let t3347 = product(t690, t3346);
-        let t3348 = product(t634, t3316);
-        let t3349: f64 = t1023 * t3331;
-        let t3350: f64 = t1396 * t3344;
-        let t3351 = product(t684, t3331);
-        let t3352 = product(t701, t3344);
-        let t3353: f64 = t3216 * t3303;
-        let t3354: f64 = t3351.plus(t3353);
-        let t3355: f64 = t3214 + t3354;
-        let t3356: f64 = t3352.subtracted_from(t3355);
-        let t3357 = product(t1007, t3356);
-        let t3358 = product(t734, t3344);
-        let t3359 = product(t736, t3356);
-        let t3360: f64 = t3358.added_to(t3244);
-        let t3361: f64 = t3359.subtracted_from(t3360);
-        let t3362: f64 = t1010 * t3361;
-        let t3363: f64 = t3347.plus(t3349);
-        let t3364: f64 = t3357.plus(t3362);
-        let t3365: f64 = t3363 + t3364;
-        let t3366: f64 = t3260 + t3365;
-        let t3367: f64 = t3348.plus(t3350);
-        let t3368: f64 = t3366 - t3367;
-        let t3369 = product(t1008, t3368);
-        let t3370 = product(t699, t3356);
-        let t3371: f64 = t733 * t736;
-        let t3372: f64 = t3267 * t3371;
-        let t3373: f64 = t3370.minus(t3372);
-        let t3374: f64 = t3369.plus(t3373);
-        let t3375: f64 = t701 * t3374;
-        let t3376: f64 = t3345.minus(t3375);
-        let t3377: f64 = t733 * t734;
-        let t3378 = product(t3267, t3377);
-        let t3379: f64 = t751 * t1396;
-        let t3380: f64 = t3368 * t3379;
-        let t3381: f64 = t3378.minus(t3380);
-        let t3382: f64 = t3376 + t3381;
-        let t3383: f64 = t656 * t3382;
-        let t3384 = product(t684, t3374);
-        let t3385: f64 = t733 * t1020;
-        let t3386 = product(t3267, t3385);
-        let t3387: f64 = t1024 * t3368;
-        let t3388: f64 = t3332.plus(t3383);
-        let t3389: f64 = t3384.plus(t3387);
+        let t3003: f64 = t3001 + t3002;
+        let t3004: f64 = t2997.subtracted_from(t3003);
+        let t3005 = product(t674, t3004);
+        let t3006: f64 = t2017 * t2994;
+        let t3007 = product(t986, t2982);
+        let t3008: f64 = t3005.plus(t3006);
+        let t3009: f64 = t3007.added_to(t2999);
+        let t3010: f64 = t3008 + t3009;
+        let t3011: f64 = t247 * t3010;
+        let t3012: f64 = -t3011;
+        let t3013: f64 = t85 * t316;
+        let t3014: f64 = t1032 * t3013;
+        let t3015 = product(t658, t3014);
+        let t3016 = product(t2821, t3013);
+        let t3017: f64 = t90 * t146;
+        let t3018: f64 = t2585 * t3017;
+        let t3019: f64 = t3016.plus(t3018);
+        let t3020: f64 = -t3019;
+        let t3021 = product(t1032, t3020);
+        let t3022: f64 = t85 * t484;
+        let t3023 = product(t315, t3022);
+        let t3024: f64 = t3023.added_to(t108);
+        let t3025: f64 = t3024 * 2.0;
+        let t3026 = product(joint1_mass, t3025);
+        let t3027 = product(t320, t3022);
+        let t3028: f64 = t3027.added_to(t116);
+        let t3029: f64 = t3028 * 2.0;
+        let t3030: f64 = joint2_mass * t3029;
+        let t3031: f64 = t3026.plus(t3030);
+        let t3032: f64 = t2519 + t2808;
+        let t3033: f64 = t3032 - t604;
+        let t3034 = product(t278, t3013);
+        let t3035: f64 = t286 * t3013;
+        let t3036: f64 = t3034.plus(t3035);
+        let t3037: f64 = t3033 - t3036;
+        let t3038: f64 = t3037 * 2.0;
+        let t3039: f64 = t3038 - t3031;
+        let t3040 = product(wy, t3039);
+        let t3041 = product(wx, t3020);
+        let t3042 = product(t2554, t3017);
+        let t3043: f64 = t3042.subtracted_from(t2782);
+        let t3044: f64 = t2588 - t641;
+        let t3045: f64 = t3043 + t3044;
+        let t3046: f64 = wz * t3045;
+        let t3047: f64 = t3041.plus(t3046);
+        let t3048: f64 = t3040.subtracted_from(t3047);
+        let t3049 = product(wz, t3048);
+        let t3050 = product(t2809, t3013);
+        let t3051: f64 = t3050.subtracted_from(t681);
+        let t3052: f64 = t2585 + t2824;
+        let t3053: f64 = t3051 + t3052;
+        let t3054 = product(wx, t3053);
+        let t3055: f64 = wy * t3045;
+        let t3056 = product(t2829, t3022);
+        let t3057 = product(t171, t3017);
+        let t3058: f64 = t160 * t3017;
+        let t3059: f64 = t3057.plus(t3058);
+        let t3060: f64 = t1108 + t3036;
+        let t3061: f64 = t3059 + t3060;
+        let t3062: f64 = t3061 * 2.0;
+        let t3063: f64 = t3056.plus(t3062);
+        let t3064: f64 = -t3063;
+        let t3065 = product(wz, t3064);
+        let t3066: f64 = t3054.plus(t3055);
+        let t3067: f64 = t3065.subtracted_from(t3066);
+        let t3068: f64 = wy * t3067;
+        let t3069: f64 = t3049.minus(t3068);
+        let t3070: f64 = t2665 + t3069;
+        let t3071: f64 = t1111 * t3017;
+        let t3072 = product(t659, t3071);
+        let t3073: f64 = t984 * t3053;
+        let t3074: f64 = t3072.minus(t3073);
+        let t3075 = product(t660, t1124);
+        let t3076: f64 = t3032 - t3059;
+        let t3077: f64 = t108 * 2.0;
+        let t3078 = product(joint1_mass, t3077);
+        let t3079: f64 = t116 * 2.0;
+        let t3080: f64 = joint2_mass * t3079;
+        let t3081: f64 = t3078.plus(t3080);
+        let t3082 = product(joint3_mass, t1170);
+        let t3083: f64 = joint4_mass * t1175;
+        let t3084: f64 = t3082.plus(t3083);
+        let t3085: f64 = t3081 + t3084;
+        let t3086: f64 = t3076 * 2.0;
+        let t3087: f64 = t668 + t3085;
+        let t3088: f64 = t3086 - t3087;
+        let t3089: f64 = t1006 * t3088;
+        let t3090: f64 = t3075.plus(t3089);
+        let t3091: f64 = t3074 + t3090;
+        let t3092: f64 = t3070 + t3091;
+        let t3093: f64 = t3021.plus(t3092);
+        let t3094 = product(t714, t3093);
+        let t3095 = product(t513, t3093);
+        let t3096 = product(t660, t1326);
+        let t3097: f64 = t1111 * t3013;
+        let t3098: f64 = t658 * t3097;
+        let t3099: f64 = t3096.plus(t3098);
+        let t3100 = product(t1006, t3020);
+        let t3101: f64 = t984 * t3045;
+        let t3102: f64 = t3100.plus(t3101);
+        let t3103: f64 = t3086 - t3085;
+        let t3104 = product(wx, t3103);
+        let t3105 = product(wy, t3020);
+        let t3106: f64 = wz * t3053;
+        let t3107: f64 = t3105.plus(t3106);
+        let t3108: f64 = t3104.minus(t3107);
+        let t3109 = product(wz, t3108);
+        let t3110: f64 = wx * t3067;
+        let t3111: f64 = t3109.plus(t3110);
+        let t3112: f64 = t3102 - t3111;
+        let t3113: f64 = t3099 + t3112;
+        let t3114: f64 = t517 + t3031;
+        let t3115: f64 = t3038 - t3114;
+        let t3116 = product(t1032, t3115);
+        let t3117: f64 = t3116.added_to(t2903);
+        let t3118: f64 = t3113 + t3117;
+        let t3119: f64 = t3095.plus(t3118);
+        let t3120: f64 = t1014 * t3119;
+        let t3121 = product(t1352, t3093);
+        let t3122: f64 = t720 * t3119;
+        let t3123: f64 = t3121.plus(t3122);
+        let t3124: f64 = t1326 * t3017;
+        let t3125 = product(t659, t3124);
+        let t3126: f64 = t3053 - t252;
+        let t3127: f64 = t1006 * t3126;
+        let t3128: f64 = t3125.plus(t3127);
+        let t3129 = product(wx, t3048);
+        let t3130: f64 = wy * t3108;
+        let t3131: f64 = t3129.plus(t3130);
+        let t3132 = product(t984, t3064);
+        let t3133: f64 = t1124 * t3013;
+        let t3134: f64 = t658 * t3133;
+        let t3135: f64 = t3132.plus(t3134);
+        let t3136: f64 = t3131 - t3135;
+        let t3137: f64 = t3128 + t3136;
+        let t3138: f64 = t3045 - t600;
+        let t3139 = product(t1032, t3138);
+        let t3140: f64 = t3139.subtracted_from(t3137);
+        let t3141: f64 = t3123 + t3140;
+        let t3142: f64 = t1381 * t3141;
+        let t3143 = product(t635, t3119);
+        let t3144: f64 = t697 * t3141;
+        let t3145: f64 = t3143.minus(t3144);
+        let t3146: f64 = t569 + t660;
+        let t3147 = product(t1032, t3146);
+        let t3148: f64 = wx * t146;
+        let t3149: f64 = t90 * t3148;
+        let t3150 = product(t659, t3149);
+        let t3151: f64 = t85 * t1388;
+        let t3152: f64 = t658 * t3151;
+        let t3153: f64 = t3150.minus(t3152);
+        let t3154 = product(wy, t3153);
+        let t3155 = product(wx, t660);
+        let t3156: f64 = t85 * t1394;
+        let t3157: f64 = t658 * t3156;
+        let t3158: f64 = t3155.plus(t3157);
+        let t3159: f64 = wz * t3158;
+        let t3160: f64 = t3154.minus(t3159);
+        let t3161: f64 = t984 * t3017;
+        let t3162 = product(t659, t3161);
+        let t3163: f64 = t3162.subtracted_from(t3160);
+        let t3164: f64 = t3147.plus(t3163);
+        let t3165: f64 = t3145 + t3164;
+        let t3166 = product(t1404, t3165);
+        let t3167 = product(wy, t660);
+        let t3168: f64 = wz * t146;
+        let t3169: f64 = t90 * t3168;
+        let t3170: f64 = t659 * t3169;
+        let t3171: f64 = t3167.plus(t3170);
+        let t3172 = product(wz, t3171);
+        let t3173: f64 = wx * t3153;
+        let t3174: f64 = t3172.plus(t3173);
+        let t3175 = product(t674, t3119);
+        let t3176: f64 = t3175.added_to(t3093);
+        let t3177 = product(t677, t3176);
+        let t3178: f64 = t3177.subtracted_from(t3174);
+        let t3179: f64 = t984 * t3013;
+        let t3180 = product(t658, t3179);
+        let t3181: f64 = t36 + t660;
+        let t3182: f64 = t1006 * t3181;
+        let t3183: f64 = t3180.plus(t3182);
+        let t3184: f64 = t3178 - t3183;
+        let t3185 = product(t723, t3141);
+        let t3186: f64 = t728 * t3165;
+        let t3187: f64 = t3185.minus(t3186);
+        let t3188: f64 = t3184 + t3187;
+        let t3189: f64 = t1424 * t3188;
+        let t3190: f64 = t1006 * t3017;
+        let t3191 = product(t659, t3190);
+        let t3192 = product(wx, t3158);
+        let t3193: f64 = wy * t3171;
+        let t3194: f64 = t3192.plus(t3193);
+        let t3195: f64 = t3191.plus(t3194);
+        let t3196: f64 = t3015.plus(t3120);
+        let t3197: f64 = t3166.plus(t3189);
+        let t3198: f64 = t3196 + t3197;
+        let t3199: f64 = t3195 + t3198;
+        let t3200: f64 = t3094.plus(t3142);
+        let t3201: f64 = t3199 - t3200;
+        let t3202 = product(t965, t3201);
+        let t3203: f64 = t3202.added_to(t3188);
+        let t3204 = product(t968, t3203);
+        let t3205 = product(t970, t3201);
+        let t3206: f64 = t3205.added_to(t3165);
+        let t3207: f64 = t3204.subtracted_from(t3206);
+        let t3208 = product(t974, t3207);
+        let t3209 = product(t976, t3203);
+        let t3210: f64 = t978 * t3201;
+        let t3211: f64 = t3209.added_to(t3141);
+        let t3212: f64 = t3208.plus(t3210);
+        let t3213: f64 = t3211 - t3212;
+        let t3214 = product(t2004, t3213);
+        let t3215: f64 = t989 * t3207;
+        let t3216 = product(t991, t3201);
+        let t3217 = product(t993, t3203);
+        let t3218: f64 = t3217.subtracted_from(t3093);
+        let t3219: f64 = t513 * t3218;
+        let t3220: f64 = t3214.plus(t3215);
+        let t3221: f64 = t3216.plus(t3219);
+        let t3222: f64 = t3220 + t3221;
+        let t3223: f64 = t3118 + t3222;
+        let t3224 = product(t674, t3223);
+        let t3225: f64 = t2017 * t3213;
+        let t3226 = product(t986, t3201);
+        let t3227: f64 = t3224.plus(t3225);
+        let t3228: f64 = t3218 + t3227;
+        let t3229: f64 = t3226.subtracted_from(t3228);
+        let t3230: f64 = t247 * t3229;
+        let t3231: f64 = t509 * t2508;
+        let t3232: f64 = t509 * t2770;
+        let t3233: f64 = t509 * t3004;
+        let t3234: f64 = -t1020;
+        let t3235 = product(t3020, t3234);
+        let t3236: f64 = t3235.added_to(t3092);
+        let t3237 = product(t513, t3236);
+        let t3238: f64 = t3115 * t3234;
+        let t3239 = product(t108, t3234);
+        let t3240: f64 = t3239.subtracted_from(t2896);
+        let t3241 = product(rod1_mass, t3240);
+        let t3242 = product(t116, t3234);
+        let t3243: f64 = t3242.subtracted_from(t2896);
+        let t3244: f64 = rod2_mass * t3243;
+        let t3245: f64 = t3241.plus(t3244);
+        let t3246: f64 = t895 + t3245;
+        let t3247: f64 = t3237.plus(t3238);
+        let t3248: f64 = t3113 + t3246;
+        let t3249: f64 = t3247 + t3248;
+        let t3250 = product(t509, t3249);
+        let t3251 = product(t1352, t3236);
+        let t3252: f64 = t720 * t3249;
+        let t3253 = product(t3138, t3234);
+        let t3254: f64 = t3251.plus(t3252);
+        let t3255: f64 = t3137 + t3254;
+        let t3256: f64 = t3253.subtracted_from(t3255);
+        let t3257 = product(t599, t3256);
+        let t3258: f64 = t3013 * t3234;
+        let t3259 = product(t658, t3258);
+        let t3260 = product(t714, t3236);
+        let t3261: f64 = t1014 * t3249;
+        let t3262: f64 = t1381 * t3256;
+        let t3263 = product(t635, t3249);
+        let t3264 = product(t697, t3256);
+        let t3265: f64 = t3146 * t3234;
+        let t3266: f64 = t3263.plus(t3265);
+        let t3267: f64 = t3163 + t3266;
+        let t3268: f64 = t3264.subtracted_from(t3267);
+        let t3269 = product(t1404, t3268);
+        let t3270 = product(t723, t3256);
+        let t3271 = product(t728, t3268);
+        let t3272: f64 = t3270.added_to(t3184);
+        let t3273: f64 = t3271.subtracted_from(t3272);
+        let t3274: f64 = t1424 * t3273;
+        let t3275: f64 = t3259.plus(t3261);
+        let t3276: f64 = t3269.plus(t3274);
+        let t3277: f64 = t3275 + t3276;
+        let t3278: f64 = t3195 + t3277;
+        let t3279: f64 = t3260.plus(t3262);
+        let t3280: f64 = t3278 - t3279;
+        let t3281: f64 = t751 * t1404;
+        let t3282 = product(t3280, t3281);
+        let t3283 = product(t667, t3268);
+        let t3284: f64 = t712 * t728;
+        let t3285: f64 = t3203 * t3284;
+        let t3286: f64 = t3283.minus(t3285);
+        let t3287: f64 = t3282.plus(t3286);
+        let t3288: f64 = t697 * t3287;
+        let t3289: f64 = t3257.minus(t3288);
+        let t3290: f64 = t712 * t723;
+        let t3291 = product(t3203, t3290);
+        let t3292: f64 = t751 * t1381;
+        let t3293: f64 = t3280 * t3292;
+        let t3294: f64 = t3291.minus(t3293);
+        let t3295: f64 = t3289 + t3294;
+        let t3296: f64 = t720 * t3295;
+        let t3297 = product(t635, t3287);
+        let t3298 = product(t1011, t3203);
+        let t3299: f64 = t1015 * t3280;
+        let t3300: f64 = t3250.plus(t3296);
+        let t3301: f64 = t3297.plus(t3299);
+        let t3302: f64 = t3300 + t3301;
+        let t3303: f64 = t3298.minus(t3302);
+        let t3304 = product(t605, t1231);
+        let t3305: f64 = t606 * t1235;
+        let t3306: f64 = t3304.plus(t3305);
+        let t3307: f64 = t1245 + t3306;
+        let t3308 = product(wy, t3307);
+        let t3309: f64 = t3308.subtracted_from(t1265);
+        let t3310 = product(wx, t3309);
+        let t3311 = product(t637, t1170);
+        let t3312: f64 = t638 * t1175;
+        let t3313: f64 = t3311.minus(t3312);
+        let t3314: f64 = t3306 + t3313;
+        let t3315: f64 = t1271 + t3314;
+        let t3316 = product(wx, t3315);
+        let t3317: f64 = t3316.added_to(t1284);
+        let t3318: f64 = wy * t3317;
+        let t3319 = product(t154, t3234);
+        let t3320: f64 = t3319.subtracted_from(t1306);
+        let t3321 = product(t44, t3320);
+        let t3322 = product(t145, t3234);
+        let t3323: f64 = t3322.added_to(t1300);
+        let t3324 = product(t51, t3323);
+        let t3325: f64 = t3324.added_to(t1296);
+        let t3326: f64 = t3321.subtracted_from(t3325);
+        let t3327 = product(t154, t3326);
+        let t3328 = product(t51, t3320);
+        let t3329 = product(t64, t3323);
+        let t3330: f64 = t3328.added_to(t1313);
+        let t3331: f64 = t3329.subtracted_from(t3330);
+        let t3332 = product(t145, t3331);
+        let t3333: f64 = t1223 * t3234;
+        let t3334: f64 = t1200 + t3313;
+        let t3335: f64 = -t3334;
+        let t3336 = product(t984, t3335);
+        let t3337 = product(t85, t3234);
+        let t3338: f64 = t3337.added_to(t1035);
+        let t3339 = product(t44, t3338);
+        let t3340 = product(t90, t3234);
+        let t3341: f64 = t3340.added_to(t1039);
+        let t3342: f64 = t51 * t3341;
+        let t3343: f64 = t3339.plus(t3342);
+        let t3344: f64 = t1143 - t3343;
+        let t3345: f64 = t85 * t3344;
+        let t3346 = product(t51, t3338);
+        let t3347: f64 = t64 * t3341;
+        let t3348: f64 = t3346.plus(t3347);
+        let t3349: f64 = t1158 - t3348;
+        let t3350 = product(t90, t3349);
+        let t3351 = product(wz, t3335);
+        let t3352: f64 = t3351.subtracted_from(t1225);
+        let t3353 = product(wy, t3352);
+        let t3354: f64 = wz * t3309;
+        let t3355 = product(t1006, t3315);
+        let t3356: f64 = t1262 * t3234;
+        let t3357 = product(t22, t3338);
+        let t3358: f64 = t29 * t3341;
+        let t3359: f64 = t3357.plus(t3358);
+        let t3360: f64 = t1077 - t3359;
+        let t3361 = product(t6, t3360);
+        let t3362: f64 = t3353.plus(t3354);
+        let t3363: f64 = t3355.plus(t3356);
+        let t3364: f64 = t3361.added_to(t1165);
+        let t3365: f64 = t3362 + t3363;
+        let t3366: f64 = t3364 + t3365;
+        let t3367: f64 = t1352 * t3366;
+        let t3368 = product(wz, t3317);
+        let t3369 = product(wx, t3352);
+        let t3370: f64 = t85 * t3326;
+        let t3371: f64 = t90 * t3331;
+        let t3372 = product(t3234, t3307);
+        let t3373 = product(t154, t3344);
+        let t3374: f64 = t145 * t3349;
+        let t3375: f64 = t513 * t3366;
+        let t3376: f64 = t3368.plus(t3371);
+        let t3377: f64 = t3373.plus(t3374);
+        let t3378: f64 = t3376 + t3377;
+        let t3379: f64 = t1343 + t3378;
+        let t3380: f64 = t3369.plus(t3370);
+        let t3381: f64 = t3372.plus(t3375);
+        let t3382: f64 = t3380 + t3381;
+        let t3383: f64 = t3379 - t3382;
+        let t3384: f64 = t720 * t3383;
+        let t3385: f64 = t3310.plus(t3318);
+        let t3386: f64 = t3332.plus(t3333);
+        let t3387: f64 = t3336.plus(t3367);
+        let t3388: f64 = t3385 + t3386;
+        let t3389: f64 = t1366 + t3387;
         let t3390: f64 = t3388 + t3389;
-        let t3391: f64 = t3386.minus(t3390);
-        let t3392 = product(t669, t1242);
-        let t3393: f64 = t670 * t1246;
-        let t3394: f64 = t3392.plus(t3393);
-        let t3395: f64 = t1256 + t3394;
-        let t3396 = product(wy, t3395);
-        let t3397: f64 = t3396.subtracted_from(t1261);
-        let t3398 = product(wx, t3397);
-        let t3399 = product(t600, t1181);
-        let t3400: f64 = t601 * t1186;
-        let t3401: f64 = t3399.minus(t3400);
-        let t3402: f64 = t3394 + t3401;
-        let t3403: f64 = t1267 + t3402;
-        let t3404 = product(wx, t3403);
-        let t3405: f64 = t3404.added_to(t1358);
-        let t3406: f64 = wy * t3405;
-        let t3407 = product(t154, t3303);
-        let t3408: f64 = t3407.subtracted_from(t1315);
-        let t3409 = product(t44, t3408);
-        let t3410 = product(t145, t3303);
-        let t3411: f64 = t3410.added_to(t1308);
-        let t3412 = product(t51, t3411);
-        let t3413: f64 = t3412.added_to(t1303);
-        let t3414: f64 = t3409.subtracted_from(t3413);
-        let t3415 = product(t154, t3414);
-        let t3416 = product(t51, t3408);
-        let t3417 = product(t64, t3411);
-        let t3418: f64 = t3416.added_to(t1322);
-        let t3419: f64 = t3417.subtracted_from(t3418);
-        let t3420 = product(t145, t3419);
-        let t3421: f64 = t1234 * t3303;
-        let t3422: f64 = t1211 + t3401;
+        let t3391: f64 = t3327.plus(t3345);
+        let t3392: f64 = t3350.plus(t3384);
+        let t3393: f64 = t3391 + t3392;
+        let t3394: f64 = t3390 - t3393;
+        let t3395 = product(t599, t3394);
+        let t3396 = product(t1033, t3234);
+        let t3397: f64 = t714 * t3366;
+        let t3398 = product(t1014, t3383);
+        let t3399: f64 = t1381 * t3394;
+        let t3400 = product(t1123, t3234);
+        let t3401 = product(t635, t3383);
+        let t3402: f64 = t697 * t3394;
+        let t3403: f64 = t3400.added_to(t1400);
+        let t3404: f64 = t3401.plus(t3402);
+        let t3405: f64 = t3403 - t3404;
+        let t3406 = product(t1404, t3405);
+        let t3407 = product(t723, t3394);
+        let t3408 = product(t728, t3405);
+        let t3409: f64 = t3407.added_to(t1419);
+        let t3410: f64 = t3408.subtracted_from(t3409);
+        let t3411: f64 = t1424 * t3410;
+        let t3412: f64 = t3396.plus(t3397);
+        let t3413: f64 = t3398.plus(t3399);
+        let t3414: f64 = t3412 + t3413;
+        let t3415: f64 = t1430 + t3414;
+        let t3416: f64 = t3406.plus(t3411);
+        let t3417: f64 = t3415 - t3416;
+        let t3418 = product(t3281, t3417);
+        let t3419 = product(t667, t3405);
+        let t3420: f64 = t1438 * t3284;
+        let t3421: f64 = t3419.minus(t3420);
+        let t3422: f64 = t3418.minus(t3421);
         let t3423: f64 = -t3422;
-        let t3424 = product(t984, t3423);
-        let t3425: f64 = t1341 * t3305;
-        let t3426 = product(t1173, t3301);
-        let t3427 = product(t85, t3303);
-        let t3428: f64 = t3427.added_to(t1057);
-        let t3429 = product(t44, t3428);
-        let t3430 = product(t90, t3303);
-        let t3431: f64 = t3430.added_to(t1062);
-        let t3432: f64 = t51 * t3431;
-        let t3433: f64 = t3429.plus(t3432);
-        let t3434: f64 = t1123 - t3433;
-        let t3435: f64 = t85 * t3434;
-        let t3436 = product(t51, t3428);
-        let t3437: f64 = t64 * t3431;
-        let t3438: f64 = t3436.plus(t3437);
-        let t3439: f64 = t1138 - t3438;
-        let t3440 = product(t90, t3439);
-        let t3441 = product(wz, t3423);
-        let t3442: f64 = t3441.subtracted_from(t1236);
-        let t3443 = product(wy, t3442);
-        let t3444: f64 = wz * t3397;
-        let t3445 = product(t1006, t3403);
-        let t3446: f64 = t1054 * t3303;
-        let t3447 = product(t1280, t3305);
-        let t3448 = product(t22, t3428);
-        let t3449: f64 = t29 * t3431;
-        let t3450: f64 = t3448.plus(t3449);
-        let t3451: f64 = t1102 - t3450;
-        let t3452: f64 = t6 * t3451;
-        let t3453: f64 = t3443.plus(t3444);
-        let t3454: f64 = t3445.plus(t3446);
-        let t3455: f64 = t3447.plus(t3452);
-        let t3456: f64 = t3453 + t3454;
-        let t3457: f64 = t1177 + t3455;
-        let t3458: f64 = t3456 + t3457;
-        let t3459: f64 = t1290 * t3458;
-        let t3460 = product(wz, t3405);
-        let t3461 = product(wx, t3442);
-        let t3462: f64 = t85 * t3414;
-        let t3463: f64 = t90 * t3419;
-        let t3464 = product(t3303, t3395);
-        let t3465: f64 = t1280 * t3301;
-        let t3466 = product(t154, t3434);
-        let t3467: f64 = t145 * t3439;
-        let t3468 = product(t513, t3458);
-        let t3469: f64 = t3460.plus(t3463);
-        let t3470: f64 = t3466.plus(t3467);
-        let t3471: f64 = t3469 + t3470;
-        let t3472: f64 = t1354 + t3471;
-        let t3473: f64 = t3461.plus(t3462);
-        let t3474: f64 = t3464.plus(t3465);
-        let t3475: f64 = t3473 + t3474;
-        let t3476: f64 = t3468.plus(t3475);
-        let t3477: f64 = t3472 - t3476;
-        let t3478: f64 = t656 * t3477;
-        let t3479: f64 = t3398.plus(t3406);
-        let t3480: f64 = t3420.plus(t3421);
-        let t3481: f64 = t3424.plus(t3425);
-        let t3482: f64 = t3426.plus(t3459);
-        let t3483: f64 = t3479 + t3480;
-        let t3484: f64 = t3481 + t3482;
-        let t3485: f64 = t3483 + t3484;
-        let t3486: f64 = t3415.plus(t3435);
-        let t3487: f64 = t3440.plus(t3478);
-        let t3488: f64 = t3486 + t3487;
-        let t3489: f64 = t1376 + t3488;
-        let t3490: f64 = t3485 - t3489;
-        let t3491 = product(t599, t3490);
-        let t3492: f64 = t316 * t3303;
-        let t3493 = product(t1040, t3492);
-        let t3494: f64 = t634 * t3458;
-        let t3495 = product(t1023, t3477);
-        let t3496: f64 = t1396 * t3490;
-        let t3497 = product(t1280, t3303);
-        let t3498 = product(t684, t3477);
-        let t3499: f64 = t701 * t3490;
-        let t3500: f64 = t3497.added_to(t1412);
-        let t3501: f64 = t3498.plus(t3499);
-        let t3502: f64 = t3500 - t3501;
-        let t3503 = product(t1007, t3502);
-        let t3504 = product(t734, t3490);
-        let t3505 = product(t736, t3502);
-        let t3506: f64 = t3504.added_to(t1438);
-        let t3507: f64 = t3505.subtracted_from(t3506);
-        let t3508: f64 = t1010 * t3507;
-        let t3509: f64 = t3493.plus(t3494);
-        let t3510: f64 = t3495.plus(t3496);
-        let t3511: f64 = t3509 + t3510;
-        let t3512: f64 = t1453 + t3511;
-        let t3513: f64 = t3503.plus(t3508);
-        let t3514: f64 = t3512 - t3513;
-        let t3515 = product(t1008, t3514);
-        let t3516 = product(t699, t3502);
-        let t3517: f64 = t1460 * t3371;
-        let t3518: f64 = t3516.minus(t3517);
-        let t3519: f64 = t3515.minus(t3518);
-        let t3520: f64 = -t3519;
-        let t3521 = product(t701, t3520);
-        let t3522: f64 = t1460 * t3377;
-        let t3523 = product(t3379, t3514);
-        let t3524: f64 = t3491.plus(t3522);
-        let t3525: f64 = t3523.plus(t3524);
-        let t3526: f64 = t3521.minus(t3525);
-        let t3527 = product(t1193, t1744);
-        let t3528: f64 = t1200 * t1749;
-        let t3529: f64 = t3527.plus(t3528);
-        let t3530: f64 = joint5_mass * t208;
-        let t3531: f64 = t209 * t3530;
-        let t3532: f64 = t79 * t3531;
-        let t3533 = product(t1515, t3532);
-        let t3534: f64 = joint6_mass * t208;
-        let t3535: f64 = t209 * t3534;
-        let t3536: f64 = t98 * t3535;
-        let t3537: f64 = t1519 * t3536;
-        let t3538: f64 = t3533.plus(t3537);
-        let t3539 = product(t317, t1599);
-        let t3540: f64 = t321 * t1605;
-        let t3541: f64 = t3539.plus(t3540);
-        let t3542 = product(xc, t1612);
-        let t3543: f64 = xc * t1619;
-        let t3544: f64 = t3542.plus(t3543);
-        let t3545: f64 = t3541 - t3544;
-        let t3546: f64 = zc * t73;
-        let t3547 = product(t261, t3546);
-        let t3548: f64 = t269 * t3546;
-        let t3549: f64 = t3547.plus(t3548);
-        let t3550 = product(t296, t1494);
-        let t3551: f64 = t304 * t1500;
-        let t3552: f64 = t3550.plus(t3551);
-        let t3553: f64 = t73 * t108;
-        let t3554 = product(t278, t3553);
-        let t3555: f64 = t73 * t116;
-        let t3556: f64 = t286 * t3555;
-        let t3557: f64 = t3554.plus(t3556);
-        let t3558: f64 = t3552 - t3557;
-        let t3559: f64 = t3549 - t3558;
-        let t3560: f64 = t1839 + t3545;
-        let t3561: f64 = t3559 + t3560;
-        let t3562 = product(t3561, 2.0);
-        let t3563: f64 = t3529 + t3538;
-        let t3564: f64 = t3562.plus(t3563);
-        let t3565 = product(wy, t3564);
-        let t3566: f64 = t3565.added_to(t1888);
-        let t3567 = product(wx, t3566);
-        let t3568 = product(t296, t1493);
-        let t3569: f64 = t304 * t1499;
-        let t3570: f64 = t3568.plus(t3569);
-        let t3571 = product(t278, t1638);
-        let t3572: f64 = t286 * t1638;
-        let t3573: f64 = t3571.plus(t3572);
-        let t3574: f64 = t72 * t146;
-        let t3575: f64 = t165 * t3574;
-        let t3576 = product(t261, t3575);
-        let t3577: f64 = t151 * t3574;
-        let t3578: f64 = t269 * t3577;
-        let t3579: f64 = t3576.minus(t3578);
-        let t3580: f64 = t3573 + t3579;
-        let t3581: f64 = t3570 + t3580;
-        let t3582: f64 = t1588 + t3581;
-        let t3583: f64 = t3582 - t3559;
-        let t3584 = product(t3583, 2.0);
-        let t3585: f64 = t1552 + t3538;
-        let t3586: f64 = t3584.minus(t3585);
-        let t3587 = product(wx, t3586);
-        let t3588: f64 = t3587.minus(t1901);
-        let t3589: f64 = wy * t3588;
-        let t3590 = product(t1826, t3303);
-        let t3591: f64 = t1795 + t3545;
-        let t3592: f64 = t3591 - t3581;
-        let t3593 = product(t3592, 2.0);
-        let t3594: f64 = t1552 + t3529;
-        let t3595: f64 = t3593.plus(t3594);
-        let t3596 = product(t984, t3595);
-        let t3597: f64 = t1918 * t3305;
-        let t3598 = product(t1676, t3301);
-        let t3599 = product(wz, t3595);
-        let t3600: f64 = t3599.added_to(t1828);
-        let t3601 = product(wy, t3600);
-        let t3602 = product(wz, t3566);
-        let t3603: f64 = t1006 * t3586;
-        let t3604 = product(t1885, t3303);
-        let t3605: f64 = t1508 * t3305;
-        let t3606: f64 = t3601.plus(t3605);
-        let t3607: f64 = t1741 + t3606;
-        let t3608: f64 = t3602.plus(t3603);
-        let t3609: f64 = t3604.plus(t3608);
-        let t3610: f64 = t3607 - t3609;
-        let t3611: f64 = t1290 * t3610;
-        let t3612 = product(wz, t3588);
-        let t3613: f64 = wx * t3600;
-        let t3614 = product(t3303, t3564);
-        let t3615: f64 = t1508 * t3301;
-        let t3616 = product(t513, t3610);
-        let t3617: f64 = t3612.plus(t3613);
-        let t3618: f64 = t3614.plus(t3615);
+        let t3424 = product(t697, t3423);
+        let t3425: f64 = t1438 * t3290;
+        let t3426 = product(t3292, t3417);
+        let t3427: f64 = t3395.plus(t3425);
+        let t3428: f64 = t3426.plus(t3427);
+        let t3429: f64 = t3424.minus(t3428);
+        let t3430 = product(t1182, t1663);
+        let t3431: f64 = t1189 * t1668;
+        let t3432: f64 = t3430.plus(t3431);
+        let t3433: f64 = joint5_mass * t208;
+        let t3434: f64 = t209 * t3433;
+        let t3435: f64 = t79 * t3434;
+        let t3436 = product(t1790, t3435);
+        let t3437: f64 = joint6_mass * t208;
+        let t3438: f64 = t209 * t3437;
+        let t3439: f64 = t98 * t3438;
+        let t3440: f64 = t1794 * t3439;
+        let t3441: f64 = t3436.plus(t3440);
+        let t3442 = product(t317, t1576);
+        let t3443: f64 = t321 * t1582;
+        let t3444: f64 = t3442.plus(t3443);
+        let t3445 = product(xc, t1591);
+        let t3446: f64 = xc * t1600;
+        let t3447: f64 = t3445.plus(t3446);
+        let t3448: f64 = t3444 - t3447;
+        let t3449: f64 = zc * t73;
+        let t3450 = product(t261, t3449);
+        let t3451: f64 = t269 * t3449;
+        let t3452: f64 = t3450.plus(t3451);
+        let t3453 = product(t296, t1494);
+        let t3454: f64 = t304 * t1500;
+        let t3455: f64 = t3453.plus(t3454);
+        let t3456: f64 = t73 * t108;
+        let t3457 = product(t278, t3456);
+        let t3458: f64 = t73 * t116;
+        let t3459: f64 = t286 * t3458;
+        let t3460: f64 = t3457.plus(t3459);
+        let t3461: f64 = t3455 - t3460;
+        let t3462: f64 = t3452 - t3461;
+        let t3463: f64 = t1821 + t3448;
+        let t3464: f64 = t3462 + t3463;
+        let t3465 = product(t3464, 2.0);
+        let t3466: f64 = t3432 + t3441;
+        let t3467: f64 = t3465.plus(t3466);
+        let t3468 = product(wy, t3467);
+        let t3469: f64 = t3468.added_to(t1870);
+        let t3470 = product(wx, t3469);
+        let t3471 = product(t296, t1493);
+        let t3472: f64 = t304 * t1499;
+        let t3473: f64 = t3471.plus(t3472);
+        let t3474 = product(t278, t1477);
+        let t3475: f64 = t286 * t1477;
+        let t3476: f64 = t3474.plus(t3475);
+        let t3477: f64 = t72 * t146;
+        let t3478: f64 = t165 * t3477;
+        let t3479 = product(t261, t3478);
+        let t3480: f64 = t151 * t3477;
+        let t3481: f64 = t269 * t3480;
+        let t3482: f64 = t3479.minus(t3481);
+        let t3483: f64 = t3476 + t3482;
+        let t3484: f64 = t3473 + t3483;
+        let t3485: f64 = t1879 + t3484;
+        let t3486: f64 = t3485 - t3462;
+        let t3487 = product(t3486, 2.0);
+        let t3488: f64 = t1711 + t3441;
+        let t3489: f64 = t3487.minus(t3488);
+        let t3490 = product(wx, t3489);
+        let t3491: f64 = t3490.minus(t1893);
+        let t3492: f64 = wy * t3491;
+        let t3493 = product(t1782, t3234);
+        let t3494: f64 = t1751 + t3448;
+        let t3495: f64 = t3494 - t3484;
+        let t3496 = product(t3495, 2.0);
+        let t3497: f64 = t1711 + t3432;
+        let t3498: f64 = t3496.plus(t3497);
+        let t3499 = product(t984, t3498);
+        let t3500 = product(wz, t3498);
+        let t3501: f64 = t3500.added_to(t1784);
+        let t3502 = product(wy, t3501);
+        let t3503 = product(wz, t3469);
+        let t3504: f64 = t1006 * t3489;
+        let t3505 = product(t1867, t3234);
+        let t3506: f64 = t3502.added_to(t1660);
+        let t3507: f64 = t3503.plus(t3504);
+        let t3508: f64 = t3505.plus(t3507);
+        let t3509: f64 = t3506 - t3508;
+        let t3510: f64 = t1352 * t3509;
+        let t3511 = product(wz, t3491);
+        let t3512: f64 = wx * t3501;
+        let t3513 = product(t3234, t3467);
+        let t3514: f64 = t513 * t3509;
+        let t3515: f64 = t3511.plus(t3512);
+        let t3516: f64 = t3513.plus(t3514);
+        let t3517: f64 = t3515 + t3516;
+        let t3518: f64 = t1914 + t3517;
+        let t3519 = product(t720, t3518);
+        let t3520: f64 = t3470.plus(t3492);
+        let t3521: f64 = t3499.added_to(t1929);
+        let t3522: f64 = t3520 + t3521;
+        let t3523: f64 = t3493.plus(t3510);
+        let t3524: f64 = t3519.plus(t3523);
+        let t3525: f64 = t3522 - t3524;
+        let t3526 = product(t599, t3525);
+        let t3527: f64 = t667 * t697;
+        let t3528: f64 = t1996 * t3527;
+        let t3529 = product(t723, t3525);
+        let t3530 = product(t1508, t3234);
+        let t3531: f64 = t635 * t3518;
+        let t3532 = product(t697, t3525);
+        let t3533: f64 = t3530.plus(t3531);
+        let t3534: f64 = t3532.added_to(t1957);
+        let t3535: f64 = t3533 + t3534;
+        let t3536: f64 = t728 * t3535;
+        let t3537: f64 = t3529.plus(t3536);
+        let t3538: f64 = t1974 - t3537;
+        let t3539 = product(t712, t3538);
+        let t3540 = product(t1490, t3234);
+        let t3541: f64 = t714 * t3509;
+        let t3542 = product(t1014, t3518);
+        let t3543: f64 = t1381 * t3525;
+        let t3544 = product(t1404, t3535);
+        let t3545: f64 = t1424 * t3538;
+        let t3546: f64 = t3540.plus(t3541);
+        let t3547: f64 = t1984 + t3546;
+        let t3548: f64 = t3542.plus(t3543);
+        let t3549: f64 = t3544.plus(t3545);
+        let t3550: f64 = t3548 + t3549;
+        let t3551: f64 = t3547 - t3550;
+        let t3552: f64 = t751 * t1424;
+        let t3553: f64 = t3551 * t3552;
+        let t3554: f64 = t3539.minus(t3553);
+        let t3555 = product(t723, t3554);
+        let t3556: f64 = t3292 * t3551;
+        let t3557: f64 = t3555.plus(t3556);
+        let t3558: f64 = t3526.plus(t3528);
+        let t3559: f64 = t3557 - t3558;
+        let t3560 = product(t1182, t2305);
+        let t3561: f64 = t1189 * t2307;
+        let t3562: f64 = t3560.plus(t3561);
+        let t3563 = product(t1492, t2095);
+        let t3564: f64 = t1492 * t2099;
+        let t3565: f64 = t3563.plus(t3564);
+        let t3566: f64 = t7 * t163;
+        let t3567 = product(t2074, t3566);
+        let t3568: f64 = t7 * t148;
+        let t3569: f64 = t2078 * t3568;
+        let t3570: f64 = t3567.plus(t3569);
+        let t3571: f64 = t312 * t315;
+        let t3572 = product(t2249, t3571);
+        let t3573: f64 = t312 * t320;
+        let t3574: f64 = t2253 * t3573;
+        let t3575: f64 = t3572.plus(t3574);
+        let t3576: f64 = t3570 - t3575;
+        let t3577: f64 = t3565 + t3576;
+        let t3578: f64 = t2328 + t3577;
+        let t3579 = product(t3578, 2.0);
+        let t3580: f64 = t3579.added_to(t3562);
+        let t3581 = product(wy, t3580);
+        let t3582: f64 = t3581.added_to(t2370);
+        let t3583 = product(wx, t3582);
+        let t3584 = product(t2368, t3234);
+        let t3585: f64 = t2373 + t3577;
+        let t3586 = product(t3585, 2.0);
+        let t3587: f64 = t2172 + t3562;
+        let t3588: f64 = t3586.plus(t3587);
+        let t3589: f64 = t984 * t3588;
+        let t3590 = product(t22, t3323);
+        let t3591: f64 = t29 * t3320;
+        let t3592: f64 = t3590.plus(t3591);
+        let t3593: f64 = t2131 + t3592;
+        let t3594: f64 = t248 * t3593;
+        let t3595 = product(wz, t3588);
+        let t3596: f64 = t3595.added_to(t2380);
+        let t3597 = product(wy, t3596);
+        let t3598 = product(wz, t3582);
+        let t3599: f64 = t2116 * t3234;
+        let t3600 = product(t6, t3593);
+        let t3601: f64 = t3598.plus(t3599);
+        let t3602: f64 = t3600.added_to(t2292);
+        let t3603: f64 = t3601 + t3602;
+        let t3604: f64 = t3597.minus(t3603);
+        let t3605 = product(t1352, t3604);
+        let t3606 = product(wx, t3596);
+        let t3607: f64 = t3234 * t3580;
+        let t3608 = product(t77, t3593);
+        let t3609 = product(t513, t3604);
+        let t3610: f64 = t3606.plus(t3607);
+        let t3611: f64 = t3609.added_to(t2409);
+        let t3612: f64 = t3610 + t3611;
+        let t3613: f64 = t3608.subtracted_from(t3612);
+        let t3614: f64 = t720 * t3613;
+        let t3615: f64 = t3583.plus(t3589);
+        let t3616: f64 = t2425 + t3615;
+        let t3617: f64 = t3584.plus(t3594);
+        let t3618: f64 = t3605.plus(t3614);
         let t3619: f64 = t3617 + t3618;
-        let t3620: f64 = t3616.plus(t3619);
-        let t3621: f64 = t3620 - t1947;
-        let t3622 = product(t656, t3621);
-        let t3623: f64 = t3567.plus(t3589);
-        let t3624: f64 = t3596.added_to(t1931);
-        let t3625: f64 = t3623 + t3624;
-        let t3626: f64 = t3590.plus(t3597);
-        let t3627: f64 = t3598.plus(t3611);
-        let t3628: f64 = t3626 + t3627;
-        let t3629: f64 = t3622.plus(t3628);
-        let t3630: f64 = t3625 - t3629;
-        let t3631 = product(t599, t3630);
-        let t3632: f64 = t699 * t701;
-        let t3633: f64 = t2024 * t3632;
-        let t3634 = product(t734, t3630);
-        let t3635 = product(t1508, t3303);
-        let t3636: f64 = t684 * t3621;
-        let t3637 = product(t701, t3630);
-        let t3638: f64 = t3635.plus(t3636);
-        let t3639: f64 = t3637.added_to(t1974);
-        let t3640: f64 = t3638 + t3639;
-        let t3641: f64 = t736 * t3640;
-        let t3642: f64 = t3634.plus(t3641);
-        let t3643: f64 = t1999 - t3642;
-        let t3644 = product(t733, t3643);
-        let t3645 = product(t1918, t3303);
-        let t3646: f64 = t634 * t3610;
-        let t3647 = product(t1023, t3621);
-        let t3648: f64 = t1396 * t3630;
-        let t3649 = product(t1007, t3640);
-        let t3650: f64 = t1010 * t3643;
-        let t3651: f64 = t3645.plus(t3646);
-        let t3652: f64 = t2013 + t3651;
-        let t3653: f64 = t3647.plus(t3648);
-        let t3654: f64 = t3649.plus(t3650);
-        let t3655: f64 = t3653 + t3654;
-        let t3656: f64 = t3652 - t3655;
-        let t3657: f64 = t1011 * t3656;
-        let t3658: f64 = t3644.minus(t3657);
-        let t3659 = product(t734, t3658);
-        let t3660: f64 = t3379 * t3656;
-        let t3661: f64 = t3659.plus(t3660);
-        let t3662: f64 = t3631.plus(t3633);
-        let t3663: f64 = t3661 - t3662;
-        let t3664 = product(t1193, t2325);
-        let t3665: f64 = t1200 * t2327;
-        let t3666: f64 = t3664.plus(t3665);
-        let t3667 = product(t1492, t2116);
-        let t3668: f64 = t1492 * t2120;
-        let t3669: f64 = t3667.plus(t3668);
-        let t3670: f64 = t7 * t163;
-        let t3671 = product(t2095, t3670);
-        let t3672: f64 = t7 * t148;
-        let t3673: f64 = t2099 * t3672;
-        let t3674: f64 = t3671.plus(t3673);
-        let t3675: f64 = t312 * t315;
-        let t3676 = product(t2251, t3675);
-        let t3677: f64 = t312 * t320;
-        let t3678: f64 = t2255 * t3677;
-        let t3679: f64 = t3676.plus(t3678);
-        let t3680: f64 = t3674 - t3679;
-        let t3681: f64 = t3669 + t3680;
-        let t3682: f64 = t2348 + t3681;
-        let t3683 = product(t3682, 2.0);
-        let t3684: f64 = t3683.added_to(t3666);
-        let t3685 = product(wy, t3684);
-        let t3686: f64 = t3685.added_to(t2390);
-        let t3687 = product(wx, t3686);
-        let t3688 = product(t2388, t3303);
-        let t3689: f64 = t2393 + t3681;
-        let t3690 = product(t3689, 2.0);
-        let t3691: f64 = t2174 + t3666;
-        let t3692: f64 = t3690.plus(t3691);
-        let t3693: f64 = t984 * t3692;
-        let t3694: f64 = t2417 * t3305;
-        let t3695 = product(t2309, t3301);
-        let t3696 = product(t22, t3411);
-        let t3697: f64 = t29 * t3408;
-        let t3698: f64 = t3696.plus(t3697);
-        let t3699: f64 = t2152 + t3698;
-        let t3700: f64 = t248 * t3699;
-        let t3701 = product(wz, t3692);
-        let t3702: f64 = t3701.added_to(t2400);
-        let t3703 = product(wy, t3702);
-        let t3704 = product(wz, t3686);
-        let t3705: f64 = t2137 * t3303;
-        let t3706: f64 = t2158 * t3305;
-        let t3707 = product(t6, t3699);
-        let t3708: f64 = t3703.plus(t3706);
-        let t3709: f64 = t3704.plus(t3705);
-        let t3710: f64 = t3707.added_to(t2312);
-        let t3711: f64 = t3709 + t3710;
-        let t3712: f64 = t3708 - t3711;
-        let t3713 = product(t1290, t3712);
-        let t3714 = product(wx, t3702);
-        let t3715: f64 = t3303 * t3684;
-        let t3716 = product(t2158, t3301);
-        let t3717 = product(t77, t3699);
-        let t3718: f64 = t513 * t3712;
-        let t3719: f64 = t3714.plus(t3715);
-        let t3720: f64 = t3716.plus(t3718);
-        let t3721: f64 = t3719 + t3720;
-        let t3722: f64 = t2449 + t3721;
-        let t3723: f64 = t3717.subtracted_from(t3722);
-        let t3724: f64 = t656 * t3723;
-        let t3725: f64 = t3687.plus(t3693);
-        let t3726: f64 = t2433 + t3725;
-        let t3727: f64 = t3688.plus(t3694);
-        let t3728: f64 = t3695.plus(t3700);
-        let t3729: f64 = t3713.plus(t3724);
-        let t3730: f64 = t3727 + t3728;
-        let t3731: f64 = t3729 + t3730;
-        let t3732: f64 = t3726 - t3731;
-        let t3733 = product(t599, t3732);
-        let t3734: f64 = t2527 * t3632;
-        let t3735 = product(t734, t3732);
-        let t3736 = product(t2158, t3303);
-        let t3737: f64 = t684 * t3723;
-        let t3738 = product(t701, t3732);
-        let t3739: f64 = t3736.plus(t3737);
-        let t3740: f64 = t3738.added_to(t2476);
-        let t3741: f64 = t3739 + t3740;
-        let t3742: f64 = t736 * t3741;
-        let t3743: f64 = t3735.plus(t3742);
-        let t3744: f64 = t2501 - t3743;
-        let t3745 = product(t733, t3744);
-        let t3746 = product(t2417, t3303);
-        let t3747: f64 = t634 * t3712;
-        let t3748 = product(t1023, t3723);
-        let t3749: f64 = t1396 * t3732;
-        let t3750 = product(t1007, t3741);
-        let t3751: f64 = t1010 * t3744;
-        let t3752: f64 = t3746.plus(t3747);
-        let t3753: f64 = t2515 + t3752;
-        let t3754: f64 = t3748.plus(t3749);
-        let t3755: f64 = t3750.plus(t3751);
-        let t3756: f64 = t3754 + t3755;
-        let t3757: f64 = t3753 - t3756;
-        let t3758: f64 = t1011 * t3757;
-        let t3759: f64 = t3745.minus(t3758);
-        let t3760 = product(t734, t3759);
-        let t3761: f64 = t3379 * t3757;
-        let t3762: f64 = t3760.plus(t3761);
-        let t3763: f64 = t3733.plus(t3734);
-        let t3764: f64 = t3762 - t3763;
-        let t3765 = product(t2609, t3303);
-        let t3766: f64 = t2678 * t3305;
-        let t3767: f64 = t1667 * t3301;
-        let t3768 = product(t691, t3767);
-        let t3769: f64 = t2553 * t3305;
-        let t3770 = product(t693, t3769);
-        let t3771 = product(t2648, t3303);
-        let t3772: f64 = t3770.added_to(t2646);
-        let t3773: f64 = t3771.subtracted_from(t3772);
-        let t3774: f64 = t1290 * t3773;
-        let t3775: f64 = t2553 * t3301;
-        let t3776 = product(t693, t3775);
-        let t3777: f64 = t513 * t3773;
-        let t3778 = product(t2688, t3303);
-        let t3779 = product(xc, t3303);
-        let t3780: f64 = t3779.added_to(t2694);
-        let t3781: f64 = t2691 + t3780;
-        let t3782 = product(rod5_mass, t3781);
-        let t3783: f64 = t2698 + t3780;
-        let t3784: f64 = rod6_mass * t3783;
-        let t3785: f64 = t3782.plus(t3784);
-        let t3786: f64 = t859 + t3785;
-        let t3787: f64 = t3776.plus(t3777);
-        let t3788: f64 = t2711 + t3786;
-        let t3789: f64 = t3787 + t3788;
-        let t3790: f64 = t3778.subtracted_from(t3789);
-        let t3791 = product(t656, t3790);
-        let t3792: f64 = t3765.plus(t3766);
-        let t3793: f64 = t2676 + t3313;
-        let t3794: f64 = t3792 + t3793;
-        let t3795: f64 = t3768.plus(t3774);
-        let t3796: f64 = t3791.plus(t3795);
-        let t3797: f64 = t3794 - t3796;
-        let t3798 = product(t599, t3797);
-        let t3799: f64 = t2799 * t3632;
-        let t3800 = product(t734, t3797);
-        let t3801: f64 = t2553 * t3303;
-        let t3802 = product(t693, t3801);
-        let t3803: f64 = t684 * t3790;
-        let t3804 = product(t701, t3797);
-        let t3805: f64 = t3802.plus(t3803);
-        let t3806: f64 = t3804.added_to(t2737);
-        let t3807: f64 = t3805 + t3806;
-        let t3808: f64 = t736 * t3807;
-        let t3809: f64 = t3800.plus(t3808);
-        let t3810: f64 = t2771 - t3809;
-        let t3811 = product(t733, t3810);
-        let t3812 = product(t634, t3773);
-        let t3813 = product(t1023, t3790);
-        let t3814: f64 = t1396 * t3797;
-        let t3815 = product(t1007, t3807);
-        let t3816: f64 = t1010 * t3810;
-        let t3817 = product(t2778, t3303);
-        let t3818: f64 = t3813.plus(t3814);
-        let t3819: f64 = t3815.plus(t3816);
-        let t3820: f64 = t3817.added_to(t2787);
-        let t3821: f64 = t3818 + t3819;
-        let t3822: f64 = t3820 + t3821;
-        let t3823: f64 = t3812.subtracted_from(t3822);
-        let t3824: f64 = t1011 * t3823;
-        let t3825: f64 = t3811.plus(t3824);
-        let t3826 = product(t734, t3825);
-        let t3827 = product(t3379, t3823);
-        let t3828: f64 = t3798.plus(t3799);
+        let t3620: f64 = t3616 - t3619;
+        let t3621 = product(t599, t3620);
+        let t3622: f64 = t2492 * t3527;
+        let t3623 = product(t723, t3620);
+        let t3624 = product(t2289, t3234);
+        let t3625: f64 = t635 * t3613;
+        let t3626 = product(t697, t3620);
+        let t3627: f64 = t3624.plus(t3625);
+        let t3628: f64 = t3626.added_to(t2453);
+        let t3629: f64 = t3627 + t3628;
+        let t3630: f64 = t728 * t3629;
+        let t3631: f64 = t3623.plus(t3630);
+        let t3632: f64 = t2470 - t3631;
+        let t3633 = product(t712, t3632);
+        let t3634 = product(t2043, t3234);
+        let t3635: f64 = t714 * t3604;
+        let t3636 = product(t1014, t3613);
+        let t3637: f64 = t1381 * t3620;
+        let t3638 = product(t1404, t3629);
+        let t3639: f64 = t1424 * t3632;
+        let t3640: f64 = t3634.plus(t3635);
+        let t3641: f64 = t2480 + t3640;
+        let t3642: f64 = t3636.plus(t3637);
+        let t3643: f64 = t3638.plus(t3639);
+        let t3644: f64 = t3642 + t3643;
+        let t3645: f64 = t3641 - t3644;
+        let t3646: f64 = t3552 * t3645;
+        let t3647: f64 = t3633.minus(t3646);
+        let t3648 = product(t723, t3647);
+        let t3649: f64 = t3292 * t3645;
+        let t3650: f64 = t3648.plus(t3649);
+        let t3651: f64 = t3621.plus(t3622);
+        let t3652: f64 = t3650 - t3651;
+        let t3653 = product(t2556, t3234);
+        let t3654 = product(t2611, t3234);
+        let t3655: f64 = t3654.subtracted_from(t2610);
+        let t3656 = product(t1352, t3655);
+        let t3657 = product(t513, t3655);
+        let t3658 = product(t2646, t3234);
+        let t3659 = product(xc, t3234);
+        let t3660: f64 = t3659.added_to(t2636);
+        let t3661: f64 = t2634 + t3660;
+        let t3662 = product(rod5_mass, t3661);
+        let t3663: f64 = t2640 + t3660;
+        let t3664: f64 = rod6_mass * t3663;
+        let t3665: f64 = t3662.plus(t3664);
+        let t3666: f64 = t859 + t3665;
+        let t3667: f64 = t3657.added_to(t2633);
+        let t3668: f64 = t3666 + t3667;
+        let t3669: f64 = t3658.subtracted_from(t3668);
+        let t3670: f64 = t720 * t3669;
+        let t3671: f64 = t3653.added_to(t2680);
+        let t3672: f64 = t3656.plus(t3670);
+        let t3673: f64 = t3671 - t3672;
+        let t3674 = product(t599, t3673);
+        let t3675: f64 = t2754 * t3527;
+        let t3676 = product(t723, t3673);
+        let t3677: f64 = t2516 * t3234;
+        let t3678 = product(t661, t3677);
+        let t3679: f64 = t635 * t3669;
+        let t3680 = product(t697, t3673);
+        let t3681: f64 = t3678.plus(t3679);
+        let t3682: f64 = t3680.added_to(t2704);
+        let t3683: f64 = t3681 + t3682;
+        let t3684: f64 = t728 * t3683;
+        let t3685: f64 = t3676.plus(t3684);
+        let t3686: f64 = t2729 - t3685;
+        let t3687 = product(t712, t3686);
+        let t3688 = product(t714, t3655);
+        let t3689 = product(t1014, t3669);
+        let t3690: f64 = t1381 * t3673;
+        let t3691 = product(t1404, t3683);
+        let t3692: f64 = t1424 * t3686;
+        let t3693 = product(t2735, t3234);
+        let t3694: f64 = t3689.plus(t3690);
+        let t3695: f64 = t3691.plus(t3692);
+        let t3696: f64 = t3693.added_to(t2742);
+        let t3697: f64 = t3694 + t3695;
+        let t3698: f64 = t3696 + t3697;
+        let t3699: f64 = t3688.subtracted_from(t3698);
+        let t3700: f64 = t3552 * t3699;
+        let t3701: f64 = t3687.plus(t3700);
+        let t3702 = product(t723, t3701);
+        let t3703 = product(t3292, t3699);
+        let t3704: f64 = t3674.plus(t3675);
+        let t3705: f64 = t3703.plus(t3704);
+        let t3706: f64 = t3702.minus(t3705);
+        let t3707: f64 = t599 * t2994;
+        let t3708: f64 = -t3295;
+        let t3709: f64 = t667 * t1996;
+        let t3710: f64 = t667 * t2492;
+        let t3711: f64 = t667 * t2754;
+        let t3712: f64 = t667 * t2988;
+        let t3713: f64 = -t3287;
+        let t3714: f64 = t712 * t1438;
+        let t3715: f64 = -t3554;
+        let t3716: f64 = -t3647;
+        let t3717: f64 = -t3701;
+        let t3718: f64 = t712 * t2984;
+        let t3719: f64 = t712 * t3203;
+        let t3720: f64 = t751 * t3417;
+        let t3721: f64 = t751 * t3551;
+        let t3722: f64 = -t3721;
+        let t3723: f64 = t751 * t3645;
+        let t3724: f64 = -t3723;
+        let t3725: f64 = t751 * t3699;
+        let t3726: f64 = t2779 * t3234;
+        let t3727 = product(t658, t3726);
+        let t3728 = product(t2826, t3234);
+        let t3729: f64 = t2861 + t3666;
+        let t3730: f64 = t3728.subtracted_from(t3729);
+        let t3731: f64 = t714 * t3730;
+        let t3732 = product(t2837, t3234);
+        let t3733 = product(t513, t3730);
+        let t3734: f64 = t3733.added_to(t2887);
+        let t3735: f64 = t3732.subtracted_from(t3734);
+        let t3736 = product(t1014, t3735);
+        let t3737 = product(t2816, t3234);
+        let t3738: f64 = t1352 * t3730;
+        let t3739 = product(t720, t3735);
+        let t3740: f64 = t3737.plus(t3738);
+        let t3741: f64 = t3739.added_to(t2918);
+        let t3742: f64 = t3740 + t3741;
+        let t3743: f64 = t3246 + t3742;
+        let t3744 = product(t1381, t3743);
+        let t3745: f64 = t1209 * t3234;
+        let t3746 = product(t661, t3745);
+        let t3747 = product(t635, t3735);
+        let t3748: f64 = t697 * t3743;
+        let t3749: f64 = t3747.added_to(t2944);
+        let t3750: f64 = t3746.plus(t3748);
+        let t3751: f64 = t3749 - t3750;
+        let t3752: f64 = t1404 * t3751;
+        let t3753 = product(t723, t3743);
+        let t3754 = product(t728, t3751);
+        let t3755: f64 = t3754.added_to(t2965);
+        let t3756: f64 = t3753.subtracted_from(t3755);
+        let t3757: f64 = t1424 * t3756;
+        let t3758: f64 = t3727.plus(t3731);
+        let t3759: f64 = t3744.plus(t3757);
+        let t3760: f64 = t3758 + t3759;
+        let t3761: f64 = t2976 + t3760;
+        let t3762: f64 = t3736.plus(t3752);
+        let t3763: f64 = t3761 - t3762;
+        let t3764: f64 = t751 * t3763;
+        let t3765: f64 = -t3764;
+        let t3766: f64 = t751 * t3280;
+        let t3767: f64 = -t3766;
+        let t3768 = product(vy, t463);
+        let t3769 = product(vy, t409);
+        let t3770 = product(t149, t817);
+        let t3771: f64 = t33 * t776;
+        let t3772 = product(t6, t786);
+        let t3773: f64 = t68 * t783;
+        let t3774: f64 = t3770.plus(t3771);
+        let t3775: f64 = t3772.plus(t3773);
+        let t3776: f64 = t3774 + t3775;
+        let t3777 = product(t16, t3776);
+        let t3778 = product(t6, t792);
+        let t3779: f64 = t55 * t783;
+        let t3780 = product(t685, t817);
+        let t3781: f64 = t33 * t769;
+        let t3782: f64 = t3778.plus(t3779);
+        let t3783: f64 = t3780.plus(t3781);
+        let t3784: f64 = t3782 - t3783;
+        let t3785: f64 = t15 * t3784;
+        let t3786: f64 = t3777.plus(t3785);
+        let t3787: f64 = t7 * t3786;
+        let t3788: f64 = t3769.minus(t3787);
+        let t3789: f64 = wy * t354;
+        let t3790: f64 = wz * t455;
+        let t3791: f64 = t3789 - t3790;
+        let t3792 = product(t68, t769);
+        let t3793: f64 = t55 * t776;
+        let t3794 = product(t16, t786);
+        let t3795: f64 = t15 * t792;
+        let t3796: f64 = t3794.plus(t3795);
+        let t3797 = product(t7, t3796);
+        let t3798: f64 = t3792.plus(t3793);
+        let t3799: f64 = t3797.plus(t3798);
+        let t3800 = product(t6, t3799);
+        let t3801: f64 = zc * vz;
+        let t3802: f64 = t36 * t3801;
+        let t3803: f64 = t3800.plus(t3802);
+        let t3804: f64 = t3791 + t3803;
+        let t3805: f64 = t3788 + t3804;
+        let t3806 = product(t714, t3805);
+        let t3807 = product(t513, t3805);
+        let t3808: f64 = xc * vy;
+        let t3809 = product(t463, t3808);
+        let t3810: f64 = t834 - t832;
+        let t3811: f64 = t3809.plus(t3810);
+        let t3812 = product(t154, t3776);
+        let t3813: f64 = wz * t876;
+        let t3814: f64 = t3812.minus(t3813);
+        let t3815 = product(t77, t3799);
+        let t3816: f64 = t145 * t3784;
+        let t3817: f64 = t3815.minus(t3816);
+        let t3818: f64 = t3814 + t3817;
+        let t3819: f64 = t3811 + t3818;
+        let t3820: f64 = t833 * 2.0;
+        let t3821: f64 = t3807.plus(t3820);
+        let t3822: f64 = t3819 + t3821;
+        let t3823: f64 = t1014 * t3822;
+        let t3824 = product(t90, t3784);
+        let t3825: f64 = t248 * t3799;
+        let t3826: f64 = t3824.plus(t3825);
+        let t3827 = product(wy, t876);
+        let t3828: f64 = t85 * t3776;
         let t3829: f64 = t3827.plus(t3828);
-        let t3830: f64 = t3826.minus(t3829);
-        let t3831: f64 = t599 * t3050;
-        let t3832: f64 = -t3382;
-        let t3833: f64 = t699 * t2024;
-        let t3834: f64 = t699 * t2527;
-        let t3835: f64 = t699 * t2799;
-        let t3836: f64 = t699 * t3044;
-        let t3837: f64 = -t3374;
-        let t3838: f64 = t733 * t1460;
-        let t3839: f64 = -t3658;
-        let t3840: f64 = -t3759;
-        let t3841: f64 = -t3825;
-        let t3842: f64 = t733 * t3039;
-        let t3843: f64 = t733 * t3267;
-        let t3844: f64 = t751 * t3514;
-        let t3845: f64 = t751 * t3656;
-        let t3846: f64 = -t3845;
-        let t3847: f64 = t751 * t3757;
-        let t3848: f64 = -t3847;
-        let t3849: f64 = t751 * t3823;
-        let t3850: f64 = t2831 * t3303;
-        let t3851 = product(t690, t3850);
-        let t3852 = product(t2887, t3303);
-        let t3853: f64 = t1220 * t3305;
-        let t3854: f64 = t693 * t3853;
-        let t3855: f64 = t2903 + t3786;
-        let t3856: f64 = t3852.plus(t3854);
-        let t3857: f64 = t3855 - t3856;
-        let t3858: f64 = t634 * t3857;
-        let t3859 = product(t2895, t3303);
-        let t3860: f64 = t1220 * t3301;
-        let t3861: f64 = t693 * t3860;
-        let t3862 = product(t513, t3857);
-        let t3863: f64 = t3862.added_to(t2958);
-        let t3864: f64 = t3859.plus(t3861);
-        let t3865: f64 = t3863 - t3864;
-        let t3866 = product(t1023, t3865);
-        let t3867 = product(t2877, t3303);
-        let t3868: f64 = t2831 * t3305;
-        let t3869: f64 = t690 * t3868;
-        let t3870 = product(t2826, t3301);
-        let t3871: f64 = t1290 * t3857;
-        let t3872 = product(t656, t3865);
-        let t3873: f64 = t3867.plus(t3869);
-        let t3874: f64 = t3870.plus(t3871);
-        let t3875: f64 = t3872.added_to(t2938);
-        let t3876: f64 = t3873 + t3874;
-        let t3877: f64 = t3327 + t3875;
-        let t3878: f64 = t3876 + t3877;
-        let t3879 = product(t1396, t3878);
-        let t3880: f64 = t1220 * t3303;
-        let t3881 = product(t693, t3880);
-        let t3882 = product(t684, t3865);
-        let t3883: f64 = t701 * t3878;
-        let t3884: f64 = t3882.added_to(t2987);
-        let t3885: f64 = t3881.plus(t3883);
-        let t3886: f64 = t3884 - t3885;
-        let t3887: f64 = t1007 * t3886;
-        let t3888 = product(t734, t3878);
-        let t3889 = product(t736, t3886);
-        let t3890: f64 = t3889.added_to(t3016);
-        let t3891: f64 = t3888.subtracted_from(t3890);
-        let t3892: f64 = t1010 * t3891;
-        let t3893: f64 = t3851.plus(t3858);
-        let t3894: f64 = t3879.plus(t3892);
-        let t3895: f64 = t3893 + t3894;
-        let t3896: f64 = t3032 + t3895;
-        let t3897: f64 = t3866.plus(t3887);
-        let t3898: f64 = t3896 - t3897;
-        let t3899: f64 = t751 * t3898;
-        let t3900: f64 = -t3899;
-        let t3901: f64 = t751 * t3368;
+        let t3830: f64 = t3826 - t3829;
+        let t3831: f64 = t841 - t838;
+        let t3832 = product(vz, t252);
+        let t3833: f64 = t3832.subtracted_from(t3831);
+        let t3834 = product(t1352, t3805);
+        let t3835: f64 = t720 * t3822;
+        let t3836: f64 = t3834.plus(t3835);
+        let t3837: f64 = t3833 - t3836;
+        let t3838: f64 = t3830 + t3837;
+        let t3839: f64 = t839 * 2.0;
+        let t3840: f64 = t3838 + t3839;
+        let t3841 = product(t1381, t3840);
+        let t3842: f64 = wy * t651;
+        let t3843: f64 = wz * t633;
+        let t3844: f64 = t3842 + t3843;
+        let t3845 = product(t635, t3822);
+        let t3846: f64 = t697 * t3840;
+        let t3847: f64 = t3845.plus(t3846);
+        let t3848: f64 = t3844 + t3847;
+        let t3849: f64 = t1404 * t3848;
+        let t3850 = product(vz, t36);
+        let t3851: f64 = t3850.added_to(t930);
+        let t3852 = product(t674, t3822);
+        let t3853: f64 = t3852.added_to(t3805);
+        let t3854 = product(t677, t3853);
+        let t3855: f64 = t3854.subtracted_from(t3851);
+        let t3856 = product(t723, t3840);
+        let t3857: f64 = t728 * t3848;
+        let t3858: f64 = t3856.plus(t3857);
+        let t3859: f64 = t3855 - t3858;
+        let t3860 = product(t929, 2.0);
+        let t3861: f64 = t3860.added_to(t3859);
+        let t3862 = product(t1424, t3861);
+        let t3863 = product(t754, 2.0);
+        let t3864: f64 = t3806.added_to(t753);
+        let t3865: f64 = t3863.plus(t3864);
+        let t3866: f64 = t3768.plus(t3823);
+        let t3867: f64 = t3841.plus(t3849);
+        let t3868: f64 = t3866 + t3867;
+        let t3869: f64 = t3862.plus(t3868);
+        let t3870: f64 = t3865 - t3869;
+        let t3871 = product(t970, t3870);
+        let t3872 = product(t965, t3870);
+        let t3873: f64 = t3872.subtracted_from(t3861);
+        let t3874: f64 = t968 * t3873;
+        let t3875: f64 = t3871.plus(t3874);
+        let t3876: f64 = t3848 - t3875;
+        let t3877 = product(t989, t3876);
+        let t3878 = product(t991, t3870);
+        let t3879 = product(t974, t3876);
+        let t3880 = product(t976, t3873);
+        let t3881: f64 = t978 * t3870;
+        let t3882: f64 = t3879.added_to(t3839);
+        let t3883: f64 = t3838 + t3882;
+        let t3884: f64 = t3880.plus(t3881);
+        let t3885: f64 = t3883 - t3884;
+        let t3886: f64 = t2004 * t3885;
+        let t3887 = product(t993, t3873);
+        let t3888: f64 = t3887.subtracted_from(t3805);
+        let t3889 = product(t513, t3888);
+        let t3890: f64 = t3877.added_to(t3820);
+        let t3891: f64 = t3889.added_to(t3819);
+        let t3892: f64 = t3890 + t3891;
+        let t3893: f64 = t3878.plus(t3886);
+        let t3894: f64 = t3892 - t3893;
+        let t3895 = product(t674, t3894);
+        let t3896: f64 = t986 * t3870;
+        let t3897 = product(t2017, t3885);
+        let t3898: f64 = t3895.plus(t3896);
+        let t3899: f64 = t3888 + t3898;
+        let t3900: f64 = t3897.subtracted_from(t3899);
+        let t3901: f64 = t247 * t3900;
         let t3902: f64 = -t3901;
-        let t3903 = product(vy, t463);
-        let t3904 = product(vy, t409);
-        let t3905 = product(t149, t817);
-        let t3906: f64 = t33 * t776;
-        let t3907 = product(t6, t786);
-        let t3908: f64 = t68 * t783;
-        let t3909: f64 = t3905.plus(t3906);
-        let t3910: f64 = t3907.plus(t3908);
-        let t3911: f64 = t3909 + t3910;
-        let t3912 = product(t16, t3911);
-        let t3913 = product(t6, t792);
-        let t3914: f64 = t55 * t783;
-        let t3915 = product(t644, t817);
-        let t3916: f64 = t33 * t769;
-        let t3917: f64 = t3913.plus(t3914);
-        let t3918: f64 = t3915.plus(t3916);
-        let t3919: f64 = t3917 - t3918;
-        let t3920: f64 = t15 * t3919;
-        let t3921: f64 = t3912.plus(t3920);
-        let t3922: f64 = t7 * t3921;
-        let t3923: f64 = t3904.minus(t3922);
-        let t3924: f64 = wy * t354;
-        let t3925: f64 = wz * t455;
-        let t3926: f64 = t3924 - t3925;
-        let t3927 = product(t68, t769);
-        let t3928: f64 = t55 * t776;
-        let t3929 = product(t16, t786);
-        let t3930: f64 = t15 * t792;
-        let t3931: f64 = t3929.plus(t3930);
-        let t3932 = product(t7, t3931);
-        let t3933: f64 = t3927.plus(t3928);
-        let t3934: f64 = t3932.plus(t3933);
-        let t3935 = product(t6, t3934);
-        let t3936: f64 = zc * vz;
-        let t3937: f64 = t36 * t3936;
-        let t3938: f64 = t3935.plus(t3937);
-        let t3939: f64 = t3926 + t3938;
-        let t3940: f64 = t3923 + t3939;
-        let t3941 = product(t634, t3940);
-        let t3942 = product(t513, t3940);
-        let t3943: f64 = xc * vy;
-        let t3944 = product(t463, t3943);
-        let t3945: f64 = t834 - t832;
-        let t3946: f64 = t3944.plus(t3945);
-        let t3947 = product(t154, t3911);
-        let t3948: f64 = wz * t876;
-        let t3949: f64 = t3947.minus(t3948);
-        let t3950 = product(t77, t3934);
-        let t3951: f64 = t145 * t3919;
-        let t3952: f64 = t3950.minus(t3951);
-        let t3953: f64 = t3949 + t3952;
-        let t3954: f64 = t3946 + t3953;
-        let t3955: f64 = t833 * 2.0;
-        let t3956: f64 = t3942.plus(t3955);
-        let t3957: f64 = t3954 + t3956;
-        let t3958: f64 = t1023 * t3957;
-        let t3959 = product(t90, t3919);
-        let t3960: f64 = t248 * t3934;
-        let t3961: f64 = t3959.plus(t3960);
-        let t3962 = product(wy, t876);
-        let t3963: f64 = t85 * t3911;
-        let t3964: f64 = t3962.plus(t3963);
-        let t3965: f64 = t3961 - t3964;
-        let t3966: f64 = t841 - t838;
-        let t3967 = product(vz, t252);
-        let t3968: f64 = t3967.subtracted_from(t3966);
-        let t3969 = product(t1290, t3940);
-        let t3970: f64 = t656 * t3957;
-        let t3971: f64 = t3969.plus(t3970);
-        let t3972: f64 = t3968 - t3971;
-        let t3973: f64 = t3965 + t3972;
-        let t3974: f64 = t839 * 2.0;
-        let t3975: f64 = t3973 + t3974;
-        let t3976 = product(t1396, t3975);
-        let t3977: f64 = wy * t632;
-        let t3978: f64 = wz * t679;
-        let t3979: f64 = t3977 + t3978;
-        let t3980 = product(t684, t3957);
-        let t3981: f64 = t701 * t3975;
-        let t3982: f64 = t3980.plus(t3981);
-        let t3983: f64 = t3979 + t3982;
-        let t3984: f64 = t1007 * t3983;
-        let t3985 = product(vz, t36);
-        let t3986: f64 = t3985.added_to(t930);
-        let t3987 = product(t708, t3957);
-        let t3988: f64 = t3987.added_to(t3940);
-        let t3989 = product(t711, t3988);
-        let t3990: f64 = t3989.subtracted_from(t3986);
-        let t3991 = product(t734, t3975);
-        let t3992: f64 = t736 * t3983;
-        let t3993: f64 = t3991.plus(t3992);
-        let t3994: f64 = t3990 - t3993;
-        let t3995 = product(t929, 2.0);
-        let t3996: f64 = t3995.added_to(t3994);
-        let t3997 = product(t1010, t3996);
-        let t3998 = product(t754, 2.0);
-        let t3999: f64 = t3941.added_to(t753);
-        let t4000: f64 = t3998.plus(t3999);
-        let t4001: f64 = t3903.plus(t3958);
-        let t4002: f64 = t3976.plus(t3984);
+        let t3903 = product(vx, t463);
+        let t3904 = product(t400, t776);
+        let t3905 = product(t145, t817);
+        let t3906: f64 = t77 * t786;
+        let t3907: f64 = t394 * t783;
+        let t3908: f64 = t3905.plus(t3906);
+        let t3909: f64 = t3904.plus(t3907);
+        let t3910: f64 = t3908 - t3909;
+        let t3911 = product(t16, t3910);
+        let t3912 = product(t400, t769);
+        let t3913: f64 = t77 * t792;
+        let t3914 = product(t388, t783);
+        let t3915 = product(t154, t817);
+        let t3916: f64 = t3912.plus(t3913);
+        let t3917: f64 = t3915.plus(t3916);
+        let t3918: f64 = t3914.subtracted_from(t3917);
+        let t3919: f64 = t15 * t3918;
+        let t3920: f64 = t3911.plus(t3919);
+        let t3921 = product(t7, t3920);
+        let t3922: f64 = vx * t409;
+        let t3923: f64 = t3921.minus(t3922);
+        let t3924 = product(t394, t769);
+        let t3925: f64 = t388 * t776;
+        let t3926 = product(t154, t786);
+        let t3927 = product(t145, t792);
+        let t3928: f64 = t3924.plus(t3925);
+        let t3929: f64 = t3926.plus(t3928);
+        let t3930: f64 = t3927.subtracted_from(t3929);
+        let t3931 = product(t6, t3930);
+        let t3932: f64 = wz * t840;
+        let t3933: f64 = t3931.minus(t3932);
+        let t3934: f64 = t835 + t3933;
+        let t3935: f64 = t3923 + t3934;
+        let t3936: f64 = t832 * 2.0;
+        let t3937: f64 = t3935 - t3936;
+        let t3938 = product(t714, t3937);
+        let t3939 = product(t513, t3937);
+        let t3940 = product(vz, t517);
+        let t3941: f64 = wx * t561;
+        let t3942: f64 = t3790 + t3941;
+        let t3943: f64 = t3940.plus(t3942);
+        let t3944 = product(t154, t3910);
+        let t3945: f64 = t145 * t3918;
+        let t3946: f64 = t3944.minus(t3945);
+        let t3947: f64 = xc * vx;
+        let t3948 = product(t463, t3947);
+        let t3949: f64 = t77 * t3930;
+        let t3950: f64 = t3948.minus(t3949);
+        let t3951: f64 = t3946 + t3950;
+        let t3952: f64 = t3943 + t3951;
+        let t3953: f64 = t3939.subtracted_from(t3952);
+        let t3954: f64 = t1014 * t3953;
+        let t3955 = product(t90, t3918);
+        let t3956: f64 = t248 * t3930;
+        let t3957: f64 = t3955.minus(t3956);
+        let t3958 = product(wx, t840);
+        let t3959: f64 = t85 * t3910;
+        let t3960: f64 = t3958.plus(t3959);
+        let t3961: f64 = t3957 - t3960;
+        let t3962 = product(t1352, t3937);
+        let t3963: f64 = t720 * t3953;
+        let t3964: f64 = t3962.minus(t3963);
+        let t3965: f64 = yc * vz;
+        let t3966 = product(t569, t3965);
+        let t3967: f64 = t875 + t877;
+        let t3968: f64 = t3966.plus(t3967);
+        let t3969: f64 = t3964 + t3968;
+        let t3970: f64 = t3961 + t3969;
+        let t3971: f64 = t878 * 2.0;
+        let t3972: f64 = t3970 + t3971;
+        let t3973 = product(t1381, t3972);
+        let t3974 = product(vz, t569);
+        let t3975: f64 = t3974.added_to(t929);
+        let t3976 = product(t635, t3953);
+        let t3977: f64 = t697 * t3972;
+        let t3978: f64 = t3976.plus(t3977);
+        let t3979: f64 = t3975 - t3978;
+        let t3980: f64 = t930 * 2.0;
+        let t3981: f64 = t3979 + t3980;
+        let t3982 = product(t1404, t3981);
+        let t3983 = product(t728, t3981);
+        let t3984: f64 = t723 * t3972;
+        let t3985: f64 = t3983.minus(t3984);
+        let t3986 = product(t674, t3953);
+        let t3987: f64 = t3986.added_to(t3936);
+        let t3988: f64 = t3935 - t3987;
+        let t3989 = product(t677, t3988);
+        let t3990: f64 = wx * t694;
+        let t3991: f64 = t3843 - t3990;
+        let t3992: f64 = t3989.plus(t3991);
+        let t3993: f64 = t3985 + t3992;
+        let t3994: f64 = t1424 * t3993;
+        let t3995: f64 = t757 * 2.0;
+        let t3996: f64 = t3903.plus(t3995);
+        let t3997: f64 = t3938.plus(t3954);
+        let t3998: f64 = t3973.plus(t3994);
+        let t3999: f64 = t3996 + t3997;
+        let t4000: f64 = t3998 + t3999;
+        let t4001: f64 = t3982.added_to(t758);
+        let t4002: f64 = t4000 - t4001;
         (
-            t3070,
-            t3297,
-            t3298,
-            t3299,
-            t3300,
-            t3371,
-            t3377,
-            t3379,
-            t3385,
-            t3391,
-            t3519,
-            t3526,
-            t3632,
-            t3663,
-            t3764,
-            t3830,
-            t3831,
-            t3832,
-            t3833,
-            t3834,
-            t3835,
-            t3836,
-            t3837,
-            t3838,
-            t3839,
+            t3012,
+            t3230,
+            t3231,
+            t3232,
+            t3233,
+            t3281,
+            t3284,
+            t3290,
+            t3292,
+            t3303,
+            t3422,
+            t3429,
+            t3527,
+            t3552,
+            t3559,
+            t3652,
+            t3706,
+            t3707,
+            t3708,
+            t3709,
+            t3710,
+            t3711,
+            t3712,
+            t3713,
+            t3714,
+            t3715,
+            t3716,
+            t3717,
+            t3718,
+            t3719,
+            t3720,
+            t3722,
+            t3724,
+            t3725,
+            t3765,
+            t3767,
+            t3789,
             t3840,
-            t3841,
             t3842,
-            t3843,
-            t3844,
-            t3846,
-            t3848,
-            t3849,
-            t3900,
+            t3861,
+            t3870,
+            t3876,
+            t3894,
             t3902,
-            t3924,
-            t3925,
-            t3940,
-            t3954,
-            t3955,
-            t3973,
-            t3974,
-            t3975,
-            t3977,
-            t3978,
-            t3983,
-            t3996,
-            t3997,
-            t4000,
-            t4001,
+            t3935,
+            t3936,
+            t3941,
+            t3952,
+            t3953,
+            t3970,
+            t3971,
+            t3979,
+            t3980,
+            t3990,
+            t3993,
             t4002,
         )
     };
     let (
-        t4037,
-        t4171,
-        t4302,
-        t4367,
-        t4439,
-        t4493,
-        t4511,
-        t4512,
-        t4523,
-        t4532,
-        t4553,
-        t4554,
-        t4566,
-        t4576,
-        t4577,
-        t4578,
-        t4579,
-        t4585,
-        t4592,
-        t4593,
-        t4594,
-        t4595,
-        t4596,
-        t4597,
-        t4598,
-        t4599,
-        t4600,
-        t4601,
-        t4602,
-        t4603,
-        t4605,
-        t4607,
-        t4608,
-        t4610,
-        t4611,
-        t4613,
-        t4635,
-        t4648,
-        t4665,
-        t4687,
-        t4700,
-        t4717,
-        t4725,
-        t4771,
-        t4815,
-        t4842,
-        t4847,
-        t4851,
-        t4857,
-        t4867,
-        t4875,
-        t4902,
-        t4907,
-        t4911,
-        t4917,
+        t4036,
+        t4167,
+        t4232,
+        t4304,
+        t4358,
+        t4376,
+        t4377,
+        t4387,
+        t4396,
+        t4417,
+        t4418,
+        t4430,
+        t4440,
+        t4441,
+        t4442,
+        t4443,
+        t4449,
+        t4456,
+        t4457,
+        t4458,
+        t4459,
+        t4460,
+        t4461,
+        t4462,
+        t4463,
+        t4464,
+        t4465,
+        t4466,
+        t4467,
+        t4469,
+        t4471,
+        t4472,
+        t4474,
+        t4475,
+        t4477,
+        t4530,
+        t4583,
+        t4637,
+        t4681,
+        t4713,
+        t4741,
+        t4773,
+        t4801,
+        t4817,
+        t4833,
+        t4872,
+        t4887,
+        t4910,
+        t4925,
+        t4926,
         t4927,
+        t4928,
+        t4929,
+        t4930,
+        t4931,
+        t4932,
+        t4933,
+        t4934,
         t4935,
+        t4936,
+        t4937,
+        t4938,
+        t4939,
+        t4940,
         t4941,
-        t4944,
+        t4943,
+        t4945,
+        t4946,
+        t4947,
+        t4949,
         t4951,
-        t4957,
-        t4960,
-        t4967,
-        t4969,
-        t4972,
-        t4974,
-        t4987,
-        t4995,
-        t4998,
-        t4999,
-        t5000,
-        t5001,
-        t5002,
     ) = {
-        let t4003: f64 = t4001 + t4002;
-        let t4004: f64 = t3997.plus(t4003);
-        let t4005: f64 = t4000 - t4004;
-        let t4006 = product(t972, t4005);
-        let t4007 = product(t967, t4005);
-        let t4008: f64 = t4007.subtracted_from(t3996);
-        let t4009: f64 = t970 * t4008;
-        let t4010: f64 = t4006.plus(t4009);
-        let t4011: f64 = t3983 - t4010;
-        let t4012 = product(t989, t4011);
-        let t4013 = product(t991, t4005);
-        let t4014 = product(t976, t4011);
-        let t4015 = product(t978, t4008);
-        let t4016: f64 = t965 * t4005;
-        let t4017: f64 = t4014.added_to(t3974);
-        let t4018: f64 = t3973 + t4017;
-        let t4019: f64 = t4015.plus(t4016);
-        let t4020: f64 = t4018 - t4019;
-        let t4021: f64 = t2032 * t4020;
-        let t4022 = product(t993, t4008);
-        let t4023: f64 = t4022.subtracted_from(t3940);
-        let t4024 = product(t513, t4023);
-        let t4025: f64 = t4012.added_to(t3955);
-        let t4026: f64 = t4024.added_to(t3954);
-        let t4027: f64 = t4025 + t4026;
-        let t4028: f64 = t4013.plus(t4021);
-        let t4029: f64 = t4027 - t4028;
-        let t4030 = product(t708, t4029);
-        let t4031: f64 = t986 * t4005;
-        let t4032 = product(t2045, t4020);
-        let t4033: f64 = t4030.plus(t4031);
-        let t4034: f64 = t4023 + t4033;
-        let t4035: f64 = t4032.subtracted_from(t4034);
-        let t4036: f64 = t247 * t4035;
-        let t4037: f64 = -t4036;
-        let t4038 = product(vx, t463);
-        let t4039 = product(t400, t776);
-        let t4040 = product(t145, t817);
-        let t4041: f64 = t77 * t786;
-        let t4042: f64 = t394 * t783;
-        let t4043: f64 = t4040.plus(t4041);
-        let t4044: f64 = t4039.plus(t4042);
-        let t4045: f64 = t4043 - t4044;
+        let t4003 = product(t965, t4002);
+        let t4004: f64 = t4003.added_to(t3993);
+        let t4005 = product(t968, t4004);
+        let t4006 = product(t970, t4002);
+        let t4007: f64 = t4005.added_to(t3980);
+        let t4008: f64 = t3979 + t4007;
+        let t4009: f64 = t4006.subtracted_from(t4008);
+        let t4010 = product(t974, t4009);
+        let t4011: f64 = t976 * t4004;
+        let t4012 = product(t978, t4002);
+        let t4013: f64 = t4012.added_to(t3971);
+        let t4014: f64 = t3970 + t4013;
+        let t4015: f64 = t4010.plus(t4011);
+        let t4016: f64 = t4014 - t4015;
+        let t4017 = product(t2017, t4016);
+        let t4018: f64 = t986 * t4002;
+        let t4019 = product(t2004, t4016);
+        let t4020: f64 = t989 * t4009;
+        let t4021 = product(t991, t4002);
+        let t4022 = product(t993, t4004);
+        let t4023: f64 = t4022.added_to(t3935);
+        let t4024: f64 = t4023 - t3936;
+        let t4025 = product(t513, t4024);
+        let t4026: f64 = t4021.added_to(t3952);
+        let t4027: f64 = t4019.plus(t4020);
+        let t4028: f64 = t4025.plus(t4027);
+        let t4029: f64 = t4026 - t4028;
+        let t4030 = product(t674, t4029);
+        let t4031: f64 = t4017.plus(t4018);
+        let t4032: f64 = t4023 + t4031;
+        let t4033: f64 = t4030.added_to(t3936);
+        let t4034: f64 = t4032 - t4033;
+        let t4035: f64 = t247 * t4034;
+        let t4036: f64 = -t4035;
+        let t4037: f64 = zc * vx;
+        let t4038 = product(t36, t4037);
+        let t4039 = product(t376, t776);
+        let t4040 = product(t90, t817);
+        let t4041: f64 = t248 * t786;
+        let t4042 = product(t370, t783);
+        let t4043: f64 = t4039.plus(t4041);
+        let t4044: f64 = t4042.plus(t4043);
+        let t4045: f64 = t4040.minus(t4044);
         let t4046 = product(t16, t4045);
-        let t4047 = product(t400, t769);
-        let t4048: f64 = t77 * t792;
-        let t4049 = product(t388, t783);
-        let t4050 = product(t154, t817);
-        let t4051: f64 = t4047.plus(t4048);
-        let t4052: f64 = t4050.plus(t4051);
-        let t4053: f64 = t4049.subtracted_from(t4052);
+        let t4047 = product(t376, t769);
+        let t4048 = product(t248, t792);
+        let t4049: f64 = t364 * t783;
+        let t4050: f64 = t85 * t817;
+        let t4051: f64 = t4048.plus(t4049);
+        let t4052: f64 = t4047.plus(t4050);
+        let t4053: f64 = t4051 - t4052;
         let t4054: f64 = t15 * t4053;
-        let t4055: f64 = t4046.plus(t4054);
-        let t4056 = product(t7, t4055);
-        let t4057: f64 = vx * t409;
-        let t4058: f64 = t4056.minus(t4057);
-        let t4059 = product(t394, t769);
-        let t4060: f64 = t388 * t776;
-        let t4061 = product(t154, t786);
-        let t4062 = product(t145, t792);
+        let t4055: f64 = t4046.minus(t4054);
+        let t4056: f64 = t7 * t4055;
+        let t4057: f64 = t4038.minus(t4056);
+        let t4058 = product(wy, t593);
+        let t4059 = product(t370, t769);
+        let t4060: f64 = t364 * t776;
+        let t4061 = product(t85, t786);
+        let t4062 = product(t90, t792);
         let t4063: f64 = t4059.plus(t4060);
         let t4064: f64 = t4061.plus(t4063);
         let t4065: f64 = t4062.subtracted_from(t4064);
-        let t4066 = product(t6, t4065);
-        let t4067: f64 = wz * t840;
-        let t4068: f64 = t4066.minus(t4067);
-        let t4069: f64 = t835 + t4068;
-        let t4070: f64 = t4058 + t4069;
-        let t4071: f64 = t832 * 2.0;
-        let t4072: f64 = t4070 - t4071;
-        let t4073 = product(t634, t4072);
-        let t4074 = product(t513, t4072);
-        let t4075 = product(vz, t517);
-        let t4076: f64 = wx * t561;
-        let t4077: f64 = t3925 + t4076;
-        let t4078: f64 = t4075.plus(t4077);
-        let t4079 = product(t154, t4045);
-        let t4080: f64 = t145 * t4053;
+        let t4066: f64 = t6 * t4065;
+        let t4067: f64 = t4058.plus(t4066);
+        let t4068: f64 = t842 - t4067;
+        let t4069: f64 = t4057 + t4068;
+        let t4070: f64 = t838 * 2.0;
+        let t4071: f64 = t4069 - t4070;
+        let t4072 = product(t714, t4071);
+        let t4073 = product(t513, t4071);
+        let t4074 = product(vy, t517);
+        let t4075: f64 = t4074.subtracted_from(t879);
+        let t4076 = product(t154, t4045);
+        let t4077: f64 = wx * t593;
+        let t4078: f64 = t4076.minus(t4077);
+        let t4079 = product(t145, t4053);
+        let t4080: f64 = t77 * t4065;
         let t4081: f64 = t4079.minus(t4080);
-        let t4082: f64 = xc * vx;
-        let t4083 = product(t463, t4082);
-        let t4084: f64 = t77 * t4065;
-        let t4085: f64 = t4083.minus(t4084);
-        let t4086: f64 = t4081 + t4085;
-        let t4087: f64 = t4078 + t4086;
-        let t4088: f64 = t4074.subtracted_from(t4087);
-        let t4089: f64 = t1023 * t4088;
-        let t4090 = product(t90, t4053);
-        let t4091: f64 = t248 * t4065;
-        let t4092: f64 = t4090.minus(t4091);
-        let t4093 = product(wx, t840);
-        let t4094: f64 = t85 * t4045;
-        let t4095: f64 = t4093.plus(t4094);
-        let t4096: f64 = t4092 - t4095;
-        let t4097 = product(t1290, t4072);
-        let t4098: f64 = t656 * t4088;
-        let t4099: f64 = t4097.minus(t4098);
-        let t4100: f64 = yc * vz;
-        let t4101 = product(t569, t4100);
-        let t4102: f64 = t875 + t877;
-        let t4103: f64 = t4101.plus(t4102);
-        let t4104: f64 = t4099 + t4103;
-        let t4105: f64 = t4096 + t4104;
-        let t4106: f64 = t878 * 2.0;
-        let t4107: f64 = t4105 + t4106;
-        let t4108 = product(t1396, t4107);
-        let t4109 = product(vz, t569);
-        let t4110: f64 = t4109.added_to(t929);
-        let t4111 = product(t684, t4088);
-        let t4112: f64 = t701 * t4107;
-        let t4113: f64 = t4111.plus(t4112);
-        let t4114: f64 = t4110 - t4113;
-        let t4115: f64 = t930 * 2.0;
-        let t4116: f64 = t4114 + t4115;
-        let t4117 = product(t1007, t4116);
-        let t4118 = product(t736, t4116);
-        let t4119: f64 = t734 * t4107;
-        let t4120: f64 = t4118.minus(t4119);
-        let t4121 = product(t708, t4088);
-        let t4122: f64 = t4121.added_to(t4071);
-        let t4123: f64 = t4070 - t4122;
-        let t4124 = product(t711, t4123);
-        let t4125: f64 = wx * t653;
-        let t4126: f64 = t3978 - t4125;
-        let t4127: f64 = t4124.plus(t4126);
-        let t4128: f64 = t4120 + t4127;
-        let t4129: f64 = t1010 * t4128;
-        let t4130: f64 = t757 * 2.0;
-        let t4131: f64 = t4038.plus(t4130);
-        let t4132: f64 = t4073.plus(t4089);
-        let t4133: f64 = t4108.plus(t4129);
-        let t4134: f64 = t4131 + t4132;
-        let t4135: f64 = t4133 + t4134;
-        let t4136: f64 = t4117.added_to(t758);
-        let t4137: f64 = t4135 - t4136;
-        let t4138 = product(t967, t4137);
-        let t4139: f64 = t4138.added_to(t4128);
-        let t4140 = product(t970, t4139);
-        let t4141 = product(t972, t4137);
-        let t4142: f64 = t4140.added_to(t4115);
-        let t4143: f64 = t4114 + t4142;
-        let t4144: f64 = t4141.subtracted_from(t4143);
-        let t4145 = product(t976, t4144);
-        let t4146: f64 = t978 * t4139;
-        let t4147 = product(t965, t4137);
-        let t4148: f64 = t4147.added_to(t4106);
-        let t4149: f64 = t4105 + t4148;
-        let t4150: f64 = t4145.plus(t4146);
-        let t4151: f64 = t4149 - t4150;
-        let t4152 = product(t2045, t4151);
-        let t4153: f64 = t986 * t4137;
-        let t4154 = product(t2032, t4151);
-        let t4155: f64 = t989 * t4144;
-        let t4156 = product(t991, t4137);
-        let t4157 = product(t993, t4139);
-        let t4158: f64 = t4157.added_to(t4070);
-        let t4159: f64 = t4158 - t4071;
-        let t4160 = product(t513, t4159);
-        let t4161: f64 = t4156.added_to(t4087);
-        let t4162: f64 = t4154.plus(t4155);
-        let t4163: f64 = t4160.plus(t4162);
-        let t4164: f64 = t4161 - t4163;
-        let t4165 = product(t708, t4164);
-        let t4166: f64 = t4152.plus(t4153);
-        let t4167: f64 = t4158 + t4166;
-        let t4168: f64 = t4165.added_to(t4071);
-        let t4169: f64 = t4167 - t4168;
-        let t4170: f64 = t247 * t4169;
-        let t4171: f64 = -t4170;
-        let t4172: f64 = zc * vx;
-        let t4173 = product(t36, t4172);
-        let t4174 = product(t376, t776);
-        let t4175 = product(t90, t817);
-        let t4176: f64 = t248 * t786;
-        let t4177 = product(t370, t783);
-        let t4178: f64 = t4174.plus(t4176);
-        let t4179: f64 = t4177.plus(t4178);
-        let t4180: f64 = t4175.minus(t4179);
-        let t4181 = product(t16, t4180);
-        let t4182 = product(t376, t769);
-        let t4183 = product(t248, t792);
-        let t4184: f64 = t364 * t783;
-        let t4185: f64 = t85 * t817;
-        let t4186: f64 = t4183.plus(t4184);
-        let t4187: f64 = t4182.plus(t4185);
-        let t4188: f64 = t4186 - t4187;
-        let t4189: f64 = t15 * t4188;
-        let t4190: f64 = t4181.minus(t4189);
-        let t4191: f64 = t7 * t4190;
-        let t4192: f64 = t4173.minus(t4191);
-        let t4193 = product(wy, t593);
-        let t4194 = product(t370, t769);
-        let t4195: f64 = t364 * t776;
-        let t4196 = product(t85, t786);
-        let t4197 = product(t90, t792);
-        let t4198: f64 = t4194.plus(t4195);
-        let t4199: f64 = t4196.plus(t4198);
-        let t4200: f64 = t4197.subtracted_from(t4199);
-        let t4201: f64 = t6 * t4200;
-        let t4202: f64 = t4193.plus(t4201);
-        let t4203: f64 = t842 - t4202;
-        let t4204: f64 = t4192 + t4203;
-        let t4205: f64 = t838 * 2.0;
-        let t4206: f64 = t4204 - t4205;
-        let t4207 = product(t634, t4206);
-        let t4208 = product(t513, t4206);
-        let t4209 = product(vy, t517);
-        let t4210: f64 = t4209.subtracted_from(t879);
-        let t4211 = product(t154, t4180);
-        let t4212: f64 = wx * t593;
-        let t4213: f64 = t4211.minus(t4212);
-        let t4214 = product(t145, t4188);
-        let t4215: f64 = t77 * t4200;
-        let t4216: f64 = t4214.minus(t4215);
-        let t4217: f64 = t4213 + t4216;
-        let t4218: f64 = t4210 + t4217;
-        let t4219: f64 = t875 * 2.0;
-        let t4220: f64 = t4208.plus(t4219);
-        let t4221: f64 = t4218 + t4220;
-        let t4222 = product(t1023, t4221);
-        let t4223: f64 = t3924 + t4076;
-        let t4224 = product(vx, t252);
-        let t4225: f64 = t4224.subtracted_from(t4223);
-        let t4226 = product(t656, t4221);
-        let t4227: f64 = yc * vy;
-        let t4228: f64 = t569 * t4227;
-        let t4229: f64 = t4226.plus(t4228);
-        let t4230: f64 = t4225 - t4229;
-        let t4231 = product(t85, t4180);
-        let t4232: f64 = t90 * t4188;
-        let t4233: f64 = t4231.plus(t4232);
-        let t4234 = product(t248, t4200);
-        let t4235: f64 = t1290 * t4206;
-        let t4236: f64 = t4234.plus(t4235);
-        let t4237: f64 = t4233 + t4236;
-        let t4238: f64 = t4230 - t4237;
-        let t4239 = product(t1396, t4238);
-        let t4240 = product(vy, t569);
-        let t4241: f64 = t4240.subtracted_from(t754);
-        let t4242 = product(t684, t4221);
-        let t4243: f64 = t701 * t4238;
-        let t4244: f64 = t4242.plus(t4243);
-        let t4245: f64 = t4241 - t4244;
-        let t4246: f64 = t753 * 2.0;
-        let t4247: f64 = t4245 + t4246;
-        let t4248 = product(t1007, t4247);
-        let t4249 = product(t736, t4247);
-        let t4250: f64 = t734 * t4238;
-        let t4251: f64 = t4249.minus(t4250);
-        let t4252 = product(vx, t36);
-        let t4253: f64 = t4252.added_to(t757);
-        let t4254 = product(t708, t4221);
-        let t4255: f64 = t4254.added_to(t4204);
-        let t4256: f64 = t4255 - t4205;
-        let t4257 = product(t711, t4256);
-        let t4258: f64 = t4257.subtracted_from(t4253);
-        let t4259: f64 = t4251 + t4258;
-        let t4260: f64 = t758 * 2.0;
-        let t4261: f64 = t4259 - t4260;
-        let t4262: f64 = t1010 * t4261;
-        let t4263: f64 = t4207.added_to(t3977);
-        let t4264: f64 = t4248.plus(t4263);
-        let t4265: f64 = t4222.added_to(t4125);
-        let t4266: f64 = t4239.plus(t4262);
-        let t4267: f64 = t4265 + t4266;
-        let t4268: f64 = t4264 - t4267;
-        let t4269 = product(t967, t4268);
-        let t4270: f64 = t4269.added_to(t4260);
-        let t4271: f64 = t4259 - t4270;
-        let t4272 = product(t970, t4271);
-        let t4273 = product(t972, t4268);
-        let t4274: f64 = t4272.added_to(t4246);
-        let t4275: f64 = t4273.added_to(t4245);
-        let t4276: f64 = t4274 + t4275;
-        let t4277 = product(t976, t4276);
-        let t4278: f64 = t978 * t4271;
-        let t4279 = product(t965, t4268);
-        let t4280: f64 = t4277.plus(t4278);
-        let t4281: f64 = t4279.plus(t4280);
-        let t4282: f64 = t4238 - t4281;
-        let t4283 = product(t2045, t4282);
-        let t4284 = product(t986, t4268);
-        let t4285 = product(t2032, t4282);
-        let t4286: f64 = t989 * t4276;
-        let t4287 = product(t991, t4268);
-        let t4288 = product(t993, t4271);
-        let t4289: f64 = t4288.subtracted_from(t4204);
-        let t4290: f64 = t4289 - t4205;
-        let t4291 = product(t513, t4290);
-        let t4292: f64 = t4291.added_to(t4219);
-        let t4293: f64 = t4218 + t4292;
-        let t4294: f64 = t4285.plus(t4286);
-        let t4295: f64 = t4287.plus(t4294);
-        let t4296: f64 = t4293 - t4295;
-        let t4297: f64 = t708 * t4296;
-        let t4298: f64 = t4284.plus(t4297);
-        let t4299: f64 = t4289 + t4298;
-        let t4300: f64 = t4283.added_to(t4205);
-        let t4301: f64 = t4299 - t4300;
-        let t4302: f64 = t247 * t4301;
-        let t4303 = product(wy, t463);
-        let t4304: f64 = zc * wz;
-        let t4305 = product(t36, t4304);
-        let t4306: f64 = wy * t409;
-        let t4307: f64 = t4305.plus(t4306);
-        let t4308 = product(t634, t4307);
-        let t4309 = product(t513, t4307);
-        let t4310: f64 = xc * wy;
-        let t4311: f64 = t463 * t4310;
-        let t4312: f64 = t4309.plus(t4311);
-        let t4313: f64 = t1023 * t4312;
-        let t4314 = product(wz, t252);
-        let t4315 = product(t1290, t4307);
-        let t4316: f64 = t656 * t4312;
-        let t4317: f64 = t4315.plus(t4316);
-        let t4318: f64 = t4314.plus(t4317);
-        let t4319: f64 = t1396 * t4318;
-        let t4320 = product(t684, t4312);
-        let t4321: f64 = t701 * t4318;
-        let t4322: f64 = t4320.minus(t4321);
-        let t4323 = product(t1007, t4322);
-        let t4324 = product(wz, t36);
-        let t4325: f64 = t734 * t4318;
-        let t4326: f64 = t4324.plus(t4325);
-        let t4327 = product(t736, t4322);
-        let t4328 = product(t708, t4312);
-        let t4329: f64 = t4328.added_to(t4307);
-        let t4330: f64 = t711 * t4329;
-        let t4331: f64 = t4327.plus(t4330);
-        let t4332: f64 = t4326 - t4331;
-        let t4333: f64 = t1010 * t4332;
-        let t4334: f64 = t4303.plus(t4313);
-        let t4335: f64 = t4323.plus(t4333);
-        let t4336: f64 = t4334 + t4335;
-        let t4337: f64 = t4308.plus(t4319);
-        let t4338: f64 = t4336 - t4337;
-        let t4339 = product(t986, t4338);
-        let t4340 = product(t967, t4338);
-        let t4341: f64 = t4340.added_to(t4332);
-        let t4342 = product(t970, t4341);
-        let t4343 = product(t972, t4338);
-        let t4344: f64 = t4343.added_to(t4322);
-        let t4345: f64 = t4342.subtracted_from(t4344);
-        let t4346 = product(t976, t4345);
-        let t4347 = product(t978, t4341);
-        let t4348: f64 = t965 * t4338;
-        let t4349: f64 = t4347.added_to(t4318);
-        let t4350: f64 = t4346.plus(t4348);
-        let t4351: f64 = t4349 - t4350;
-        let t4352 = product(t2032, t4351);
-        let t4353 = product(t989, t4345);
-        let t4354: f64 = t991 * t4338;
-        let t4355 = product(t993, t4341);
-        let t4356: f64 = t4355.subtracted_from(t4307);
-        let t4357 = product(t513, t4356);
-        let t4358: f64 = t4352.added_to(t4311);
-        let t4359: f64 = t4353.plus(t4354);
-        let t4360: f64 = t4358 + t4359;
-        let t4361: f64 = t4357.plus(t4360);
-        let t4362 = product(t708, t4361);
-        let t4363: f64 = t2045 * t4351;
-        let t4364: f64 = t4362.plus(t4363);
-        let t4365: f64 = t4356 + t4364;
-        let t4366: f64 = t4339.subtracted_from(t4365);
-        let t4367: f64 = t247 * t4366;
-        let t4368: f64 = wx * t409;
-        let t4369: f64 = t247 * t409;
-        let t4370 = product(t459, t4369);
-        let t4371: f64 = t4370.added_to(t636);
-        let t4372 = product(wx, t4371);
-        let t4373: f64 = wz * t517;
-        let t4374: f64 = t4372.plus(t4373);
-        let t4375 = product(t1023, t4374);
-        let t4376: f64 = yc * wz;
-        let t4377 = product(t569, t4376);
-        let t4378: f64 = wx * t247;
-        let t4379: f64 = t409 * t4378;
-        let t4380 = product(t359, t4379);
-        let t4381: f64 = t656 * t4374;
-        let t4382: f64 = t4380.plus(t4381);
-        let t4383: f64 = t4377.minus(t4382);
-        let t4384: f64 = t1396 * t4383;
-        let t4385 = product(wz, t569);
-        let t4386: f64 = t684 * t4374;
-        let t4387: f64 = t4385.minus(t4386);
-        let t4388 = product(t701, t4383);
-        let t4389: f64 = t4388.subtracted_from(t4387);
-        let t4390 = product(t1007, t4389);
-        let t4391 = product(t708, t4374);
-        let t4392: f64 = t4391.added_to(t4368);
-        let t4393 = product(t711, t4392);
-        let t4394 = product(t734, t4383);
-        let t4395: f64 = t736 * t4389;
-        let t4396: f64 = t4394.minus(t4395);
-        let t4397: f64 = t4393.plus(t4396);
-        let t4398: f64 = t1010 * t4397;
-        let t4399 = product(t409, t634);
-        let t4400: f64 = t4399.subtracted_from(t463);
-        let t4401 = product(wx, t4400);
-        let t4402: f64 = t4375.plus(t4384);
-        let t4403: f64 = t4401.plus(t4402);
-        let t4404: f64 = t4390.plus(t4398);
-        let t4405: f64 = t4403 - t4404;
-        let t4406 = product(t967, t4405);
-        let t4407: f64 = t4406.subtracted_from(t4397);
-        let t4408: f64 = t513 * t707;
-        let t4409: f64 = t733 * t4408;
-        let t4410 = product(t4407, t4409);
-        let t4411: f64 = t991 * t4405;
-        let t4412 = product(t970, t4407);
-        let t4413: f64 = t972 * t4405;
-        let t4414: f64 = t4412.plus(t4413);
-        let t4415: f64 = t4389 - t4414;
-        let t4416 = product(t976, t4415);
-        let t4417 = product(t978, t4407);
-        let t4418: f64 = t965 * t4405;
-        let t4419: f64 = t4417.plus(t4418);
-        let t4420: f64 = t4383 + t4419;
-        let t4421: f64 = t4416.minus(t4420);
-        let t4422: f64 = t599 * t4421;
-        let t4423: f64 = -t4422;
-        let t4424 = product(t566, t4423);
-        let t4425: f64 = t989 * t4415;
-        let t4426: f64 = t4410.plus(t4411);
-        let t4427: f64 = t4374 + t4426;
-        let t4428: f64 = t4424.plus(t4425);
-        let t4429: f64 = t4427 - t4428;
-        let t4430 = product(t708, t4429);
-        let t4431 = product(t993, t4407);
-        let t4432 = product(t986, t4405);
-        let t4433: f64 = t359 * t4423;
-        let t4434: f64 = t4430.added_to(t4368);
-        let t4435: f64 = t4431.plus(t4434);
-        let t4436: f64 = t4432.plus(t4433);
-        let t4437: f64 = t4435 - t4436;
-        let t4438: f64 = t247 * t4437;
-        let t4439: f64 = -t4438;
-        let t4440: f64 = zc * wx;
-        let t4441: f64 = t633 * t4440;
-        let t4442: f64 = t36 * t4441;
-        let t4443 = product(t247, t4442);
-        let t4444: f64 = t36 * t4440;
-        let t4445: f64 = t247 * t4444;
-        let t4446 = product(t459, t4445);
-        let t4447: f64 = wy * t517;
-        let t4448: f64 = t4446.subtracted_from(t4447);
-        let t4449: f64 = t1023 * t4448;
-        let t4450: f64 = yc * wy;
-        let t4451 = product(t569, t4450);
-        let t4452 = product(t656, t4448);
-        let t4453: f64 = t247 * t706;
-        let t4454 = product(t359, t4453);
-        let t4455: f64 = t4454.added_to(t252);
-        let t4456: f64 = wx * t4455;
-        let t4457: f64 = t4452.minus(t4456);
-        let t4458: f64 = t4451.minus(t4457);
-        let t4459 = product(t1396, t4458);
-        let t4460 = product(wy, t569);
-        let t4461: f64 = t684 * t4448;
-        let t4462: f64 = t4460.minus(t4461);
-        let t4463 = product(t701, t4458);
-        let t4464: f64 = t4463.subtracted_from(t4462);
-        let t4465 = product(t1007, t4464);
-        let t4466 = product(t1020, t4448);
-        let t4467: f64 = t734 * t4458;
-        let t4468: f64 = t4466.plus(t4467);
-        let t4469 = product(t707, t4453);
-        let t4470: f64 = t4469.subtracted_from(t36);
-        let t4471 = product(wx, t4470);
-        let t4472: f64 = t736 * t4464;
-        let t4473: f64 = t4471.minus(t4472);
-        let t4474: f64 = t4468 + t4473;
-        let t4475: f64 = t1010 * t4474;
-        let t4476: f64 = t4443.plus(t4449);
-        let t4477: f64 = t4459.plus(t4476);
-        let t4478: f64 = t4465.plus(t4475);
-        let t4479: f64 = t4477 - t4478;
-        let t4480 = product(t972, t4479);
-        let t4481 = product(t967, t4479);
-        let t4482: f64 = t4481.subtracted_from(t4474);
-        let t4483: f64 = t970 * t4482;
-        let t4484: f64 = t4480.plus(t4483);
-        let t4485: f64 = t4464 - t4484;
-        let t4486 = product(t976, t4485);
-        let t4487 = product(t965, t4479);
-        let t4488: f64 = t978 * t4482;
-        let t4489: f64 = t4487.plus(t4488);
-        let t4490: f64 = t4458 + t4489;
-        let t4491: f64 = t4486.minus(t4490);
-        let t4492: f64 = t599 * t4491;
-        let t4493: f64 = -t4492;
-        let t4494 = product(t359, t4493);
-        let t4495: f64 = t986 * t4479;
-        let t4496 = product(t566, t4493);
-        let t4497: f64 = t989 * t4485;
-        let t4498 = product(t991, t4479);
-        let t4499 = product(t993, t4482);
-        let t4500: f64 = t4499.subtracted_from(t4444);
-        let t4501 = product(t513, t4500);
-        let t4502: f64 = t4498.added_to(t4447);
-        let t4503: f64 = t4496.plus(t4497);
-        let t4504: f64 = t4501.plus(t4503);
-        let t4505: f64 = t4502 - t4504;
-        let t4506 = product(t708, t4505);
-        let t4507: f64 = t4494.plus(t4495);
-        let t4508: f64 = t4500 + t4507;
-        let t4509: f64 = t4506.subtracted_from(t4508);
-        let t4510: f64 = t247 * t4509;
-        let t4511: f64 = -t4510;
-        let t4512: f64 = t509 * t4029;
-        let t4513 = product(t509, t4088);
-        let t4514: f64 = t599 * t656;
-        let t4515 = product(t4151, t4514);
-        let t4516: f64 = t684 * t699;
-        let t4517: f64 = t4144 * t4516;
-        let t4518 = product(t3385, t4139);
-        let t4519: f64 = t1024 * t4137;
-        let t4520: f64 = t4515.plus(t4517);
-        let t4521: f64 = t4518.plus(t4520);
-        let t4522: f64 = t4513.plus(t4519);
-        let t4523: f64 = t4521 - t4522;
-        let t4524 = product(t509, t4221);
-        let t4525 = product(t4282, t4514);
-        let t4526: f64 = t4276 * t4516;
-        let t4527 = product(t3385, t4271);
-        let t4528: f64 = t1024 * t4268;
-        let t4529: f64 = t4525.plus(t4526);
-        let t4530: f64 = t4527.plus(t4528);
-        let t4531: f64 = t4529 + t4530;
-        let t4532: f64 = t4524.subtracted_from(t4531);
-        let t4533 = product(t509, t4312);
-        let t4534 = product(t599, t4318);
-        let t4535 = product(t1008, t4338);
-        let t4536 = product(t699, t4322);
-        let t4537: f64 = t3371 * t4341;
-        let t4538: f64 = t4536.minus(t4537);
-        let t4539: f64 = t4535.plus(t4538);
-        let t4540: f64 = t701 * t4539;
-        let t4541: f64 = t4534.minus(t4540);
-        let t4542 = product(t3377, t4341);
-        let t4543: f64 = t3379 * t4338;
-        let t4544: f64 = t4542.minus(t4543);
-        let t4545: f64 = t4541 + t4544;
-        let t4546: f64 = t656 * t4545;
-        let t4547 = product(t684, t4539);
-        let t4548 = product(t3385, t4341);
-        let t4549: f64 = t1024 * t4338;
-        let t4550: f64 = t4533.plus(t4546);
-        let t4551: f64 = t4547.plus(t4549);
-        let t4552: f64 = t4550 + t4551;
-        let t4553: f64 = t4548.minus(t4552);
-        let t4554: f64 = t509 * t4429;
-        let t4555 = product(t509, t4448);
-        let t4556 = product(t656, t4493);
-        let t4557: f64 = t4485 * t4516;
-        let t4558 = product(t733, t4474);
-        let t4559: f64 = t1011 * t4479;
-        let t4560: f64 = t4558.minus(t4559);
-        let t4561: f64 = t1020 * t4560;
-        let t4562 = product(t1024, t4479);
-        let t4563: f64 = t4556.plus(t4557);
-        let t4564: f64 = t4555.plus(t4561);
-        let t4565: f64 = t4562.plus(t4564);
-        let t4566: f64 = t4563 - t4565;
-        let t4567 = product(t599, t3975);
-        let t4568: f64 = t3632 * t4011;
-        let t4569 = product(t733, t3996);
-        let t4570: f64 = t1011 * t4005;
-        let t4571: f64 = t4569.minus(t4570);
-        let t4572 = product(t734, t4571);
-        let t4573: f64 = t3379 * t4005;
-        let t4574: f64 = t4572.plus(t4573);
-        let t4575: f64 = t4567.plus(t4568);
-        let t4576: f64 = t4574 - t4575;
-        let t4577: f64 = t599 * t4151;
-        let t4578: f64 = t599 * t4282;
-        let t4579: f64 = -t4545;
-        let t4580 = product(t599, t4383);
-        let t4581 = product(t1008, t4405);
-        let t4582 = product(t699, t4389);
-        let t4583: f64 = t3371 * t4407;
-        let t4584: f64 = t4582.minus(t4583);
-        let t4585: f64 = t4581.minus(t4584);
-        let t4586: f64 = -t4585;
-        let t4587 = product(t701, t4586);
-        let t4588: f64 = t3377 * t4407;
-        let t4589 = product(t3379, t4405);
-        let t4590: f64 = t4580.plus(t4588);
-        let t4591: f64 = t4589.plus(t4590);
-        let t4592: f64 = t4587.minus(t4591);
-        let t4593: f64 = t699 * t4011;
-        let t4594: f64 = t699 * t4144;
-        let t4595: f64 = t699 * t4276;
-        let t4596: f64 = -t4539;
-        let t4597: f64 = t699 * t4485;
-        let t4598: f64 = -t4571;
-        let t4599: f64 = t733 * t4139;
-        let t4600: f64 = t733 * t4271;
-        let t4601: f64 = t733 * t4341;
-        let t4602: f64 = t733 * t4407;
-        let t4603: f64 = -t4560;
-        let t4604: f64 = t751 * t4005;
-        let t4605: f64 = -t4604;
-        let t4606: f64 = t751 * t4137;
-        let t4607: f64 = -t4606;
-        let t4608: f64 = t751 * t4268;
-        let t4609: f64 = t751 * t4338;
+        let t4082: f64 = t4078 + t4081;
+        let t4083: f64 = t4075 + t4082;
+        let t4084: f64 = t875 * 2.0;
+        let t4085: f64 = t4073.plus(t4084);
+        let t4086: f64 = t4083 + t4085;
+        let t4087 = product(t1014, t4086);
+        let t4088: f64 = t3789 + t3941;
+        let t4089 = product(vx, t252);
+        let t4090: f64 = t4089.subtracted_from(t4088);
+        let t4091 = product(t720, t4086);
+        let t4092: f64 = yc * vy;
+        let t4093: f64 = t569 * t4092;
+        let t4094: f64 = t4091.plus(t4093);
+        let t4095: f64 = t4090 - t4094;
+        let t4096 = product(t85, t4045);
+        let t4097: f64 = t90 * t4053;
+        let t4098: f64 = t4096.plus(t4097);
+        let t4099 = product(t248, t4065);
+        let t4100: f64 = t1352 * t4071;
+        let t4101: f64 = t4099.plus(t4100);
+        let t4102: f64 = t4098 + t4101;
+        let t4103: f64 = t4095 - t4102;
+        let t4104 = product(t1381, t4103);
+        let t4105 = product(vy, t569);
+        let t4106: f64 = t4105.subtracted_from(t754);
+        let t4107 = product(t635, t4086);
+        let t4108: f64 = t697 * t4103;
+        let t4109: f64 = t4107.plus(t4108);
+        let t4110: f64 = t4106 - t4109;
+        let t4111: f64 = t753 * 2.0;
+        let t4112: f64 = t4110 + t4111;
+        let t4113 = product(t1404, t4112);
+        let t4114 = product(t728, t4112);
+        let t4115: f64 = t723 * t4103;
+        let t4116: f64 = t4114.minus(t4115);
+        let t4117 = product(vx, t36);
+        let t4118: f64 = t4117.added_to(t757);
+        let t4119 = product(t674, t4086);
+        let t4120: f64 = t4119.added_to(t4069);
+        let t4121: f64 = t4120 - t4070;
+        let t4122 = product(t677, t4121);
+        let t4123: f64 = t4122.subtracted_from(t4118);
+        let t4124: f64 = t4116 + t4123;
+        let t4125: f64 = t758 * 2.0;
+        let t4126: f64 = t4124 - t4125;
+        let t4127: f64 = t1424 * t4126;
+        let t4128: f64 = t4072.added_to(t3842);
+        let t4129: f64 = t4113.plus(t4128);
+        let t4130: f64 = t4087.added_to(t3990);
+        let t4131: f64 = t4104.plus(t4127);
+        let t4132: f64 = t4130 + t4131;
+        let t4133: f64 = t4129 - t4132;
+        let t4134 = product(t965, t4133);
+        let t4135: f64 = t4134.added_to(t4125);
+        let t4136: f64 = t4124 - t4135;
+        let t4137 = product(t968, t4136);
+        let t4138 = product(t970, t4133);
+        let t4139: f64 = t4137.added_to(t4111);
+        let t4140: f64 = t4138.added_to(t4110);
+        let t4141: f64 = t4139 + t4140;
+        let t4142 = product(t974, t4141);
+        let t4143: f64 = t976 * t4136;
+        let t4144 = product(t978, t4133);
+        let t4145: f64 = t4142.plus(t4143);
+        let t4146: f64 = t4144.plus(t4145);
+        let t4147: f64 = t4103 - t4146;
+        let t4148 = product(t2017, t4147);
+        let t4149 = product(t986, t4133);
+        let t4150 = product(t2004, t4147);
+        let t4151: f64 = t989 * t4141;
+        let t4152 = product(t991, t4133);
+        let t4153 = product(t993, t4136);
+        let t4154: f64 = t4153.subtracted_from(t4069);
+        let t4155: f64 = t4154 - t4070;
+        let t4156 = product(t513, t4155);
+        let t4157: f64 = t4156.added_to(t4084);
+        let t4158: f64 = t4083 + t4157;
+        let t4159: f64 = t4150.plus(t4151);
+        let t4160: f64 = t4152.plus(t4159);
+        let t4161: f64 = t4158 - t4160;
+        let t4162: f64 = t674 * t4161;
+        let t4163: f64 = t4149.plus(t4162);
+        let t4164: f64 = t4154 + t4163;
+        let t4165: f64 = t4148.added_to(t4070);
+        let t4166: f64 = t4164 - t4165;
+        let t4167: f64 = t247 * t4166;
+        let t4168 = product(wy, t463);
+        let t4169: f64 = zc * wz;
+        let t4170 = product(t36, t4169);
+        let t4171: f64 = wy * t409;
+        let t4172: f64 = t4170.plus(t4171);
+        let t4173 = product(t714, t4172);
+        let t4174 = product(t513, t4172);
+        let t4175: f64 = xc * wy;
+        let t4176: f64 = t463 * t4175;
+        let t4177: f64 = t4174.plus(t4176);
+        let t4178: f64 = t1014 * t4177;
+        let t4179 = product(wz, t252);
+        let t4180 = product(t1352, t4172);
+        let t4181: f64 = t720 * t4177;
+        let t4182: f64 = t4180.plus(t4181);
+        let t4183: f64 = t4179.plus(t4182);
+        let t4184: f64 = t1381 * t4183;
+        let t4185 = product(t635, t4177);
+        let t4186: f64 = t697 * t4183;
+        let t4187: f64 = t4185.minus(t4186);
+        let t4188 = product(t1404, t4187);
+        let t4189 = product(wz, t36);
+        let t4190: f64 = t723 * t4183;
+        let t4191: f64 = t4189.plus(t4190);
+        let t4192 = product(t728, t4187);
+        let t4193 = product(t674, t4177);
+        let t4194: f64 = t4193.added_to(t4172);
+        let t4195: f64 = t677 * t4194;
+        let t4196: f64 = t4192.plus(t4195);
+        let t4197: f64 = t4191 - t4196;
+        let t4198: f64 = t1424 * t4197;
+        let t4199: f64 = t4168.plus(t4178);
+        let t4200: f64 = t4188.plus(t4198);
+        let t4201: f64 = t4199 + t4200;
+        let t4202: f64 = t4173.plus(t4184);
+        let t4203: f64 = t4201 - t4202;
+        let t4204 = product(t986, t4203);
+        let t4205 = product(t965, t4203);
+        let t4206: f64 = t4205.added_to(t4197);
+        let t4207 = product(t968, t4206);
+        let t4208 = product(t970, t4203);
+        let t4209: f64 = t4208.added_to(t4187);
+        let t4210: f64 = t4207.subtracted_from(t4209);
+        let t4211 = product(t974, t4210);
+        let t4212 = product(t976, t4206);
+        let t4213: f64 = t978 * t4203;
+        let t4214: f64 = t4212.added_to(t4183);
+        let t4215: f64 = t4211.plus(t4213);
+        let t4216: f64 = t4214 - t4215;
+        let t4217 = product(t2004, t4216);
+        let t4218 = product(t989, t4210);
+        let t4219: f64 = t991 * t4203;
+        let t4220 = product(t993, t4206);
+        let t4221: f64 = t4220.subtracted_from(t4172);
+        let t4222 = product(t513, t4221);
+        let t4223: f64 = t4217.added_to(t4176);
+        let t4224: f64 = t4218.plus(t4219);
+        let t4225: f64 = t4223 + t4224;
+        let t4226: f64 = t4222.plus(t4225);
+        let t4227 = product(t674, t4226);
+        let t4228: f64 = t2017 * t4216;
+        let t4229: f64 = t4227.plus(t4228);
+        let t4230: f64 = t4221 + t4229;
+        let t4231: f64 = t4204.subtracted_from(t4230);
+        let t4232: f64 = t247 * t4231;
+        let t4233: f64 = wx * t409;
+        let t4234: f64 = t247 * t409;
+        let t4235 = product(t459, t4234);
+        let t4236: f64 = t4235.added_to(t716);
+        let t4237 = product(wx, t4236);
+        let t4238: f64 = wz * t517;
+        let t4239: f64 = t4237.plus(t4238);
+        let t4240 = product(t1014, t4239);
+        let t4241: f64 = yc * wz;
+        let t4242 = product(t569, t4241);
+        let t4243: f64 = wx * t247;
+        let t4244: f64 = t409 * t4243;
+        let t4245 = product(t359, t4244);
+        let t4246: f64 = t720 * t4239;
+        let t4247: f64 = t4245.plus(t4246);
+        let t4248: f64 = t4242.minus(t4247);
+        let t4249: f64 = t1381 * t4248;
+        let t4250 = product(wz, t569);
+        let t4251: f64 = t635 * t4239;
+        let t4252: f64 = t4250.minus(t4251);
+        let t4253 = product(t697, t4248);
+        let t4254: f64 = t4253.subtracted_from(t4252);
+        let t4255 = product(t1404, t4254);
+        let t4256 = product(t674, t4239);
+        let t4257: f64 = t4256.added_to(t4233);
+        let t4258 = product(t677, t4257);
+        let t4259 = product(t723, t4248);
+        let t4260: f64 = t728 * t4254;
+        let t4261: f64 = t4259.minus(t4260);
+        let t4262: f64 = t4258.plus(t4261);
+        let t4263: f64 = t1424 * t4262;
+        let t4264 = product(t409, t714);
+        let t4265: f64 = t4264.subtracted_from(t463);
+        let t4266 = product(wx, t4265);
+        let t4267: f64 = t4240.plus(t4249);
+        let t4268: f64 = t4266.plus(t4267);
+        let t4269: f64 = t4255.plus(t4263);
+        let t4270: f64 = t4268 - t4269;
+        let t4271 = product(t965, t4270);
+        let t4272: f64 = t4271.subtracted_from(t4262);
+        let t4273: f64 = t513 * t669;
+        let t4274: f64 = t712 * t4273;
+        let t4275 = product(t4272, t4274);
+        let t4276: f64 = t991 * t4270;
+        let t4277 = product(t968, t4272);
+        let t4278: f64 = t970 * t4270;
+        let t4279: f64 = t4277.plus(t4278);
+        let t4280: f64 = t4254 - t4279;
+        let t4281 = product(t974, t4280);
+        let t4282 = product(t976, t4272);
+        let t4283: f64 = t978 * t4270;
+        let t4284: f64 = t4282.plus(t4283);
+        let t4285: f64 = t4248 + t4284;
+        let t4286: f64 = t4281.minus(t4285);
+        let t4287: f64 = t599 * t4286;
+        let t4288: f64 = -t4287;
+        let t4289 = product(t566, t4288);
+        let t4290: f64 = t989 * t4280;
+        let t4291: f64 = t4275.plus(t4276);
+        let t4292: f64 = t4239 + t4291;
+        let t4293: f64 = t4289.plus(t4290);
+        let t4294: f64 = t4292 - t4293;
+        let t4295 = product(t674, t4294);
+        let t4296 = product(t993, t4272);
+        let t4297 = product(t986, t4270);
+        let t4298: f64 = t359 * t4288;
+        let t4299: f64 = t4295.added_to(t4233);
+        let t4300: f64 = t4296.plus(t4299);
+        let t4301: f64 = t4297.plus(t4298);
+        let t4302: f64 = t4300 - t4301;
+        let t4303: f64 = t247 * t4302;
+        let t4304: f64 = -t4303;
+        let t4305: f64 = zc * wx;
+        let t4306: f64 = t713 * t4305;
+        let t4307: f64 = t36 * t4306;
+        let t4308 = product(t247, t4307);
+        let t4309: f64 = t36 * t4305;
+        let t4310: f64 = t247 * t4309;
+        let t4311 = product(t459, t4310);
+        let t4312: f64 = wy * t517;
+        let t4313: f64 = t4311.subtracted_from(t4312);
+        let t4314: f64 = t1014 * t4313;
+        let t4315: f64 = yc * wy;
+        let t4316 = product(t569, t4315);
+        let t4317 = product(t720, t4313);
+        let t4318: f64 = t247 * t668;
+        let t4319 = product(t359, t4318);
+        let t4320: f64 = t4319.added_to(t252);
+        let t4321: f64 = wx * t4320;
+        let t4322: f64 = t4317.minus(t4321);
+        let t4323: f64 = t4316.minus(t4322);
+        let t4324 = product(t1381, t4323);
+        let t4325 = product(wy, t569);
+        let t4326: f64 = t635 * t4313;
+        let t4327: f64 = t4325.minus(t4326);
+        let t4328 = product(t697, t4323);
+        let t4329: f64 = t4328.subtracted_from(t4327);
+        let t4330 = product(t1404, t4329);
+        let t4331 = product(t1010, t4313);
+        let t4332: f64 = t723 * t4323;
+        let t4333: f64 = t4331.plus(t4332);
+        let t4334 = product(t669, t4318);
+        let t4335: f64 = t4334.subtracted_from(t36);
+        let t4336 = product(wx, t4335);
+        let t4337: f64 = t728 * t4329;
+        let t4338: f64 = t4336.minus(t4337);
+        let t4339: f64 = t4333 + t4338;
+        let t4340: f64 = t1424 * t4339;
+        let t4341: f64 = t4308.plus(t4314);
+        let t4342: f64 = t4324.plus(t4341);
+        let t4343: f64 = t4330.plus(t4340);
+        let t4344: f64 = t4342 - t4343;
+        let t4345 = product(t970, t4344);
+        let t4346 = product(t965, t4344);
+        let t4347: f64 = t4346.subtracted_from(t4339);
+        let t4348: f64 = t968 * t4347;
+        let t4349: f64 = t4345.plus(t4348);
+        let t4350: f64 = t4329 - t4349;
+        let t4351 = product(t974, t4350);
+        let t4352 = product(t978, t4344);
+        let t4353: f64 = t976 * t4347;
+        let t4354: f64 = t4352.plus(t4353);
+        let t4355: f64 = t4323 + t4354;
+        let t4356: f64 = t4351.minus(t4355);
+        let t4357: f64 = t599 * t4356;
+        let t4358: f64 = -t4357;
+        let t4359 = product(t359, t4358);
+        let t4360: f64 = t986 * t4344;
+        let t4361 = product(t566, t4358);
+        let t4362: f64 = t989 * t4350;
+        let t4363 = product(t991, t4344);
+        let t4364 = product(t993, t4347);
+        let t4365: f64 = t4364.subtracted_from(t4309);
+        let t4366 = product(t513, t4365);
+        let t4367: f64 = t4363.added_to(t4312);
+        let t4368: f64 = t4361.plus(t4362);
+        let t4369: f64 = t4366.plus(t4368);
+        let t4370: f64 = t4367 - t4369;
+        let t4371 = product(t674, t4370);
+        let t4372: f64 = t4359.plus(t4360);
+        let t4373: f64 = t4365 + t4372;
+        let t4374: f64 = t4371.subtracted_from(t4373);
+        let t4375: f64 = t247 * t4374;
+        let t4376: f64 = -t4375;
+        let t4377: f64 = t509 * t3894;
+        let t4378 = product(t509, t3953);
+        let t4379: f64 = t599 * t720;
+        let t4380 = product(t4016, t4379);
+        let t4381: f64 = t1007 * t4009;
+        let t4382 = product(t1011, t4004);
+        let t4383: f64 = t1015 * t4002;
+        let t4384: f64 = t4380.plus(t4381);
+        let t4385: f64 = t4382.plus(t4384);
+        let t4386: f64 = t4378.plus(t4383);
+        let t4387: f64 = t4385 - t4386;
+        let t4388 = product(t509, t4086);
+        let t4389 = product(t4147, t4379);
+        let t4390: f64 = t1007 * t4141;
+        let t4391 = product(t1011, t4136);
+        let t4392: f64 = t1015 * t4133;
+        let t4393: f64 = t4389.plus(t4390);
+        let t4394: f64 = t4391.plus(t4392);
+        let t4395: f64 = t4393 + t4394;
+        let t4396: f64 = t4388.subtracted_from(t4395);
+        let t4397 = product(t509, t4177);
+        let t4398 = product(t599, t4183);
+        let t4399 = product(t3281, t4203);
+        let t4400 = product(t667, t4187);
+        let t4401: f64 = t3284 * t4206;
+        let t4402: f64 = t4400.minus(t4401);
+        let t4403: f64 = t4399.plus(t4402);
+        let t4404: f64 = t697 * t4403;
+        let t4405: f64 = t4398.minus(t4404);
+        let t4406 = product(t3290, t4206);
+        let t4407: f64 = t3292 * t4203;
+        let t4408: f64 = t4406.minus(t4407);
+        let t4409: f64 = t4405 + t4408;
+        let t4410: f64 = t720 * t4409;
+        let t4411 = product(t635, t4403);
+        let t4412 = product(t1011, t4206);
+        let t4413: f64 = t1015 * t4203;
+        let t4414: f64 = t4397.plus(t4410);
+        let t4415: f64 = t4411.plus(t4413);
+        let t4416: f64 = t4414 + t4415;
+        let t4417: f64 = t4412.minus(t4416);
+        let t4418: f64 = t509 * t4294;
+        let t4419 = product(t509, t4313);
+        let t4420 = product(t720, t4358);
+        let t4421: f64 = t1007 * t4350;
+        let t4422 = product(t712, t4339);
+        let t4423: f64 = t3552 * t4344;
+        let t4424: f64 = t4422.minus(t4423);
+        let t4425: f64 = t1010 * t4424;
+        let t4426 = product(t1015, t4344);
+        let t4427: f64 = t4420.plus(t4421);
+        let t4428: f64 = t4419.plus(t4425);
+        let t4429: f64 = t4426.plus(t4428);
+        let t4430: f64 = t4427 - t4429;
+        let t4431 = product(t599, t3840);
+        let t4432: f64 = t3527 * t3876;
+        let t4433 = product(t712, t3861);
+        let t4434: f64 = t3552 * t3870;
+        let t4435: f64 = t4433.minus(t4434);
+        let t4436 = product(t723, t4435);
+        let t4437: f64 = t3292 * t3870;
+        let t4438: f64 = t4436.plus(t4437);
+        let t4439: f64 = t4431.plus(t4432);
+        let t4440: f64 = t4438 - t4439;
+        let t4441: f64 = t599 * t4016;
+        let t4442: f64 = t599 * t4147;
+        let t4443: f64 = -t4409;
+        let t4444 = product(t599, t4248);
+        let t4445 = product(t3281, t4270);
+        let t4446 = product(t667, t4254);
+        let t4447: f64 = t3284 * t4272;
+        let t4448: f64 = t4446.minus(t4447);
+        let t4449: f64 = t4445.minus(t4448);
+        let t4450: f64 = -t4449;
+        let t4451 = product(t697, t4450);
+        let t4452: f64 = t3290 * t4272;
+        let t4453 = product(t3292, t4270);
+        let t4454: f64 = t4444.plus(t4452);
+        let t4455: f64 = t4453.plus(t4454);
+        let t4456: f64 = t4451.minus(t4455);
+        let t4457: f64 = t667 * t3876;
+        let t4458: f64 = t667 * t4009;
+        let t4459: f64 = t667 * t4141;
+        let t4460: f64 = -t4403;
+        let t4461: f64 = t667 * t4350;
+        let t4462: f64 = -t4435;
+        let t4463: f64 = t712 * t4004;
+        let t4464: f64 = t712 * t4136;
+        let t4465: f64 = t712 * t4206;
+        let t4466: f64 = t712 * t4272;
+        let t4467: f64 = -t4424;
+        let t4468: f64 = t751 * t3870;
+        let t4469: f64 = -t4468;
+        let t4470: f64 = t751 * t4002;
+        let t4471: f64 = -t4470;
+        let t4472: f64 = t751 * t4133;
+        let t4473: f64 = t751 * t4203;
+        let t4474: f64 = -t4473;
+        let t4475: f64 = t751 * t4270;
+        let t4476: f64 = t751 * t4344;
+        let t4477: f64 = -t4476;
+        let t4478: f64 = t108 * t509;
+        let t4479 = product(t719, t4478);
+        let t4480 = product(t566, t4478);
+        let t4481: f64 = t4480.subtracted_from(yc);
+        let t4482: f64 = t1381 * t4481;
+        let t4483: f64 = t108 * t634;
+        let t4484 = product(t509, t4483);
+        let t4485: f64 = t697 * t4481;
+        let t4486: f64 = t4484.plus(t4485);
+        let t4487: f64 = t4486 - 1.0;
+        let t4488 = product(t1404, t4487);
+        let t4489 = product(t728, t4487);
+        let t4490: f64 = t108 * t247;
+        let t4491: f64 = t459 * t4490;
+        let t4492: f64 = t509 * t4491;
+        let t4493 = product(t669, t4492);
+        let t4494: f64 = t723 * t4481;
+        let t4495: f64 = t4493.plus(t4494);
+        let t4496: f64 = t4489.plus(t4495);
+        let t4497 = product(t1424, t4496);
+        let t4498: f64 = t4479.plus(t4482);
+        let t4499: f64 = t4488.plus(t4498);
+        let t4500: f64 = t4497.subtracted_from(t4499);
+        let t4501 = product(t978, t4500);
+        let t4502 = product(t965, t4500);
+        let t4503: f64 = t4502.subtracted_from(t4496);
+        let t4504 = product(t968, t4503);
+        let t4505: f64 = t970 * t4500;
+        let t4506: f64 = t4504.plus(t4505);
+        let t4507: f64 = t4486 + t4506;
+        let t4508: f64 = t4507 - 1.0;
+        let t4509: f64 = t974 * t4508;
+        let t4510 = product(t976, t4503);
+        let t4511: f64 = t4501.plus(t4509);
+        let t4512: f64 = t4510.added_to(t4481);
+        let t4513: f64 = t4511 + t4512;
+        let t4514 = product(t2017, t4513);
+        let t4515: f64 = t986 * t4500;
+        let t4516 = product(t2004, t4513);
+        let t4517 = product(t989, t4508);
+        let t4518: f64 = t4274 * t4503;
+        let t4519 = product(t991, t4500);
+        let t4520: f64 = t4517.plus(t4518);
+        let t4521: f64 = t4519.added_to(t108);
+        let t4522: f64 = t4520 + t4521;
+        let t4523: f64 = t4516.subtracted_from(t4522);
+        let t4524 = product(t674, t4523);
+        let t4525: f64 = t993 * t4503;
+        let t4526: f64 = t4514.plus(t4515);
+        let t4527: f64 = t4524.plus(t4525);
+        let t4528: f64 = t4526 - t4527;
+        let t4529: f64 = t247 * t4528;
+        let t4530: f64 = -t4529;
+        let t4531: f64 = t116 * t509;
+        let t4532 = product(t719, t4531);
+        let t4533 = product(t566, t4531);
+        let t4534: f64 = t4533.subtracted_from(yc);
+        let t4535: f64 = t1381 * t4534;
+        let t4536: f64 = t116 * t634;
+        let t4537 = product(t509, t4536);
+        let t4538: f64 = t697 * t4534;
+        let t4539: f64 = t4537.plus(t4538);
+        let t4540: f64 = t4539 - 1.0;
+        let t4541 = product(t1404, t4540);
+        let t4542 = product(t728, t4540);
+        let t4543: f64 = t116 * t247;
+        let t4544: f64 = t459 * t4543;
+        let t4545: f64 = t509 * t4544;
+        let t4546 = product(t669, t4545);
+        let t4547: f64 = t723 * t4534;
+        let t4548: f64 = t4546.plus(t4547);
+        let t4549: f64 = t4542.plus(t4548);
+        let t4550 = product(t1424, t4549);
+        let t4551: f64 = t4532.plus(t4535);
+        let t4552: f64 = t4541.plus(t4551);
+        let t4553: f64 = t4550.subtracted_from(t4552);
+        let t4554 = product(t978, t4553);
+        let t4555 = product(t965, t4553);
+        let t4556: f64 = t4555.subtracted_from(t4549);
+        let t4557 = product(t968, t4556);
+        let t4558: f64 = t970 * t4553;
+        let t4559: f64 = t4557.plus(t4558);
+        let t4560: f64 = t4539 + t4559;
+        let t4561: f64 = t4560 - 1.0;
+        let t4562: f64 = t974 * t4561;
+        let t4563 = product(t976, t4556);
+        let t4564: f64 = t4554.plus(t4562);
+        let t4565: f64 = t4563.added_to(t4534);
+        let t4566: f64 = t4564 + t4565;
+        let t4567 = product(t2017, t4566);
+        let t4568: f64 = t986 * t4553;
+        let t4569 = product(t2004, t4566);
+        let t4570 = product(t989, t4561);
+        let t4571: f64 = t4274 * t4556;
+        let t4572 = product(t991, t4553);
+        let t4573: f64 = t4570.plus(t4571);
+        let t4574: f64 = t4572.added_to(t116);
+        let t4575: f64 = t4573 + t4574;
+        let t4576: f64 = t4569.subtracted_from(t4575);
+        let t4577 = product(t674, t4576);
+        let t4578: f64 = t993 * t4556;
+        let t4579: f64 = t4567.plus(t4568);
+        let t4580: f64 = t4577.plus(t4578);
+        let t4581: f64 = t4579 - t4580;
+        let t4582: f64 = t247 * t4581;
+        let t4583: f64 = -t4582;
+        let t4584: f64 = zc * t247;
+        let t4585: f64 = t676 * t4584;
+        let t4586: f64 = t163 + t4585;
+        let t4587 = product(t1381, t4586);
+        let t4588: f64 = zc * t634;
+        let t4589: f64 = t247 * t4588;
+        let t4590: f64 = t459 * t4589;
+        let t4591: f64 = t509 * t4590;
+        let t4592 = product(t697, t4586);
+        let t4593: f64 = t4592.subtracted_from(t4591);
+        let t4594 = product(t1404, t4593);
+        let t4595: f64 = t706 * t4584;
+        let t4596 = product(t723, t4586);
+        let t4597: f64 = t728 * t4593;
+        let t4598: f64 = t4596.minus(t4597);
+        let t4599: f64 = t4595 - t4598;
+        let t4600: f64 = t4599 - 1.0;
+        let t4601: f64 = t1424 * t4600;
+        let t4602: f64 = t731 * t4584;
+        let t4603: f64 = t4587.plus(t4601);
+        let t4604: f64 = t4602 + t4603;
+        let t4605: f64 = t4594.subtracted_from(t4604);
+        let t4606 = product(t965, t4605);
+        let t4607: f64 = t4606.added_to(t4599);
+        let t4608: f64 = 1.0 - t4607;
+        let t4609: f64 = t712 * t4608;
         let t4610: f64 = -t4609;
-        let t4611: f64 = t751 * t4405;
-        let t4612: f64 = t751 * t4479;
-        let t4613: f64 = -t4612;
-        let t4614 = product(t655, t2911);
-        let t4615 = product(t566, t2911);
-        let t4616: f64 = t4615.subtracted_from(yc);
-        let t4617: f64 = t1396 * t4616;
-        let t4618: f64 = t108 * t680;
-        let t4619 = product(t509, t4618);
-        let t4620: f64 = t701 * t4616;
-        let t4621: f64 = t4619.plus(t4620);
-        let t4622: f64 = t4621 - 1.0;
-        let t4623 = product(t1007, t4622);
-        let t4624 = product(t736, t4622);
-        let t4625: f64 = t108 * t247;
-        let t4626: f64 = t459 * t4625;
-        let t4627: f64 = t509 * t4626;
-        let t4628 = product(t707, t4627);
-        let t4629: f64 = t734 * t4616;
-        let t4630: f64 = t4628.plus(t4629);
-        let t4631: f64 = t4624.plus(t4630);
-        let t4632 = product(t1010, t4631);
-        let t4633: f64 = t4614.plus(t4617);
-        let t4634: f64 = t4623.plus(t4633);
-        let t4635: f64 = t4632.subtracted_from(t4634);
-        let t4636 = product(t965, t4635);
-        let t4637 = product(t967, t4635);
-        let t4638: f64 = t4637.subtracted_from(t4631);
-        let t4639 = product(t970, t4638);
-        let t4640: f64 = t972 * t4635;
-        let t4641: f64 = t4639.plus(t4640);
-        let t4642: f64 = t4621 + t4641;
-        let t4643: f64 = t4642 - 1.0;
-        let t4644: f64 = t976 * t4643;
-        let t4645 = product(t978, t4638);
-        let t4646: f64 = t4636.plus(t4644);
-        let t4647: f64 = t4645.added_to(t4616);
-        let t4648: f64 = t4646 + t4647;
-        let t4649 = product(t2045, t4648);
-        let t4650: f64 = t986 * t4635;
-        let t4651 = product(t2032, t4648);
-        let t4652 = product(t989, t4643);
-        let t4653: f64 = t4409 * t4638;
-        let t4654 = product(t991, t4635);
-        let t4655: f64 = t4652.plus(t4653);
-        let t4656: f64 = t4654.added_to(t108);
-        let t4657: f64 = t4655 + t4656;
-        let t4658: f64 = t4651.subtracted_from(t4657);
-        let t4659 = product(t708, t4658);
-        let t4660: f64 = t993 * t4638;
-        let t4661: f64 = t4649.plus(t4650);
-        let t4662: f64 = t4659.plus(t4660);
-        let t4663: f64 = t4661 - t4662;
-        let t4664: f64 = t247 * t4663;
-        let t4665: f64 = -t4664;
-        let t4666 = product(t655, t2918);
-        let t4667 = product(t566, t2918);
-        let t4668: f64 = t4667.subtracted_from(yc);
-        let t4669: f64 = t1396 * t4668;
-        let t4670: f64 = t116 * t680;
-        let t4671 = product(t509, t4670);
-        let t4672: f64 = t701 * t4668;
-        let t4673: f64 = t4671.plus(t4672);
-        let t4674: f64 = t4673 - 1.0;
-        let t4675 = product(t1007, t4674);
-        let t4676 = product(t736, t4674);
-        let t4677: f64 = t116 * t247;
-        let t4678: f64 = t459 * t4677;
-        let t4679: f64 = t509 * t4678;
-        let t4680 = product(t707, t4679);
-        let t4681: f64 = t734 * t4668;
-        let t4682: f64 = t4680.plus(t4681);
-        let t4683: f64 = t4676.plus(t4682);
-        let t4684 = product(t1010, t4683);
-        let t4685: f64 = t4666.plus(t4669);
-        let t4686: f64 = t4675.plus(t4685);
-        let t4687: f64 = t4684.subtracted_from(t4686);
-        let t4688 = product(t965, t4687);
-        let t4689 = product(t967, t4687);
-        let t4690: f64 = t4689.subtracted_from(t4683);
-        let t4691 = product(t970, t4690);
-        let t4692: f64 = t972 * t4687;
-        let t4693: f64 = t4691.plus(t4692);
-        let t4694: f64 = t4673 + t4693;
-        let t4695: f64 = t4694 - 1.0;
-        let t4696: f64 = t976 * t4695;
-        let t4697 = product(t978, t4690);
-        let t4698: f64 = t4688.plus(t4696);
-        let t4699: f64 = t4697.added_to(t4668);
-        let t4700: f64 = t4698 + t4699;
-        let t4701 = product(t2045, t4700);
-        let t4702: f64 = t986 * t4687;
-        let t4703 = product(t2032, t4700);
-        let t4704 = product(t989, t4695);
-        let t4705: f64 = t4409 * t4690;
-        let t4706 = product(t991, t4687);
-        let t4707: f64 = t4704.plus(t4705);
-        let t4708: f64 = t4706.added_to(t116);
-        let t4709: f64 = t4707 + t4708;
-        let t4710: f64 = t4703.subtracted_from(t4709);
-        let t4711 = product(t708, t4710);
-        let t4712: f64 = t993 * t4690;
-        let t4713: f64 = t4701.plus(t4702);
-        let t4714: f64 = t4711.plus(t4712);
-        let t4715: f64 = t4713 - t4714;
-        let t4716: f64 = t247 * t4715;
-        let t4717: f64 = -t4716;
-        let t4718: f64 = zc * t247;
-        let t4719: f64 = t710 * t4718;
-        let t4720: f64 = t163 + t4719;
-        let t4721 = product(t1396, t4720);
-        let t4722: f64 = zc * t680;
-        let t4723: f64 = t247 * t4722;
-        let t4724: f64 = t459 * t4723;
-        let t4725: f64 = t509 * t4724;
-        let t4726 = product(t701, t4720);
-        let t4727: f64 = t4726.subtracted_from(t4725);
-        let t4728 = product(t1007, t4727);
-        let t4729: f64 = t727 * t4718;
-        let t4730 = product(t734, t4720);
-        let t4731: f64 = t736 * t4727;
-        let t4732: f64 = t4730.minus(t4731);
-        let t4733: f64 = t4729 - t4732;
-        let t4734: f64 = t4733 - 1.0;
-        let t4735: f64 = t1010 * t4734;
-        let t4736: f64 = t739 * t4718;
-        let t4737: f64 = t4721.plus(t4735);
-        let t4738: f64 = t4736 + t4737;
-        let t4739: f64 = t4728.subtracted_from(t4738);
-        let t4740 = product(t967, t4739);
-        let t4741: f64 = t4740.added_to(t4733);
-        let t4742: f64 = 1.0 - t4741;
-        let t4743: f64 = t733 * t4742;
-        let t4744: f64 = -t4743;
-        let t4745: f64 = t707 * t4744;
-        let t4746 = product(t722, t4744);
-        let t4747 = product(t972, t4739);
-        let t4748: f64 = t4746.added_to(t4727);
-        let t4749: f64 = t4747.subtracted_from(t4748);
-        let t4750 = product(t976, t4749);
-        let t4751: f64 = t714 * t4744;
-        let t4752 = product(t965, t4739);
-        let t4753: f64 = t4752.added_to(t4720);
-        let t4754: f64 = t4750.plus(t4751);
-        let t4755: f64 = t4753 - t4754;
-        let t4756 = product(t2032, t4755);
-        let t4757: f64 = t989 * t4749;
-        let t4758 = product(t991, t4739);
-        let t4759: f64 = zc + t4745;
-        let t4760 = product(t513, t4759);
-        let t4761: f64 = t4756.plus(t4757);
-        let t4762: f64 = t4760.plus(t4761);
-        let t4763: f64 = t4758.subtracted_from(t4762);
-        let t4764 = product(t708, t4763);
-        let t4765 = product(t2045, t4755);
-        let t4766: f64 = t986 * t4739;
-        let t4767: f64 = t4764.added_to(t4745);
-        let t4768: f64 = t4765.plus(t4766);
-        let t4769: f64 = t4767 + t4768;
-        let t4770 = product(t247, t4769);
-        let t4771: f64 = t4770.added_to(t4718);
-        let t4772: f64 = t148 + t4719;
-        let t4773 = product(t1396, t4772);
-        let t4774 = product(t701, t4772);
-        let t4775: f64 = t4774.subtracted_from(t4725);
-        let t4776 = product(t1007, t4775);
-        let t4777 = product(t736, t4775);
-        let t4778 = product(t734, t4772);
-        let t4779: f64 = t4778.subtracted_from(t4729);
-        let t4780: f64 = t4777.plus(t4779);
-        let t4781: f64 = t4780 - 1.0;
-        let t4782 = product(t1010, t4781);
-        let t4783: f64 = t4773.added_to(t4736);
-        let t4784: f64 = t4782.plus(t4783);
-        let t4785: f64 = t4776.subtracted_from(t4784);
-        let t4786 = product(t967, t4785);
-        let t4787: f64 = t4786.added_to(t4780);
-        let t4788: f64 = t4787 - 1.0;
-        let t4789: f64 = t993 * t4788;
-        let t4790 = product(t970, t4788);
-        let t4791 = product(t972, t4785);
-        let t4792: f64 = t4790.added_to(t4775);
-        let t4793: f64 = t4791.subtracted_from(t4792);
-        let t4794 = product(t976, t4793);
-        let t4795: f64 = t978 * t4788;
-        let t4796 = product(t965, t4785);
-        let t4797: f64 = t4796.added_to(t4772);
-        let t4798: f64 = t4794.plus(t4795);
-        let t4799: f64 = t4797 - t4798;
-        let t4800 = product(t2032, t4799);
-        let t4801: f64 = t989 * t4793;
-        let t4802 = product(t991, t4785);
-        let t4803: f64 = zc + t4789;
-        let t4804 = product(t513, t4803);
-        let t4805: f64 = t4800.plus(t4801);
-        let t4806: f64 = t4804.plus(t4805);
-        let t4807: f64 = t4802.subtracted_from(t4806);
-        let t4808 = product(t708, t4807);
-        let t4809 = product(t2045, t4799);
-        let t4810: f64 = t986 * t4785;
-        let t4811: f64 = t4808.added_to(t4789);
-        let t4812: f64 = t4809.plus(t4810);
-        let t4813: f64 = t4811 + t4812;
-        let t4814 = product(t247, t4813);
-        let t4815: f64 = t4814.added_to(t4718);
-        let t4816: f64 = t0 * t633;
-        let t4817 = product(t247, t4816);
-        let t4818: f64 = t0 * t247;
-        let t4819 = product(t459, t4818);
-        let t4820: f64 = t4819.added_to(xc);
-        let t4821 = product(t1023, t4820);
-        let t4822 = product(t359, t4818);
-        let t4823: f64 = t656 * t4820;
-        let t4824: f64 = t4822.plus(t4823);
-        let t4825: f64 = t1396 * t4824;
-        let t4826 = product(t684, t4820);
-        let t4827: f64 = t701 * t4824;
-        let t4828: f64 = t4826.minus(t4827);
-        let t4829: f64 = t1007 * t4828;
-        let t4830 = product(t708, t4820);
-        let t4831: f64 = t4830.added_to(t0);
-        let t4832 = product(t711, t4831);
-        let t4833 = product(t734, t4824);
-        let t4834: f64 = t736 * t4828;
-        let t4835: f64 = t4833.minus(t4834);
-        let t4836: f64 = t4832.minus(t4835);
-        let t4837 = product(t1010, t4836);
-        let t4838: f64 = t4817.plus(t4825);
-        let t4839: f64 = t4837.plus(t4838);
-        let t4840: f64 = t4821.plus(t4829);
-        let t4841: f64 = t4840 + 1.0;
-        let t4842: f64 = t4839 - t4841;
-        let t4843 = product(t967, t4842);
-        let t4844: f64 = t4843.added_to(t4836);
-        let t4845: f64 = -t4844;
-        let t4846: f64 = t733 * t4845;
-        let t4847: f64 = -t4846;
-        let t4848 = product(t722, t4847);
-        let t4849 = product(t972, t4842);
-        let t4850: f64 = t4848.added_to(t4828);
-        let t4851: f64 = t4849.subtracted_from(t4850);
-        let t4852 = product(t976, t4851);
-        let t4853: f64 = t714 * t4847;
-        let t4854 = product(t965, t4842);
-        let t4855: f64 = t4854.added_to(t4824);
-        let t4856: f64 = t4852.plus(t4853);
-        let t4857: f64 = t4855 - t4856;
-        let t4858 = product(t2032, t4857);
-        let t4859 = product(t989, t4851);
-        let t4860 = product(t991, t4842);
-        let t4861 = product(t707, t4847);
-        let t4862: f64 = t4861.added_to(t0);
-        let t4863: f64 = t513 * t4862;
-        let t4864: f64 = t4858.added_to(xc);
-        let t4865: f64 = t4859.plus(t4863);
-        let t4866: f64 = t4864 + t4865;
-        let t4867: f64 = t4860.subtracted_from(t4866);
-        let t4868 = product(t708, t4867);
-        let t4869: f64 = t2045 * t4857;
-        let t4870 = product(t986, t4842);
-        let t4871: f64 = t4868.plus(t4869);
-        let t4872: f64 = t4870.added_to(t4862);
-        let t4873: f64 = t4871 + t4872;
-        let t4874: f64 = t247 * t4873;
-        let t4875: f64 = -t4874;
-        let t4876: f64 = t3 * t633;
-        let t4877 = product(t247, t4876);
-        let t4878: f64 = t3 * t247;
-        let t4879 = product(t459, t4878);
-        let t4880: f64 = t4879.added_to(xc);
-        let t4881 = product(t1023, t4880);
-        let t4882 = product(t359, t4878);
-        let t4883: f64 = t656 * t4880;
-        let t4884: f64 = t4882.plus(t4883);
-        let t4885: f64 = t1396 * t4884;
-        let t4886 = product(t684, t4880);
-        let t4887: f64 = t701 * t4884;
-        let t4888: f64 = t4886.minus(t4887);
-        let t4889: f64 = t1007 * t4888;
-        let t4890 = product(t708, t4880);
-        let t4891: f64 = t4890.added_to(t3);
-        let t4892 = product(t711, t4891);
-        let t4893 = product(t734, t4884);
-        let t4894: f64 = t736 * t4888;
-        let t4895: f64 = t4893.minus(t4894);
-        let t4896: f64 = t4892.minus(t4895);
-        let t4897 = product(t1010, t4896);
-        let t4898: f64 = t4877.plus(t4885);
-        let t4899: f64 = t4897.plus(t4898);
-        let t4900: f64 = t4881.plus(t4889);
-        let t4901: f64 = t4900 + 1.0;
-        let t4902: f64 = t4899 - t4901;
-        let t4903 = product(t967, t4902);
-        let t4904: f64 = t4903.added_to(t4896);
-        let t4905: f64 = -t4904;
-        let t4906: f64 = t733 * t4905;
-        let t4907: f64 = -t4906;
-        let t4908 = product(t722, t4907);
-        let t4909 = product(t972, t4902);
-        let t4910: f64 = t4908.added_to(t4888);
-        let t4911: f64 = t4909.subtracted_from(t4910);
-        let t4912 = product(t976, t4911);
-        let t4913: f64 = t714 * t4907;
-        let t4914 = product(t965, t4902);
-        let t4915: f64 = t4914.added_to(t4884);
-        let t4916: f64 = t4912.plus(t4913);
-        let t4917: f64 = t4915 - t4916;
-        let t4918 = product(t2032, t4917);
-        let t4919 = product(t989, t4911);
-        let t4920 = product(t991, t4902);
-        let t4921 = product(t707, t4907);
-        let t4922: f64 = t4921.added_to(t3);
-        let t4923: f64 = t513 * t4922;
-        let t4924: f64 = t4918.added_to(xc);
-        let t4925: f64 = t4919.plus(t4923);
-        let t4926: f64 = t4924 + t4925;
-        let t4927: f64 = t4920.subtracted_from(t4926);
-        let t4928 = product(t708, t4927);
-        let t4929: f64 = t2045 * t4917;
-        let t4930 = product(t986, t4902);
-        let t4931: f64 = t4928.plus(t4929);
-        let t4932: f64 = t4930.added_to(t4922);
-        let t4933: f64 = t4931 + t4932;
-        let t4934: f64 = t247 * t4933;
-        let t4935: f64 = -t4934;
-        let t4936 = product(t4514, t4648);
-        let t4937 = product(t1008, t4635);
-        let t4938 = product(t699, t4622);
-        let t4939 = product(t733, t4631);
-        let t4940: f64 = t1011 * t4635;
-        let t4941: f64 = t4939.minus(t4940);
-        let t4942: f64 = t736 * t4941;
-        let t4943: f64 = t4938.plus(t4942);
-        let t4944: f64 = t4937.plus(t4943);
-        let t4945 = product(t684, t4944);
-        let t4946 = product(t1020, t4941);
-        let t4947: f64 = t1024 * t4635;
-        let t4948: f64 = t4945.added_to(t2911);
-        let t4949: f64 = t4946.plus(t4947);
-        let t4950: f64 = t4948 + t4949;
-        let t4951: f64 = t4936.minus(t4950);
-        let t4952 = product(t4514, t4700);
-        let t4953 = product(t1008, t4687);
-        let t4954 = product(t699, t4674);
-        let t4955 = product(t733, t4683);
-        let t4956: f64 = t1011 * t4687;
-        let t4957: f64 = t4955.minus(t4956);
-        let t4958: f64 = t736 * t4957;
-        let t4959: f64 = t4954.plus(t4958);
-        let t4960: f64 = t4953.plus(t4959);
-        let t4961 = product(t684, t4960);
-        let t4962 = product(t1020, t4957);
-        let t4963: f64 = t1024 * t4687;
-        let t4964: f64 = t4961.added_to(t2918);
-        let t4965: f64 = t4962.plus(t4963);
-        let t4966: f64 = t4964 + t4965;
-        let t4967: f64 = t4952.minus(t4966);
-        let t4968: f64 = t459 * t4718;
-        let t4969: f64 = t509 * t4968;
-        let t4970 = product(t359, t4718);
-        let t4971: f64 = t566 * t4969;
-        let t4972: f64 = t4970.plus(t4971);
-        let t4973: f64 = t163 + t4972;
-        let t4974 = product(t599, t4973);
-        let t4975 = product(t1396, t4973);
-        let t4976 = product(t701, t4973);
-        let t4977: f64 = t4976.subtracted_from(t4725);
-        let t4978 = product(t1007, t4977);
-        let t4979 = product(t734, t4973);
-        let t4980 = product(t736, t4977);
-        let t4981 = product(t707, t4718);
-        let t4982: f64 = t247 * t247;
-        let t4983: f64 = zc * t4982;
-        let t4984: f64 = t460 * t4983;
-        let t4985: f64 = t509 * t4984;
-        let t4986: f64 = t707 * t4985;
-        let t4987: f64 = t4981.plus(t4986);
-        let t4988: f64 = t4980.plus(t4987);
-        let t4989: f64 = t4979.plus(1.0);
-        let t4990: f64 = t4988 - t4989;
-        let t4991: f64 = t1010 * t4990;
-        let t4992: f64 = zc * t633;
-        let t4993 = product(t247, t4992);
-        let t4994: f64 = t655 * t4969;
-        let t4995: f64 = t4993.minus(t4994);
-        let t4996: f64 = t4975.plus(t4991);
-        let t4997: f64 = t4995 + t4996;
-        let t4998: f64 = t4978.subtracted_from(t4997);
-        let t4999 = product(t1008, t4998);
-        let t5000 = product(t699, t4977);
-        let t5001 = product(t733, t4990);
-        let t5002: f64 = t1011 * t4998;
+        let t4611: f64 = t669 * t4610;
+        let t4612 = product(t699, t4610);
+        let t4613 = product(t970, t4605);
+        let t4614: f64 = t4612.added_to(t4593);
+        let t4615: f64 = t4613.subtracted_from(t4614);
+        let t4616 = product(t974, t4615);
+        let t4617: f64 = t696 * t4610;
+        let t4618 = product(t978, t4605);
+        let t4619: f64 = t4618.added_to(t4586);
+        let t4620: f64 = t4616.plus(t4617);
+        let t4621: f64 = t4619 - t4620;
+        let t4622 = product(t2004, t4621);
+        let t4623: f64 = t989 * t4615;
+        let t4624 = product(t991, t4605);
+        let t4625: f64 = zc + t4611;
+        let t4626 = product(t513, t4625);
+        let t4627: f64 = t4622.plus(t4623);
+        let t4628: f64 = t4626.plus(t4627);
+        let t4629: f64 = t4624.subtracted_from(t4628);
+        let t4630 = product(t674, t4629);
+        let t4631 = product(t2017, t4621);
+        let t4632: f64 = t986 * t4605;
+        let t4633: f64 = t4630.added_to(t4611);
+        let t4634: f64 = t4631.plus(t4632);
+        let t4635: f64 = t4633 + t4634;
+        let t4636 = product(t247, t4635);
+        let t4637: f64 = t4636.added_to(t4584);
+        let t4638: f64 = t148 + t4585;
+        let t4639 = product(t1381, t4638);
+        let t4640 = product(t697, t4638);
+        let t4641: f64 = t4640.subtracted_from(t4591);
+        let t4642 = product(t1404, t4641);
+        let t4643 = product(t728, t4641);
+        let t4644 = product(t723, t4638);
+        let t4645: f64 = t4644.subtracted_from(t4595);
+        let t4646: f64 = t4643.plus(t4645);
+        let t4647: f64 = t4646 - 1.0;
+        let t4648 = product(t1424, t4647);
+        let t4649: f64 = t4639.added_to(t4602);
+        let t4650: f64 = t4648.plus(t4649);
+        let t4651: f64 = t4642.subtracted_from(t4650);
+        let t4652 = product(t965, t4651);
+        let t4653: f64 = t4652.added_to(t4646);
+        let t4654: f64 = t4653 - 1.0;
+        let t4655: f64 = t993 * t4654;
+        let t4656 = product(t968, t4654);
+        let t4657 = product(t970, t4651);
+        let t4658: f64 = t4656.added_to(t4641);
+        let t4659: f64 = t4657.subtracted_from(t4658);
+        let t4660 = product(t974, t4659);
+        let t4661: f64 = t976 * t4654;
+        let t4662 = product(t978, t4651);
+        let t4663: f64 = t4662.added_to(t4638);
+        let t4664: f64 = t4660.plus(t4661);
+        let t4665: f64 = t4663 - t4664;
+        let t4666 = product(t2004, t4665);
+        let t4667: f64 = t989 * t4659;
+        let t4668 = product(t991, t4651);
+        let t4669: f64 = zc + t4655;
+        let t4670 = product(t513, t4669);
+        let t4671: f64 = t4666.plus(t4667);
+        let t4672: f64 = t4670.plus(t4671);
+        let t4673: f64 = t4668.subtracted_from(t4672);
+        let t4674 = product(t674, t4673);
+        let t4675 = product(t2017, t4665);
+        let t4676: f64 = t986 * t4651;
+        let t4677: f64 = t4674.added_to(t4655);
+        let t4678: f64 = t4675.plus(t4676);
+        let t4679: f64 = t4677 + t4678;
+        let t4680 = product(t247, t4679);
+        let t4681: f64 = t4680.added_to(t4584);
+        let t4682: f64 = t0 * t713;
+        let t4683 = product(t247, t4682);
+        let t4684: f64 = t0 * t247;
+        let t4685 = product(t459, t4684);
+        let t4686: f64 = t4685.added_to(xc);
+        let t4687 = product(t1014, t4686);
+        let t4688 = product(t359, t4684);
+        let t4689: f64 = t720 * t4686;
+        let t4690: f64 = t4688.plus(t4689);
+        let t4691: f64 = t1381 * t4690;
+        let t4692 = product(t635, t4686);
+        let t4693: f64 = t697 * t4690;
+        let t4694: f64 = t4692.minus(t4693);
+        let t4695: f64 = t1404 * t4694;
+        let t4696 = product(t674, t4686);
+        let t4697: f64 = t4696.added_to(t0);
+        let t4698 = product(t677, t4697);
+        let t4699 = product(t723, t4690);
+        let t4700: f64 = t728 * t4694;
+        let t4701: f64 = t4699.minus(t4700);
+        let t4702: f64 = t4698.minus(t4701);
+        let t4703 = product(t1424, t4702);
+        let t4704: f64 = t4683.plus(t4691);
+        let t4705: f64 = t4703.plus(t4704);
+        let t4706: f64 = t4687.plus(t4695);
+        let t4707: f64 = t4706 + 1.0;
+        let t4708: f64 = t4705 - t4707;
+        let t4709 = product(t965, t4708);
+        let t4710: f64 = t4709.added_to(t4702);
+        let t4711: f64 = -t4710;
+        let t4712: f64 = t712 * t4711;
+        let t4713: f64 = -t4712;
+        let t4714 = product(t699, t4713);
+        let t4715 = product(t970, t4708);
+        let t4716: f64 = t4714.added_to(t4694);
+        let t4717: f64 = t4715.subtracted_from(t4716);
+        let t4718 = product(t974, t4717);
+        let t4719: f64 = t696 * t4713;
+        let t4720 = product(t978, t4708);
+        let t4721: f64 = t4720.added_to(t4690);
+        let t4722: f64 = t4718.plus(t4719);
+        let t4723: f64 = t4721 - t4722;
+        let t4724 = product(t2004, t4723);
+        let t4725 = product(t989, t4717);
+        let t4726 = product(t991, t4708);
+        let t4727 = product(t669, t4713);
+        let t4728: f64 = t4727.added_to(t0);
+        let t4729: f64 = t513 * t4728;
+        let t4730: f64 = t4724.added_to(xc);
+        let t4731: f64 = t4725.plus(t4729);
+        let t4732: f64 = t4730 + t4731;
+        let t4733: f64 = t4726.subtracted_from(t4732);
+        let t4734 = product(t674, t4733);
+        let t4735: f64 = t2017 * t4723;
+        let t4736 = product(t986, t4708);
+        let t4737: f64 = t4734.plus(t4735);
+        let t4738: f64 = t4736.added_to(t4728);
+        let t4739: f64 = t4737 + t4738;
+        let t4740: f64 = t247 * t4739;
+        let t4741: f64 = -t4740;
+        let t4742: f64 = t3 * t713;
+        let t4743 = product(t247, t4742);
+        let t4744: f64 = t3 * t247;
+        let t4745 = product(t459, t4744);
+        let t4746: f64 = t4745.added_to(xc);
+        let t4747 = product(t1014, t4746);
+        let t4748 = product(t359, t4744);
+        let t4749: f64 = t720 * t4746;
+        let t4750: f64 = t4748.plus(t4749);
+        let t4751: f64 = t1381 * t4750;
+        let t4752 = product(t635, t4746);
+        let t4753: f64 = t697 * t4750;
+        let t4754: f64 = t4752.minus(t4753);
+        let t4755: f64 = t1404 * t4754;
+        let t4756 = product(t674, t4746);
+        let t4757: f64 = t4756.added_to(t3);
+        let t4758 = product(t677, t4757);
+        let t4759 = product(t723, t4750);
+        let t4760: f64 = t728 * t4754;
+        let t4761: f64 = t4759.minus(t4760);
+        let t4762: f64 = t4758.minus(t4761);
+        let t4763 = product(t1424, t4762);
+        let t4764: f64 = t4743.plus(t4751);
+        let t4765: f64 = t4763.plus(t4764);
+        let t4766: f64 = t4747.plus(t4755);
+        let t4767: f64 = t4766 + 1.0;
+        let t4768: f64 = t4765 - t4767;
+        let t4769 = product(t965, t4768);
+        let t4770: f64 = t4769.added_to(t4762);
+        let t4771: f64 = -t4770;
+        let t4772: f64 = t712 * t4771;
+        let t4773: f64 = -t4772;
+        let t4774 = product(t699, t4773);
+        let t4775 = product(t970, t4768);
+        let t4776: f64 = t4774.added_to(t4754);
+        let t4777: f64 = t4775.subtracted_from(t4776);
+        let t4778 = product(t974, t4777);
+        let t4779: f64 = t696 * t4773;
+        let t4780 = product(t978, t4768);
+        let t4781: f64 = t4780.added_to(t4750);
+        let t4782: f64 = t4778.plus(t4779);
+        let t4783: f64 = t4781 - t4782;
+        let t4784 = product(t2004, t4783);
+        let t4785 = product(t989, t4777);
+        let t4786 = product(t991, t4768);
+        let t4787 = product(t669, t4773);
+        let t4788: f64 = t4787.added_to(t3);
+        let t4789: f64 = t513 * t4788;
+        let t4790: f64 = t4784.added_to(xc);
+        let t4791: f64 = t4785.plus(t4789);
+        let t4792: f64 = t4790 + t4791;
+        let t4793: f64 = t4786.subtracted_from(t4792);
+        let t4794 = product(t674, t4793);
+        let t4795: f64 = t2017 * t4783;
+        let t4796 = product(t986, t4768);
+        let t4797: f64 = t4794.plus(t4795);
+        let t4798: f64 = t4796.added_to(t4788);
+        let t4799: f64 = t4797 + t4798;
+        let t4800: f64 = t247 * t4799;
+        let t4801: f64 = -t4800;
+        let t4802 = product(t4379, t4513);
+        let t4803 = product(t3281, t4500);
+        let t4804 = product(t667, t4487);
+        let t4805 = product(t712, t4496);
+        let t4806: f64 = t3552 * t4500;
+        let t4807: f64 = t4805.minus(t4806);
+        let t4808: f64 = t728 * t4807;
+        let t4809: f64 = t4804.plus(t4808);
+        let t4810: f64 = t4803.plus(t4809);
+        let t4811 = product(t635, t4810);
+        let t4812 = product(t1010, t4807);
+        let t4813: f64 = t1015 * t4500;
+        let t4814: f64 = t4811.added_to(t4478);
+        let t4815: f64 = t4812.plus(t4813);
+        let t4816: f64 = t4814 + t4815;
+        let t4817: f64 = t4802.minus(t4816);
+        let t4818 = product(t4379, t4566);
+        let t4819 = product(t3281, t4553);
+        let t4820 = product(t667, t4540);
+        let t4821 = product(t712, t4549);
+        let t4822: f64 = t3552 * t4553;
+        let t4823: f64 = t4821.minus(t4822);
+        let t4824: f64 = t728 * t4823;
+        let t4825: f64 = t4820.plus(t4824);
+        let t4826: f64 = t4819.plus(t4825);
+        let t4827 = product(t635, t4826);
+        let t4828 = product(t1010, t4823);
+        let t4829: f64 = t1015 * t4553;
+        let t4830: f64 = t4827.added_to(t4531);
+        let t4831: f64 = t4828.plus(t4829);
+        let t4832: f64 = t4830 + t4831;
+        let t4833: f64 = t4818.minus(t4832);
+        let t4834: f64 = t459 * t4584;
+        let t4835: f64 = t509 * t4834;
+        let t4836 = product(t359, t4584);
+        let t4837: f64 = t566 * t4835;
+        let t4838: f64 = t4836.plus(t4837);
+        let t4839: f64 = t163 + t4838;
+        let t4840 = product(t599, t4839);
+        let t4841 = product(t1381, t4839);
+        let t4842 = product(t697, t4839);
+        let t4843: f64 = t4842.subtracted_from(t4591);
+        let t4844 = product(t1404, t4843);
+        let t4845 = product(t723, t4839);
+        let t4846 = product(t728, t4843);
+        let t4847 = product(t669, t4584);
+        let t4848: f64 = t247 * t247;
+        let t4849: f64 = zc * t4848;
+        let t4850: f64 = t460 * t4849;
+        let t4851: f64 = t509 * t4850;
+        let t4852: f64 = t669 * t4851;
+        let t4853: f64 = t4847.plus(t4852);
+        let t4854: f64 = t4846.plus(t4853);
+        let t4855: f64 = t4845.plus(1.0);
+        let t4856: f64 = t4854 - t4855;
+        let t4857: f64 = t1424 * t4856;
+        let t4858: f64 = zc * t713;
+        let t4859 = product(t247, t4858);
+        let t4860: f64 = t719 * t4835;
+        let t4861: f64 = t4859.minus(t4860);
+        let t4862: f64 = t4841.plus(t4857);
+        let t4863: f64 = t4861 + t4862;
+        let t4864: f64 = t4844.subtracted_from(t4863);
+        let t4865 = product(t3281, t4864);
+        let t4866 = product(t667, t4843);
+        let t4867 = product(t712, t4856);
+        let t4868: f64 = t3552 * t4864;
+        let t4869: f64 = t4867.plus(t4868);
+        let t4870: f64 = t728 * t4869;
+        let t4871: f64 = t4866.plus(t4870);
+        let t4872: f64 = t4865.minus(t4871);
+        let t4873: f64 = -t4872;
+        let t4874: f64 = t697 * t4873;
+        let t4875: f64 = t4840.minus(t4874);
+        let t4876 = product(t723, t4869);
+        let t4877: f64 = t3292 * t4864;
+        let t4878: f64 = t4876.minus(t4877);
+        let t4879: f64 = t4875 - t4878;
+        let t4880 = product(t720, t4879);
+        let t4881 = product(t635, t4873);
+        let t4882: f64 = t1010 * t4869;
+        let t4883 = product(t1015, t4864);
+        let t4884: f64 = t4880.added_to(t4835);
+        let t4885: f64 = t4881.plus(t4882);
+        let t4886: f64 = t4884 + t4885;
+        let t4887: f64 = t4883.minus(t4886);
+        let t4888: f64 = t148 + t4838;
+        let t4889 = product(t599, t4888);
+        let t4890 = product(t1381, t4888);
+        let t4891 = product(t697, t4888);
+        let t4892: f64 = t4891.subtracted_from(t4591);
+        let t4893 = product(t1404, t4892);
+        let t4894 = product(t723, t4888);
+        let t4895 = product(t728, t4892);
+        let t4896: f64 = t4895.added_to(t4853);
+        let t4897: f64 = t4894.plus(1.0);
+        let t4898: f64 = t4896 - t4897;
+        let t4899: f64 = t1424 * t4898;
+        let t4900: f64 = t4890.plus(t4899);
+        let t4901: f64 = t4861 + t4900;
+        let t4902: f64 = t4893.subtracted_from(t4901);
+        let t4903 = product(t3281, t4902);
+        let t4904 = product(t667, t4892);
+        let t4905 = product(t712, t4898);
+        let t4906: f64 = t3552 * t4902;
+        let t4907: f64 = t4905.plus(t4906);
+        let t4908: f64 = t728 * t4907;
+        let t4909: f64 = t4904.plus(t4908);
+        let t4910: f64 = t4903.minus(t4909);
+        let t4911: f64 = -t4910;
+        let t4912: f64 = t697 * t4911;
+        let t4913: f64 = t4889.minus(t4912);
+        let t4914 = product(t723, t4907);
+        let t4915: f64 = t3292 * t4902;
+        let t4916: f64 = t4914.minus(t4915);
+        let t4917: f64 = t4913 - t4916;
+        let t4918 = product(t720, t4917);
+        let t4919 = product(t635, t4911);
+        let t4920: f64 = t1010 * t4907;
+        let t4921 = product(t1015, t4902);
+        let t4922: f64 = t4918.added_to(t4835);
+        let t4923: f64 = t4919.plus(t4920);
+        let t4924: f64 = t4922 + t4923;
+        let t4925: f64 = t4921.minus(t4924);
+        let t4926: f64 = t509 * t4733;
+        let t4927: f64 = t509 * t4793;
+        let t4928: f64 = t599 * t4513;
+        let t4929: f64 = t599 * t4566;
+        let t4930: f64 = -t4879;
+        let t4931: f64 = -t4917;
+        let t4932: f64 = t599 * t4723;
+        let t4933: f64 = t599 * t4783;
+        let t4934: f64 = -t4810;
+        let t4935: f64 = -t4826;
+        let t4936: f64 = t667 * t4717;
+        let t4937: f64 = t667 * t4777;
+        let t4938: f64 = -t4807;
+        let t4939: f64 = -t4823;
+        let t4940: f64 = -t4869;
+        let t4941: f64 = -t4907;
+        let t4942: f64 = t751 * t4500;
+        let t4943: f64 = -t4942;
+        let t4944: f64 = t751 * t4553;
+        let t4945: f64 = -t4944;
+        let t4946: f64 = t751 * t4864;
+        let t4947: f64 = t751 * t4902;
+        let t4948: f64 = t751 * t4708;
+        let t4949: f64 = -t4948;
+        let t4950: f64 = t751 * t4768;
+        let t4951: f64 = -t4950;
         (
-            t4037,
-            t4171,
-            t4302,
-            t4367,
-            t4439,
-            t4493,
-            t4511,
-            t4512,
-            t4523,
-            t4532,
-            t4553,
-            t4554,
-            t4566,
-            t4576,
-            t4577,
-            t4578,
-            t4579,
-            t4585,
-            t4592,
-            t4593,
-            t4594,
-            t4595,
-            t4596,
-            t4597,
-            t4598,
-            t4599,
-            t4600,
-            t4601,
-            t4602,
-            t4603,
-            t4605,
-            t4607,
-            t4608,
-            t4610,
-            t4611,
-            t4613,
-            t4635,
-            t4648,
-            t4665,
-            t4687,
-            t4700,
-            t4717,
-            t4725,
-            t4771,
-            t4815,
-            t4842,
-            t4847,
-            t4851,
-            t4857,
-            t4867,
-            t4875,
-            t4902,
-            t4907,
-            t4911,
-            t4917,
+            t4036,
+            t4167,
+            t4232,
+            t4304,
+            t4358,
+            t4376,
+            t4377,
+            t4387,
+            t4396,
+            t4417,
+            t4418,
+            t4430,
+            t4440,
+            t4441,
+            t4442,
+            t4443,
+            t4449,
+            t4456,
+            t4457,
+            t4458,
+            t4459,
+            t4460,
+            t4461,
+            t4462,
+            t4463,
+            t4464,
+            t4465,
+            t4466,
+            t4467,
+            t4469,
+            t4471,
+            t4472,
+            t4474,
+            t4475,
+            t4477,
+            t4530,
+            t4583,
+            t4637,
+            t4681,
+            t4713,
+            t4741,
+            t4773,
+            t4801,
+            t4817,
+            t4833,
+            t4872,
+            t4887,
+            t4910,
+            t4925,
+            t4926,
             t4927,
+            t4928,
+            t4929,
+            t4930,
+            t4931,
+            t4932,
+            t4933,
+            t4934,
             t4935,
+            t4936,
+            t4937,
+            t4938,
+            t4939,
+            t4940,
             t4941,
-            t4944,
+            t4943,
+            t4945,
+            t4946,
+            t4947,
+            t4949,
             t4951,
-            t4957,
-            t4960,
-            t4967,
-            t4969,
-            t4972,
-            t4974,
-            t4987,
-            t4995,
-            t4998,
-            t4999,
-            t5000,
-            t5001,
-            t5002,
-        )
-    };
-    let (
-        t5006,
-        t5021,
-        t5044,
-        t5059,
-        t5060,
-        t5061,
-        t5062,
-        t5063,
-        t5064,
-        t5065,
-        t5066,
-        t5067,
-        t5068,
-        t5069,
-        t5070,
-        t5071,
-        t5072,
-        t5073,
-        t5074,
-        t5075,
-        t5077,
-        t5079,
-        t5080,
-        t5081,
-        t5083,
-        t5085,
-    ) = {
-        let t5003: f64 = t5001.plus(t5002);
-        let t5004: f64 = t736 * t5003;
-        let t5005: f64 = t5000.plus(t5004);
-        let t5006: f64 = t4999.minus(t5005);
-        let t5007: f64 = -t5006;
-        let t5008: f64 = t701 * t5007;
-        let t5009: f64 = t4974.minus(t5008);
-        let t5010 = product(t734, t5003);
-        let t5011: f64 = t3379 * t4998;
-        let t5012: f64 = t5010.minus(t5011);
-        let t5013: f64 = t5009 - t5012;
-        let t5014 = product(t656, t5013);
-        let t5015 = product(t684, t5007);
-        let t5016: f64 = t1020 * t5003;
-        let t5017 = product(t1024, t4998);
-        let t5018: f64 = t5014.added_to(t4969);
-        let t5019: f64 = t5015.plus(t5016);
-        let t5020: f64 = t5018 + t5019;
-        let t5021: f64 = t5017.minus(t5020);
-        let t5022: f64 = t148 + t4972;
-        let t5023 = product(t599, t5022);
-        let t5024 = product(t1396, t5022);
-        let t5025 = product(t701, t5022);
-        let t5026: f64 = t5025.subtracted_from(t4725);
-        let t5027 = product(t1007, t5026);
-        let t5028 = product(t734, t5022);
-        let t5029 = product(t736, t5026);
-        let t5030: f64 = t5029.added_to(t4987);
-        let t5031: f64 = t5028.plus(1.0);
-        let t5032: f64 = t5030 - t5031;
-        let t5033: f64 = t1010 * t5032;
-        let t5034: f64 = t5024.plus(t5033);
-        let t5035: f64 = t4995 + t5034;
-        let t5036: f64 = t5027.subtracted_from(t5035);
-        let t5037 = product(t1008, t5036);
-        let t5038 = product(t699, t5026);
-        let t5039 = product(t733, t5032);
-        let t5040: f64 = t1011 * t5036;
-        let t5041: f64 = t5039.plus(t5040);
-        let t5042: f64 = t736 * t5041;
-        let t5043: f64 = t5038.plus(t5042);
-        let t5044: f64 = t5037.minus(t5043);
-        let t5045: f64 = -t5044;
-        let t5046: f64 = t701 * t5045;
-        let t5047: f64 = t5023.minus(t5046);
-        let t5048 = product(t734, t5041);
-        let t5049: f64 = t3379 * t5036;
-        let t5050: f64 = t5048.minus(t5049);
-        let t5051: f64 = t5047 - t5050;
-        let t5052 = product(t656, t5051);
-        let t5053 = product(t684, t5045);
-        let t5054: f64 = t1020 * t5041;
-        let t5055 = product(t1024, t5036);
-        let t5056: f64 = t5052.added_to(t4969);
-        let t5057: f64 = t5053.plus(t5054);
-        let t5058: f64 = t5056 + t5057;
-        let t5059: f64 = t5055.minus(t5058);
-        let t5060: f64 = t509 * t4867;
-        let t5061: f64 = t509 * t4927;
-        let t5062: f64 = t599 * t4648;
-        let t5063: f64 = t599 * t4700;
-        let t5064: f64 = -t5013;
-        let t5065: f64 = -t5051;
-        let t5066: f64 = t599 * t4857;
-        let t5067: f64 = t599 * t4917;
-        let t5068: f64 = -t4944;
-        let t5069: f64 = -t4960;
-        let t5070: f64 = t699 * t4851;
-        let t5071: f64 = t699 * t4911;
-        let t5072: f64 = -t4941;
-        let t5073: f64 = -t4957;
-        let t5074: f64 = -t5003;
-        let t5075: f64 = -t5041;
-        let t5076: f64 = t751 * t4635;
-        let t5077: f64 = -t5076;
-        let t5078: f64 = t751 * t4687;
-        let t5079: f64 = -t5078;
-        let t5080: f64 = t751 * t4998;
-        let t5081: f64 = t751 * t5036;
-        let t5082: f64 = t751 * t4842;
-        let t5083: f64 = -t5082;
-        let t5084: f64 = t751 * t4902;
-        let t5085: f64 = -t5084;
-        (
-            t5006,
-            t5021,
-            t5044,
-            t5059,
-            t5060,
-            t5061,
-            t5062,
-            t5063,
-            t5064,
-            t5065,
-            t5066,
-            t5067,
-            t5068,
-            t5069,
-            t5070,
-            t5071,
-            t5072,
-            t5073,
-            t5074,
-            t5075,
-            t5077,
-            t5079,
-            t5080,
-            t5081,
-            t5083,
-            t5085,
         )
     };
     (
-        [t1006, t1029, t984, t1017, t1014, t1030],
+        [t1006, t1020, t984, t1021, t1022, t1023],
         [
-            [t1491, t2052, t2552, t2825, t3070, t3297],
-            [t1484, t2043, t3298, t3299, t3300, t3391],
-            [t3526, t3663, t3764, t3830, t3831, t3832],
-            [t3519, t3833, t3834, t3835, t3836, t3837],
-            [t3838, t3839, t3840, t3841, t3842, t3843],
-            [t3844, t3846, t3848, t3849, t3900, t3902],
+            [t1469, t2024, t2515, t2778, t3012, t3230],
+            [t1462, t2015, t3231, t3232, t3233, t3303],
+            [t3429, t3559, t3652, t3706, t3707, t3708],
+            [t3422, t3709, t3710, t3711, t3712, t3713],
+            [t3714, t3715, t3716, t3717, t3718, t3719],
+            [t3720, t3722, t3724, t3725, t3765, t3767],
         ],
         [
-            [t4037, t4171, t4302, t4367, t4439, t4511],
-            [t4512, t4523, t4532, t4553, t4554, t4566],
-            [t4576, t4577, t4578, t4579, t4592, t4493],
-            [t4593, t4594, t4595, t4596, t4585, t4597],
-            [t4598, t4599, t4600, t4601, t4602, t4603],
-            [t4605, t4607, t4608, t4610, t4611, t4613],
+            [t3902, t4036, t4167, t4232, t4304, t4376],
+            [t4377, t4387, t4396, t4417, t4418, t4430],
+            [t4440, t4441, t4442, t4443, t4456, t4358],
+            [t4457, t4458, t4459, t4460, t4449, t4461],
+            [t4462, t4463, t4464, t4465, t4466, t4467],
+            [t4469, t4471, t4472, t4474, t4475, t4477],
         ],
         [
-            [t4665, t4717, t4771, t4815, t4875, t4935],
-            [t4951, t4967, t5021, t5059, t5060, t5061],
-            [t5062, t5063, t5064, t5065, t5066, t5067],
-            [t5068, t5069, t5006, t5044, t5070, t5071],
-            [t5072, t5073, t5074, t5075, t4847, t4907],
-            [t5077, t5079, t5080, t5081, t5083, t5085],
+            [t4530, t4583, t4637, t4681, t4741, t4801],
+            [t4817, t4833, t4887, t4925, t4926, t4927],
+            [t4928, t4929, t4930, t4931, t4932, t4933],
+            [t4934, t4935, t4872, t4910, t4936, t4937],
+            [t4938, t4939, t4940, t4941, t4713, t4773],
+            [t4943, t4945, t4946, t4947, t4949, t4951],
         ],
-        [t644, t145, t248],
+        [t685, t145, t248],
     )
 }
 /// Inverse dynamics from the actuators' motion and its exact Jacobians: `Γ`, `∂Γ/∂q`, `∂Γ/∂q̇`, `∂Γ/∂q̈`.

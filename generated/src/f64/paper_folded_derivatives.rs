@@ -3,7 +3,7 @@
 //
 // Kernel operation counts (mul, div, add, neg, calls):
 //   inverse_dynamics_derivatives      1300    4   979   14  3 sin_cos
-//   forward_dynamics_derivatives      2426   10  1748   58  3 sin_cos
+//   forward_dynamics_derivatives      2146   10  1613   57  3 sin_cos
 //   inverse_dynamics_joint_derivatives  2350    6  2012   31  3 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
@@ -3061,7 +3061,7 @@ pub fn inverse_dynamics_derivatives_separate(
 /// - `d_gamma`: `∂a/∂Γ` (rad/s²/N, m/s²/N)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 2426 mul, 10 div, 1748 add, 58 neg, 3 sin_cos (chapter convention: 2436m + 1748a).
+/// Operations: 2146 mul, 10 div, 1613 add, 57 neg, 3 sin_cos (chapter convention: 2156m + 1613a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -3087,5274 +3087,4777 @@ pub fn forward_dynamics_derivatives_separate(
     let [wx, wy, wz, vx, vy, vz] = *twist;
     let [g1, g2, g3, g4, g5, g6] = *forces;
     let (
-        t0,
-        t1,
         t2,
         t3,
-        t4,
         t5,
-        t6,
-        t7,
-        t8,
-        t10,
-        t11,
+        t9,
         t13,
-        t15,
-        t19,
-        t20,
+        t14,
+        t24,
+        t25,
+        t27,
+        t29,
         t30,
         t31,
-        t42,
-        t44,
+        t32,
+        t33,
+        t36,
+        t38,
+        t39,
+        t40,
+        t41,
+        t43,
         t45,
         t46,
-        t47,
-        t48,
-        t51,
-        t53,
-        t54,
+        t50,
+        t52,
         t55,
         t56,
+        t57,
         t58,
+        t59,
         t60,
-        t61,
-        t65,
+        t62,
+        t63,
+        t64,
         t67,
-        t70,
-        t71,
-        t72,
-        t73,
-        t75,
-        t90,
-        t92,
-        t95,
-        t96,
+        t68,
+        t83,
+        t85,
+        t87,
         t98,
-        t117,
-        t120,
-        t121,
-        t123,
+        t101,
+        t102,
+        t104,
+        t105,
+        t109,
+        t122,
         t124,
-        t128,
-        t132,
-        t141,
-        t144,
-        t146,
-        t164,
+        t126,
+        t137,
+        t139,
+        t157,
+        t165,
         t172,
+        t174,
+        t175,
+        t177,
+        t178,
         t179,
         t181,
-        t182,
-        t184,
-        t185,
-        t186,
-        t188,
-        t208,
-        t213,
-        t219,
-        t232,
-        t237,
+        t201,
+        t206,
+        t212,
+        t216,
+        t226,
+        t231,
+        t248,
+        t253,
         t254,
         t255,
-        t259,
-        t260,
+        t262,
         t264,
-        t266,
-        t268,
-        t273,
-        t277,
+        t265,
+        t278,
         t279,
-        t280,
-        t281,
-        t286,
-        t290,
-        t292,
+        t282,
+        t284,
+        t289,
+        t291,
         t296,
+        t300,
         t301,
         t304,
-        t305,
-        t307,
         t311,
-        t313,
-        t317,
-        t318,
+        t315,
         t320,
-        t325,
-        t326,
-        t329,
-        t330,
-        t331,
-        t332,
-        t337,
+        t321,
+        t323,
+        t327,
         t338,
+        t340,
         t341,
-        t342,
         t343,
+        t344,
+        t347,
         t349,
-        t355,
-        t356,
-        t359,
+        t350,
+        t354,
+        t358,
         t360,
-        t361,
         t364,
-        t369,
-        t370,
+        t365,
+        t367,
         t371,
-        t372,
+        t373,
         t374,
-        t375,
         t377,
         t378,
-        t380,
-        t382,
+        t379,
+        t385,
         t391,
+        t392,
+        t395,
+        t396,
+        t397,
+        t402,
         t403,
-        t407,
-        t408,
+        t404,
+        t409,
+        t410,
+        t411,
+        t412,
+        t414,
+        t415,
+        t417,
+        t418,
         t420,
-        t432,
-        t433,
-        t435,
-        t436,
+        t422,
         t439,
-        t441,
         t442,
-        t449,
-        t450,
+        t443,
+        t444,
+        t445,
+        t456,
         t460,
-        t476,
-        t477,
-        t494,
-        t498,
-        t499,
-        t502,
-        t507,
-        t511,
-        t530,
-        t531,
-        t543,
-        t544,
+        t461,
+        t483,
+        t484,
+        t493,
+        t508,
+        t509,
         t548,
-        t549,
-        t551,
-        t553,
+        t550,
         t554,
-        t558,
+        t556,
         t561,
-        t562,
-        t566,
-        t567,
+        t563,
+        t568,
+        t570,
         t572,
+        t574,
+        t576,
         t577,
-        t578,
-        t581,
         t587,
-        t588,
-        t589,
-        t590,
-        t591,
-        t592,
+        t595,
+        t596,
         t597,
+        t599,
         t600,
-        t601,
-        t603,
-        t604,
-        t609,
-        t616,
+        t602,
+        t605,
+        t608,
+        t611,
+        t612,
+        t614,
+        t618,
         t619,
         t620,
+        t621,
         t622,
-        t625,
-        t626,
+        t623,
+        t624,
         t629,
         t630,
-        t631,
-        t633,
-        t635,
-        t636,
-        t637,
-        t640,
-        t642,
-        t643,
-        t645,
-        t647,
-        t648,
-        t649,
+        t632,
         t650,
-        t652,
         t655,
-        t657,
-        t659,
-        t660,
-        t661,
-        t663,
-        t665,
-        t671,
-        t673,
-        t677,
+        t667,
+        t676,
+        t680,
         t683,
-        t685,
-        t690,
-        t694,
-        t697,
-        t704,
-        t727,
-        t755,
+        t692,
+        t696,
+        t712,
+        t717,
+        t722,
+        t735,
+        t745,
+        t759,
         t760,
-        t761,
-        t762,
-        t763,
-        t764,
-        t765,
-        t777,
+        t778,
+        t784,
         t787,
-        t792,
+        t788,
+        t796,
         t797,
-        t803,
+        t799,
+        t802,
+        t805,
         t806,
-        t807,
-        t809,
-        t810,
-        t821,
+        t808,
+        t819,
+        t822,
+        t823,
+        t824,
+        t825,
+        t826,
         t827,
-        t842,
-        t857,
-        t873,
-        t874,
-        t885,
-        t892,
-        t902,
-        t917,
-        t923,
-        t928,
+        t845,
+        t854,
+        t870,
+        t882,
+        t889,
+        t894,
+        t895,
+        t901,
+        t919,
         t929,
-        t933,
-        t947,
-        t952,
+        t941,
+        t950,
+        t956,
+        t965,
         t966,
+        t972,
+        t974,
         t980,
-        t987,
-        t990,
-        t991,
+        t985,
+        t986,
         t992,
-        t996,
         t997,
         t998,
-        t999,
+        t1000,
         t1001,
         t1002,
     ) = {
-        let (t0, t1): (f64, f64) = sin_cos(alpha);
-        let t2: f64 = 1.0 / t1;
-        let (t3, t4): (f64, f64) = sin_cos(beta);
-        let t5: f64 = 1.0 / t4;
-        let t6: f64 = xc * t3;
-        let t7: f64 = yc - 0.2;
-        let t8: f64 = t0 * t4;
-        let t9 = product(t7, t8);
-        let t10: f64 = t9.subtracted_from(t6);
-        let t11: f64 = t2 * t5;
-        let t12 = product(t10, t11);
-        let t13: f64 = yc + 0.2;
-        let t14 = product(t8, t13);
-        let t15: f64 = t14.subtracted_from(t6);
-        let t16: f64 = t11 * t15;
-        let t17: f64 = t12.plus(t16);
-        let t18 = product(zc, 10.68);
-        let t19: f64 = t17 * 1.67;
-        let t20: f64 = t18.minus(t19);
-        let t21: f64 = yc * yc;
-        let t22: f64 = zc * zc;
-        let t23: f64 = t3 * t3;
-        let t24: f64 = yc * 2.0;
-        let t25: f64 = t24 - 0.4;
-        let t26 = product(t7, t25);
-        let t27: f64 = t24 + 0.4;
-        let t28 = product(t13, t27);
-        let t29: f64 = t4 * t4;
-        let (t30, t31): (f64, f64) = sin_cos(gamma);
-        let t32: f64 = t31 * t31;
-        let t33: f64 = t30 * t30;
-        let t34 = product(t32, 0.4119400000000001);
-        let t35: f64 = t33 * 0.22443999999999997;
-        let t36: f64 = t34.plus(t35);
-        let t37: f64 = t29 * t36;
-        let t38 = product(t7, t7);
-        let t39: f64 = t13 * t13;
-        let t40: f64 = t38.plus(t39);
-        let t41 = product(t1, t31);
-        let t42: f64 = t0 * t3;
-        let t43: f64 = t30 * t42;
-        let t44: f64 = t41.minus(t43);
-        let t45: f64 = 1.0 / t44;
+        let t0: f64 = yc * yc;
+        let t1: f64 = zc * zc;
+        let (t2, t3): (f64, f64) = sin_cos(beta);
+        let t4: f64 = t2 * t2;
+        let t5: f64 = yc - 0.2;
+        let t6: f64 = yc * 2.0;
+        let t7: f64 = t6 - 0.4;
+        let t8 = product(t5, t7);
+        let t9: f64 = yc + 0.2;
+        let t10: f64 = t6 + 0.4;
+        let t11 = product(t9, t10);
+        let t12: f64 = t3 * t3;
+        let (t13, t14): (f64, f64) = sin_cos(gamma);
+        let t15: f64 = t14 * t14;
+        let t16: f64 = t13 * t13;
+        let t17 = product(t15, 0.4119400000000001);
+        let t18: f64 = t16 * 0.22443999999999997;
+        let t19: f64 = t17.plus(t18);
+        let t20: f64 = t12 * t19;
+        let t21 = product(t5, t5);
+        let t22: f64 = t9 * t9;
+        let t23: f64 = t21.plus(t22);
+        let (t24, t25): (f64, f64) = sin_cos(alpha);
+        let t26 = product(t14, t25);
+        let t27: f64 = t2 * t24;
+        let t28: f64 = t13 * t27;
+        let t29: f64 = t26.minus(t28);
+        let t30: f64 = 1.0 / t29;
+        let t31: f64 = t30 * t30;
+        let t32: f64 = xc - 0.2;
+        let t33: f64 = t3 * t13;
+        let t34 = product(t32, t33);
+        let t35 = product(t14, t24);
+        let t36: f64 = t2 * t13;
+        let t37: f64 = t25 * t36;
+        let t38: f64 = t35.plus(t37);
+        let t39: f64 = zc * t38;
+        let t40: f64 = t34.minus(t39);
+        let t41: f64 = t40 * t40;
+        let t42 = product(t31, t41);
+        let t43: f64 = xc + 0.2;
+        let t44 = product(t33, t43);
+        let t45: f64 = t44.subtracted_from(t39);
         let t46: f64 = t45 * t45;
-        let t47: f64 = xc - 0.2;
-        let t48: f64 = t4 * t30;
-        let t49 = product(t47, t48);
-        let t50 = product(t0, t31);
-        let t51: f64 = t3 * t30;
-        let t52: f64 = t1 * t51;
-        let t53: f64 = t50.plus(t52);
-        let t54: f64 = zc * t53;
-        let t55: f64 = t49.minus(t54);
+        let t47: f64 = t31 * t46;
+        let t48: f64 = t42.plus(t47);
+        let t49: f64 = t23 + t48;
+        let t50: f64 = zc - 0.2;
+        let t51 = product(t50, t50);
+        let t52: f64 = zc + 0.2;
+        let t53: f64 = t52 * t52;
+        let t54: f64 = t51.plus(t53);
+        let t55: f64 = 1.0 / t25;
         let t56: f64 = t55 * t55;
-        let t57 = product(t46, t56);
-        let t58: f64 = xc + 0.2;
-        let t59 = product(t48, t58);
-        let t60: f64 = t59.subtracted_from(t54);
-        let t61: f64 = t60 * t60;
-        let t62: f64 = t46 * t61;
-        let t63: f64 = t57.plus(t62);
-        let t64: f64 = t40 + t63;
-        let t65: f64 = zc - 0.2;
-        let t66 = product(t65, t65);
-        let t67: f64 = zc + 0.2;
+        let t57: f64 = 1.0 / t3;
+        let t58: f64 = t57 * t57;
+        let t59: f64 = xc * t2;
+        let t60: f64 = t3 * t24;
+        let t61 = product(t5, t60);
+        let t62: f64 = t61.subtracted_from(t59);
+        let t63: f64 = t62 * t62;
+        let t64: f64 = t56 * t58;
+        let t65 = product(t63, t64);
+        let t66 = product(t9, t60);
+        let t67: f64 = t66.subtracted_from(t59);
         let t68: f64 = t67 * t67;
-        let t69: f64 = t66.plus(t68);
-        let t70: f64 = t2 * t2;
-        let t71: f64 = t5 * t5;
-        let t72: f64 = t10 * t10;
-        let t73: f64 = t70 * t71;
-        let t74 = product(t72, t73);
-        let t75: f64 = t15 * t15;
-        let t76: f64 = t73 * t75;
-        let t77: f64 = t74.plus(t76);
-        let t78: f64 = t69 + t77;
-        let t79: f64 = t64 + t78;
-        let t80 = product(t21, 3.34);
-        let t81: f64 = t22 * 7.34;
-        let t82: f64 = t23 * 0.22443999999999997;
-        let t83: f64 = t79 * 1.67;
-        let t84: f64 = t80.plus(t81);
-        let t85: f64 = t26.plus(t82);
-        let t86: f64 = t28.plus(t37);
-        let t87: f64 = t84 + t85;
-        let t88: f64 = t83 + t86;
-        let t89: f64 = t87 + t88;
-        let t90: f64 = 1.0 / t89;
-        let t91: f64 = xc * xc;
-        let t92: f64 = t0 * t30;
-        let t93: f64 = t1 * t3;
-        let t94 = product(t31, t93);
-        let t95: f64 = t94.subtracted_from(t92);
-        let t96: f64 = t95 * 0.4119400000000001;
-        let t97 = product(t95, t96);
-        let t98: f64 = t53 * 0.22443999999999997;
-        let t99: f64 = t53 * t98;
-        let t100: f64 = t1 * t1;
-        let t101: f64 = t29 * t100;
-        let t102: f64 = xc * 2.0;
-        let t103: f64 = t102 - 0.4;
-        let t104 = product(t47, t103);
-        let t105: f64 = t102 + 0.4;
-        let t106: f64 = t58 * t105;
-        let t107: f64 = t31 * t95;
-        let t108 = product(t30, t53);
-        let t109: f64 = t108.subtracted_from(t93);
-        let t110 = product(t109, 0.22443999999999997);
-        let t111: f64 = t107 * 0.4119400000000001;
-        let t112: f64 = t110.plus(t111);
-        let t113: f64 = t4 * t112;
-        let t114 = product(zc, t47);
-        let t115: f64 = zc * t58;
-        let t116: f64 = t114.plus(t115);
-        let t117: f64 = 1.0 / t31;
-        let t118 = product(t1, t30);
-        let t119: f64 = t31 * t42;
-        let t120: f64 = t118.plus(t119);
-        let t121: f64 = yc * t120;
-        let t122 = product(t65, t95);
-        let t123: f64 = t122.added_to(t121);
-        let t124: f64 = t5 * t117;
-        let t125: f64 = t65 * t124;
-        let t126 = product(t123, t125);
-        let t127 = product(t67, t95);
-        let t128: f64 = t127.added_to(t121);
-        let t129: f64 = t67 * t124;
-        let t130: f64 = t128 * t129;
-        let t131: f64 = t126.plus(t130);
-        let t132: f64 = xc * t2;
-        let t133: f64 = t5 * t132;
-        let t134 = product(t10, t133);
-        let t135: f64 = t15 * t133;
-        let t136: f64 = t134.plus(t135);
-        let t137: f64 = t131 + t136;
-        let t138: f64 = t116 * 3.67;
-        let t139: f64 = t137 * 1.67;
-        let t140: f64 = t113 + t139;
-        let t141: f64 = t140 - t138;
-        let t142: f64 = t141 * t141;
-        let t143 = product(t90, t142);
-        let t144: f64 = t120 * 0.4119400000000001;
-        let t145 = product(t120, t144);
-        let t146: f64 = t44 * 0.22443999999999997;
-        let t147: f64 = t44 * t146;
-        let t148: f64 = t0 * t0;
-        let t149: f64 = t29 * t148;
-        let t150: f64 = zc * 2.0;
-        let t151: f64 = t150 - 0.4;
-        let t152 = product(t65, t151);
-        let t153: f64 = t150 + 0.4;
-        let t154: f64 = t67 * t153;
-        let t155: f64 = t31 * t120;
-        let t156 = product(t30, t44);
-        let t157: f64 = t156.added_to(t42);
-        let t158 = product(t157, 0.22443999999999997);
-        let t159: f64 = t155 * 0.4119400000000001;
-        let t160: f64 = t158.minus(t159);
-        let t161 = product(t4, t160);
-        let t162: f64 = xc * yc;
-        let t163: f64 = yc * t5;
-        let t164: f64 = t117 * t163;
-        let t165 = product(t123, t164);
-        let t166: f64 = t128 * t164;
-        let t167: f64 = t165.plus(t166);
-        let t168: f64 = t45 * t58;
-        let t169 = product(t60, t168);
-        let t170: f64 = t45 * t47;
-        let t171: f64 = t55 * t170;
-        let t172: f64 = t169.minus(t171);
-        let t173 = product(xc, t7);
-        let t174: f64 = xc * t13;
-        let t175: f64 = t173.plus(t174);
-        let t176: f64 = t172 - t175;
-        let t177: f64 = t167 + t176;
-        let t178: f64 = t162 * 4.0;
-        let t179: f64 = t177 * 1.67;
-        let t180: f64 = t161.plus(t178);
-        let t181: f64 = t179 - t180;
-        let t182: f64 = t181 * t181;
-        let t183: f64 = t90 * t182;
-        let t184: f64 = t117 * t117;
-        let t185: f64 = t123 * t123;
-        let t186: f64 = t71 * t184;
-        let t187 = product(t185, t186);
-        let t188: f64 = t128 * t128;
-        let t189: f64 = t186 * t188;
-        let t190: f64 = t187.plus(t189);
-        let t191 = product(t47, t47);
-        let t192: f64 = t58 * t58;
-        let t193: f64 = t191.plus(t192);
-        let t194: f64 = t190 + t193;
-        let t195: f64 = t78 + t194;
-        let t196: f64 = t22 * 3.34;
-        let t197 = product(t91, 7.34);
-        let t198 = product(t149, 0.22443999999999997);
-        let t199: f64 = t195 * 1.67;
-        let t200: f64 = t197.added_to(t196);
-        let t201: f64 = t145.plus(t147);
-        let t202: f64 = t152.plus(t154);
-        let t203: f64 = t198.plus(t199);
-        let t204: f64 = t200 + t201;
-        let t205: f64 = t202 + t203;
-        let t206: f64 = t204 + t205;
-        let t207: f64 = t206 - t183;
-        let t208: f64 = 1.0 / t207;
-        let t209 = product(t95, t144);
-        let t210: f64 = t53 * t146;
-        let t211: f64 = t0 * t1;
-        let t212: f64 = t29 * t211;
-        let t213: f64 = t90 * t181;
-        let t214 = product(t141, t213);
-        let t215: f64 = yc * zc;
-        let t216 = product(yc, t65);
-        let t217: f64 = yc * t67;
-        let t218: f64 = t216.plus(t217);
-        let t219: f64 = zc * t45;
-        let t220 = product(t55, t219);
-        let t221: f64 = t60 * t219;
-        let t222: f64 = t220.minus(t221);
-        let t223: f64 = t7 * t11;
-        let t224 = product(t10, t223);
-        let t225: f64 = t11 * t13;
-        let t226: f64 = t15 * t225;
-        let t227: f64 = t224.plus(t226);
-        let t228: f64 = t222 - t227;
-        let t229: f64 = t218 + t228;
-        let t230: f64 = t212 * 0.22443999999999997;
-        let t231 = product(t215, 4.0);
-        let t232: f64 = t229 * 1.67;
-        let t233: f64 = t214.plus(t230);
-        let t234: f64 = t231.plus(t232);
-        let t235: f64 = t233 + t234;
-        let t236: f64 = t209.plus(t210);
-        let t237: f64 = t235 - t236;
-        let t238: f64 = t237 * t237;
-        let t239: f64 = t208 * t238;
-        let t240: f64 = t64 + t194;
-        let t241 = product(t21, 7.34);
-        let t242: f64 = t91 * 3.34;
-        let t243 = product(t101, 0.22443999999999997);
-        let t244: f64 = t240 * 1.67;
-        let t245: f64 = t241.plus(t242);
-        let t246: f64 = t97.plus(t99);
-        let t247: f64 = t104.plus(t106);
-        let t248: f64 = t243.plus(t244);
-        let t249: f64 = t245 + t246;
-        let t250: f64 = t247 + t248;
-        let t251: f64 = t249 + t250;
-        let t252: f64 = t143.plus(t239);
-        let t253: f64 = t251 - t252;
-        let t254: f64 = 1.0 / t253;
-        let t255: f64 = t181 * t208;
-        let t256 = product(t237, t255);
-        let t257: f64 = t256.added_to(t113);
-        let t258: f64 = t139 + t257;
-        let t259: f64 = t258 - t138;
-        let t260: f64 = t20 * t90;
-        let t261 = product(t259, t260);
-        let t262 = product(t123, t124);
-        let t263: f64 = t124 * t128;
-        let t264: f64 = t262.plus(t263);
-        let t265: f64 = xc * 10.68;
-        let t266: f64 = t264 * 1.67;
-        let t267: f64 = t261.plus(t265);
-        let t268: f64 = t267 - t266;
-        let t269: f64 = t268 * t268;
-        let t270 = product(t254, t269);
-        let t271: f64 = t20 * t20;
-        let t272 = product(t208, t271);
-        let t273: f64 = t20 * t208;
-        let t274 = product(t237, t273);
-        let t275 = product(t45, t55);
-        let t276: f64 = t45 * t60;
-        let t277: f64 = t275.minus(t276);
-        let t278: f64 = yc * 10.68;
-        let t279: f64 = t277 * 1.67;
-        let t280: f64 = t278 + t279;
-        let t281: f64 = t274.subtracted_from(t280);
-        let t282: f64 = t281 * t281;
-        let t283: f64 = t254 * t282;
-        let t284: f64 = t272.plus(t283);
-        let t285: f64 = t284 - 24.020000000000003;
-        let t286: f64 = 1.0 / t285;
-        let t287: f64 = t90 * t271;
-        let t288: f64 = t181 * t287;
-        let t289 = product(t208, t288);
-        let t290: f64 = t254 * t281;
-        let t291: f64 = t268 * t290;
-        let t292: f64 = t289.minus(t291);
-        let t293: f64 = t292 * t292;
-        let t294 = product(t286, t293);
-        let t295 = product(t183, t208);
-        let t296: f64 = t295.plus(1.0);
-        let t297: f64 = t287 * t296;
-        let t298: f64 = t270.plus(t297);
-        let t299: f64 = t294.plus(24.020000000000003);
-        let t300: f64 = t298 - t299;
-        let t301: f64 = 1.0 / t300;
-        let t302 = product(wz, vx);
-        let t303: f64 = wx * vz;
-        let t304: f64 = t302.minus(t303);
-        let t305: f64 = g3 + g4;
-        let t306 = product(wz, t95);
-        let t307: f64 = wx * t4;
-        let t308 = product(t31, t307);
-        let t309: f64 = wy * t120;
-        let t310: f64 = t308.plus(t309);
-        let t311: f64 = t306.plus(t310);
-        let t312: f64 = wx * t30;
-        let t313: f64 = t4 * t312;
-        let t314 = product(wy, t44);
-        let t315: f64 = t314.subtracted_from(t313);
-        let t316 = product(wz, t53);
-        let t317: f64 = t316.subtracted_from(t315);
-        let t318: f64 = t317 * 0.22443999999999997;
-        let t319 = product(t311, t318);
-        let t320: f64 = t311 * 0.4119400000000001;
-        let t321: f64 = t317 * t320;
-        let t322: f64 = t319.minus(t321);
-        let t323 = product(t8, t322);
-        let t324: f64 = t137 - t116;
-        let t325: f64 = t324 * 1.67;
-        let t326: f64 = wz * t325;
-        let t327: f64 = t21 + t22;
-        let t328 = product(t327, 3.34);
-        let t329: f64 = t328.added_to(t83);
-        let t330: f64 = wx * t329;
-        let t331: f64 = wy * t179;
-        let t332: f64 = t330 + t331;
-        let t333: f64 = t326 + t332;
-        let t334: f64 = wz * t333;
-        let t335: f64 = t323.plus(t334);
-        let t336 = product(t3, t322);
-        let t337: f64 = wy * t232;
-        let t338: f64 = wx * t325;
-        let t339: f64 = t21 + t91;
-        let t340 = product(t339, 3.34);
-        let t341: f64 = t340.added_to(t244);
-        let t342: f64 = wz * t341;
-        let t343: f64 = t338 + t342;
-        let t344: f64 = t343 - t337;
-        let t345: f64 = wy * t344;
-        let t346: f64 = t336.minus(t345);
-        let t347 = product(wx, vy);
-        let t348: f64 = wy * vx;
-        let t349: f64 = t347.minus(t348);
-        let t350: f64 = t349 * 2.0;
-        let t351: f64 = g6 + t350;
-        let t352: f64 = t351 - 19.62;
-        let t353 = product(t13, t352);
-        let t354: f64 = t353.subtracted_from(t346);
-        let t355: f64 = wz * t232;
-        let t356: f64 = wx * t179;
-        let t357: f64 = t22 + t91;
-        let t358 = product(t357, 3.34);
-        let t359: f64 = t358.added_to(t199);
-        let t360: f64 = wy * t359;
-        let t361: f64 = t356 + t360;
-        let t362: f64 = t361 - t355;
-        let t363 = product(wz, t362);
-        let t364: f64 = t304 * 4.0;
-        let t365: f64 = t305 + t364;
-        let t366: f64 = zc * t365;
-        let t367: f64 = t363.plus(t366);
-        let t368: f64 = wz * t1;
-        let t369: f64 = t4 * t368;
-        let t370: f64 = wx * t3;
-        let t371: f64 = wy * t0;
-        let t372: f64 = t4 * t371;
-        let t373: f64 = t370 - t372;
-        let t374: f64 = t369 + t373;
-        let t375: f64 = t374 * 0.22443999999999997;
-        let t376 = product(t317, t375);
-        let t377: f64 = t318 * t374;
-        let t378: f64 = t376.minus(t377);
-        let t379 = product(t31, t378);
-        let t380: f64 = t320 * t374;
-        let t381 = product(t311, t375);
-        let t382: f64 = t381.subtracted_from(t380);
-        let t383: f64 = t30 * t382;
-        let t384: f64 = t379.plus(t383);
-        let t385 = product(t4, t384);
-        let t386: f64 = g5 + t350;
-        let t387: f64 = t386 - 19.62;
-        let t388: f64 = t7 * t387;
-        let t389: f64 = t385.minus(t388);
-        let t390: f64 = t367 + t389;
-        let t391: f64 = t354 + t390;
-        let t392: f64 = yc * 65.5308;
-        let t393: f64 = t277 * 16.3827;
-        let t394: f64 = t392 + t393;
-        let t395: f64 = t391 + t394;
-        let t396: f64 = t90 * t395;
-        let t397 = product(t181, t396);
-        let t398: f64 = wx * t344;
-        let t399: f64 = t397.minus(t398);
-        let t400: f64 = t335 + t399;
-        let t401 = product(wy, vz);
-        let t402: f64 = wz * vy;
-        let t403: f64 = t401.minus(t402);
-        let t404: f64 = t403 * 2.0;
-        let t405: f64 = g1 + t404;
-        let t406 = product(t65, t405);
-        let t407: f64 = g5 + g6;
-        let t408: f64 = t349 * 4.0;
-        let t409: f64 = t407 + t408;
-        let t410: f64 = t409 - 39.24;
-        let t411: f64 = xc * t410;
-        let t412: f64 = t406.minus(t411);
-        let t413: f64 = g2 + t404;
-        let t414 = product(t67, t413);
-        let t415 = product(t44, t382);
-        let t416: f64 = t120 * t378;
-        let t417: f64 = t415.minus(t416);
-        let t418: f64 = t414.plus(t417);
-        let t419: f64 = t412 + t418;
-        let t420: f64 = t400 + t419;
-        let t421: f64 = xc * 65.5308;
-        let t422: f64 = t264 * 16.3827;
-        let t423: f64 = t420 + t421;
-        let t424: f64 = t423 - t422;
-        let t425 = product(t255, t424);
-        let t426: f64 = t425.added_to(t392);
-        let t427: f64 = t391 + t393;
-        let t428: f64 = t426 + t427;
-        let t429 = product(t260, t428);
-        let t430: f64 = t429.subtracted_from(t305);
-        let t431 = product(zc, 6.68);
-        let t432: f64 = t431.minus(t19);
-        let t433: f64 = wy * t432;
-        let t434 = product(yc, 6.68);
-        let t435: f64 = t434.added_to(t279);
-        let t436: f64 = wz * t435;
-        let t437: f64 = t433 - t436;
-        let t438 = product(wz, t437);
-        let t439: f64 = wx * t435;
-        let t440 = product(xc, 6.68);
-        let t441: f64 = t440.minus(t266);
-        let t442: f64 = wy * t441;
-        let t443: f64 = t439 - t442;
-        let t444: f64 = wx * t443;
-        let t445: f64 = t438.minus(t444);
-        let t446 = product(wy, t333);
-        let t447: f64 = t141 * t396;
-        let t448: f64 = t446.minus(t447);
-        let t449: f64 = g1 + g2;
-        let t450: f64 = t403 * 4.0;
-        let t451: f64 = t449 + t450;
-        let t452 = product(yc, t451);
-        let t453: f64 = t208 * t424;
-        let t454: f64 = t237 * t453;
-        let t455: f64 = t452.minus(t454);
-        let t456: f64 = t448 + t455;
-        let t457 = product(t95, t378);
-        let t458: f64 = t53 * t382;
-        let t459: f64 = t457.minus(t458);
-        let t460: f64 = t1 * t4;
-        let t461 = product(t322, t460);
-        let t462: f64 = wx * t362;
-        let t463: f64 = t461.minus(t462);
-        let t464: f64 = t459 + t463;
-        let t465: f64 = t304 * 2.0;
-        let t466: f64 = g3 + t465;
-        let t467 = product(t47, t466);
-        let t468: f64 = g4 + t465;
-        let t469: f64 = t58 * t468;
-        let t470: f64 = t467.plus(t469);
-        let t471: f64 = t464 - t470;
-        let t472: f64 = t456 + t471;
-        let t473: f64 = t254 * t472;
-        let t474 = product(t268, t473);
-        let t475 = product(wy, t443);
-        let t476: f64 = wz * t441;
-        let t477: f64 = wx * t432;
-        let t478: f64 = t476 - t477;
-        let t479: f64 = wz * t478;
-        let t480: f64 = t475.minus(t479);
-        let t481: f64 = t449 + t480;
-        let t482 = product(t273, t424);
-        let t483: f64 = t281 * t473;
-        let t484: f64 = t482.plus(t483);
-        let t485: f64 = t481 - t484;
-        let t486: f64 = t450 + t485;
-        let t487: f64 = t286 * t486;
-        let t488: f64 = t292 * t487;
-        let t489: f64 = t474.minus(t488);
-        let t490: f64 = t445 + t489;
-        let t491: f64 = t430 + t490;
-        let t492: f64 = t364 + t491;
-        let t493: f64 = t301 * t492;
-        let t494: f64 = t90 * t280;
-        let t495 = product(t141, t494);
-        let t496 = product(t181, t494);
-        let t497: f64 = t496.added_to(t265);
-        let t498: f64 = t497 - t266;
-        let t499: f64 = t208 * t237;
-        let t500: f64 = t498 * t499;
-        let t501: f64 = t495.plus(t500);
-        let t502: f64 = t254 * t268;
-        let t503 = product(t501, t502);
-        let t504 = product(t273, t498);
-        let t505: f64 = t290 * t501;
-        let t506: f64 = t504.minus(t505);
-        let t507: f64 = t286 * t292;
-        let t508 = product(t506, t507);
-        let t509 = product(t255, t498);
-        let t510: f64 = t509.added_to(t278);
-        let t511: f64 = t279 + t510;
-        let t512: f64 = t260 * t511;
-        let t513: f64 = t503.plus(t512);
-        let t514: f64 = t508.subtracted_from(t513);
-        let t515: f64 = t280 * t280;
-        let t516 = product(t90, t515);
-        let t517: f64 = t498 * t498;
-        let t518: f64 = t208 * t517;
-        let t519: f64 = t501 * t501;
-        let t520 = product(t254, t519);
-        let t521: f64 = t506 * t506;
-        let t522 = product(t286, t521);
-        let t523: f64 = t514 * t514;
-        let t524: f64 = t301 * t523;
-        let t525: f64 = t516.plus(t518);
-        let t526: f64 = t520.plus(t525);
-        let t527: f64 = t522.plus(t524);
-        let t528: f64 = t527 + 24.020000000000003;
-        let t529: f64 = t526 - t528;
-        let t530: f64 = 1.0 / t529;
-        let t531: f64 = t453 * t498;
-        let t532: f64 = t280 * t395;
-        let t533 = product(t90, t532);
-        let t534 = product(t493, t514);
-        let t535: f64 = t534.added_to(t407);
-        let t536 = product(wx, t478);
-        let t537: f64 = wy * t437;
-        let t538: f64 = t536.minus(t537);
-        let t539 = product(t487, t506);
-        let t540: f64 = t473 * t501;
-        let t541: f64 = t539.minus(t540);
-        let t542: f64 = t538 + t541;
-        let t543: f64 = t535 + t542;
-        let t544: f64 = t533.plus(t543);
-        let t545: f64 = t531 + t544;
-        let t546: f64 = t408 + t545;
-        let t547: f64 = t546 - 235.63620000000006;
-        let t548: f64 = t301 * t514;
-        let t549: f64 = t530 * t548;
-        let t550 = product(t547, t549);
-        let t551: f64 = t550.added_to(t493);
-        let t552 = product(t260, t551);
-        let t553: f64 = t286 * t506;
-        let t554: f64 = t530 * t553;
-        let t555 = product(t547, t554);
-        let t556 = product(t507, t551);
-        let t557: f64 = t556.subtracted_from(t487);
-        let t558: f64 = t555.plus(t557);
-        let t559 = product(t290, t558);
-        let t560: f64 = t559.added_to(t473);
-        let t561: f64 = t254 * t501;
-        let t562: f64 = t530 * t561;
-        let t563 = product(t547, t562);
-        let t564: f64 = t502 * t551;
-        let t565: f64 = t563.minus(t564);
-        let t566: f64 = t560 + t565;
-        let t567: f64 = t90 * t141;
-        let t568: f64 = t566 * t567;
-        let t569: f64 = t552.minus(t568);
-        let t570 = product(t273, t558);
-        let t571: f64 = t181 * t260;
-        let t572: f64 = t208 * t571;
-        let t573: f64 = t551 * t572;
-        let t574: f64 = t570.plus(t573);
-        let t575 = product(t499, t566);
-        let t576: f64 = t575.subtracted_from(t453);
-        let t577: f64 = t208 * t498;
-        let t578: f64 = t530 * t577;
-        let t579 = product(t547, t578);
-        let t580: f64 = t579.subtracted_from(t576);
-        let t581: f64 = t574 + t580;
-        let t582 = product(t213, t581);
-        let t583: f64 = t582.added_to(t396);
-        let t584: f64 = t494 * t530;
-        let t585 = product(t547, t584);
-        let t586: f64 = t585.subtracted_from(t583);
-        let t587: f64 = t569 + t586;
-        let t588: f64 = -t581;
-        let t589: f64 = -t558;
-        let t590: f64 = -t551;
-        let t591: f64 = t530 * t547;
-        let t592: f64 = -t591;
-        let t593: f64 = t0 * t70;
-        let t594: f64 = t5 * t593;
-        let t595 = product(t10, t594);
-        let t596: f64 = t15 * t594;
-        let t597: f64 = t595.plus(t596);
-        let t598 = product(yc, 3.34);
-        let t599: f64 = t597 * 1.67;
-        let t600: f64 = t598.minus(t599);
-        let t601: f64 = t514 * t530;
-        let t602 = product(t547, t601);
-        let t603: f64 = t602.added_to(t491);
-        let t604: f64 = t364 + t603;
-        let t605 = product(t600, t604);
-        let t606: f64 = yc * t95;
-        let t607 = product(zc, t120);
-        let t608: f64 = t607.subtracted_from(t606);
-        let t609: f64 = t608 * 3.34;
-        let t610: f64 = t124 * t301;
-        let t611: f64 = t609 * t610;
-        let t612 = product(t604, t611);
-        let t613: f64 = t46 * t53;
-        let t614 = product(t60, t613);
-        let t615: f64 = t55 * t613;
-        let t616: f64 = t614.minus(t615);
-        let t617 = product(zc, 3.34);
-        let t618: f64 = t616 * 1.67;
-        let t619: f64 = t617.plus(t618);
-        let t620: f64 = t506 * t530;
-        let t621 = product(t547, t620);
-        let t622: f64 = t292 * t301;
-        let t623: f64 = t604 * t622;
-        let t624: f64 = t621.minus(t623);
-        let t625: f64 = t485 + t624;
-        let t626: f64 = t450 + t625;
-        let t627: f64 = t286 * t619;
-        let t628: f64 = t626 * t627;
-        let t629: f64 = t268 * t301;
-        let t630: f64 = t604 * t629;
-        let t631: f64 = t281 * t286;
-        let t632 = product(t626, t631);
-        let t633: f64 = t501 * t530;
-        let t634 = product(t547, t633);
-        let t635: f64 = t634.added_to(t472);
-        let t636: f64 = t632.plus(t635);
-        let t637: f64 = t636 - t630;
-        let t638: f64 = t53 * t254;
-        let t639 = product(t637, t638);
-        let t640: f64 = t20 * t301;
-        let t641 = product(t604, t640);
-        let t642: f64 = t286 * t626;
-        let t643: f64 = t213 * t301;
-        let t644 = product(t604, t643);
-        let t645: f64 = t644.added_to(t642);
-        let t646 = product(t20, t645);
-        let t647: f64 = t237 * t254;
-        let t648: f64 = t637 * t647;
-        let t649: f64 = t420 - t648;
-        let t650: f64 = t498 * t530;
-        let t651 = product(t547, t650);
-        let t652: f64 = t651.subtracted_from(t649);
-        let t653: f64 = t646.added_to(t421);
-        let t654: f64 = t652 + t653;
-        let t655: f64 = t654 - t422;
-        let t656 = product(t255, t655);
-        let t657: f64 = t141 * t254;
-        let t658: f64 = t637 * t657;
-        let t659: f64 = t656.minus(t658);
-        let t660: f64 = t641.plus(t659);
-        let t661: f64 = t280 * t530;
-        let t662 = product(t547, t661);
-        let t663: f64 = t662.subtracted_from(t391);
-        let t664: f64 = t660 + t663;
-        let t665: f64 = t394 + t664;
-        let t666: f64 = t48 * t90;
-        let t667 = product(t665, t666);
-        let t668: f64 = t44 * t208;
-        let t669: f64 = t655 * t668;
-        let t670: f64 = t667.plus(t669);
-        let t671: f64 = t639.minus(t670);
-        let t672 = product(t671, 0.22443999999999997);
-        let t673: f64 = t672.added_to(t382);
-        let t674 = product(t44, t673);
-        let t675: f64 = t95 * t254;
-        let t676 = product(t637, t675);
-        let t677: f64 = t4 * t31;
-        let t678: f64 = t90 * t677;
-        let t679 = product(t665, t678);
-        let t680: f64 = t120 * t208;
-        let t681: f64 = t655 * t680;
-        let t682: f64 = t679.minus(t681);
-        let t683: f64 = t676.plus(t682);
-        let t684 = product(t683, 0.4119400000000001);
-        let t685: f64 = t684.subtracted_from(t378);
-        let t686: f64 = t120 * t685;
-        let t687: f64 = t674.minus(t686);
-        let t688 = product(t65, t120);
-        let t689: f64 = t688.subtracted_from(t606);
-        let t690: f64 = t123 * t186;
-        let t691 = product(t689, t690);
-        let t692 = product(t67, t120);
-        let t693: f64 = t692.subtracted_from(t606);
-        let t694: f64 = t128 * t186;
-        let t695: f64 = t693 * t694;
-        let t696: f64 = t691.plus(t695);
-        let t697: f64 = t45 * t46;
-        let t698: f64 = t53 * t697;
-        let t699 = product(t56, t698);
-        let t700: f64 = t61 * t698;
+        let t69: f64 = t64 * t68;
+        let t70: f64 = t65.plus(t69);
+        let t71: f64 = t54 + t70;
+        let t72: f64 = t49 + t71;
+        let t73 = product(t0, 3.34);
+        let t74: f64 = t1 * 7.34;
+        let t75: f64 = t4 * 0.22443999999999997;
+        let t76: f64 = t72 * 1.67;
+        let t77: f64 = t73.plus(t74);
+        let t78: f64 = t8.plus(t75);
+        let t79: f64 = t11.plus(t20);
+        let t80: f64 = t77 + t78;
+        let t81: f64 = t76 + t79;
+        let t82: f64 = t80 + t81;
+        let t83: f64 = 1.0 / t82;
+        let t84: f64 = t2 * t25;
+        let t85: f64 = t13 * t24;
+        let t86 = product(t14, t84);
+        let t87: f64 = t86.subtracted_from(t85);
+        let t88: f64 = t14 * t87;
+        let t89 = product(t13, t38);
+        let t90: f64 = t89.subtracted_from(t84);
+        let t91 = product(t90, 0.22443999999999997);
+        let t92: f64 = t88 * 0.4119400000000001;
+        let t93: f64 = t91.plus(t92);
+        let t94: f64 = t3 * t93;
+        let t95 = product(zc, t32);
+        let t96: f64 = zc * t43;
+        let t97: f64 = t95.plus(t96);
+        let t98: f64 = 1.0 / t14;
+        let t99 = product(t13, t25);
+        let t100: f64 = t14 * t27;
+        let t101: f64 = t99.plus(t100);
+        let t102: f64 = yc * t101;
+        let t103 = product(t50, t87);
+        let t104: f64 = t103.added_to(t102);
+        let t105: f64 = t57 * t98;
+        let t106: f64 = t50 * t105;
+        let t107 = product(t104, t106);
+        let t108 = product(t52, t87);
+        let t109: f64 = t108.added_to(t102);
+        let t110: f64 = t52 * t105;
+        let t111: f64 = t109 * t110;
+        let t112: f64 = t107.plus(t111);
+        let t113: f64 = xc * t55;
+        let t114: f64 = t57 * t113;
+        let t115 = product(t62, t114);
+        let t116: f64 = t67 * t114;
+        let t117: f64 = t115.plus(t116);
+        let t118: f64 = t112 + t117;
+        let t119: f64 = t97 * 3.67;
+        let t120: f64 = t118 * 1.67;
+        let t121: f64 = t94 + t120;
+        let t122: f64 = t121 - t119;
+        let t123: f64 = xc * xc;
+        let t124: f64 = t87 * 0.4119400000000001;
+        let t125 = product(t87, t124);
+        let t126: f64 = t38 * 0.22443999999999997;
+        let t127: f64 = t38 * t126;
+        let t128: f64 = t25 * t25;
+        let t129: f64 = t12 * t128;
+        let t130: f64 = xc * 2.0;
+        let t131: f64 = t130 - 0.4;
+        let t132 = product(t32, t131);
+        let t133: f64 = t130 + 0.4;
+        let t134: f64 = t43 * t133;
+        let t135: f64 = t122 * t122;
+        let t136 = product(t83, t135);
+        let t137: f64 = t101 * 0.4119400000000001;
+        let t138 = product(t101, t137);
+        let t139: f64 = t29 * 0.22443999999999997;
+        let t140: f64 = t29 * t139;
+        let t141: f64 = t24 * t24;
+        let t142: f64 = t12 * t141;
+        let t143: f64 = zc * 2.0;
+        let t144: f64 = t143 - 0.4;
+        let t145 = product(t50, t144);
+        let t146: f64 = t143 + 0.4;
+        let t147: f64 = t52 * t146;
+        let t148: f64 = t14 * t101;
+        let t149 = product(t13, t29);
+        let t150: f64 = t149.added_to(t27);
+        let t151 = product(t150, 0.22443999999999997);
+        let t152: f64 = t148 * 0.4119400000000001;
+        let t153: f64 = t151.minus(t152);
+        let t154 = product(t3, t153);
+        let t155: f64 = xc * yc;
+        let t156: f64 = yc * t57;
+        let t157: f64 = t98 * t156;
+        let t158 = product(t104, t157);
+        let t159: f64 = t109 * t157;
+        let t160: f64 = t158.plus(t159);
+        let t161: f64 = t30 * t43;
+        let t162 = product(t45, t161);
+        let t163: f64 = t30 * t32;
+        let t164: f64 = t40 * t163;
+        let t165: f64 = t162.minus(t164);
+        let t166 = product(xc, t5);
+        let t167: f64 = xc * t9;
+        let t168: f64 = t166.plus(t167);
+        let t169: f64 = t165 - t168;
+        let t170: f64 = t160 + t169;
+        let t171: f64 = t155 * 4.0;
+        let t172: f64 = t170 * 1.67;
+        let t173: f64 = t154.plus(t171);
+        let t174: f64 = t172 - t173;
+        let t175: f64 = t174 * t174;
+        let t176: f64 = t83 * t175;
+        let t177: f64 = t98 * t98;
+        let t178: f64 = t104 * t104;
+        let t179: f64 = t58 * t177;
+        let t180 = product(t178, t179);
+        let t181: f64 = t109 * t109;
+        let t182: f64 = t179 * t181;
+        let t183: f64 = t180.plus(t182);
+        let t184 = product(t32, t32);
+        let t185: f64 = t43 * t43;
+        let t186: f64 = t184.plus(t185);
+        let t187: f64 = t183 + t186;
+        let t188: f64 = t71 + t187;
+        let t189: f64 = t1 * 3.34;
+        let t190 = product(t123, 7.34);
+        let t191 = product(t142, 0.22443999999999997);
+        let t192: f64 = t188 * 1.67;
+        let t193: f64 = t190.added_to(t189);
+        let t194: f64 = t138.plus(t140);
+        let t195: f64 = t145.plus(t147);
+        let t196: f64 = t191.plus(t192);
+        let t197: f64 = t193 + t194;
+        let t198: f64 = t195 + t196;
+        let t199: f64 = t197 + t198;
+        let t200: f64 = t199 - t176;
+        let t201: f64 = 1.0 / t200;
+        let t202 = product(t87, t137);
+        let t203: f64 = t38 * t139;
+        let t204: f64 = t24 * t25;
+        let t205: f64 = t12 * t204;
+        let t206: f64 = t83 * t174;
+        let t207 = product(t122, t206);
+        let t208: f64 = yc * zc;
+        let t209 = product(yc, t50);
+        let t210: f64 = yc * t52;
+        let t211: f64 = t209.plus(t210);
+        let t212: f64 = zc * t30;
+        let t213 = product(t40, t212);
+        let t214: f64 = t45 * t212;
+        let t215: f64 = t213.minus(t214);
+        let t216: f64 = t55 * t57;
+        let t217: f64 = t5 * t216;
+        let t218 = product(t62, t217);
+        let t219: f64 = t9 * t216;
+        let t220: f64 = t67 * t219;
+        let t221: f64 = t218.plus(t220);
+        let t222: f64 = t215 - t221;
+        let t223: f64 = t211 + t222;
+        let t224: f64 = t205 * 0.22443999999999997;
+        let t225 = product(t208, 4.0);
+        let t226: f64 = t223 * 1.67;
+        let t227: f64 = t207.plus(t224);
+        let t228: f64 = t225.plus(t226);
+        let t229: f64 = t227 + t228;
+        let t230: f64 = t202.plus(t203);
+        let t231: f64 = t229 - t230;
+        let t232: f64 = t231 * t231;
+        let t233: f64 = t201 * t232;
+        let t234: f64 = t49 + t187;
+        let t235 = product(t0, 7.34);
+        let t236: f64 = t123 * 3.34;
+        let t237 = product(t129, 0.22443999999999997);
+        let t238: f64 = t234 * 1.67;
+        let t239: f64 = t235.plus(t236);
+        let t240: f64 = t125.plus(t127);
+        let t241: f64 = t132.plus(t134);
+        let t242: f64 = t237.plus(t238);
+        let t243: f64 = t239 + t240;
+        let t244: f64 = t241 + t242;
+        let t245: f64 = t243 + t244;
+        let t246: f64 = t136.plus(t233);
+        let t247: f64 = t245 - t246;
+        let t248: f64 = 1.0 / t247;
+        let t249 = product(t30, t40);
+        let t250: f64 = t30 * t45;
+        let t251: f64 = t249.minus(t250);
+        let t252: f64 = yc * 10.68;
+        let t253: f64 = t251 * 1.67;
+        let t254: f64 = t252 + t253;
+        let t255: f64 = t83 * t254;
+        let t256 = product(t122, t255);
+        let t257 = product(t174, t255);
+        let t258 = product(t104, t105);
+        let t259: f64 = t105 * t109;
+        let t260: f64 = t258.plus(t259);
+        let t261: f64 = xc * 10.68;
+        let t262: f64 = t260 * 1.67;
+        let t263: f64 = t257.plus(t261);
+        let t264: f64 = t263 - t262;
+        let t265: f64 = t201 * t231;
+        let t266: f64 = t264 * t265;
+        let t267: f64 = t256.plus(t266);
+        let t268: f64 = t254 * t254;
+        let t269 = product(t83, t268);
+        let t270: f64 = t264 * t264;
+        let t271: f64 = t201 * t270;
+        let t272: f64 = t267 * t267;
+        let t273 = product(t248, t272);
+        let t274 = product(t62, t216);
+        let t275: f64 = t67 * t216;
+        let t276: f64 = t274.plus(t275);
+        let t277 = product(zc, 10.68);
+        let t278: f64 = t276 * 1.67;
+        let t279: f64 = t277.minus(t278);
+        let t280: f64 = t279 * t279;
+        let t281 = product(t201, t280);
+        let t282: f64 = t201 * t279;
+        let t283 = product(t231, t282);
+        let t284: f64 = t283.subtracted_from(t254);
+        let t285: f64 = t284 * t284;
+        let t286: f64 = t248 * t285;
+        let t287: f64 = t281.plus(t286);
+        let t288: f64 = t287 - 24.020000000000003;
+        let t289: f64 = 1.0 / t288;
+        let t290 = product(t264, t282);
+        let t291: f64 = t248 * t284;
+        let t292: f64 = t267 * t291;
+        let t293: f64 = t290.minus(t292);
+        let t294: f64 = t293 * t293;
+        let t295 = product(t289, t294);
+        let t296: f64 = t174 * t201;
+        let t297 = product(t231, t296);
+        let t298: f64 = t297.added_to(t94);
+        let t299: f64 = t120 + t298;
+        let t300: f64 = t299 - t119;
+        let t301: f64 = t83 * t279;
+        let t302 = product(t300, t301);
+        let t303: f64 = t302.added_to(t261);
+        let t304: f64 = t303 - t262;
+        let t305: f64 = t304 * t304;
+        let t306 = product(t248, t305);
+        let t307: f64 = t83 * t280;
+        let t308: f64 = t174 * t307;
+        let t309 = product(t201, t308);
+        let t310: f64 = t291 * t304;
+        let t311: f64 = t309.minus(t310);
+        let t312: f64 = t311 * t311;
+        let t313 = product(t289, t312);
+        let t314 = product(t176, t201);
+        let t315: f64 = t314.plus(1.0);
+        let t316: f64 = t307 * t315;
+        let t317: f64 = t306.plus(t316);
+        let t318: f64 = t313.plus(24.020000000000003);
+        let t319: f64 = t317 - t318;
+        let t320: f64 = 1.0 / t319;
+        let t321: f64 = t248 * t304;
+        let t322 = product(t267, t321);
+        let t323: f64 = t289 * t311;
+        let t324 = product(t293, t323);
+        let t325 = product(t264, t296);
+        let t326: f64 = t325.added_to(t252);
+        let t327: f64 = t253 + t326;
+        let t328: f64 = t301 * t327;
+        let t329: f64 = t322.plus(t328);
+        let t330: f64 = t324.subtracted_from(t329);
+        let t331: f64 = t330 * t330;
+        let t332: f64 = t320 * t331;
+        let t333: f64 = t269.plus(t271);
+        let t334: f64 = t273.plus(t333);
+        let t335: f64 = t295.plus(t332);
+        let t336: f64 = t335 + 24.020000000000003;
+        let t337: f64 = t334 - t336;
+        let t338: f64 = 1.0 / t337;
+        let t339 = product(xc, 6.68);
+        let t340: f64 = t339.minus(t262);
+        let t341: f64 = wz * t340;
+        let t342 = product(zc, 6.68);
+        let t343: f64 = t342.minus(t278);
+        let t344: f64 = wx * t343;
+        let t345: f64 = t341 - t344;
+        let t346 = product(wx, t345);
+        let t347: f64 = wy * t343;
+        let t348 = product(yc, 6.68);
+        let t349: f64 = t348.added_to(t253);
+        let t350: f64 = wz * t349;
+        let t351: f64 = t347 - t350;
+        let t352 = product(wy, t351);
+        let t353 = product(wz, t87);
+        let t354: f64 = wx * t3;
+        let t355 = product(t14, t354);
+        let t356: f64 = wy * t101;
+        let t357: f64 = t355.plus(t356);
+        let t358: f64 = t353.plus(t357);
+        let t359: f64 = wx * t13;
+        let t360: f64 = t3 * t359;
+        let t361 = product(wy, t29);
+        let t362: f64 = t361.subtracted_from(t360);
+        let t363 = product(wz, t38);
+        let t364: f64 = t363.subtracted_from(t362);
+        let t365: f64 = t364 * 0.22443999999999997;
+        let t366 = product(t358, t365);
+        let t367: f64 = t358 * 0.4119400000000001;
+        let t368: f64 = t364 * t367;
+        let t369: f64 = t366.minus(t368);
+        let t370 = product(t2, t369);
+        let t371: f64 = wy * t226;
+        let t372: f64 = t118 - t97;
+        let t373: f64 = t372 * 1.67;
+        let t374: f64 = wx * t373;
+        let t375: f64 = t0 + t123;
+        let t376 = product(t375, 3.34);
+        let t377: f64 = t376.added_to(t238);
+        let t378: f64 = wz * t377;
+        let t379: f64 = t374 + t378;
+        let t380: f64 = t379 - t371;
+        let t381: f64 = wy * t380;
+        let t382: f64 = t370.minus(t381);
+        let t383 = product(wx, vy);
+        let t384: f64 = wy * vx;
+        let t385: f64 = t383.minus(t384);
+        let t386: f64 = t385 * 2.0;
+        let t387: f64 = g6 + t386;
+        let t388: f64 = t387 - 19.62;
+        let t389 = product(t9, t388);
+        let t390: f64 = t389.subtracted_from(t382);
+        let t391: f64 = wz * t226;
+        let t392: f64 = wx * t172;
+        let t393: f64 = t1 + t123;
+        let t394 = product(t393, 3.34);
+        let t395: f64 = t394.added_to(t192);
+        let t396: f64 = wy * t395;
+        let t397: f64 = t392 + t396;
+        let t398: f64 = t397 - t391;
+        let t399 = product(wz, t398);
+        let t400 = product(wz, vx);
+        let t401: f64 = wx * vz;
+        let t402: f64 = t400.minus(t401);
+        let t403: f64 = g3 + g4;
+        let t404: f64 = t402 * 4.0;
+        let t405: f64 = t403 + t404;
+        let t406: f64 = zc * t405;
+        let t407: f64 = t399.plus(t406);
+        let t408: f64 = wz * t25;
+        let t409: f64 = t3 * t408;
+        let t410: f64 = wx * t2;
+        let t411: f64 = wy * t24;
+        let t412: f64 = t3 * t411;
+        let t413: f64 = t410 - t412;
+        let t414: f64 = t409 + t413;
+        let t415: f64 = t414 * 0.22443999999999997;
+        let t416 = product(t364, t415);
+        let t417: f64 = t365 * t414;
+        let t418: f64 = t416.minus(t417);
+        let t419 = product(t14, t418);
+        let t420: f64 = t367 * t414;
+        let t421 = product(t358, t415);
+        let t422: f64 = t421.subtracted_from(t420);
+        let t423: f64 = t13 * t422;
+        let t424: f64 = t419.plus(t423);
+        let t425 = product(t3, t424);
+        let t426: f64 = g5 + t386;
+        let t427: f64 = t426 - 19.62;
+        let t428: f64 = t5 * t427;
+        let t429: f64 = t425.minus(t428);
+        let t430: f64 = t407 + t429;
+        let t431: f64 = t390 + t430;
+        let t432: f64 = yc * 65.5308;
+        let t433: f64 = t251 * 16.3827;
+        let t434: f64 = t432 + t433;
+        let t435: f64 = t431 + t434;
+        let t436: f64 = t254 * t435;
+        let t437: f64 = t83 * t436;
+        let t438 = product(t60, t369);
+        let t439: f64 = wz * t373;
+        let t440: f64 = t0 + t1;
+        let t441 = product(t440, 3.34);
+        let t442: f64 = t441.added_to(t76);
+        let t443: f64 = wx * t442;
+        let t444: f64 = wy * t172;
+        let t445: f64 = t443 + t444;
+        let t446: f64 = t439 + t445;
+        let t447: f64 = wz * t446;
+        let t448: f64 = t438.plus(t447);
+        let t449: f64 = t83 * t435;
+        let t450 = product(t174, t449);
+        let t451: f64 = wx * t380;
+        let t452: f64 = t450.minus(t451);
+        let t453: f64 = t448 + t452;
+        let t454 = product(wy, vz);
+        let t455: f64 = wz * vy;
+        let t456: f64 = t454.minus(t455);
+        let t457: f64 = t456 * 2.0;
+        let t458: f64 = g1 + t457;
+        let t459 = product(t50, t458);
+        let t460: f64 = g5 + g6;
+        let t461: f64 = t385 * 4.0;
+        let t462: f64 = t460 + t461;
+        let t463: f64 = t462 - 39.24;
+        let t464: f64 = xc * t463;
+        let t465: f64 = t459.minus(t464);
+        let t466: f64 = g2 + t457;
+        let t467 = product(t52, t466);
+        let t468 = product(t29, t422);
+        let t469: f64 = t101 * t418;
+        let t470: f64 = t468.minus(t469);
+        let t471: f64 = t467.plus(t470);
+        let t472: f64 = t465 + t471;
+        let t473: f64 = t453 + t472;
+        let t474: f64 = xc * 65.5308;
+        let t475: f64 = t260 * 16.3827;
+        let t476: f64 = t473 + t474;
+        let t477: f64 = t476 - t475;
+        let t478: f64 = t201 * t477;
+        let t479 = product(t264, t478);
+        let t480 = product(wy, t446);
+        let t481: f64 = t122 * t449;
+        let t482: f64 = t480.minus(t481);
+        let t483: f64 = g1 + g2;
+        let t484: f64 = t456 * 4.0;
+        let t485: f64 = t483 + t484;
+        let t486 = product(yc, t485);
+        let t487: f64 = t231 * t478;
+        let t488: f64 = t486.minus(t487);
+        let t489: f64 = t482 + t488;
+        let t490 = product(t87, t418);
+        let t491: f64 = t38 * t422;
+        let t492: f64 = t490.minus(t491);
+        let t493: f64 = t3 * t25;
+        let t494 = product(t369, t493);
+        let t495: f64 = wx * t398;
+        let t496: f64 = t494.minus(t495);
+        let t497: f64 = t492 + t496;
+        let t498: f64 = t402 * 2.0;
+        let t499: f64 = g3 + t498;
+        let t500 = product(t32, t499);
+        let t501: f64 = g4 + t498;
+        let t502: f64 = t43 * t501;
+        let t503: f64 = t500.plus(t502);
+        let t504: f64 = t497 - t503;
+        let t505: f64 = t489 + t504;
+        let t506: f64 = t248 * t505;
+        let t507: f64 = t267 * t506;
+        let t508: f64 = wx * t349;
+        let t509: f64 = wy * t340;
+        let t510: f64 = t508 - t509;
+        let t511 = product(wy, t510);
+        let t512: f64 = wz * t345;
+        let t513: f64 = t511.minus(t512);
+        let t514: f64 = t483 + t513;
+        let t515 = product(t282, t477);
+        let t516: f64 = t284 * t506;
+        let t517: f64 = t515.plus(t516);
+        let t518: f64 = t514 - t517;
+        let t519: f64 = t484 + t518;
+        let t520: f64 = t289 * t519;
+        let t521: f64 = t293 * t520;
+        let t522 = product(t296, t477);
+        let t523: f64 = t522.added_to(t432);
+        let t524: f64 = t431 + t433;
+        let t525: f64 = t523 + t524;
+        let t526 = product(t301, t525);
+        let t527: f64 = t526.subtracted_from(t403);
+        let t528 = product(wz, t351);
+        let t529: f64 = wx * t510;
+        let t530: f64 = t528.minus(t529);
+        let t531 = product(t304, t506);
+        let t532: f64 = t311 * t520;
+        let t533: f64 = t531.minus(t532);
+        let t534: f64 = t530 + t533;
+        let t535: f64 = t527 + t534;
+        let t536: f64 = t404 + t535;
+        let t537: f64 = t320 * t536;
+        let t538 = product(t330, t537);
+        let t539: f64 = t346.plus(t437);
+        let t540: f64 = t479.plus(t521);
+        let t541: f64 = t538.added_to(t460);
+        let t542: f64 = t539 + t540;
+        let t543: f64 = t461 + t541;
+        let t544: f64 = t542 + t543;
+        let t545: f64 = t352.plus(t507);
+        let t546: f64 = t545 + 235.63620000000006;
+        let t547: f64 = t544 - t546;
+        let t548: f64 = t267 * t338;
+        let t549 = product(t547, t548);
+        let t550: f64 = t330 * t338;
+        let t551 = product(t547, t550);
+        let t552: f64 = t551.added_to(t535);
+        let t553: f64 = t404 + t552;
+        let t554: f64 = t311 * t320;
+        let t555 = product(t553, t554);
+        let t556: f64 = t293 * t338;
+        let t557 = product(t547, t556);
+        let t558: f64 = t557.added_to(t518);
+        let t559: f64 = t484 + t558;
+        let t560: f64 = t555.subtracted_from(t559);
+        let t561: f64 = t284 * t289;
+        let t562: f64 = t560 * t561;
+        let t563: f64 = t304 * t320;
+        let t564 = product(t553, t563);
+        let t565: f64 = t549.plus(t562);
+        let t566: f64 = t505 + t565;
+        let t567: f64 = t564.subtracted_from(t566);
+        let t568: f64 = t122 * t248;
+        let t569 = product(t567, t568);
+        let t570: f64 = t254 * t338;
+        let t571: f64 = t547 * t570;
+        let t572: f64 = t231 * t248;
+        let t573 = product(t567, t572);
+        let t574: f64 = t264 * t338;
+        let t575: f64 = t547 * t574;
+        let t576: f64 = t289 * t560;
+        let t577: f64 = t206 * t320;
+        let t578 = product(t553, t577);
+        let t579: f64 = t578.added_to(t576);
+        let t580 = product(t279, t579);
+        let t581: f64 = t580.added_to(t474);
+        let t582: f64 = t473 + t581;
+        let t583: f64 = t573.plus(t575);
+        let t584: f64 = t475 + t583;
+        let t585: f64 = t582 - t584;
+        let t586 = product(t296, t585);
+        let t587: f64 = t279 * t320;
+        let t588 = product(t553, t587);
+        let t589: f64 = t586.added_to(t432);
+        let t590: f64 = t588.added_to(t431);
+        let t591: f64 = t589 + t590;
+        let t592: f64 = t433 + t591;
+        let t593: f64 = t569.plus(t571);
+        let t594: f64 = t592 - t593;
+        let t595: f64 = t83 * t594;
+        let t596: f64 = t289 * t293;
+        let t597: f64 = t338 * t596;
+        let t598 = product(t547, t597);
+        let t599: f64 = t320 * t330;
+        let t600: f64 = t338 * t599;
+        let t601 = product(t547, t600);
+        let t602: f64 = t601.added_to(t537);
+        let t603 = product(t323, t602);
+        let t604: f64 = t603.subtracted_from(t520);
+        let t605: f64 = t598.plus(t604);
+        let t606 = product(t282, t605);
+        let t607: f64 = t174 * t301;
+        let t608: f64 = t201 * t607;
+        let t609: f64 = t602 * t608;
+        let t610: f64 = t606.plus(t609);
+        let t611: f64 = t201 * t264;
+        let t612: f64 = t338 * t611;
+        let t613 = product(t547, t612);
+        let t614: f64 = t248 * t265;
+        let t615 = product(t567, t614);
+        let t616: f64 = t615.subtracted_from(t478);
+        let t617: f64 = t613.minus(t616);
+        let t618: f64 = t610 - t617;
+        let t619: f64 = -t618;
+        let t620: f64 = t248 * t567;
+        let t621: f64 = -t605;
+        let t622: f64 = -t602;
+        let t623: f64 = t338 * t547;
+        let t624: f64 = -t623;
+        let t625: f64 = yc * t87;
+        let t626 = product(zc, t101);
+        let t627: f64 = t626.subtracted_from(t625);
+        let t628: f64 = t627 * 3.34;
+        let t629: f64 = t201 * t585;
+        let t630: f64 = t105 * t628;
+        let t631 = product(t629, t630);
+        let t632: f64 = t101 * t620;
+        let t633 = product(t87, t629);
+        let t634 = product(wy, t38);
+        let t635: f64 = wz * t29;
+        let t636: f64 = t634.minus(t635);
+        let t637 = product(t415, t636);
+        let t638: f64 = wy * t25;
+        let t639 = product(t3, t638);
+        let t640: f64 = wz * t24;
+        let t641: f64 = t3 * t640;
+        let t642: f64 = t639.plus(t641);
+        let t643: f64 = t642 * 0.22443999999999997;
+        let t644: f64 = t364 * t643;
+        let t645: f64 = t637.minus(t644);
+        let t646 = product(t365, t642);
+        let t647: f64 = t636 * 0.22443999999999997;
+        let t648: f64 = t414 * t647;
+        let t649: f64 = t646.minus(t648);
+        let t650: f64 = t645 + t649;
+        let t651: f64 = t633.added_to(t632);
+        let t652 = product(t651, 0.4119400000000001);
+        let t653: f64 = t652.subtracted_from(t650);
+        let t654 = product(t14, t653);
+        let t655: f64 = t29 * t620;
+        let t656 = product(t38, t629);
+        let t657 = product(t367, t642);
+        let t658 = product(wy, t87);
+        let t659: f64 = wz * t101;
+        let t660: f64 = t658.minus(t659);
+        let t661: f64 = t660 * 0.4119400000000001;
+        let t662: f64 = t414 * t661;
+        let t663: f64 = t657.plus(t662);
+        let t664 = product(t415, t660);
+        let t665: f64 = t358 * t643;
+        let t666: f64 = t664.plus(t665);
+        let t667: f64 = t663 - t666;
+        let t668: f64 = t656.added_to(t655);
+        let t669 = product(t668, 0.22443999999999997);
+        let t670: f64 = t669.subtracted_from(t667);
+        let t671: f64 = t13 * t670;
+        let t672: f64 = t654.minus(t671);
+        let t673 = product(t3, t672);
+        let t674 = product(t50, t101);
+        let t675: f64 = t674.subtracted_from(t625);
+        let t676: f64 = t104 * t179;
+        let t677 = product(t675, t676);
+        let t678 = product(t52, t101);
+        let t679: f64 = t678.subtracted_from(t625);
+        let t680: f64 = t109 * t179;
+        let t681: f64 = t679 * t680;
+        let t682: f64 = t677.plus(t681);
+        let t683: f64 = t30 * t31;
+        let t684: f64 = t38 * t683;
+        let t685 = product(t41, t684);
+        let t686: f64 = t46 * t684;
+        let t687: f64 = t685.plus(t686);
+        let t688: f64 = t215 - t687;
+        let t689: f64 = t682 + t688;
+        let t690: f64 = t689 * 3.34;
+        let t691 = product(wz, t690);
+        let t692: f64 = yc * t24;
+        let t693: f64 = t3 * t692;
+        let t694: f64 = t59 - t693;
+        let t695: f64 = t694 * 3.34;
+        let t696: f64 = xc * t24;
+        let t697: f64 = t56 * t696;
+        let t698 = product(t695, t697);
+        let t699 = product(t50, t675);
+        let t700: f64 = t52 * t679;
         let t701: f64 = t699.plus(t700);
-        let t702: f64 = t222 - t701;
-        let t703: f64 = t696 + t702;
-        let t704: f64 = t703 * 3.34;
-        let t705: f64 = t254 * t704;
-        let t706 = product(t637, t705);
-        let t707: f64 = t95 * t208;
-        let t708 = product(t655, t707);
-        let t709: f64 = t120 * t254;
-        let t710: f64 = t637 * t709;
-        let t711 = product(wy, t53);
-        let t712: f64 = wz * t44;
-        let t713: f64 = t711.minus(t712);
-        let t714 = product(t375, t713);
-        let t715: f64 = wy * t1;
-        let t716 = product(t4, t715);
-        let t717: f64 = wz * t0;
-        let t718: f64 = t4 * t717;
-        let t719: f64 = t716.plus(t718);
-        let t720: f64 = t719 * 0.22443999999999997;
-        let t721: f64 = t317 * t720;
-        let t722: f64 = t714.minus(t721);
-        let t723 = product(t318, t719);
-        let t724: f64 = t713 * 0.22443999999999997;
-        let t725: f64 = t374 * t724;
-        let t726: f64 = t723.minus(t725);
-        let t727: f64 = t722 + t726;
-        let t728: f64 = t708.plus(t710);
-        let t729 = product(t728, 0.4119400000000001);
-        let t730: f64 = t729.subtracted_from(t727);
-        let t731: f64 = t95 * t730;
-        let t732: f64 = t706.plus(t731);
-        let t733: f64 = t687 - t732;
-        let t734 = product(wy, t95);
-        let t735: f64 = wz * t120;
-        let t736: f64 = t734.minus(t735);
-        let t737 = product(t318, t736);
-        let t738 = product(t311, t724);
-        let t739: f64 = t736 * 0.4119400000000001;
-        let t740: f64 = t317 * t739;
-        let t741: f64 = t320 * t713;
-        let t742: f64 = t1 * t208;
-        let t743 = product(t655, t742);
-        let t744: f64 = t0 * t254;
-        let t745: f64 = t637 * t744;
-        let t746: f64 = t743.minus(t745);
-        let t747: f64 = t746 * 0.22443999999999997;
-        let t748 = product(t4, t747);
-        let t749: f64 = t737.plus(t741);
-        let t750: f64 = t748.plus(t749);
-        let t751: f64 = t738.plus(t740);
-        let t752: f64 = t750 - t751;
-        let t753 = product(t1, t752);
-        let t754: f64 = t3 * t90;
-        let t755: f64 = t665 * t754;
-        let t756: f64 = t0 * t208;
-        let t757 = product(t655, t756);
-        let t758: f64 = t1 * t254;
-        let t759: f64 = t637 * t758;
-        let t760: f64 = t757.plus(t759);
-        let t761: f64 = t760 * 0.22443999999999997;
-        let t762: f64 = t4 * t761;
-        let t763: f64 = t322 - t762;
-        let t764: f64 = t755 * 0.22443999999999997;
-        let t765: f64 = t763 - t764;
-        let t766: f64 = t0 * t765;
-        let t767: f64 = t753.plus(t766);
-        let t768 = product(t4, t767);
-        let t769: f64 = t2 * t70;
-        let t770: f64 = t0 * t769;
-        let t771: f64 = t71 * t770;
-        let t772 = product(t72, t771);
-        let t773: f64 = t75 * t771;
-        let t774: f64 = t772.plus(t773);
-        let t775: f64 = t227 - t774;
-        let t776: f64 = t696 + t775;
-        let t777: f64 = t776 * 3.34;
-        let t778 = product(wy, t777);
-        let t779 = product(t164, t609);
-        let t780 = product(t47, t55);
-        let t781: f64 = t58 * t60;
-        let t782: f64 = t780.minus(t781);
-        let t783: f64 = t782 * 1.67;
-        let t784: f64 = t613 * t783;
-        let t785 = product(t116, 1.67);
-        let t786: f64 = t779.plus(t784);
+        let t702: f64 = t701 * 1.67;
+        let t703: f64 = t98 * t702;
+        let t704: f64 = t698.minus(t703);
+        let t705 = product(t57, t704);
+        let t706: f64 = t168 * 1.67;
+        let t707: f64 = t705.subtracted_from(t706);
+        let t708: f64 = wx * t707;
+        let t709: f64 = t31 * t38;
+        let t710 = product(t45, t709);
+        let t711: f64 = t40 * t709;
+        let t712: f64 = t710.minus(t711);
+        let t713: f64 = t712 * 1.67;
+        let t714: f64 = -t713;
+        let t715 = product(zc, t714);
+        let t716: f64 = t221 * 1.67;
+        let t717: f64 = t24 * t55;
+        let t718 = product(t716, t717);
+        let t719: f64 = t23 * 1.67;
+        let t720: f64 = t718.added_to(t189);
+        let t721: f64 = t715.plus(t719);
+        let t722: f64 = t720 - t721;
+        let t723 = product(wy, t722);
+        let t724: f64 = t691.plus(t708);
+        let t725: f64 = t723.subtracted_from(t724);
+        let t726 = product(wy, t725);
+        let t727: f64 = t55 * t56;
+        let t728: f64 = t24 * t727;
+        let t729: f64 = t58 * t728;
+        let t730 = product(t63, t729);
+        let t731: f64 = t68 * t729;
+        let t732: f64 = t730.plus(t731);
+        let t733: f64 = t221 - t732;
+        let t734: f64 = t682 + t733;
+        let t735: f64 = t734 * 3.34;
+        let t736 = product(wy, t735);
+        let t737 = product(t157, t628);
+        let t738 = product(t32, t40);
+        let t739: f64 = t43 * t45;
+        let t740: f64 = t738.minus(t739);
+        let t741: f64 = t740 * 1.67;
+        let t742: f64 = t709 * t741;
+        let t743 = product(t97, 1.67);
+        let t744: f64 = t737.plus(t742);
+        let t745: f64 = t743.minus(t744);
+        let t746 = product(wx, t745);
+        let t747: f64 = wz * t722;
+        let t748: f64 = t746.plus(t747);
+        let t749: f64 = t736.subtracted_from(t748);
+        let t750: f64 = wz * t749;
+        let t751: f64 = t726.plus(t750);
+        let t752: f64 = t673.plus(t751);
+        let t753: f64 = t688 + t733;
+        let t754: f64 = t753 * 3.34;
+        let t755 = product(t595, t754);
+        let t756: f64 = t620 * t707;
+        let t757: f64 = t755.plus(t756);
+        let t758 = product(zc, 3.34);
+        let t759: f64 = t758.added_to(t713);
+        let t760: f64 = t623 - 9.81;
+        let t761 = product(t759, t760);
+        let t762 = product(t365, t660);
+        let t763 = product(t358, t647);
+        let t764: f64 = t364 * t661;
+        let t765: f64 = t367 * t636;
+        let t766 = product(t24, t620);
+        let t767: f64 = t25 * t629;
+        let t768: f64 = t766.minus(t767);
+        let t769: f64 = t768 * 0.22443999999999997;
+        let t770 = product(t3, t769);
+        let t771: f64 = t762.plus(t765);
+        let t772: f64 = t763.plus(t764);
+        let t773: f64 = t770.plus(t772);
+        let t774: f64 = t771 - t773;
+        let t775: f64 = t2 * t774;
+        let t776: f64 = t761.minus(t775);
+        let t777: f64 = t757 + t776;
+        let t778: f64 = t752 + t777;
+        let t779 = product(t629, t745);
+        let t780: f64 = t24 * t56;
+        let t781: f64 = t57 * t780;
+        let t782 = product(t62, t781);
+        let t783: f64 = t67 * t781;
+        let t784: f64 = t782.plus(t783);
+        let t785 = product(yc, 3.34);
+        let t786: f64 = t784 * 1.67;
         let t787: f64 = t785.minus(t786);
-        let t788 = product(wx, t787);
-        let t789: f64 = -t618;
-        let t790 = product(zc, t789);
-        let t791: f64 = t227 * 1.67;
-        let t792: f64 = t0 * t2;
-        let t793 = product(t791, t792);
-        let t794: f64 = t40 * 1.67;
-        let t795: f64 = t793.added_to(t196);
-        let t796: f64 = t790.plus(t794);
-        let t797: f64 = t795 - t796;
-        let t798: f64 = wz * t797;
-        let t799: f64 = t788.plus(t798);
-        let t800: f64 = t778.subtracted_from(t799);
-        let t801 = product(wx, t800);
-        let t802: f64 = t702 + t775;
-        let t803: f64 = t802 * 3.34;
-        let t804 = product(wx, t803);
-        let t805 = product(wy, t787);
-        let t806: f64 = yc * t0;
-        let t807: f64 = t4 * t806;
-        let t808: f64 = t6 - t807;
-        let t809: f64 = t808 * 3.34;
-        let t810: f64 = xc * t0;
-        let t811: f64 = t70 * t810;
-        let t812 = product(t809, t811);
-        let t813 = product(t65, t689);
-        let t814: f64 = t67 * t693;
-        let t815: f64 = t813.plus(t814);
-        let t816: f64 = t815 * 1.67;
-        let t817: f64 = t117 * t816;
-        let t818: f64 = t812.minus(t817);
-        let t819 = product(t5, t818);
-        let t820: f64 = t175 * 1.67;
-        let t821: f64 = t819.subtracted_from(t820);
-        let t822: f64 = wz * t821;
-        let t823: f64 = t804.plus(t822);
-        let t824: f64 = t805.subtracted_from(t823);
-        let t825: f64 = wy * t824;
-        let t826: f64 = t801.plus(t825);
-        let t827: f64 = t768.plus(t826);
-        let t828 = product(t655, t797);
-        let t829: f64 = t254 * t797;
-        let t830 = product(t637, t829);
-        let t831: f64 = t286 * t600;
-        let t832: f64 = t626 * t831;
-        let t833: f64 = t665 * t787;
-        let t834: f64 = t301 * t600;
-        let t835: f64 = t604 * t834;
-        let t836: f64 = t208 * t787;
-        let t837 = product(t655, t836);
-        let t838: f64 = t254 * t821;
-        let t839 = product(t637, t838);
-        let t840: f64 = t90 * t803;
-        let t841 = product(t665, t840);
-        let t842: f64 = t591 - 9.81;
-        let t843 = product(t619, t842);
-        let t844: f64 = t3 * t752;
-        let t845: f64 = t843.minus(t844);
-        let t846 = product(t31, t730);
-        let t847: f64 = t53 * t208;
-        let t848 = product(t655, t847);
-        let t849: f64 = t44 * t254;
-        let t850: f64 = t637 * t849;
-        let t851 = product(t320, t719);
-        let t852: f64 = t374 * t739;
-        let t853: f64 = t851.plus(t852);
-        let t854 = product(t375, t736);
-        let t855: f64 = t311 * t720;
-        let t856: f64 = t854.plus(t855);
-        let t857: f64 = t853 - t856;
-        let t858: f64 = t848.plus(t850);
-        let t859 = product(t858, 0.22443999999999997);
-        let t860: f64 = t859.subtracted_from(t857);
-        let t861: f64 = t30 * t860;
-        let t862: f64 = t846.minus(t861);
-        let t863 = product(t4, t862);
-        let t864 = product(wz, t704);
-        let t865: f64 = wx * t821;
-        let t866 = product(wy, t797);
-        let t867: f64 = t864.plus(t865);
-        let t868: f64 = t866.subtracted_from(t867);
-        let t869 = product(wy, t868);
-        let t870: f64 = wz * t800;
-        let t871: f64 = t869.plus(t870);
-        let t872: f64 = t863.plus(t871);
-        let t873: f64 = t845 + t872;
-        let t874: f64 = t841.plus(t873);
-        let t875: f64 = t839.plus(t874);
-        let t876: f64 = t837.plus(t875);
-        let t877: f64 = t835 + t876;
-        let t878 = product(t181, t877);
-        let t879: f64 = t878.added_to(t833);
-        let t880 = product(t90, t879);
-        let t881 = product(t44, t860);
-        let t882 = product(wz, t824);
-        let t883: f64 = wx * t868;
-        let t884: f64 = t882.minus(t883);
-        let t885: f64 = t124 * t609;
-        let t886 = product(t842, t885);
-        let t887 = product(t0, t752);
-        let t888: f64 = t1 * t765;
-        let t889: f64 = t887.minus(t888);
-        let t890: f64 = t4 * t889;
-        let t891: f64 = t886.plus(t890);
-        let t892: f64 = t884 + t891;
-        let t893: f64 = t881.plus(t892);
-        let t894 = product(t53, t673);
-        let t895: f64 = t95 * t685;
-        let t896: f64 = t894.minus(t895);
-        let t897 = product(t120, t730);
-        let t898: f64 = t208 * t777;
-        let t899: f64 = t655 * t898;
-        let t900: f64 = t897.minus(t899);
-        let t901: f64 = t896 + t900;
-        let t902: f64 = t893 + t901;
-        let t903: f64 = t830.plus(t832);
-        let t904: f64 = t880.plus(t903);
-        let t905: f64 = t902 - t904;
-        let t906: f64 = t237 * t905;
-        let t907: f64 = t828.plus(t906);
-        let t908 = product(t208, t907);
-        let t909: f64 = t908.subtracted_from(t827);
-        let t910 = product(t53, t860);
-        let t911 = product(t665, t821);
-        let t912: f64 = t141 * t877;
-        let t913: f64 = t911.minus(t912);
-        let t914: f64 = t90 * t913;
-        let t915: f64 = t910.plus(t914);
-        let t916: f64 = t909 - t915;
-        let t917: f64 = t733 + t916;
-        let t918: f64 = t612.plus(t628);
-        let t919: f64 = t917 + t918;
-        let t920 = product(t561, t919);
-        let t921 = product(wx, t619);
-        let t922: f64 = wy * t5;
-        let t923: f64 = t117 * t922;
-        let t924: f64 = t609 * t923;
-        let t925: f64 = t921.plus(t924);
-        let t926 = product(wy, t925);
-        let t927 = product(wx, t600);
-        let t928: f64 = wz * t5;
-        let t929: f64 = t117 * t928;
-        let t930: f64 = t609 * t929;
-        let t931: f64 = t927.subtracted_from(t930);
-        let t932: f64 = wz * t931;
-        let t933: f64 = t926.plus(t932);
-        let t934 = product(t600, t655);
-        let t935: f64 = t20 * t905;
-        let t936: f64 = t934.minus(t935);
-        let t937 = product(t208, t936);
-        let t938 = product(t619, t637);
-        let t939: f64 = t281 * t919;
-        let t940: f64 = t938.plus(t939);
-        let t941: f64 = t254 * t940;
-        let t942: f64 = t937.minus(t941);
-        let t943: f64 = t933 + t942;
-        let t944 = product(t553, t943);
-        let t945 = product(t507, t943);
-        let t946 = product(t600, t665);
-        let t947: f64 = t655 * t787;
-        let t948 = product(t181, t905);
-        let t949: f64 = t948.subtracted_from(t947);
-        let t950 = product(t208, t949);
-        let t951: f64 = t950.added_to(t835);
-        let t952: f64 = t875 + t951;
-        let t953: f64 = t20 * t952;
-        let t954: f64 = t946.plus(t953);
-        let t955: f64 = t90 * t954;
-        let t956: f64 = t945.minus(t955);
-        let t957 = product(t637, t885);
-        let t958: f64 = t268 * t919;
-        let t959: f64 = t957.minus(t958);
-        let t960 = product(t254, t959);
-        let t961 = product(wy, t600);
-        let t962: f64 = wz * t619;
-        let t963: f64 = t961.plus(t962);
-        let t964 = product(wz, t963);
-        let t965: f64 = wx * t925;
-        let t966: f64 = t964.plus(t965);
-        let t967: f64 = t960.plus(t966);
-        let t968: f64 = t956 + t967;
-        let t969: f64 = t548 * t968;
-        let t970 = product(t619, t665);
-        let t971: f64 = t280 * t877;
-        let t972: f64 = t970.minus(t971);
-        let t973: f64 = t90 * t972;
-        let t974 = product(t655, t885);
-        let t975: f64 = t498 * t905;
-        let t976: f64 = t974.minus(t975);
-        let t977 = product(t208, t976);
-        let t978 = product(wx, t931);
-        let t979: f64 = wy * t963;
-        let t980: f64 = t978.minus(t979);
-        let t981: f64 = t920.plus(t969);
-        let t982: f64 = t977.plus(t980);
-        let t983: f64 = t981 + t982;
-        let t984: f64 = t944.plus(t973);
-        let t985: f64 = t983 - t984;
-        let t986 = product(t601, t985);
-        let t987: f64 = t986.added_to(t968);
-        let t988: f64 = t20 * t987;
-        let t989: f64 = t605.plus(t988);
-        let t990: f64 = t301 * t989;
-        let t991 = product(t661, t985);
-        let t992 = product(t650, t985);
-        let t993: f64 = t876 + t990;
-        let t994 = product(t181, t993);
-        let t995: f64 = t994.added_to(t833);
-        let t996 = product(t90, t995);
-        let t997 = product(t637, t797);
-        let t998 = product(t633, t985);
-        let t999 = product(t619, t626);
-        let t1000 = product(t622, t987);
-        let t1001 = product(t620, t985);
-        let t1002: f64 = t1000.added_to(t943);
+        let t788: f64 = t320 * t553;
+        let t789: f64 = t787 * t788;
+        let t790: f64 = t779.plus(t789);
+        let t791: f64 = t778 + t790;
+        let t792: f64 = t255 * t791;
+        let t793 = product(t29, t629);
+        let t794 = product(t38, t620);
+        let t795: f64 = t33 * t595;
+        let t796: f64 = t794.minus(t795);
+        let t797: f64 = t793.minus(t796);
+        let t798 = product(t797, 0.22443999999999997);
+        let t799: f64 = t798.subtracted_from(t422);
+        let t800 = product(t38, t799);
+        let t801 = product(t101, t629);
+        let t802: f64 = t3 * t14;
+        let t803 = product(t595, t802);
+        let t804: f64 = t87 * t620;
+        let t805: f64 = t803.plus(t804);
+        let t806: f64 = t801.minus(t805);
+        let t807 = product(t806, 0.4119400000000001);
+        let t808: f64 = t807.added_to(t418);
+        let t809: f64 = t87 * t808;
+        let t810: f64 = t800.minus(t809);
+        let t811 = product(t629, t735);
+        let t812: f64 = t576 * t787;
+        let t813: f64 = t811.plus(t812);
+        let t814: f64 = t810 - t813;
+        let t815 = product(t101, t653);
+        let t816: f64 = t29 * t670;
+        let t817: f64 = t815.plus(t816);
+        let t818 = product(t630, t760);
+        let t819: f64 = t2 * t595;
+        let t820 = product(t25, t620);
+        let t821: f64 = t24 * t629;
+        let t822: f64 = t820.plus(t821);
+        let t823: f64 = t822 * 0.22443999999999997;
+        let t824: f64 = t3 * t823;
+        let t825: f64 = t369 - t824;
+        let t826: f64 = t819 * 0.22443999999999997;
+        let t827: f64 = t825 - t826;
+        let t828 = product(t25, t827);
+        let t829: f64 = t24 * t774;
+        let t830: f64 = t828.minus(t829);
+        let t831: f64 = t3 * t830;
+        let t832: f64 = t818.minus(t831);
+        let t833 = product(wx, t754);
+        let t834 = product(wy, t745);
+        let t835: f64 = wz * t707;
+        let t836: f64 = t833.plus(t835);
+        let t837: f64 = t834.subtracted_from(t836);
+        let t838 = product(wz, t837);
+        let t839: f64 = wx * t725;
+        let t840: f64 = t838.minus(t839);
+        let t841 = product(t595, t745);
+        let t842: f64 = t620 * t722;
+        let t843: f64 = t841.plus(t842);
+        let t844: f64 = t840 - t843;
+        let t845: f64 = t832 + t844;
+        let t846 = product(t206, t791);
+        let t847: f64 = t846.subtracted_from(t845);
+        let t848: f64 = t817 + t847;
+        let t849: f64 = t814 + t848;
+        let t850 = product(t611, t849);
+        let t851 = product(t576, t759);
+        let t852: f64 = t87 * t653;
+        let t853: f64 = t851.minus(t852);
+        let t854: f64 = t83 * t122;
+        let t855 = product(t791, t854);
+        let t856: f64 = t38 * t670;
+        let t857: f64 = t855.minus(t856);
+        let t858: f64 = t853 + t857;
+        let t859 = product(t24, t827);
+        let t860: f64 = t25 * t774;
+        let t861: f64 = t859.plus(t860);
+        let t862 = product(t3, t861);
+        let t863 = product(wx, t749);
+        let t864: f64 = wy * t837;
+        let t865: f64 = t863.plus(t864);
+        let t866: f64 = t862.plus(t865);
+        let t867 = product(t595, t707);
+        let t868: f64 = t620 * t690;
+        let t869: f64 = t867.plus(t868);
+        let t870: f64 = t866 - t869;
+        let t871 = product(t265, t849);
+        let t872: f64 = t871.subtracted_from(t870);
+        let t873 = product(t29, t799);
+        let t874: f64 = t101 * t808;
+        let t875: f64 = t873.minus(t874);
+        let t876 = product(t630, t788);
+        let t877: f64 = t629 * t722;
+        let t878: f64 = t876.minus(t877);
+        let t879: f64 = t875 + t878;
+        let t880: f64 = t872 + t879;
+        let t881: f64 = t858 + t880;
+        let t882: f64 = t248 * t267;
+        let t883 = product(t881, t882);
+        let t884 = product(t629, t787);
+        let t885: f64 = t282 * t849;
+        let t886: f64 = t884.minus(t885);
+        let t887 = product(wx, t759);
+        let t888: f64 = wy * t57;
+        let t889: f64 = t98 * t888;
+        let t890: f64 = t628 * t889;
+        let t891: f64 = t887.plus(t890);
+        let t892 = product(wy, t891);
+        let t893 = product(wx, t787);
+        let t894: f64 = wz * t57;
+        let t895: f64 = t98 * t894;
+        let t896: f64 = t628 * t895;
+        let t897: f64 = t893.subtracted_from(t896);
+        let t898: f64 = wz * t897;
+        let t899: f64 = t892.plus(t898);
+        let t900 = product(t620, t759);
+        let t901: f64 = t900.subtracted_from(t899);
+        let t902 = product(t291, t881);
+        let t903: f64 = t902.subtracted_from(t901);
+        let t904: f64 = t886 + t903;
+        let t905: f64 = t596 * t904;
+        let t906 = product(t620, t630);
+        let t907: f64 = t595 * t787;
+        let t908: f64 = t906.minus(t907);
+        let t909 = product(wy, t787);
+        let t910: f64 = wz * t759;
+        let t911: f64 = t909.plus(t910);
+        let t912 = product(wz, t911);
+        let t913: f64 = wx * t891;
+        let t914: f64 = t912.plus(t913);
+        let t915 = product(t296, t849);
+        let t916: f64 = t915.subtracted_from(t791);
+        let t917 = product(t301, t916);
+        let t918: f64 = t917.subtracted_from(t914);
+        let t919: f64 = t908 + t918;
+        let t920 = product(t323, t904);
+        let t921: f64 = t321 * t881;
+        let t922: f64 = t920.minus(t921);
+        let t923: f64 = t919 + t922;
+        let t924: f64 = t599 * t923;
+        let t925 = product(wx, t897);
+        let t926: f64 = wy * t911;
+        let t927: f64 = t925.minus(t926);
+        let t928 = product(t595, t759);
+        let t929: f64 = t928.subtracted_from(t927);
+        let t930: f64 = t631.plus(t792);
+        let t931: f64 = t883.plus(t924);
+        let t932: f64 = t930 + t931;
+        let t933: f64 = t929 + t932;
+        let t934: f64 = t850.plus(t905);
+        let t935: f64 = t933 - t934;
+        let t936 = product(t550, t935);
+        let t937: f64 = t936.added_to(t923);
+        let t938 = product(t554, t937);
+        let t939 = product(t556, t935);
+        let t940: f64 = t938.added_to(t904);
+        let t941: f64 = t939.subtracted_from(t940);
+        let t942 = product(t561, t941);
+        let t943: f64 = t563 * t937;
+        let t944 = product(t548, t935);
+        let t945: f64 = t942.plus(t943);
+        let t946: f64 = t881 + t945;
+        let t947: f64 = t944.subtracted_from(t946);
+        let t948 = product(t572, t947);
+        let t949 = product(t574, t935);
+        let t950: f64 = t289 * t941;
+        let t951 = product(t577, t937);
+        let t952: f64 = t951.subtracted_from(t950);
+        let t953: f64 = t279 * t952;
+        let t954: f64 = t949.plus(t953);
+        let t955: f64 = t849 + t954;
+        let t956: f64 = t948.subtracted_from(t955);
+        let t957 = product(t296, t956);
+        let t958 = product(t568, t947);
+        let t959: f64 = t587 * t937;
+        let t960: f64 = t570 * t935;
+        let t961: f64 = t958.plus(t959);
+        let t962: f64 = t791 + t961;
+        let t963: f64 = t957.plus(t960);
+        let t964: f64 = t962 - t963;
+        let t965: f64 = t83 * t964;
+        let t966: f64 = xc * t3;
+        let t967 = product(t57, t695);
+        let t968: f64 = t692 * 3.34;
+        let t969: f64 = t967.plus(t968);
+        let t970 = product(t2, t969);
+        let t971: f64 = t966 * 3.34;
+        let t972: f64 = t970.plus(t971);
+        let t973 = product(t113, t972);
+        let t974: f64 = t14 * t693;
+        let t975: f64 = t14 * t493;
+        let t976 = product(t50, t975);
+        let t977: f64 = t976.subtracted_from(t974);
+        let t978 = product(t50, t977);
+        let t979 = product(t52, t975);
+        let t980: f64 = t979.subtracted_from(t974);
+        let t981: f64 = t52 * t980;
+        let t982 = product(t50, t104);
+        let t983: f64 = t52 * t109;
+        let t984: f64 = t982.plus(t983);
+        let t985: f64 = t984 * 1.67;
+        let t986: f64 = t2 * t57;
+        let t987 = product(t985, t986);
+        let t988: f64 = t978.plus(t981);
+        let t989: f64 = t988 * 1.67;
+        let t990: f64 = t987.plus(t989);
+        let t991: f64 = t98 * t990;
+        let t992: f64 = t973.plus(t991);
+        let t993 = product(t620, t992);
+        let t994: f64 = t55 * t788;
+        let t995: f64 = t972 * t994;
+        let t996: f64 = t993.plus(t995);
+        let t997 = product(t57, t996);
+        let t998: f64 = t57 * t58;
+        let t999: f64 = t2 * t998;
+        let t1000: f64 = t177 * t999;
+        let t1001 = product(t178, t1000);
+        let t1002: f64 = t676 * t977;
         (
-            t0,
-            t1,
             t2,
             t3,
-            t4,
             t5,
-            t6,
-            t7,
-            t8,
-            t10,
-            t11,
+            t9,
             t13,
-            t15,
-            t19,
-            t20,
+            t14,
+            t24,
+            t25,
+            t27,
+            t29,
             t30,
             t31,
-            t42,
-            t44,
+            t32,
+            t33,
+            t36,
+            t38,
+            t39,
+            t40,
+            t41,
+            t43,
             t45,
             t46,
-            t47,
-            t48,
-            t51,
-            t53,
-            t54,
+            t50,
+            t52,
             t55,
             t56,
+            t57,
             t58,
+            t59,
             t60,
-            t61,
-            t65,
+            t62,
+            t63,
+            t64,
             t67,
-            t70,
-            t71,
-            t72,
-            t73,
-            t75,
-            t90,
-            t92,
-            t95,
-            t96,
+            t68,
+            t83,
+            t85,
+            t87,
             t98,
-            t117,
-            t120,
-            t121,
-            t123,
+            t101,
+            t102,
+            t104,
+            t105,
+            t109,
+            t122,
             t124,
-            t128,
-            t132,
-            t141,
-            t144,
-            t146,
-            t164,
+            t126,
+            t137,
+            t139,
+            t157,
+            t165,
             t172,
+            t174,
+            t175,
+            t177,
+            t178,
             t179,
             t181,
-            t182,
-            t184,
-            t185,
-            t186,
-            t188,
-            t208,
-            t213,
-            t219,
-            t232,
-            t237,
+            t201,
+            t206,
+            t212,
+            t216,
+            t226,
+            t231,
+            t248,
+            t253,
             t254,
             t255,
-            t259,
-            t260,
+            t262,
             t264,
-            t266,
-            t268,
-            t273,
-            t277,
+            t265,
+            t278,
             t279,
-            t280,
-            t281,
-            t286,
-            t290,
-            t292,
+            t282,
+            t284,
+            t289,
+            t291,
             t296,
+            t300,
             t301,
             t304,
-            t305,
-            t307,
             t311,
-            t313,
-            t317,
-            t318,
+            t315,
             t320,
-            t325,
-            t326,
-            t329,
-            t330,
-            t331,
-            t332,
-            t337,
+            t321,
+            t323,
+            t327,
             t338,
+            t340,
             t341,
-            t342,
             t343,
+            t344,
+            t347,
             t349,
-            t355,
-            t356,
-            t359,
+            t350,
+            t354,
+            t358,
             t360,
-            t361,
             t364,
-            t369,
-            t370,
+            t365,
+            t367,
             t371,
-            t372,
+            t373,
             t374,
-            t375,
             t377,
             t378,
-            t380,
-            t382,
+            t379,
+            t385,
             t391,
+            t392,
+            t395,
+            t396,
+            t397,
+            t402,
             t403,
-            t407,
-            t408,
+            t404,
+            t409,
+            t410,
+            t411,
+            t412,
+            t414,
+            t415,
+            t417,
+            t418,
             t420,
-            t432,
-            t433,
-            t435,
-            t436,
+            t422,
             t439,
-            t441,
             t442,
-            t449,
-            t450,
+            t443,
+            t444,
+            t445,
+            t456,
             t460,
-            t476,
-            t477,
-            t494,
-            t498,
-            t499,
-            t502,
-            t507,
-            t511,
-            t530,
-            t531,
-            t543,
-            t544,
+            t461,
+            t483,
+            t484,
+            t493,
+            t508,
+            t509,
             t548,
-            t549,
-            t551,
-            t553,
+            t550,
             t554,
-            t558,
+            t556,
             t561,
-            t562,
-            t566,
-            t567,
+            t563,
+            t568,
+            t570,
             t572,
+            t574,
+            t576,
             t577,
-            t578,
-            t581,
             t587,
-            t588,
-            t589,
-            t590,
-            t591,
-            t592,
+            t595,
+            t596,
             t597,
+            t599,
             t600,
-            t601,
-            t603,
-            t604,
-            t609,
-            t616,
+            t602,
+            t605,
+            t608,
+            t611,
+            t612,
+            t614,
+            t618,
             t619,
             t620,
+            t621,
             t622,
-            t625,
-            t626,
+            t623,
+            t624,
             t629,
             t630,
-            t631,
-            t633,
-            t635,
-            t636,
-            t637,
-            t640,
-            t642,
-            t643,
-            t645,
-            t647,
-            t648,
-            t649,
+            t632,
             t650,
-            t652,
             t655,
-            t657,
-            t659,
-            t660,
-            t661,
-            t663,
-            t665,
-            t671,
-            t673,
-            t677,
+            t667,
+            t676,
+            t680,
             t683,
-            t685,
-            t690,
-            t694,
-            t697,
-            t704,
-            t727,
-            t755,
+            t692,
+            t696,
+            t712,
+            t717,
+            t722,
+            t735,
+            t745,
+            t759,
             t760,
-            t761,
-            t762,
-            t763,
-            t764,
-            t765,
-            t777,
+            t778,
+            t784,
             t787,
-            t792,
+            t788,
+            t796,
             t797,
-            t803,
+            t799,
+            t802,
+            t805,
             t806,
-            t807,
-            t809,
-            t810,
-            t821,
+            t808,
+            t819,
+            t822,
+            t823,
+            t824,
+            t825,
+            t826,
             t827,
-            t842,
-            t857,
-            t873,
-            t874,
-            t885,
-            t892,
-            t902,
-            t917,
-            t923,
-            t928,
+            t845,
+            t854,
+            t870,
+            t882,
+            t889,
+            t894,
+            t895,
+            t901,
+            t919,
             t929,
-            t933,
-            t947,
-            t952,
+            t941,
+            t950,
+            t956,
+            t965,
             t966,
+            t972,
+            t974,
             t980,
-            t987,
-            t990,
-            t991,
+            t985,
+            t986,
             t992,
-            t996,
             t997,
             t998,
-            t999,
+            t1000,
             t1001,
             t1002,
         )
     };
     let (
-        t1003,
-        t1024,
-        t1036,
-        t1065,
-        t1066,
-        t1157,
-        t1169,
-        t1203,
-        t1245,
-        t1247,
-        t1266,
-        t1275,
+        t1054,
+        t1071,
+        t1093,
+        t1105,
+        t1177,
+        t1208,
+        t1233,
+        t1256,
         t1280,
-        t1302,
-        t1317,
-        t1337,
-        t1369,
-        t1386,
-        t1393,
-        t1430,
+        t1294,
+        t1301,
+        t1330,
+        t1336,
+        t1381,
+        t1387,
+        t1397,
+        t1399,
+        t1421,
+        t1423,
         t1436,
-        t1443,
-        t1447,
-        t1475,
-        t1486,
+        t1461,
+        t1487,
         t1493,
-        t1497,
-        t1500,
-        t1502,
-        t1511,
-        t1517,
+        t1505,
         t1520,
-        t1542,
-        t1567,
-        t1590,
-        t1598,
-        t1602,
+        t1533,
+        t1541,
+        t1570,
+        t1572,
+        t1574,
+        t1578,
+        t1585,
+        t1593,
+        t1601,
         t1611,
-        t1631,
-        t1657,
+        t1618,
+        t1634,
+        t1635,
+        t1638,
+        t1660,
+        t1663,
+        t1673,
+        t1685,
+        t1691,
         t1695,
-        t1699,
-        t1715,
-        t1721,
-        t1728,
-        t1736,
-        t1744,
-        t1750,
-        t1753,
-        t1754,
-        t1758,
-        t1761,
-        t1764,
+        t1705,
+        t1727,
+        t1732,
+        t1734,
+        t1739,
+        t1740,
+        t1741,
+        t1759,
         t1771,
-        t1776,
         t1779,
-        t1790,
-        t1798,
-        t1799,
-        t1806,
-        t1812,
-        t1816,
-        t1823,
-        t1832,
-        t1842,
-        t1864,
-        t1879,
-        t1893,
-        t1905,
-        t1931,
-        t1959,
-        t1970,
-        t1983,
-        t1985,
-        t1988,
-        t1989,
-        t1991,
+        t1789,
+        t1791,
+        t1801,
+        t1805,
+        t1813,
+        t1821,
+        t1824,
+        t1833,
+        t1838,
+        t1851,
+        t1854,
+        t1869,
+        t1882,
+        t1892,
+        t1899,
+        t1909,
+        t1934,
+        t1939,
+        t1944,
+        t1945,
+        t1955,
+        t1962,
+        t1969,
         t1992,
         t1993,
         t1994,
+        t1995,
         t1996,
-        t1999,
-        t2000,
-        t2001,
+        t1997,
+        t1998,
         t2002,
     ) = {
-        let t1003: f64 = t1001.subtracted_from(t1002);
-        let t1004: f64 = t281 * t1003;
-        let t1005: f64 = t999.plus(t1004);
-        let t1006 = product(t286, t1005);
-        let t1007 = product(t604, t885);
-        let t1008: f64 = t268 * t987;
-        let t1009: f64 = t1007.plus(t1008);
-        let t1010: f64 = t301 * t1009;
-        let t1011: f64 = t1006.plus(t1010);
-        let t1012: f64 = t917 + t1011;
-        let t1013: f64 = t998.subtracted_from(t1012);
-        let t1014: f64 = t237 * t1013;
-        let t1015: f64 = t997.plus(t1014);
-        let t1016: f64 = t254 * t1015;
-        let t1017 = product(t600, t626);
-        let t1018: f64 = t20 * t1003;
-        let t1019: f64 = t1017.minus(t1018);
-        let t1020 = product(t286, t1019);
-        let t1021: f64 = t992.added_to(t902);
-        let t1022: f64 = t996.plus(t1016);
-        let t1023: f64 = t1020.plus(t1022);
-        let t1024: f64 = t1021 - t1023;
-        let t1025 = product(t181, t1024);
-        let t1026: f64 = t1025.subtracted_from(t947);
-        let t1027 = product(t208, t1026);
-        let t1028 = product(t637, t821);
-        let t1029: f64 = t141 * t1013;
-        let t1030: f64 = t1028.plus(t1029);
-        let t1031 = product(t254, t1030);
-        let t1032: f64 = t1027.added_to(t990);
-        let t1033: f64 = t1031.added_to(t874);
-        let t1034: f64 = t1032 + t1033;
-        let t1035: f64 = t991.subtracted_from(t1034);
-        let t1036: f64 = t90 * t1035;
-        let t1037: f64 = zc * t30;
-        let t1038: f64 = t1 * t1037;
-        let t1039: f64 = t4 * t1038;
-        let t1040 = product(t8, t279);
-        let t1041: f64 = t6 * 3.34;
-        let t1042: f64 = t1040.subtracted_from(t1041);
-        let t1043 = product(t30, t1042);
-        let t1044: f64 = t1039 * 3.34;
-        let t1045: f64 = t1043.plus(t1044);
-        let t1046 = product(t219, t1045);
-        let t1047: f64 = xc * t4;
-        let t1048 = product(t7, t42);
-        let t1049: f64 = t1048.added_to(t1047);
-        let t1050 = product(t7, t1049);
-        let t1051 = product(t13, t42);
-        let t1052: f64 = t1051.added_to(t1047);
-        let t1053: f64 = t13 * t1052;
-        let t1054 = product(t7, t10);
-        let t1055: f64 = t13 * t15;
-        let t1056: f64 = t1054.plus(t1055);
-        let t1057: f64 = t1056 * 1.67;
-        let t1058: f64 = t3 * t5;
-        let t1059 = product(t1057, t1058);
-        let t1060: f64 = t1050.plus(t1053);
-        let t1061: f64 = t1060 * 1.67;
-        let t1062: f64 = t1059.plus(t1061);
-        let t1063: f64 = t11 * t1062;
-        let t1064: f64 = t1046.plus(t1063);
-        let t1065: f64 = -t1064;
-        let t1066: f64 = t254 * t637;
-        let t1067 = product(t1065, t1066);
-        let t1068: f64 = t31 * t807;
-        let t1069: f64 = zc * t95;
-        let t1070: f64 = t121 + t1069;
+        let t1003: f64 = t1001.plus(t1002);
+        let t1004 = product(t181, t1000);
+        let t1005: f64 = t680 * t980;
+        let t1006: f64 = t1004.plus(t1005);
+        let t1007: f64 = t1003 + t1006;
+        let t1008: f64 = t3 * t85;
+        let t1009: f64 = t683 * t1008;
+        let t1010 = product(t41, t1009);
+        let t1011 = product(t32, t36);
+        let t1012: f64 = zc * t13;
+        let t1013: f64 = t25 * t1012;
+        let t1014: f64 = t3 * t1013;
+        let t1015: f64 = t1011.plus(t1014);
+        let t1016: f64 = t31 * t40;
+        let t1017: f64 = t1015 * t1016;
+        let t1018: f64 = t1010.minus(t1017);
+        let t1019 = product(t46, t1009);
+        let t1020 = product(t36, t43);
+        let t1021: f64 = t1020.added_to(t1014);
+        let t1022: f64 = t31 * t45;
+        let t1023: f64 = t1021 * t1022;
+        let t1024: f64 = t1019.plus(t1023);
+        let t1025: f64 = t1018 + t1024;
+        let t1026: f64 = t1007 + t1025;
+        let t1027: f64 = t1026 * 3.34;
+        let t1028 = product(wz, t1027);
+        let t1029: f64 = wx * t57;
+        let t1030: f64 = t992 * t1029;
+        let t1031 = product(t60, t253);
+        let t1032: f64 = t59 * 3.34;
+        let t1033: f64 = t1031.subtracted_from(t1032);
+        let t1034 = product(t13, t1033);
+        let t1035: f64 = t1014 * 3.34;
+        let t1036: f64 = t1034.plus(t1035);
+        let t1037 = product(t212, t1036);
+        let t1038 = product(t5, t27);
+        let t1039: f64 = t1038.added_to(t966);
+        let t1040 = product(t5, t1039);
+        let t1041 = product(t9, t27);
+        let t1042: f64 = t1041.added_to(t966);
+        let t1043: f64 = t9 * t1042;
+        let t1044 = product(t5, t62);
+        let t1045: f64 = t9 * t67;
+        let t1046: f64 = t1044.plus(t1045);
+        let t1047: f64 = t1046 * 1.67;
+        let t1048 = product(t986, t1047);
+        let t1049: f64 = t1040.plus(t1043);
+        let t1050: f64 = t1049 * 1.67;
+        let t1051: f64 = t1048.plus(t1050);
+        let t1052: f64 = t216 * t1051;
+        let t1053: f64 = t1037.plus(t1052);
+        let t1054: f64 = -t1053;
+        let t1055 = product(wy, t1054);
+        let t1056: f64 = t1028.plus(t1030);
+        let t1057: f64 = t1055.subtracted_from(t1056);
+        let t1058 = product(wy, t1057);
+        let t1059: f64 = t2 * t56;
+        let t1060: f64 = t998 * t1059;
+        let t1061 = product(t63, t1060);
+        let t1062: f64 = t62 * t64;
+        let t1063: f64 = t1039 * t1062;
+        let t1064: f64 = t1061.plus(t1063);
+        let t1065 = product(t68, t1060);
+        let t1066: f64 = t64 * t67;
+        let t1067: f64 = t1042 * t1066;
+        let t1068: f64 = t1065.plus(t1067);
+        let t1069: f64 = t1064 + t1068;
+        let t1070: f64 = t1007 + t1069;
         let t1071: f64 = t1070 * 3.34;
-        let t1072 = product(t1058, t1071);
-        let t1073: f64 = zc * t1;
-        let t1074: f64 = t4 * t1073;
-        let t1075 = product(t31, t1074);
-        let t1076: f64 = t1075.subtracted_from(t1068);
-        let t1077: f64 = t1076 * 3.34;
-        let t1078: f64 = t1072.plus(t1077);
-        let t1079: f64 = t117 * t842;
-        let t1080 = product(t1078, t1079);
-        let t1081 = product(t5, t809);
-        let t1082: f64 = t806 * 3.34;
-        let t1083: f64 = t1081.plus(t1082);
-        let t1084 = product(t3, t1083);
-        let t1085: f64 = t1047 * 3.34;
-        let t1086: f64 = t1084.plus(t1085);
-        let t1087: f64 = t2 * t286;
-        let t1088: f64 = t626 * t1087;
-        let t1089: f64 = t1086 * t1088;
-        let t1090: f64 = t1080.minus(t1089);
-        let t1091 = product(t5, t1090);
-        let t1092 = product(t3, t765);
-        let t1093 = product(t31, t369);
-        let t1094 = product(t31, t370);
-        let t1095: f64 = t31 * t372;
-        let t1096: f64 = t1094.minus(t1095);
-        let t1097: f64 = t1093.plus(t1096);
-        let t1098 = product(t318, t1097);
-        let t1099: f64 = wz * t30;
-        let t1100: f64 = t1 * t1099;
-        let t1101 = product(t4, t1100);
-        let t1102 = product(t30, t370);
-        let t1103: f64 = t30 * t371;
-        let t1104: f64 = t4 * t1103;
-        let t1105: f64 = t1102.minus(t1104);
-        let t1106: f64 = t1101.plus(t1105);
-        let t1107: f64 = t1106 * 0.22443999999999997;
-        let t1108: f64 = t311 * t1107;
-        let t1109: f64 = t1097 * 0.4119400000000001;
-        let t1110 = product(t317, t1109);
-        let t1111: f64 = t320 * t1106;
-        let t1112 = product(t3, t761);
-        let t1113: f64 = t4 * t90;
-        let t1114: f64 = t665 * t1113;
-        let t1115 = product(t31, t685);
-        let t1116: f64 = t30 * t673;
-        let t1117 = product(t1114, 0.22443999999999997);
-        let t1118: f64 = t1098.plus(t1108);
-        let t1119: f64 = t1115.plus(t1116);
-        let t1120: f64 = t1118 + t1119;
-        let t1121: f64 = t1117.plus(t1120);
-        let t1122: f64 = t1110.plus(t1111);
-        let t1123: f64 = t1112.plus(t1122);
-        let t1124: f64 = t1121 - t1123;
-        let t1125: f64 = t4 * t1124;
-        let t1126: f64 = t1092.plus(t1125);
-        let t1127: f64 = t0 * t1126;
-        let t1128: f64 = t1091.minus(t1127);
-        let t1129: f64 = t4 * t92;
-        let t1130: f64 = t697 * t1129;
-        let t1131 = product(t56, t1130);
-        let t1132 = product(t47, t51);
-        let t1133: f64 = t1132.added_to(t1039);
-        let t1134: f64 = t46 * t55;
-        let t1135: f64 = t1133 * t1134;
-        let t1136: f64 = t1131.minus(t1135);
-        let t1137 = product(t61, t1130);
-        let t1138 = product(t51, t58);
-        let t1139: f64 = t1138.added_to(t1039);
-        let t1140: f64 = t46 * t60;
-        let t1141: f64 = t1139 * t1140;
-        let t1142: f64 = t1137.plus(t1141);
-        let t1143: f64 = t1136 + t1142;
-        let t1144: f64 = t5 * t71;
-        let t1145: f64 = t3 * t70;
-        let t1146: f64 = t1144 * t1145;
-        let t1147 = product(t72, t1146);
-        let t1148: f64 = t10 * t73;
-        let t1149: f64 = t1049 * t1148;
-        let t1150: f64 = t1147.plus(t1149);
-        let t1151 = product(t75, t1146);
-        let t1152: f64 = t15 * t73;
-        let t1153: f64 = t1052 * t1152;
-        let t1154: f64 = t1151.plus(t1153);
-        let t1155: f64 = t1150 + t1154;
-        let t1156: f64 = t1143 + t1155;
-        let t1157: f64 = t1156 * 3.34;
-        let t1158 = product(wx, t1157);
-        let t1159 = product(t164, t1078);
-        let t1160 = product(t47, t1133);
-        let t1161: f64 = t58 * t1139;
-        let t1162: f64 = t172 * 1.67;
-        let t1163: f64 = -t1162;
-        let t1164 = product(t1129, t1163);
-        let t1165: f64 = t1160.plus(t1161);
-        let t1166: f64 = t1165 * 1.67;
-        let t1167: f64 = t1164.subtracted_from(t1166);
-        let t1168: f64 = t45 * t1167;
-        let t1169: f64 = t1159.plus(t1168);
-        let t1170: f64 = wy * t1169;
-        let t1171 = product(t132, t1086);
-        let t1172: f64 = t31 * t460;
-        let t1173 = product(t65, t1172);
-        let t1174: f64 = t1173.subtracted_from(t1068);
-        let t1175 = product(t65, t1174);
-        let t1176 = product(t67, t1172);
-        let t1177: f64 = t1176.subtracted_from(t1068);
-        let t1178: f64 = t67 * t1177;
-        let t1179 = product(t65, t123);
-        let t1180: f64 = t67 * t128;
-        let t1181: f64 = t1179.plus(t1180);
-        let t1182: f64 = t1181 * 1.67;
-        let t1183 = product(t1058, t1182);
-        let t1184: f64 = t1175.plus(t1178);
-        let t1185: f64 = t1184 * 1.67;
-        let t1186: f64 = t1183.plus(t1185);
-        let t1187: f64 = t117 * t1186;
-        let t1188: f64 = t1171.plus(t1187);
-        let t1189 = product(t928, t1188);
-        let t1190: f64 = t1158.plus(t1170);
-        let t1191: f64 = t1189.plus(t1190);
-        let t1192 = product(wz, t1191);
-        let t1193: f64 = t3 * t1144;
-        let t1194: f64 = t184 * t1193;
-        let t1195 = product(t185, t1194);
-        let t1196: f64 = t690 * t1174;
-        let t1197: f64 = t1195.plus(t1196);
-        let t1198 = product(t188, t1194);
-        let t1199: f64 = t694 * t1177;
-        let t1200: f64 = t1198.plus(t1199);
-        let t1201: f64 = t1197 + t1200;
-        let t1202: f64 = t1143 + t1201;
-        let t1203: f64 = t1202 * 3.34;
-        let t1204 = product(wz, t1203);
-        let t1205: f64 = wx * t5;
-        let t1206: f64 = t1188 * t1205;
-        let t1207 = product(wy, t1065);
-        let t1208: f64 = t1204.plus(t1206);
-        let t1209: f64 = t1207.subtracted_from(t1208);
-        let t1210: f64 = wx * t1209;
-        let t1211: f64 = t1192.minus(t1210);
-        let t1212 = product(t375, t1106);
-        let t1213 = product(t3, t371);
-        let t1214: f64 = t1213.added_to(t307);
-        let t1215: f64 = wz * t3;
-        let t1216 = product(t1, t1215);
-        let t1217: f64 = t1216.subtracted_from(t1214);
-        let t1218: f64 = t1217 * 0.22443999999999997;
-        let t1219 = product(t317, t1218);
-        let t1220: f64 = t318 * t1217;
-        let t1221: f64 = t374 * t1107;
-        let t1222: f64 = t760 * 0.4119400000000001;
-        let t1223 = product(t4, t1222);
-        let t1224: f64 = t755 * 0.4119400000000001;
-        let t1225: f64 = t1223.plus(t1224);
-        let t1226 = product(t31, t1225);
-        let t1227: f64 = t1212.plus(t1220);
-        let t1228: f64 = t1219.plus(t1221);
-        let t1229: f64 = t1226.plus(t1228);
-        let t1230: f64 = t1227 - t1229;
-        let t1231 = product(t120, t1230);
-        let t1232 = product(t320, t1217);
-        let t1233 = product(t374, t1109);
-        let t1234: f64 = t375 * t1097;
-        let t1235: f64 = t311 * t1218;
-        let t1236: f64 = t762 + t764;
-        let t1237 = product(t30, t1236);
-        let t1238: f64 = t1232.plus(t1234);
-        let t1239: f64 = t1237.plus(t1238);
-        let t1240: f64 = t1233.plus(t1235);
-        let t1241: f64 = t1239 - t1240;
-        let t1242: f64 = t44 * t1241;
-        let t1243: f64 = t1231.plus(t1242);
-        let t1244: f64 = t1211 + t1243;
-        let t1245: f64 = t1128 + t1244;
-        let t1246 = product(t665, t1169);
-        let t1247: f64 = t208 * t655;
-        let t1248 = product(t1169, t1247);
-        let t1249: f64 = t90 * t1157;
-        let t1250 = product(t665, t1249);
-        let t1251 = product(t1066, t1188);
-        let t1252: f64 = t2 * t301;
-        let t1253: f64 = t604 * t1252;
-        let t1254: f64 = t1086 * t1253;
-        let t1255: f64 = t1251.plus(t1254);
-        let t1256 = product(t5, t1255);
-        let t1257 = product(t31, t1230);
-        let t1258 = product(t30, t1241);
-        let t1259: f64 = t1258.added_to(t763);
-        let t1260: f64 = t1257.added_to(t764);
-        let t1261: f64 = t1259 - t1260;
-        let t1262: f64 = t4 * t1261;
-        let t1263: f64 = t1256.minus(t1262);
-        let t1264 = product(wy, t1209);
-        let t1265: f64 = t1155 + t1201;
-        let t1266: f64 = t1265 * 3.34;
-        let t1267 = product(wy, t1266);
-        let t1268: f64 = wx * t1169;
-        let t1269 = product(wz, t1065);
-        let t1270: f64 = t1267.plus(t1268);
-        let t1271: f64 = t1269.subtracted_from(t1270);
-        let t1272: f64 = wz * t1271;
-        let t1273: f64 = t1264.minus(t1272);
-        let t1274: f64 = t45 * t1045;
-        let t1275: f64 = -t1274;
-        let t1276 = product(t842, t1275);
-        let t1277: f64 = t3 * t1124;
-        let t1278: f64 = t1276.plus(t1277);
-        let t1279: f64 = t1273 + t1278;
-        let t1280: f64 = t1263 + t1279;
-        let t1281: f64 = t1250.plus(t1280);
-        let t1282: f64 = t1248.subtracted_from(t1281);
-        let t1283: f64 = t181 * t1282;
-        let t1284: f64 = t1246.minus(t1283);
-        let t1285 = product(t90, t1284);
-        let t1286: f64 = t208 * t1266;
-        let t1287: f64 = t655 * t1286;
-        let t1288: f64 = t1285.minus(t1287);
-        let t1289: f64 = t1245 + t1288;
-        let t1290: f64 = t1067.subtracted_from(t1289);
-        let t1291 = product(t577, t1290);
-        let t1292 = product(t642, t1275);
-        let t1293: f64 = t254 * t1203;
-        let t1294 = product(t637, t1293);
-        let t1295: f64 = t567 * t1282;
-        let t1296: f64 = t1294.minus(t1295);
-        let t1297 = product(t655, t1065);
-        let t1298: f64 = t237 * t1290;
-        let t1299: f64 = t1297.plus(t1298);
-        let t1300 = product(t208, t1299);
-        let t1301 = product(t1, t1126);
-        let t1302: f64 = t90 * t665;
-        let t1303 = product(t1188, t1302);
-        let t1304: f64 = t117 * t301;
-        let t1305: f64 = t604 * t1304;
-        let t1306: f64 = t1078 * t1305;
-        let t1307: f64 = t1303.minus(t1306);
-        let t1308: f64 = t5 * t1307;
-        let t1309: f64 = t1301.plus(t1308);
-        let t1310 = product(wx, t1271);
-        let t1311: f64 = wy * t1191;
-        let t1312: f64 = t1310.minus(t1311);
-        let t1313 = product(t95, t1230);
-        let t1314: f64 = t53 * t1241;
-        let t1315: f64 = t1313.plus(t1314);
-        let t1316: f64 = t1312 + t1315;
-        let t1317: f64 = t1309 + t1316;
-        let t1318: f64 = t1300.plus(t1317);
-        let t1319: f64 = t1296 + t1318;
-        let t1320: f64 = t1292.subtracted_from(t1319);
-        let t1321: f64 = t561 * t1320;
-        let t1322 = product(wx, t1275);
-        let t1323: f64 = t923 * t1078;
-        let t1324: f64 = t1322.plus(t1323);
-        let t1325 = product(wy, t1324);
-        let t1326: f64 = wz * t117;
-        let t1327 = product(t1078, t1326);
-        let t1328: f64 = wx * t2;
-        let t1329: f64 = t1086 * t1328;
-        let t1330: f64 = t1327.minus(t1329);
-        let t1331 = product(wz, t1330);
-        let t1332: f64 = t2 * t208;
-        let t1333: f64 = t655 * t1332;
-        let t1334: f64 = t1086 * t1333;
-        let t1335: f64 = t1331.plus(t1334);
-        let t1336: f64 = t5 * t1335;
-        let t1337: f64 = t1325.plus(t1336);
-        let t1338 = product(t273, t1290);
-        let t1339 = product(t637, t1275);
-        let t1340: f64 = t281 * t1320;
-        let t1341: f64 = t1339.minus(t1340);
-        let t1342: f64 = t254 * t1341;
-        let t1343: f64 = t1338.plus(t1342);
-        let t1344: f64 = t1337 - t1343;
-        let t1345 = product(t553, t1344);
-        let t1346: f64 = wy * t2;
-        let t1347: f64 = t5 * t1346;
-        let t1348 = product(t1086, t1347);
-        let t1349: f64 = wz * t1275;
-        let t1350: f64 = t1348.plus(t1349);
-        let t1351 = product(wz, t1350);
-        let t1352: f64 = wx * t1324;
-        let t1353: f64 = t1351.plus(t1352);
-        let t1354: f64 = t117 * t254;
-        let t1355: f64 = t637 * t1354;
-        let t1356 = product(t1078, t1355);
-        let t1357: f64 = t2 * t90;
-        let t1358: f64 = t665 * t1357;
-        let t1359: f64 = t1086 * t1358;
-        let t1360: f64 = t1356.minus(t1359);
-        let t1361 = product(t5, t1360);
-        let t1362: f64 = t655 * t1169;
-        let t1363 = product(t181, t1290);
-        let t1364: f64 = t1363.added_to(t1362);
-        let t1365 = product(t208, t1364);
-        let t1366: f64 = t1365.subtracted_from(t1281);
-        let t1367: f64 = t260 * t1366;
-        let t1368: f64 = t1361.minus(t1367);
-        let t1369: f64 = t1353 + t1368;
-        let t1370 = product(t502, t1320);
-        let t1371: f64 = t507 * t1344;
-        let t1372: f64 = t1370.plus(t1371);
-        let t1373: f64 = t1369 + t1372;
-        let t1374 = product(t548, t1373);
-        let t1375 = product(t665, t1275);
-        let t1376: f64 = t280 * t1282;
-        let t1377: f64 = t1375.minus(t1376);
-        let t1378: f64 = t90 * t1377;
-        let t1379 = product(wx, t1330);
-        let t1380: f64 = t117 * t208;
-        let t1381: f64 = t655 * t1380;
-        let t1382: f64 = t1078 * t1381;
-        let t1383: f64 = t1379.plus(t1382);
-        let t1384 = product(t5, t1383);
-        let t1385: f64 = wy * t1350;
-        let t1386: f64 = t1384.minus(t1385);
-        let t1387: f64 = t1374.plus(t1386);
-        let t1388: f64 = t1291.plus(t1321);
-        let t1389: f64 = t1345.plus(t1378);
-        let t1390: f64 = t1388 + t1389;
-        let t1391: f64 = t1387 - t1390;
-        let t1392 = product(t601, t1391);
-        let t1393: f64 = t1392.added_to(t1373);
-        let t1394 = product(t640, t1393);
-        let t1395 = product(t629, t1393);
-        let t1396 = product(t633, t1391);
-        let t1397 = product(t626, t1275);
-        let t1398 = product(t622, t1393);
-        let t1399 = product(t620, t1391);
-        let t1400: f64 = t1398.added_to(t1344);
-        let t1401: f64 = t1399.subtracted_from(t1400);
-        let t1402: f64 = t281 * t1401;
-        let t1403: f64 = t1397.plus(t1402);
-        let t1404: f64 = t286 * t1403;
-        let t1405: f64 = t1396.added_to(t1319);
-        let t1406: f64 = t1395.plus(t1404);
-        let t1407: f64 = t1405 - t1406;
-        let t1408 = product(t657, t1407);
-        let t1409: f64 = t661 * t1391;
-        let t1410 = product(t650, t1391);
-        let t1411 = product(t286, t1401);
-        let t1412: f64 = t643 * t1393;
-        let t1413: f64 = t1411.minus(t1412);
-        let t1414: f64 = t20 * t1413;
-        let t1415 = product(t637, t1065);
-        let t1416: f64 = t237 * t1407;
-        let t1417: f64 = t1415.minus(t1416);
-        let t1418 = product(t254, t1417);
-        let t1419: f64 = t1410.plus(t1414);
-        let t1420: f64 = t1289 + t1419;
-        let t1421: f64 = t1418.subtracted_from(t1420);
-        let t1422 = product(t181, t1421);
-        let t1423: f64 = t1422.added_to(t1362);
-        let t1424 = product(t208, t1423);
-        let t1425: f64 = t1394.added_to(t1281);
-        let t1426: f64 = t1408.plus(t1409);
-        let t1427: f64 = t1424.plus(t1426);
-        let t1428: f64 = t1425 - t1427;
-        let t1429: f64 = t90 * t1428;
-        let t1430: f64 = -t1429;
-        let t1431: f64 = yc * t44;
-        let t1432: f64 = t30 * t117;
-        let t1433 = product(t1071, t1432);
-        let t1434: f64 = t54 + t1431;
-        let t1435: f64 = t1434 * 3.34;
-        let t1436: f64 = t1433.plus(t1435);
-        let t1437: f64 = t117 * t1205;
-        let t1438 = product(t1436, t1437);
-        let t1439 = product(t31, t1047);
-        let t1440 = product(t120, t279);
-        let t1441: f64 = t1439.added_to(t1069);
-        let t1442: f64 = t1441 * 3.34;
-        let t1443: f64 = t1440.plus(t1442);
-        let t1444: f64 = wy * t45;
-        let t1445: f64 = t1443 * t1444;
-        let t1446: f64 = t1438.minus(t1445);
-        let t1447: f64 = wz * t1446;
-        let t1448: f64 = t117 * t184;
-        let t1449: f64 = t30 * t71;
-        let t1450: f64 = t1448 * t1449;
-        let t1451 = product(t185, t1450);
-        let t1452 = product(t53, t65);
-        let t1453: f64 = t1452.added_to(t1431);
-        let t1454: f64 = t690 * t1453;
-        let t1455: f64 = t1451.plus(t1454);
-        let t1456 = product(t188, t1450);
-        let t1457 = product(t53, t67);
-        let t1458: f64 = t1457.added_to(t1431);
-        let t1459: f64 = t694 * t1458;
-        let t1460: f64 = t1456.plus(t1459);
-        let t1461: f64 = t1455 + t1460;
-        let t1462: f64 = t120 * t697;
-        let t1463 = product(t56, t1462);
-        let t1464 = product(t47, t677);
-        let t1465: f64 = t1464.added_to(t1069);
-        let t1466: f64 = t1134 * t1465;
-        let t1467: f64 = t1463.plus(t1466);
-        let t1468 = product(t61, t1462);
-        let t1469 = product(t58, t677);
-        let t1470: f64 = t1469.added_to(t1069);
-        let t1471: f64 = t1140 * t1470;
-        let t1472: f64 = t1468.minus(t1471);
-        let t1473: f64 = t1467 + t1472;
-        let t1474: f64 = t1461 + t1473;
-        let t1475: f64 = t1474 * 3.34;
-        let t1476: f64 = t254 * t1475;
-        let t1477 = product(t637, t1476);
-        let t1478 = product(t164, t1436);
-        let t1479 = product(t47, t1465);
-        let t1480: f64 = t58 * t1470;
-        let t1481 = product(t120, t1163);
-        let t1482: f64 = t1479.plus(t1480);
-        let t1483: f64 = t1482 * 1.67;
-        let t1484: f64 = t1481.plus(t1483);
-        let t1485: f64 = t45 * t1484;
-        let t1486: f64 = t1478.minus(t1485);
-        let t1487 = product(t1247, t1486);
-        let t1488 = product(t65, t1453);
-        let t1489: f64 = t67 * t1458;
-        let t1490 = product(t1182, t1432);
-        let t1491: f64 = t1488.plus(t1489);
-        let t1492: f64 = t1491 * 1.67;
-        let t1493: f64 = t1490.plus(t1492);
-        let t1494: f64 = t124 * t254;
-        let t1495: f64 = t637 * t1494;
-        let t1496 = product(t1493, t1495);
-        let t1497: f64 = t1473 * 3.34;
-        let t1498: f64 = t90 * t1497;
-        let t1499 = product(t665, t1498);
-        let t1500: f64 = t311 * 0.1875000000000001;
-        let t1501 = product(t311, t1500);
-        let t1502: f64 = t317 * 0.1875000000000001;
-        let t1503: f64 = t317 * t1502;
-        let t1504: f64 = t1501.minus(t1503);
-        let t1505 = product(t3, t1504);
-        let t1506: f64 = t45 * t842;
-        let t1507: f64 = t1443 * t1506;
-        let t1508: f64 = t1505.plus(t1507);
-        let t1509 = product(wz, t1475);
-        let t1510: f64 = t1437 * t1493;
-        let t1511: f64 = zc * wy;
-        let t1512: f64 = t45 * t1511;
-        let t1513 = product(t1443, t1512);
-        let t1514: f64 = t1509.plus(t1510);
-        let t1515: f64 = t1513.subtracted_from(t1514);
-        let t1516 = product(wy, t1515);
-        let t1517: f64 = t1461 * 3.34;
-        let t1518 = product(wy, t1517);
-        let t1519: f64 = wx * t1486;
-        let t1520: f64 = zc * wz;
-        let t1521: f64 = t45 * t1520;
-        let t1522 = product(t1443, t1521);
-        let t1523: f64 = t1518.plus(t1519);
-        let t1524: f64 = t1522.subtracted_from(t1523);
-        let t1525: f64 = wz * t1524;
-        let t1526: f64 = t1516.minus(t1525);
-        let t1527: f64 = t317 * 0.4119400000000001;
-        let t1528 = product(t374, t1527);
-        let t1529 = product(t683, 0.1875000000000001);
-        let t1530: f64 = t1529.added_to(t377);
-        let t1531: f64 = t1528.subtracted_from(t1530);
-        let t1532 = product(t30, t1531);
-        let t1533: f64 = t311 * 0.22443999999999997;
-        let t1534 = product(t374, t1533);
-        let t1535: f64 = t671 * 0.1875000000000001;
-        let t1536: f64 = t1534.plus(t1535);
-        let t1537: f64 = t380 - t1536;
-        let t1538: f64 = t31 * t1537;
-        let t1539: f64 = t1532.plus(t1538);
-        let t1540 = product(t4, t1539);
-        let t1541: f64 = t1540.subtracted_from(t1526);
-        let t1542: f64 = t1508 + t1541;
-        let t1543: f64 = t1499.plus(t1542);
-        let t1544: f64 = t1496.plus(t1543);
-        let t1545: f64 = t1487.subtracted_from(t1544);
-        let t1546: f64 = t567 * t1545;
-        let t1547: f64 = t1477.minus(t1546);
-        let t1548: f64 = t219 * t254;
-        let t1549: f64 = t637 * t1548;
-        let t1550 = product(t1443, t1549);
-        let t1551 = product(t44, t1531);
-        let t1552: f64 = t120 * t1537;
-        let t1553: f64 = t1551.minus(t1552);
-        let t1554 = product(wx, t1497);
-        let t1555: f64 = wy * t1486;
-        let t1556 = product(t929, t1493);
-        let t1557: f64 = t1554.plus(t1555);
-        let t1558: f64 = t1556.plus(t1557);
-        let t1559 = product(wz, t1558);
-        let t1560: f64 = wx * t1515;
-        let t1561: f64 = t1559.minus(t1560);
-        let t1562: f64 = t124 * t842;
-        let t1563 = product(t1436, t1562);
-        let t1564: f64 = t8 * t1504;
-        let t1565: f64 = t1563.minus(t1564);
-        let t1566: f64 = t1561 + t1565;
-        let t1567: f64 = t1553 + t1566;
-        let t1568 = product(t665, t1486);
-        let t1569: f64 = t181 * t1545;
-        let t1570: f64 = t1568.minus(t1569);
-        let t1571 = product(t90, t1570);
-        let t1572: f64 = t208 * t1517;
-        let t1573: f64 = t655 * t1572;
-        let t1574: f64 = t1571.minus(t1573);
-        let t1575: f64 = t1567 + t1574;
-        let t1576: f64 = t1550.subtracted_from(t1575);
-        let t1577 = product(t499, t1576);
-        let t1578 = product(t53, t1531);
-        let t1579 = product(wx, t1524);
-        let t1580: f64 = wy * t1558;
-        let t1581: f64 = t1579.minus(t1580);
-        let t1582: f64 = t1578.plus(t1581);
-        let t1583 = product(t460, t1504);
-        let t1584 = product(t1302, t1493);
-        let t1585: f64 = t301 * t604;
-        let t1586: f64 = t1436 * t1585;
-        let t1587: f64 = t1584.minus(t1586);
-        let t1588: f64 = t124 * t1587;
-        let t1589: f64 = t1583.plus(t1588);
-        let t1590: f64 = zc * t208;
-        let t1591 = product(t655, t1590);
-        let t1592: f64 = t1591.subtracted_from(t642);
-        let t1593: f64 = t45 * t1443;
-        let t1594 = product(t1592, t1593);
-        let t1595: f64 = t95 * t1537;
-        let t1596: f64 = t1594.plus(t1595);
-        let t1597: f64 = t1589 - t1596;
-        let t1598: f64 = t1582 + t1597;
-        let t1599: f64 = t1577.plus(t1598);
-        let t1600: f64 = t1547 + t1599;
-        let t1601 = product(t561, t1600);
-        let t1602: f64 = wx * t45;
-        let t1603 = product(t1443, t1602);
-        let t1604: f64 = t923 * t1436;
-        let t1605: f64 = t1603.plus(t1604);
-        let t1606 = product(wy, t1605);
-        let t1607: f64 = wz * wz;
-        let t1608: f64 = t5 * t1607;
-        let t1609: f64 = t117 * t1608;
-        let t1610: f64 = t1436 * t1609;
-        let t1611: f64 = t1606.plus(t1610);
-        let t1612 = product(t273, t1576);
-        let t1613: f64 = t45 * t637;
-        let t1614 = product(t1443, t1613);
-        let t1615: f64 = t281 * t1600;
-        let t1616: f64 = t1614.minus(t1615);
-        let t1617: f64 = t254 * t1616;
-        let t1618: f64 = t1612.plus(t1617);
-        let t1619: f64 = t1611 - t1618;
-        let t1620: f64 = t553 * t1619;
-        let t1621: f64 = t45 * t1607;
-        let t1622 = product(t1443, t1621);
-        let t1623: f64 = wx * t1605;
-        let t1624: f64 = t1622.plus(t1623);
-        let t1625: f64 = t655 * t1486;
-        let t1626 = product(t181, t1576);
-        let t1627: f64 = t1626.added_to(t1625);
-        let t1628 = product(t208, t1627);
-        let t1629: f64 = t1628.subtracted_from(t1544);
-        let t1630 = product(t260, t1629);
-        let t1631: f64 = t1630.subtracted_from(t1624);
-        let t1632 = product(t507, t1619);
-        let t1633: f64 = t124 * t637;
-        let t1634 = product(t1436, t1633);
-        let t1635: f64 = t268 * t1600;
-        let t1636: f64 = t1634.plus(t1635);
-        let t1637: f64 = t254 * t1636;
-        let t1638: f64 = t1632.plus(t1637);
-        let t1639: f64 = t1631 + t1638;
-        let t1640 = product(t548, t1639);
-        let t1641: f64 = t45 * t665;
-        let t1642 = product(t1443, t1641);
-        let t1643: f64 = t280 * t1545;
-        let t1644: f64 = t1642.minus(t1643);
-        let t1645 = product(t90, t1644);
-        let t1646: f64 = t124 * t655;
-        let t1647 = product(t1436, t1646);
-        let t1648: f64 = t498 * t1576;
-        let t1649: f64 = t1647.minus(t1648);
-        let t1650 = product(t208, t1649);
-        let t1651: f64 = t1640.added_to(t1447);
-        let t1652: f64 = t1650.plus(t1651);
-        let t1653: f64 = t1601.plus(t1620);
-        let t1654: f64 = t1645.plus(t1653);
-        let t1655: f64 = t1652 - t1654;
-        let t1656 = product(t601, t1655);
-        let t1657: f64 = t1656.added_to(t1639);
-        let t1658 = product(t640, t1657);
-        let t1659 = product(t661, t1655);
-        let t1660 = product(t650, t1655);
-        let t1661 = product(t622, t1657);
-        let t1662 = product(t620, t1655);
-        let t1663: f64 = t1661.added_to(t1619);
-        let t1664: f64 = t1662.subtracted_from(t1663);
-        let t1665 = product(t286, t1664);
-        let t1666: f64 = t643 * t1657;
-        let t1667: f64 = t1665.minus(t1666);
-        let t1668: f64 = t20 * t1667;
-        let t1669: f64 = t219 * t637;
-        let t1670 = product(t1443, t1669);
-        let t1671 = product(t631, t1664);
-        let t1672: f64 = t629 * t1657;
-        let t1673 = product(t633, t1655);
-        let t1674: f64 = t1673.added_to(t1600);
-        let t1675: f64 = t1671.plus(t1672);
-        let t1676: f64 = t1674 - t1675;
-        let t1677: f64 = t237 * t1676;
-        let t1678: f64 = t1670.minus(t1677);
-        let t1679 = product(t254, t1678);
-        let t1680: f64 = t1660.plus(t1668);
-        let t1681: f64 = t1575 + t1680;
-        let t1682: f64 = t1679.subtracted_from(t1681);
-        let t1683 = product(t181, t1682);
-        let t1684: f64 = t1683.added_to(t1625);
-        let t1685: f64 = t208 * t1684;
-        let t1686 = product(t1493, t1633);
-        let t1687: f64 = t141 * t1676;
-        let t1688: f64 = t1686.minus(t1687);
-        let t1689: f64 = t254 * t1688;
-        let t1690: f64 = t1658.plus(t1689);
-        let t1691: f64 = t1543 + t1690;
-        let t1692: f64 = t1659.plus(t1685);
-        let t1693: f64 = t1691 - t1692;
-        let t1694: f64 = t90 * t1693;
-        let t1695: f64 = -t1694;
-        let t1696: f64 = t645 * 10.68;
-        let t1697 = product(t20, t1696);
-        let t1698: f64 = t2 * t3;
-        let t1699: f64 = t5 * t1698;
-        let t1700: f64 = t286 * t1699;
-        let t1701: f64 = t626 * t1700;
-        let t1702: f64 = t71 * t1145;
-        let t1703 = product(t10, t1702);
-        let t1704: f64 = t15 * t1702;
-        let t1705: f64 = t1703.plus(t1704);
-        let t1706: f64 = xc * 21.36;
-        let t1707: f64 = t1705 * 3.34;
-        let t1708: f64 = t1706 + t1707;
-        let t1709 = product(t1247, t1708);
-        let t1710: f64 = t46 * t48;
-        let t1711 = product(t55, t1710);
-        let t1712: f64 = t60 * t1710;
-        let t1713: f64 = t1711.minus(t1712);
-        let t1714: f64 = t1705 + t1713;
-        let t1715: f64 = t1714 * 3.34;
-        let t1716 = product(wx, t1715);
-        let t1717: f64 = t2 * t6;
-        let t1718: f64 = t5 * t1717;
-        let t1719: f64 = zc - t1718;
-        let t1720 = product(t1719, 3.34);
-        let t1721: f64 = t1720.minus(t19);
-        let t1722 = product(wz, t1721);
-        let t1723: f64 = xc * t30;
-        let t1724: f64 = t4 * t1723;
-        let t1725: f64 = t45 * t1724;
-        let t1726: f64 = yc + t1725;
-        let t1727 = product(t1726, 3.34);
-        let t1728: f64 = t1727.added_to(t279);
-        let t1729: f64 = wy * t1728;
-        let t1730: f64 = t1722.plus(t1729);
-        let t1731: f64 = t1716.minus(t1730);
-        let t1732 = product(wz, t1731);
-        let t1733 = product(wx, t1721);
-        let t1734: f64 = xc * 13.36;
-        let t1735: f64 = t1713 * 3.34;
-        let t1736: f64 = t1734 + t1735;
-        let t1737 = product(wz, t1736);
-        let t1738: f64 = t4 * t1037;
-        let t1739 = product(t45, t1738);
-        let t1740: f64 = yc * t3;
-        let t1741: f64 = t2 * t1740;
-        let t1742: f64 = t5 * t1741;
-        let t1743: f64 = t1739.minus(t1742);
-        let t1744: f64 = t1743 * 3.34;
-        let t1745: f64 = wy * t1744;
-        let t1746: f64 = t1733.plus(t1745);
-        let t1747: f64 = t1737.subtracted_from(t1746);
-        let t1748: f64 = wx * t1747;
-        let t1749: f64 = t1732.plus(t1748);
-        let t1750: f64 = t407 - t1749;
-        let t1751: f64 = t1709.plus(t1750);
-        let t1752 = product(t1066, t1744);
-        let t1753: f64 = t45 * t48;
-        let t1754: f64 = t842 * t1753;
-        let t1755: f64 = t301 * t1699;
-        let t1756 = product(t604, t1755);
-        let t1757: f64 = t1756.added_to(t1754);
-        let t1758: f64 = zc * 7.34;
-        let t1759 = product(t1718, 3.34);
-        let t1760: f64 = t1759.added_to(t19);
-        let t1761: f64 = t1758 - t1760;
-        let t1762 = product(t1066, t1761);
-        let t1763 = product(wy, t1747);
-        let t1764: f64 = t1707 + t1734;
-        let t1765 = product(wy, t1764);
-        let t1766 = product(wx, t1728);
-        let t1767: f64 = wz * t1744;
-        let t1768: f64 = t1766.plus(t1767);
-        let t1769: f64 = t1765.subtracted_from(t1768);
-        let t1770: f64 = wz * t1769;
-        let t1771: f64 = t1763.minus(t1770);
-        let t1772: f64 = t90 * t1715;
-        let t1773 = product(t665, t1772);
-        let t1774: f64 = t1773.subtracted_from(t1771);
-        let t1775: f64 = t1762.plus(t1774);
-        let t1776: f64 = yc * 7.34;
-        let t1777 = product(t1725, 3.34);
-        let t1778: f64 = t1777.added_to(t1776);
-        let t1779: f64 = t279 + t1778;
-        let t1780 = product(t1247, t1779);
-        let t1781: f64 = t1780.subtracted_from(t1775);
-        let t1782: f64 = t1757 * 3.34;
-        let t1783: f64 = t1781 - t1782;
-        let t1784 = product(t181, t1783);
-        let t1785: f64 = t665 * t1779;
-        let t1786: f64 = t1784.minus(t1785);
-        let t1787: f64 = t90 * t1786;
-        let t1788: f64 = t1752.minus(t1787);
-        let t1789: f64 = t1751 + t1788;
-        let t1790: f64 = t591 * 21.36;
-        let t1791: f64 = t1701 * 3.34;
-        let t1792: f64 = t1790 + t1791;
-        let t1793: f64 = t408 + t1789;
-        let t1794: f64 = t1792 + t1793;
-        let t1795: f64 = t1794 - 104.77080000000001;
-        let t1796: f64 = t498 * t1795;
-        let t1797: f64 = t1697.minus(t1796);
-        let t1798: f64 = xc * 699.8689439999999;
-        let t1799: f64 = t264 * 174.96723599999999;
-        let t1800 = product(t649, 10.68);
-        let t1801: f64 = t1800.added_to(t1798);
-        let t1802: f64 = t1797 + t1801;
-        let t1803: f64 = t1802 - t1799;
-        let t1804 = product(t208, t1803);
-        let t1805: f64 = t45 * t313;
-        let t1806: f64 = wy * 6.68;
-        let t1807 = product(t1805, 3.34);
-        let t1808: f64 = t1807.subtracted_from(t1806);
-        let t1809 = product(wy, t1808);
-        let t1810: f64 = t2 * t370;
-        let t1811: f64 = t5 * t1810;
-        let t1812: f64 = wz * 6.68;
-        let t1813 = product(t1811, 3.34);
-        let t1814: f64 = t1813.added_to(t1812);
-        let t1815: f64 = wz * t1814;
-        let t1816: f64 = t1809.plus(t1815);
-        let t1817: f64 = t637 * t1753;
-        let t1818: f64 = t286 * t1753;
-        let t1819: f64 = t626 * t1818;
-        let t1820 = product(t304, 42.72);
-        let t1821: f64 = t603 * 10.68;
-        let t1822: f64 = t1820.plus(t1821);
-        let t1823: f64 = t301 * t1822;
-        let t1824 = product(t141, t1783);
-        let t1825: f64 = t665 * t1761;
-        let t1826: f64 = t1824.minus(t1825);
-        let t1827 = product(t90, t1826);
-        let t1828: f64 = t1706 + t1735;
-        let t1829: f64 = t1066 * t1828;
-        let t1830: f64 = t1827.plus(t1829);
-        let t1831 = product(t655, t1744);
-        let t1832: f64 = t591 * 10.68;
-        let t1833: f64 = t1791 + t1832;
-        let t1834: f64 = t1793 + t1833;
-        let t1835: f64 = t1834 - 104.77080000000001;
-        let t1836: f64 = t237 * t1835;
-        let t1837: f64 = t1831.minus(t1836);
-        let t1838 = product(t208, t1837);
-        let t1839 = product(wx, t1769);
-        let t1840: f64 = wy * t1731;
-        let t1841: f64 = t1839.plus(t1840);
-        let t1842: f64 = t305 - t1841;
-        let t1843: f64 = t1838.plus(t1842);
-        let t1844: f64 = t1830 + t1843;
-        let t1845: f64 = t1823 + t1844;
-        let t1846: f64 = t1819 * 3.34;
-        let t1847: f64 = t364 + t1845;
-        let t1848: f64 = t1847 - t1846;
-        let t1849 = product(t281, t1848);
-        let t1850: f64 = t1817 * 3.34;
-        let t1851: f64 = t1849.subtracted_from(t1850);
-        let t1852 = product(t254, t1851);
-        let t1853: f64 = t655 * t1699;
-        let t1854 = product(t20, t1835);
-        let t1855: f64 = t1853 * 3.34;
-        let t1856: f64 = t1854.plus(t1855);
-        let t1857: f64 = t208 * t1856;
-        let t1858: f64 = t1852.minus(t1857);
-        let t1859: f64 = t1816 + t1858;
-        let t1860 = product(t507, t1859);
-        let t1861 = product(t304, 85.44);
-        let t1862: f64 = t603 * 21.36;
-        let t1863: f64 = t1861.plus(t1862);
-        let t1864: f64 = t301 * t1863;
-        let t1865: f64 = t1844 + t1864;
-        let t1866: f64 = t364 + t1865;
-        let t1867: f64 = t1866 - t1846;
-        let t1868 = product(t268, t1867);
-        let t1869: f64 = t636 * 10.68;
-        let t1870: f64 = t1868.subtracted_from(t1869);
-        let t1871: f64 = t254 * t1870;
-        let t1872: f64 = t1860.plus(t1871);
-        let t1873: f64 = t665 * t1699;
-        let t1874: f64 = t655 * t1779;
-        let t1875 = product(t181, t1835);
-        let t1876: f64 = t1875.added_to(t1874);
-        let t1877 = product(t208, t1876);
-        let t1878: f64 = t1877.added_to(t1782);
-        let t1879: f64 = t1775 - t1878;
-        let t1880 = product(t20, t1879);
-        let t1881: f64 = t1873 * 3.34;
-        let t1882: f64 = t1880.subtracted_from(t1881);
-        let t1883 = product(t90, t1882);
-        let t1884 = product(wx, t1808);
-        let t1885: f64 = wy * t3;
-        let t1886: f64 = t2 * t1885;
-        let t1887 = product(t5, t1886);
-        let t1888: f64 = t4 * t1099;
-        let t1889: f64 = t45 * t1888;
+        let t1072 = product(wy, t1071);
+        let t1073: f64 = zc * t87;
+        let t1074: f64 = t102 + t1073;
+        let t1075: f64 = t1074 * 3.34;
+        let t1076 = product(t986, t1075);
+        let t1077: f64 = zc * t25;
+        let t1078: f64 = t3 * t1077;
+        let t1079 = product(t14, t1078);
+        let t1080: f64 = t1079.subtracted_from(t974);
+        let t1081: f64 = t1080 * 3.34;
+        let t1082: f64 = t1076.plus(t1081);
+        let t1083 = product(t157, t1082);
+        let t1084 = product(t32, t1015);
+        let t1085: f64 = t43 * t1021;
+        let t1086: f64 = t165 * 1.67;
+        let t1087: f64 = -t1086;
+        let t1088 = product(t1008, t1087);
+        let t1089: f64 = t1084.plus(t1085);
+        let t1090: f64 = t1089 * 1.67;
+        let t1091: f64 = t1088.subtracted_from(t1090);
+        let t1092: f64 = t30 * t1091;
+        let t1093: f64 = t1083.plus(t1092);
+        let t1094: f64 = wx * t1093;
+        let t1095 = product(wz, t1054);
+        let t1096: f64 = t1072.plus(t1094);
+        let t1097: f64 = t1095.subtracted_from(t1096);
+        let t1098: f64 = wz * t1097;
+        let t1099: f64 = t1058.minus(t1098);
+        let t1100: f64 = t997.plus(t1099);
+        let t1101: f64 = t1025 + t1069;
+        let t1102: f64 = t1101 * 3.34;
+        let t1103 = product(t595, t1102);
+        let t1104: f64 = t30 * t1036;
+        let t1105: f64 = -t1104;
+        let t1106: f64 = t760 * t1105;
+        let t1107: f64 = t1103.plus(t1106);
+        let t1108 = product(t14, t409);
+        let t1109 = product(t14, t410);
+        let t1110: f64 = t14 * t412;
+        let t1111: f64 = t1109.minus(t1110);
+        let t1112: f64 = t1108.plus(t1111);
+        let t1113 = product(t365, t1112);
+        let t1114: f64 = wz * t13;
+        let t1115: f64 = t25 * t1114;
+        let t1116 = product(t3, t1115);
+        let t1117 = product(t13, t410);
+        let t1118: f64 = t13 * t411;
+        let t1119: f64 = t3 * t1118;
+        let t1120: f64 = t1117.minus(t1119);
+        let t1121: f64 = t1116.plus(t1120);
+        let t1122: f64 = t1121 * 0.22443999999999997;
+        let t1123: f64 = t358 * t1122;
+        let t1124: f64 = t1112 * 0.4119400000000001;
+        let t1125 = product(t364, t1124);
+        let t1126: f64 = t367 * t1121;
+        let t1127: f64 = t3 * t595;
+        let t1128 = product(t2, t823);
+        let t1129 = product(t14, t808);
+        let t1130: f64 = t13 * t799;
+        let t1131 = product(t1127, 0.22443999999999997);
+        let t1132: f64 = t1113.plus(t1123);
+        let t1133: f64 = t1129.plus(t1130);
+        let t1134: f64 = t1132 + t1133;
+        let t1135: f64 = t1131.plus(t1134);
+        let t1136: f64 = t1125.plus(t1126);
+        let t1137: f64 = t1128.plus(t1136);
+        let t1138: f64 = t1135 - t1137;
+        let t1139 = product(t2, t1138);
+        let t1140 = product(t415, t1121);
+        let t1141 = product(t2, t411);
+        let t1142: f64 = t1141.added_to(t354);
+        let t1143: f64 = wz * t2;
+        let t1144 = product(t25, t1143);
+        let t1145: f64 = t1144.subtracted_from(t1142);
+        let t1146: f64 = t1145 * 0.22443999999999997;
+        let t1147 = product(t364, t1146);
+        let t1148: f64 = t365 * t1145;
+        let t1149: f64 = t414 * t1122;
+        let t1150: f64 = t822 * 0.4119400000000001;
+        let t1151 = product(t3, t1150);
+        let t1152: f64 = t819 * 0.4119400000000001;
+        let t1153: f64 = t1151.plus(t1152);
+        let t1154 = product(t14, t1153);
+        let t1155: f64 = t1140.plus(t1148);
+        let t1156: f64 = t1147.plus(t1149);
+        let t1157: f64 = t1154.plus(t1156);
+        let t1158: f64 = t1155 - t1157;
+        let t1159 = product(t14, t1158);
+        let t1160 = product(t367, t1145);
+        let t1161 = product(t414, t1124);
+        let t1162: f64 = t415 * t1112;
+        let t1163: f64 = t358 * t1146;
+        let t1164: f64 = t824 + t826;
+        let t1165 = product(t13, t1164);
+        let t1166: f64 = t1160.plus(t1162);
+        let t1167: f64 = t1165.plus(t1166);
+        let t1168: f64 = t1161.plus(t1163);
+        let t1169: f64 = t1167 - t1168;
+        let t1170 = product(t13, t1169);
+        let t1171: f64 = t1170.added_to(t825);
+        let t1172: f64 = t1159.added_to(t826);
+        let t1173: f64 = t1171 - t1172;
+        let t1174: f64 = t3 * t1173;
+        let t1175: f64 = t1139.minus(t1174);
+        let t1176: f64 = t1107 + t1175;
+        let t1177: f64 = t1100 + t1176;
+        let t1178 = product(t629, t1093);
+        let t1179: f64 = t1178.subtracted_from(t1177);
+        let t1180 = product(t255, t1179);
+        let t1181 = product(wx, t1102);
+        let t1182: f64 = wy * t1093;
+        let t1183 = product(t894, t992);
+        let t1184: f64 = t1181.plus(t1182);
+        let t1185: f64 = t1183.plus(t1184);
+        let t1186 = product(wz, t1185);
+        let t1187: f64 = wx * t1057;
+        let t1188: f64 = t1186.minus(t1187);
+        let t1189 = product(t595, t1093);
+        let t1190: f64 = t620 * t1054;
+        let t1191: f64 = t1189.minus(t1190);
+        let t1192: f64 = t1188 + t1191;
+        let t1193 = product(t101, t1158);
+        let t1194: f64 = t29 * t1169;
+        let t1195: f64 = t1193.plus(t1194);
+        let t1196: f64 = t98 * t760;
+        let t1197 = product(t1082, t1196);
+        let t1198: f64 = t55 * t576;
+        let t1199: f64 = t972 * t1198;
+        let t1200: f64 = t1197.minus(t1199);
+        let t1201 = product(t57, t1200);
+        let t1202 = product(t2, t827);
+        let t1203: f64 = t3 * t1138;
+        let t1204: f64 = t1202.plus(t1203);
+        let t1205: f64 = t24 * t1204;
+        let t1206: f64 = t1201.minus(t1205);
+        let t1207: f64 = t1195 + t1206;
+        let t1208: f64 = t1192 + t1207;
+        let t1209 = product(t629, t1071);
+        let t1210: f64 = t206 * t1179;
+        let t1211: f64 = t1209.plus(t1210);
+        let t1212: f64 = t1208 - t1211;
+        let t1213 = product(t611, t1212);
+        let t1214 = product(t265, t1212);
+        let t1215: f64 = t854 * t1179;
+        let t1216: f64 = t1214.minus(t1215);
+        let t1217 = product(t595, t992);
+        let t1218: f64 = t98 * t788;
+        let t1219: f64 = t1082 * t1218;
+        let t1220: f64 = t1217.minus(t1219);
+        let t1221 = product(t57, t1220);
+        let t1222 = product(wx, t1097);
+        let t1223: f64 = wy * t1185;
+        let t1224: f64 = t1222.minus(t1223);
+        let t1225: f64 = t1221.plus(t1224);
+        let t1226 = product(t620, t1027);
+        let t1227: f64 = t87 * t1158;
+        let t1228: f64 = t1226.plus(t1227);
+        let t1229 = product(t38, t1169);
+        let t1230: f64 = t25 * t1204;
+        let t1231: f64 = t1229.plus(t1230);
+        let t1232: f64 = t1228 + t1231;
+        let t1233: f64 = t1225 + t1232;
+        let t1234 = product(t629, t1054);
+        let t1235: f64 = t576 * t1105;
+        let t1236: f64 = t1234.minus(t1235);
+        let t1237: f64 = t1233 + t1236;
+        let t1238: f64 = t1216 + t1237;
+        let t1239: f64 = t882 * t1238;
+        let t1240: f64 = wz * t98;
+        let t1241 = product(t1082, t1240);
+        let t1242: f64 = wx * t55;
+        let t1243: f64 = t972 * t1242;
+        let t1244: f64 = t1241.minus(t1243);
+        let t1245 = product(wz, t1244);
+        let t1246: f64 = t55 * t629;
+        let t1247: f64 = t972 * t1246;
+        let t1248: f64 = t1245.plus(t1247);
+        let t1249 = product(t57, t1248);
+        let t1250 = product(wx, t1105);
+        let t1251: f64 = t889 * t1082;
+        let t1252: f64 = t1250.plus(t1251);
+        let t1253 = product(wy, t1252);
+        let t1254: f64 = t620 * t1105;
+        let t1255: f64 = t1253.minus(t1254);
+        let t1256: f64 = t1249.plus(t1255);
+        let t1257 = product(t291, t1238);
+        let t1258: f64 = t282 * t1212;
+        let t1259: f64 = t1257.minus(t1258);
+        let t1260: f64 = t1256 + t1259;
+        let t1261 = product(t596, t1260);
+        let t1262: f64 = wy * t55;
+        let t1263: f64 = t57 * t1262;
+        let t1264 = product(t972, t1263);
+        let t1265: f64 = wz * t1105;
+        let t1266: f64 = t1264.plus(t1265);
+        let t1267 = product(wz, t1266);
+        let t1268: f64 = wx * t1252;
+        let t1269: f64 = t1267.plus(t1268);
+        let t1270: f64 = t98 * t620;
+        let t1271 = product(t1082, t1270);
+        let t1272: f64 = t55 * t595;
+        let t1273: f64 = t972 * t1272;
+        let t1274: f64 = t1271.minus(t1273);
+        let t1275 = product(t57, t1274);
+        let t1276 = product(t296, t1212);
+        let t1277: f64 = t1276.subtracted_from(t1179);
+        let t1278: f64 = t301 * t1277;
+        let t1279: f64 = t1275.minus(t1278);
+        let t1280: f64 = t1269 + t1279;
+        let t1281 = product(t321, t1238);
+        let t1282: f64 = t323 * t1260;
+        let t1283: f64 = t1281.plus(t1282);
+        let t1284: f64 = t1280 + t1283;
+        let t1285: f64 = t599 * t1284;
+        let t1286 = product(wx, t1244);
+        let t1287: f64 = t98 * t629;
+        let t1288: f64 = t1082 * t1287;
+        let t1289: f64 = t1286.plus(t1288);
+        let t1290 = product(t57, t1289);
+        let t1291 = product(wy, t1266);
+        let t1292: f64 = t595 * t1105;
+        let t1293: f64 = t1291.plus(t1292);
+        let t1294: f64 = t1290.minus(t1293);
+        let t1295: f64 = t1180.plus(t1285);
+        let t1296: f64 = t1294 + t1295;
+        let t1297: f64 = t1213.plus(t1239);
+        let t1298: f64 = t1261.plus(t1297);
+        let t1299: f64 = t1296 - t1298;
+        let t1300 = product(t550, t1299);
+        let t1301: f64 = t1300.added_to(t1284);
+        let t1302 = product(t587, t1301);
+        let t1303 = product(t554, t1301);
+        let t1304 = product(t556, t1299);
+        let t1305: f64 = t1303.added_to(t1260);
+        let t1306: f64 = t1304.subtracted_from(t1305);
+        let t1307 = product(t561, t1306);
+        let t1308: f64 = t563 * t1301;
+        let t1309 = product(t548, t1299);
+        let t1310: f64 = t1309.added_to(t1238);
+        let t1311: f64 = t1307.plus(t1308);
+        let t1312: f64 = t1310 - t1311;
+        let t1313 = product(t572, t1312);
+        let t1314: f64 = t574 * t1299;
+        let t1315 = product(t289, t1306);
+        let t1316: f64 = t577 * t1301;
+        let t1317: f64 = t1315.minus(t1316);
+        let t1318 = product(t279, t1317);
+        let t1319: f64 = t1313.plus(t1314);
+        let t1320: f64 = t1318.added_to(t1212);
+        let t1321: f64 = t1319 + t1320;
+        let t1322 = product(t296, t1321);
+        let t1323: f64 = t568 * t1312;
+        let t1324 = product(t570, t1299);
+        let t1325: f64 = t1302.added_to(t1179);
+        let t1326: f64 = t1322.plus(t1323);
+        let t1327: f64 = t1324.plus(t1326);
+        let t1328: f64 = t1325 - t1327;
+        let t1329: f64 = t83 * t1328;
+        let t1330: f64 = -t1329;
+        let t1331: f64 = yc * t29;
+        let t1332: f64 = t13 * t98;
+        let t1333 = product(t1075, t1332);
+        let t1334: f64 = t39 + t1331;
+        let t1335: f64 = t1334 * 3.34;
+        let t1336: f64 = t1333.plus(t1335);
+        let t1337: f64 = t105 * t629;
+        let t1338 = product(t1336, t1337);
+        let t1339: f64 = t98 * t177;
+        let t1340: f64 = t13 * t58;
+        let t1341: f64 = t1339 * t1340;
+        let t1342 = product(t178, t1341);
+        let t1343 = product(t38, t50);
+        let t1344: f64 = t1343.added_to(t1331);
+        let t1345: f64 = t676 * t1344;
+        let t1346: f64 = t1342.plus(t1345);
+        let t1347 = product(t181, t1341);
+        let t1348 = product(t38, t52);
+        let t1349: f64 = t1348.added_to(t1331);
+        let t1350: f64 = t680 * t1349;
+        let t1351: f64 = t1347.plus(t1350);
+        let t1352: f64 = t1346 + t1351;
+        let t1353: f64 = t101 * t683;
+        let t1354 = product(t41, t1353);
+        let t1355 = product(t32, t802);
+        let t1356: f64 = t1355.added_to(t1073);
+        let t1357: f64 = t1016 * t1356;
+        let t1358: f64 = t1354.plus(t1357);
+        let t1359 = product(t46, t1353);
+        let t1360 = product(t43, t802);
+        let t1361: f64 = t1360.added_to(t1073);
+        let t1362: f64 = t1022 * t1361;
+        let t1363: f64 = t1359.minus(t1362);
+        let t1364: f64 = t1358 + t1363;
+        let t1365: f64 = t1352 + t1364;
+        let t1366: f64 = t1365 * 3.34;
+        let t1367 = product(wz, t1366);
+        let t1368 = product(t50, t1344);
+        let t1369: f64 = t52 * t1349;
+        let t1370 = product(t985, t1332);
+        let t1371: f64 = t1368.plus(t1369);
+        let t1372: f64 = t1371 * 1.67;
+        let t1373: f64 = t1370.plus(t1372);
+        let t1374: f64 = t98 * t1029;
+        let t1375: f64 = t1373 * t1374;
+        let t1376 = product(t14, t966);
+        let t1377 = product(t101, t253);
+        let t1378: f64 = t1376.added_to(t1073);
+        let t1379: f64 = t1378 * 3.34;
+        let t1380: f64 = t1377.plus(t1379);
+        let t1381: f64 = zc * wy;
+        let t1382: f64 = t30 * t1381;
+        let t1383 = product(t1380, t1382);
+        let t1384: f64 = t1367.plus(t1375);
+        let t1385: f64 = t1383.subtracted_from(t1384);
+        let t1386 = product(wy, t1385);
+        let t1387: f64 = t1352 * 3.34;
+        let t1388 = product(wy, t1387);
+        let t1389 = product(t157, t1336);
+        let t1390 = product(t32, t1356);
+        let t1391: f64 = t43 * t1361;
+        let t1392 = product(t101, t1087);
+        let t1393: f64 = t1390.plus(t1391);
+        let t1394: f64 = t1393 * 1.67;
+        let t1395: f64 = t1392.plus(t1394);
+        let t1396: f64 = t30 * t1395;
+        let t1397: f64 = t1389.minus(t1396);
+        let t1398: f64 = wx * t1397;
+        let t1399: f64 = zc * wz;
+        let t1400: f64 = t30 * t1399;
+        let t1401 = product(t1380, t1400);
+        let t1402: f64 = t1388.plus(t1398);
+        let t1403: f64 = t1401.subtracted_from(t1402);
+        let t1404: f64 = wz * t1403;
+        let t1405: f64 = t1386.minus(t1404);
+        let t1406: f64 = t364 * 0.4119400000000001;
+        let t1407 = product(t414, t1406);
+        let t1408: f64 = t806 * 0.1875000000000001;
+        let t1409: f64 = t1407.plus(t1408);
+        let t1410: f64 = t417 - t1409;
+        let t1411 = product(t13, t1410);
+        let t1412: f64 = t358 * 0.22443999999999997;
+        let t1413 = product(t414, t1412);
+        let t1414 = product(t797, 0.1875000000000001);
+        let t1415: f64 = t1414.added_to(t420);
+        let t1416: f64 = t1413.subtracted_from(t1415);
+        let t1417: f64 = t14 * t1416;
+        let t1418: f64 = t1411.plus(t1417);
+        let t1419 = product(t3, t1418);
+        let t1420: f64 = t1419.subtracted_from(t1405);
+        let t1421: f64 = t358 * 0.1875000000000001;
+        let t1422 = product(t358, t1421);
+        let t1423: f64 = t364 * 0.1875000000000001;
+        let t1424: f64 = t364 * t1423;
+        let t1425: f64 = t1422.minus(t1424);
+        let t1426 = product(t2, t1425);
+        let t1427: f64 = t1364 * 3.34;
+        let t1428: f64 = t595 * t1427;
+        let t1429: f64 = t1426.plus(t1428);
+        let t1430: f64 = t105 * t620;
+        let t1431 = product(t1373, t1430);
+        let t1432: f64 = t30 * t760;
+        let t1433: f64 = t1380 * t1432;
+        let t1434: f64 = t1431.plus(t1433);
+        let t1435: f64 = t1429 + t1434;
+        let t1436: f64 = t1420 + t1435;
+        let t1437 = product(t629, t1397);
+        let t1438: f64 = t1437.subtracted_from(t1436);
+        let t1439: f64 = t255 * t1438;
+        let t1440 = product(wx, t1427);
+        let t1441: f64 = wy * t1397;
+        let t1442 = product(t895, t1373);
+        let t1443: f64 = t1440.plus(t1441);
+        let t1444: f64 = t1442.plus(t1443);
+        let t1445 = product(wz, t1444);
+        let t1446: f64 = wx * t1385;
+        let t1447: f64 = t1445.minus(t1446);
+        let t1448 = product(t595, t1397);
+        let t1449: f64 = t60 * t1425;
+        let t1450: f64 = t1448.minus(t1449);
+        let t1451: f64 = t1447 + t1450;
+        let t1452: f64 = t105 * t760;
+        let t1453 = product(t1336, t1452);
+        let t1454: f64 = t212 * t620;
+        let t1455: f64 = t1380 * t1454;
+        let t1456: f64 = t1453.minus(t1455);
+        let t1457 = product(t29, t1410);
+        let t1458: f64 = t101 * t1416;
+        let t1459: f64 = t1457.minus(t1458);
+        let t1460: f64 = t1456 + t1459;
+        let t1461: f64 = t1451 + t1460;
+        let t1462 = product(t629, t1387);
+        let t1463: f64 = t206 * t1438;
+        let t1464: f64 = t1462.plus(t1463);
+        let t1465: f64 = t1461 - t1464;
+        let t1466 = product(t611, t1465);
+        let t1467 = product(wx, t1403);
+        let t1468: f64 = wy * t1444;
+        let t1469: f64 = t1467.minus(t1468);
+        let t1470 = product(t493, t1425);
+        let t1471: f64 = t620 * t1366;
+        let t1472: f64 = t1470.plus(t1471);
+        let t1473: f64 = t1469 + t1472;
+        let t1474 = product(t595, t1373);
+        let t1475: f64 = t788 * t1336;
+        let t1476: f64 = t1474.minus(t1475);
+        let t1477 = product(t105, t1476);
+        let t1478 = product(zc, t629);
+        let t1479: f64 = t1478.subtracted_from(t576);
+        let t1480: f64 = t30 * t1380;
+        let t1481: f64 = t1479 * t1480;
+        let t1482: f64 = t1477.minus(t1481);
+        let t1483 = product(t38, t1410);
+        let t1484: f64 = t87 * t1416;
+        let t1485: f64 = t1483.minus(t1484);
+        let t1486: f64 = t1482 + t1485;
+        let t1487: f64 = t1473 + t1486;
+        let t1488 = product(t265, t1465);
+        let t1489: f64 = t854 * t1438;
+        let t1490: f64 = t1488.minus(t1489);
+        let t1491: f64 = t1487 + t1490;
+        let t1492: f64 = t882 * t1491;
+        let t1493: f64 = wx * t30;
+        let t1494 = product(t1380, t1493);
+        let t1495: f64 = t889 * t1336;
+        let t1496: f64 = t1494.plus(t1495);
+        let t1497 = product(wy, t1496);
+        let t1498: f64 = wz * wz;
+        let t1499: f64 = t57 * t1498;
+        let t1500: f64 = t98 * t1499;
+        let t1501: f64 = t1336 * t1500;
+        let t1502: f64 = t1497.plus(t1501);
+        let t1503: f64 = t30 * t620;
+        let t1504 = product(t1380, t1503);
+        let t1505: f64 = t1504.subtracted_from(t1502);
+        let t1506 = product(t291, t1491);
+        let t1507: f64 = t282 * t1465;
+        let t1508: f64 = t1506.minus(t1507);
+        let t1509: f64 = t1505 + t1508;
+        let t1510 = product(t596, t1509);
+        let t1511: f64 = t30 * t1498;
+        let t1512 = product(t1380, t1511);
+        let t1513: f64 = wx * t1496;
+        let t1514: f64 = t1512.plus(t1513);
+        let t1515 = product(t1336, t1430);
+        let t1516 = product(t296, t1465);
+        let t1517: f64 = t1516.subtracted_from(t1438);
+        let t1518: f64 = t301 * t1517;
+        let t1519: f64 = t1515.minus(t1518);
+        let t1520: f64 = t1514 + t1519;
+        let t1521 = product(t321, t1491);
+        let t1522: f64 = t323 * t1509;
+        let t1523: f64 = t1521.plus(t1522);
+        let t1524: f64 = t1520 + t1523;
+        let t1525 = product(t599, t1524);
+        let t1526 = product(t1336, t1374);
+        let t1527: f64 = wy * t30;
+        let t1528: f64 = t1380 * t1527;
+        let t1529: f64 = t1526.minus(t1528);
+        let t1530 = product(wz, t1529);
+        let t1531: f64 = t30 * t595;
+        let t1532: f64 = t1380 * t1531;
+        let t1533: f64 = t1530.minus(t1532);
+        let t1534: f64 = t1338.plus(t1439);
+        let t1535: f64 = t1525.plus(t1533);
+        let t1536: f64 = t1534 + t1535;
+        let t1537: f64 = t1466.plus(t1492);
+        let t1538: f64 = t1510.plus(t1537);
+        let t1539: f64 = t1536 - t1538;
+        let t1540 = product(t550, t1539);
+        let t1541: f64 = t1540.added_to(t1524);
+        let t1542 = product(t587, t1541);
+        let t1543 = product(t554, t1541);
+        let t1544 = product(t556, t1539);
+        let t1545: f64 = t1543.added_to(t1509);
+        let t1546: f64 = t1544.subtracted_from(t1545);
+        let t1547 = product(t561, t1546);
+        let t1548: f64 = t563 * t1541;
+        let t1549 = product(t548, t1539);
+        let t1550: f64 = t1549.added_to(t1491);
+        let t1551: f64 = t1547.plus(t1548);
+        let t1552: f64 = t1550 - t1551;
+        let t1553 = product(t572, t1552);
+        let t1554: f64 = t574 * t1539;
+        let t1555 = product(t289, t1546);
+        let t1556: f64 = t577 * t1541;
+        let t1557: f64 = t1555.minus(t1556);
+        let t1558 = product(t279, t1557);
+        let t1559: f64 = t1553.plus(t1554);
+        let t1560: f64 = t1558.added_to(t1465);
+        let t1561: f64 = t1559 + t1560;
+        let t1562 = product(t296, t1561);
+        let t1563: f64 = t568 * t1552;
+        let t1564 = product(t570, t1539);
+        let t1565: f64 = t1542.added_to(t1438);
+        let t1566: f64 = t1562.plus(t1563);
+        let t1567: f64 = t1564.plus(t1566);
+        let t1568: f64 = t1565 - t1567;
+        let t1569: f64 = t83 * t1568;
+        let t1570: f64 = -t1569;
+        let t1571: f64 = t2 * t55;
+        let t1572: f64 = t57 * t1571;
+        let t1573: f64 = t576 * t1572;
+        let t1574: f64 = t30 * t33;
+        let t1575: f64 = t576 * t1574;
+        let t1576: f64 = t595 * t1572;
+        let t1577: f64 = t595 * t1574;
+        let t1578: f64 = t760 * t1574;
+        let t1579 = product(t788, t1572);
+        let t1580: f64 = t1579.added_to(t1578);
+        let t1581: f64 = t55 * t59;
+        let t1582: f64 = t57 * t1581;
+        let t1583: f64 = zc - t1582;
+        let t1584 = product(t1583, 3.34);
+        let t1585: f64 = t1584.minus(t278);
+        let t1586 = product(wx, t1585);
+        let t1587: f64 = t31 * t33;
+        let t1588 = product(t40, t1587);
+        let t1589: f64 = t45 * t1587;
+        let t1590: f64 = t1588.minus(t1589);
+        let t1591: f64 = xc * 13.36;
+        let t1592: f64 = t1590 * 3.34;
+        let t1593: f64 = t1591 + t1592;
+        let t1594 = product(wz, t1593);
+        let t1595: f64 = t3 * t1012;
+        let t1596 = product(t30, t1595);
+        let t1597: f64 = yc * t2;
+        let t1598: f64 = t55 * t1597;
+        let t1599: f64 = t57 * t1598;
+        let t1600: f64 = t1596.minus(t1599);
+        let t1601: f64 = t1600 * 3.34;
+        let t1602: f64 = wy * t1601;
+        let t1603: f64 = t1586.plus(t1602);
+        let t1604: f64 = t1594.subtracted_from(t1603);
+        let t1605 = product(wy, t1604);
+        let t1606: f64 = t58 * t1059;
+        let t1607 = product(t62, t1606);
+        let t1608: f64 = t67 * t1606;
+        let t1609: f64 = t1607.plus(t1608);
+        let t1610: f64 = t1609 * 3.34;
+        let t1611: f64 = t1591 + t1610;
+        let t1612 = product(wy, t1611);
+        let t1613: f64 = xc * t13;
+        let t1614: f64 = t3 * t1613;
+        let t1615: f64 = t30 * t1614;
+        let t1616: f64 = yc + t1615;
+        let t1617 = product(t1616, 3.34);
+        let t1618: f64 = t1617.added_to(t253);
+        let t1619 = product(wx, t1618);
+        let t1620: f64 = wz * t1601;
+        let t1621: f64 = t1619.plus(t1620);
+        let t1622: f64 = t1612.subtracted_from(t1621);
+        let t1623: f64 = wz * t1622;
+        let t1624: f64 = t1605.minus(t1623);
+        let t1625: f64 = zc * 7.34;
+        let t1626 = product(t1582, 3.34);
+        let t1627: f64 = t1626.added_to(t278);
+        let t1628: f64 = t1625 - t1627;
+        let t1629 = product(t620, t1628);
+        let t1630: f64 = t1590 + t1609;
+        let t1631: f64 = t1630 * 3.34;
+        let t1632: f64 = t595 * t1631;
+        let t1633: f64 = t1629.minus(t1632);
+        let t1634: f64 = t1624 + t1633;
+        let t1635: f64 = yc * 7.34;
+        let t1636 = product(t1615, 3.34);
+        let t1637: f64 = t1636.added_to(t1635);
+        let t1638: f64 = t253 + t1637;
+        let t1639 = product(t629, t1638);
+        let t1640: f64 = t1639.subtracted_from(t1634);
+        let t1641: f64 = t1580 * 3.34;
+        let t1642: f64 = t1640 - t1641;
+        let t1643 = product(t255, t1642);
+        let t1644 = product(t595, t1638);
+        let t1645: f64 = t206 * t1642;
+        let t1646: f64 = t1644.minus(t1645);
+        let t1647: f64 = xc * 21.36;
+        let t1648: f64 = t1610 + t1647;
+        let t1649 = product(t629, t1648);
+        let t1650 = product(t620, t1601);
+        let t1651: f64 = t1650.added_to(t460);
+        let t1652 = product(wx, t1631);
+        let t1653 = product(wz, t1585);
+        let t1654: f64 = wy * t1618;
+        let t1655: f64 = t1653.plus(t1654);
+        let t1656: f64 = t1652.minus(t1655);
+        let t1657 = product(wz, t1656);
+        let t1658: f64 = wx * t1604;
+        let t1659: f64 = t1657.plus(t1658);
+        let t1660: f64 = t1651 - t1659;
+        let t1661: f64 = t1649.plus(t1660);
+        let t1662: f64 = t1646 + t1661;
+        let t1663: f64 = t623 * 10.68;
+        let t1664 = product(t1573, 3.34);
+        let t1665: f64 = t1664.added_to(t1663);
+        let t1666: f64 = t461 + t1662;
+        let t1667: f64 = t1665 + t1666;
+        let t1668: f64 = t1667 - 104.77080000000001;
+        let t1669 = product(t611, t1668);
+        let t1670 = product(wx, t1622);
+        let t1671: f64 = wy * t1656;
+        let t1672: f64 = t1670.plus(t1671);
+        let t1673: f64 = t403 - t1672;
+        let t1674 = product(t595, t1628);
+        let t1675: f64 = t1674.subtracted_from(t1673);
+        let t1676 = product(t629, t1601);
+        let t1677: f64 = t854 * t1642;
+        let t1678: f64 = t1676.plus(t1677);
+        let t1679: f64 = t1592 + t1647;
+        let t1680 = product(t620, t1679);
+        let t1681: f64 = t265 * t1668;
+        let t1682: f64 = t1680.minus(t1681);
+        let t1683: f64 = t1678 + t1682;
+        let t1684: f64 = t1675 + t1683;
+        let t1685: f64 = t788 * 10.68;
+        let t1686: f64 = t1575 * 3.34;
+        let t1687: f64 = t404 + t1685;
+        let t1688: f64 = t1684 + t1687;
+        let t1689: f64 = t1688 - t1686;
+        let t1690: f64 = t882 * t1689;
+        let t1691: f64 = t620 * t1574;
+        let t1692 = product(t629, t1572);
+        let t1693: f64 = t1692.subtracted_from(t1691);
+        let t1694: f64 = t30 * t360;
+        let t1695: f64 = wy * 6.68;
+        let t1696 = product(t1694, 3.34);
+        let t1697: f64 = t1696.subtracted_from(t1695);
+        let t1698 = product(wy, t1697);
+        let t1699: f64 = t55 * t410;
+        let t1700: f64 = t57 * t1699;
+        let t1701: f64 = wz * 6.68;
+        let t1702 = product(t1700, 3.34);
+        let t1703: f64 = t1702.added_to(t1701);
+        let t1704: f64 = wz * t1703;
+        let t1705: f64 = t1698.plus(t1704);
+        let t1706 = product(t282, t1668);
+        let t1707: f64 = t291 * t1689;
+        let t1708: f64 = t1706.plus(t1707);
+        let t1709: f64 = t1705 - t1708;
+        let t1710: f64 = t1693 * 3.34;
+        let t1711: f64 = t1709 + t1710;
+        let t1712: f64 = t596 * t1711;
+        let t1713 = product(wx, t1697);
+        let t1714: f64 = wy * t2;
+        let t1715: f64 = t55 * t1714;
+        let t1716 = product(t57, t1715);
+        let t1717: f64 = t3 * t1114;
+        let t1718: f64 = t30 * t1717;
+        let t1719: f64 = t1716.plus(t1718);
+        let t1720: f64 = t1719 * 3.34;
+        let t1721: f64 = wz * t1720;
+        let t1722: f64 = t1713.minus(t1721);
+        let t1723 = product(t296, t1668);
+        let t1724: f64 = t1723.added_to(t1641);
+        let t1725: f64 = t1640 - t1724;
+        let t1726 = product(t301, t1725);
+        let t1727: f64 = t1726.subtracted_from(t1722);
+        let t1728 = product(t321, t1689);
+        let t1729: f64 = t323 * t1711;
+        let t1730: f64 = t1728.minus(t1729);
+        let t1731: f64 = t1727 - t1730;
+        let t1732: f64 = t620 * 10.68;
+        let t1733 = product(t1576, 3.34);
+        let t1734: f64 = t1733.added_to(t1732);
+        let t1735: f64 = t1731 + t1734;
+        let t1736 = product(t599, t1735);
+        let t1737 = product(wx, t1703);
+        let t1738: f64 = wy * t1720;
+        let t1739: f64 = t1737.plus(t1738);
+        let t1740: f64 = t629 * 10.68;
+        let t1741: f64 = t1577 * 3.34;
+        let t1742: f64 = t1740 + t1741;
+        let t1743: f64 = t1643.plus(t1690);
+        let t1744: f64 = t1736.plus(t1739);
+        let t1745: f64 = t1742 + t1743;
+        let t1746: f64 = t1744 + t1745;
+        let t1747: f64 = t1669.plus(t1712);
+        let t1748: f64 = t1746 - t1747;
+        let t1749 = product(t550, t1748);
+        let t1750: f64 = t1749.added_to(t1731);
+        let t1751: f64 = t1734 + t1750;
+        let t1752: f64 = -t1751;
+        let t1753: f64 = t320 * t1752;
+        let t1754: f64 = -t1753;
+        let t1755 = product(t311, t1754);
+        let t1756 = product(t556, t1748);
+        let t1757: f64 = t1755.added_to(t1709);
+        let t1758: f64 = t1710 + t1757;
+        let t1759: f64 = t1756.subtracted_from(t1758);
+        let t1760 = product(t561, t1759);
+        let t1761 = product(t304, t1754);
+        let t1762 = product(t548, t1748);
+        let t1763: f64 = t1760.added_to(t1685);
+        let t1764: f64 = t1761.added_to(t1684);
+        let t1765: f64 = t1763 + t1764;
+        let t1766: f64 = t404 + t1765;
+        let t1767: f64 = t1762.added_to(t1686);
+        let t1768: f64 = t1766 - t1767;
+        let t1769 = product(t572, t1768);
+        let t1770 = product(t574, t1748);
+        let t1771: f64 = t289 * t1759;
+        let t1772 = product(t206, t1754);
+        let t1773: f64 = t1772.subtracted_from(t1771);
+        let t1774: f64 = t279 * t1773;
+        let t1775: f64 = t1770.plus(t1774);
+        let t1776: f64 = t1665 + t1775;
+        let t1777: f64 = t1666 + t1776;
+        let t1778: f64 = t1769.plus(104.77080000000001);
+        let t1779: f64 = t1777 - t1778;
+        let t1780 = product(t296, t1779);
+        let t1781 = product(t568, t1768);
+        let t1782: f64 = t279 * t1754;
+        let t1783: f64 = t570 * t1748;
+        let t1784: f64 = t1781.plus(t1782);
+        let t1785: f64 = t1640 + t1784;
+        let t1786: f64 = t1780.plus(t1783);
+        let t1787: f64 = t1641 + t1786;
+        let t1788: f64 = t1785 - t1787;
+        let t1789: f64 = t83 * t1788;
+        let t1790: f64 = t717 * t788;
+        let t1791: f64 = t101 * t105;
+        let t1792: f64 = t788 * t1791;
+        let t1793: f64 = t629 * t717;
+        let t1794: f64 = t629 * t1791;
+        let t1795: f64 = t101 * t179;
+        let t1796 = product(t104, t1795);
+        let t1797: f64 = t109 * t1795;
+        let t1798: f64 = t1796.plus(t1797);
+        let t1799: f64 = yc * 13.36;
+        let t1800: f64 = t1798 * 3.34;
+        let t1801: f64 = t1799 + t1800;
+        let t1802 = product(wz, t1801);
+        let t1803 = product(t55, t696);
+        let t1804: f64 = zc * t57;
+        let t1805: f64 = t98 * t1804;
+        let t1806: f64 = t101 * t1805;
+        let t1807: f64 = t1803.subtracted_from(t1806);
+        let t1808: f64 = t1807 * 3.34;
+        let t1809: f64 = wx * t1808;
+        let t1810: f64 = t55 * t692;
+        let t1811: f64 = zc + t1810;
+        let t1812 = product(t1811, 3.34);
+        let t1813: f64 = t1812.minus(t278);
+        let t1814 = product(wy, t1813);
+        let t1815: f64 = t1802.plus(t1809);
+        let t1816: f64 = t1814.subtracted_from(t1815);
+        let t1817 = product(wy, t1816);
+        let t1818: f64 = t101 * t157;
+        let t1819: f64 = xc - t1818;
+        let t1820 = product(t1819, 3.34);
+        let t1821: f64 = t1820.minus(t262);
+        let t1822 = product(wx, t1821);
+        let t1823: f64 = t784 - t1798;
+        let t1824: f64 = t1823 * 3.34;
+        let t1825: f64 = wy * t1824;
+        let t1826 = product(wz, t1813);
+        let t1827: f64 = t1822.plus(t1825);
+        let t1828: f64 = t1826.plus(t1827);
+        let t1829: f64 = wz * t1828;
+        let t1830: f64 = t1817.plus(t1829);
+        let t1831 = product(t620, t1808);
+        let t1832: f64 = t1831.added_to(t460);
+        let t1833: f64 = t1830 + t1832;
+        let t1834: f64 = yc * 21.36;
+        let t1835: f64 = t784 * 3.34;
+        let t1836: f64 = t1834 - t1835;
+        let t1837 = product(t595, t1836);
+        let t1838: f64 = xc * 7.34;
+        let t1839 = product(t1818, 3.34);
+        let t1840: f64 = t1839.added_to(t262);
+        let t1841: f64 = t1838 - t1840;
+        let t1842: f64 = t629 * t1841;
+        let t1843: f64 = t1837.plus(t1842);
+        let t1844: f64 = t1833 + t1843;
+        let t1845: f64 = t1790 * 3.34;
+        let t1846: f64 = t461 + t1663;
+        let t1847: f64 = t1844 + t1846;
+        let t1848: f64 = t1845 + 104.77080000000001;
+        let t1849: f64 = t1847 - t1848;
+        let t1850 = product(t255, t1849);
+        let t1851: f64 = t760 * t1791;
+        let t1852 = product(t576, t717);
+        let t1853: f64 = t1852.added_to(t1851);
+        let t1854: f64 = t1799 - t1835;
+        let t1855 = product(wx, t1854);
+        let t1856 = product(wy, t1821);
+        let t1857: f64 = wz * t1808;
+        let t1858: f64 = t1855.plus(t1857);
+        let t1859: f64 = t1856.subtracted_from(t1858);
+        let t1860 = product(wz, t1859);
+        let t1861: f64 = wx * t1816;
+        let t1862: f64 = t1860.minus(t1861);
+        let t1863 = product(t1810, 3.34);
+        let t1864: f64 = t1863.added_to(t1625);
+        let t1865: f64 = t1864 - t278;
+        let t1866 = product(t620, t1865);
+        let t1867: f64 = t595 * t1841;
+        let t1868: f64 = t1866.plus(t1867);
+        let t1869: f64 = t1862 - t1868;
+        let t1870 = product(t629, t1824);
+        let t1871: f64 = t206 * t1849;
+        let t1872: f64 = t1870.minus(t1871);
+        let t1873: f64 = t1869 + t1872;
+        let t1874: f64 = t1853 * 3.34;
+        let t1875: f64 = t1873 + t1874;
+        let t1876 = product(t611, t1875);
+        let t1877 = product(wx, t1828);
+        let t1878: f64 = wy * t1859;
+        let t1879: f64 = t1877.plus(t1878);
+        let t1880 = product(t595, t1808);
+        let t1881: f64 = t1880.subtracted_from(t483);
+        let t1882: f64 = t1879 + t1881;
+        let t1883 = product(t854, t1849);
+        let t1884: f64 = t265 * t1875;
+        let t1885: f64 = t1883.minus(t1884);
+        let t1886: f64 = t1882 + t1885;
+        let t1887 = product(t629, t1865);
+        let t1888: f64 = t1800 + t1834;
+        let t1889: f64 = t620 * t1888;
         let t1890: f64 = t1887.plus(t1889);
-        let t1891: f64 = t1890 * 3.34;
-        let t1892: f64 = wz * t1891;
-        let t1893: f64 = t1884.minus(t1892);
-        let t1894: f64 = t1883.plus(t1893);
-        let t1895: f64 = t1872 + t1894;
-        let t1896 = product(t548, t1895);
-        let t1897: f64 = t665 * t1753;
-        let t1898 = product(t280, t1783);
-        let t1899: f64 = t1897 * 3.34;
-        let t1900: f64 = t1898.plus(t1899);
-        let t1901: f64 = t90 * t1900;
-        let t1902: f64 = t1896.plus(t1901);
-        let t1903 = product(wx, t1814);
-        let t1904: f64 = wy * t1891;
-        let t1905: f64 = t1903.plus(t1904);
-        let t1906 = product(t561, t1848);
-        let t1907: f64 = t553 * t1859;
-        let t1908: f64 = t1906.minus(t1907);
-        let t1909: f64 = t1905 + t1908;
-        let t1910: f64 = t1902 + t1909;
-        let t1911: f64 = t1804.plus(t1910);
-        let t1912 = product(t601, t1911);
-        let t1913: f64 = t1912.added_to(t1895);
-        let t1914: f64 = -t1913;
-        let t1915: f64 = t301 * t1914;
-        let t1916: f64 = -t1915;
-        let t1917: f64 = t20 * t1916;
-        let t1918 = product(t661, t1911);
-        let t1919: f64 = t1781 + t1917;
-        let t1920: f64 = t1919 - t1782;
-        let t1921 = product(t181, t1920);
-        let t1922: f64 = t1921.subtracted_from(t1785);
-        let t1923 = product(t90, t1922);
-        let t1924 = product(t637, t1744);
-        let t1925 = product(t268, t1916);
-        let t1926 = product(t633, t1911);
-        let t1927: f64 = t626 * t1753;
-        let t1928 = product(t292, t1916);
-        let t1929 = product(t620, t1911);
-        let t1930: f64 = t1928.added_to(t1859);
-        let t1931: f64 = t1929.subtracted_from(t1930);
-        let t1932 = product(t281, t1931);
-        let t1933: f64 = t1927 * 3.34;
-        let t1934: f64 = t1932.subtracted_from(t1933);
-        let t1935: f64 = t286 * t1934;
-        let t1936: f64 = t1925.added_to(t1845);
-        let t1937: f64 = t364 + t1936;
-        let t1938: f64 = t1926.plus(t1935);
-        let t1939: f64 = t1937 - t1938;
-        let t1940: f64 = t237 * t1939;
-        let t1941: f64 = t1924.minus(t1940);
-        let t1942: f64 = t254 * t1941;
-        let t1943: f64 = t626 * t1699;
-        let t1944 = product(t20, t1931);
-        let t1945: f64 = t1943 * 3.34;
-        let t1946: f64 = t1944.plus(t1945);
-        let t1947 = product(t286, t1946);
-        let t1948 = product(xc, 1399.7378879999999);
-        let t1949 = product(t648, 10.68);
-        let t1950: f64 = t264 * 349.93447199999997;
-        let t1951: f64 = t420 * 21.36;
-        let t1952: f64 = t1948.plus(t1951);
-        let t1953: f64 = t1797 + t1952;
-        let t1954: f64 = t1949.plus(t1950);
-        let t1955: f64 = t1953 - t1954;
-        let t1956 = product(t208, t1955);
-        let t1957: f64 = t1956.added_to(t1910);
-        let t1958 = product(t498, t1957);
-        let t1959: f64 = t349 * 42.72;
-        let t1960 = product(t544, 10.68);
-        let t1961: f64 = t1958.plus(t1959);
-        let t1962: f64 = t1960.plus(t1961);
-        let t1963: f64 = t1962 - 2516.5946160000008;
-        let t1964: f64 = t530 * t1963;
-        let t1965: f64 = t1923.plus(t1942);
-        let t1966: f64 = t1947.plus(t1964);
-        let t1967: f64 = t408 + t1751;
-        let t1968: f64 = t1965 + t1966;
-        let t1969: f64 = t1967 + t1968;
-        let t1970: f64 = t1969 - 104.77080000000001;
-        let t1971 = product(t181, t1970);
-        let t1972: f64 = t1971.added_to(t1874);
-        let t1973: f64 = t208 * t1972;
-        let t1974 = product(t637, t1761);
-        let t1975: f64 = t141 * t1939;
-        let t1976: f64 = t1974.plus(t1975);
-        let t1977 = product(t254, t1976);
-        let t1978: f64 = t1977.added_to(t1917);
-        let t1979: f64 = t1774 + t1978;
-        let t1980: f64 = t1918.plus(t1973);
-        let t1981: f64 = t1782 + t1980;
-        let t1982: f64 = t1979 - t1981;
-        let t1983: f64 = t90 * t1982;
-        let t1984: f64 = t120 * t164;
-        let t1985: f64 = xc * 7.34;
-        let t1986 = product(t1984, 3.34);
-        let t1987: f64 = t1986.added_to(t266);
-        let t1988: f64 = t1985 - t1987;
-        let t1989: f64 = t655 * t1988;
-        let t1990: f64 = t301 * t792;
-        let t1991: f64 = t604 * t1990;
-        let t1992 = product(t1247, t1988);
-        let t1993: f64 = yc * 21.36;
-        let t1994: f64 = t597 * 3.34;
-        let t1995: f64 = t1993 - t1994;
-        let t1996 = product(t1302, t1995);
-        let t1997: f64 = xc - t1984;
-        let t1998 = product(t1997, 3.34);
-        let t1999: f64 = t1998.minus(t266);
-        let t2000 = product(wx, t1999);
-        let t2001: f64 = t120 * t186;
-        let t2002 = product(t123, t2001);
+        let t1891: f64 = t1886 - t1890;
+        let t1892: f64 = t576 * 10.68;
+        let t1893 = product(t1792, 3.34);
+        let t1894: f64 = t1893.added_to(t1892);
+        let t1895: f64 = t484 + t1891;
+        let t1896: f64 = t1894 + t1895;
+        let t1897 = product(t882, t1896);
+        let t1898: f64 = t101 * t889;
+        let t1899: f64 = wx * 6.68;
+        let t1900 = product(t1898, 3.34);
+        let t1901: f64 = t1900.added_to(t1899);
+        let t1902 = product(wy, t1901);
+        let t1903 = product(t101, t895);
+        let t1904: f64 = wx * t24;
+        let t1905: f64 = t55 * t1904;
+        let t1906: f64 = t1903.plus(t1905);
+        let t1907: f64 = t1906 * 3.34;
+        let t1908: f64 = wz * t1907;
+        let t1909: f64 = t1902.plus(t1908);
+        let t1910 = product(t282, t1875);
+        let t1911: f64 = t291 * t1896;
+        let t1912: f64 = t1910.plus(t1911);
+        let t1913: f64 = t1909 - t1912;
+        let t1914 = product(t1793, 3.34);
+        let t1915: f64 = t1914.added_to(t1732);
+        let t1916: f64 = t1915 - t1913;
+        let t1917: f64 = t596 * t1916;
+        let t1918 = product(t620, t1791);
+        let t1919: f64 = t595 * t717;
+        let t1920: f64 = t1918.plus(t1919);
+        let t1921: f64 = t55 * t411;
+        let t1922 = product(t1921, 3.34);
+        let t1923: f64 = t1922.subtracted_from(t1701);
+        let t1924 = product(wz, t1923);
+        let t1925: f64 = wx * t1901;
+        let t1926: f64 = t1924.plus(t1925);
+        let t1927 = product(t296, t1875);
+        let t1928: f64 = t1663 + t1844;
+        let t1929: f64 = t461 + t1928;
+        let t1930: f64 = t1927.added_to(t1845);
+        let t1931: f64 = t1930 + 104.77080000000001;
+        let t1932: f64 = t1929 - t1931;
+        let t1933 = product(t301, t1932);
+        let t1934: f64 = t1933.subtracted_from(t1926);
+        let t1935 = product(t321, t1896);
+        let t1936: f64 = t323 * t1916;
+        let t1937: f64 = t1935.plus(t1936);
+        let t1938: f64 = t1934 - t1937;
+        let t1939: f64 = t1920 * 3.34;
+        let t1940: f64 = t1938 + t1939;
+        let t1941 = product(t599, t1940);
+        let t1942 = product(wy, t1923);
+        let t1943: f64 = wx * t1907;
+        let t1944: f64 = t1942.minus(t1943);
+        let t1945: f64 = t595 * 10.68;
+        let t1946: f64 = t1794 * 3.34;
+        let t1947: f64 = t1876.plus(t1945);
+        let t1948: f64 = t1944 + t1947;
+        let t1949: f64 = t1850.plus(t1946);
+        let t1950: f64 = t1897.plus(t1917);
+        let t1951: f64 = t1949 + t1950;
+        let t1952: f64 = t1941.plus(t1951);
+        let t1953: f64 = t1948 - t1952;
+        let t1954 = product(t550, t1953);
+        let t1955: f64 = t1954.subtracted_from(t1940);
+        let t1956 = product(t554, t1955);
+        let t1957: f64 = t556 * t1953;
+        let t1958: f64 = t1956.plus(t1957);
+        let t1959: f64 = t1913 + t1958;
+        let t1960: f64 = t1959 - t1915;
+        let t1961: f64 = t289 * t1960;
+        let t1962: f64 = -t1961;
+        let t1963 = product(t284, t1962);
+        let t1964 = product(t563, t1955);
+        let t1965: f64 = t548 * t1953;
+        let t1966: f64 = t1964.plus(t1965);
+        let t1967: f64 = t1894 + t1966;
+        let t1968: f64 = t1895 + t1967;
+        let t1969: f64 = t1963.subtracted_from(t1968);
+        let t1970 = product(t568, t1969);
+        let t1971 = product(t587, t1955);
+        let t1972 = product(t572, t1969);
+        let t1973: f64 = t574 * t1953;
+        let t1974 = product(t577, t1955);
+        let t1975: f64 = t1974.subtracted_from(t1961);
+        let t1976 = product(t279, t1975);
+        let t1977: f64 = t1976.added_to(t1873);
+        let t1978: f64 = t1874 + t1977;
+        let t1979: f64 = t1972.plus(t1973);
+        let t1980: f64 = t1978 - t1979;
+        let t1981 = product(t296, t1980);
+        let t1982: f64 = t570 * t1953;
+        let t1983: f64 = t1970.added_to(t1663);
+        let t1984: f64 = t1971.plus(t1982);
+        let t1985: f64 = t461 + t1844;
+        let t1986: f64 = t1983 + t1984;
+        let t1987: f64 = t1985 + t1986;
+        let t1988: f64 = t1981.added_to(t1845);
+        let t1989: f64 = t1988 + 104.77080000000001;
+        let t1990: f64 = t1987 - t1989;
+        let t1991: f64 = t83 * t1990;
+        let t1992: f64 = -t1991;
+        let t1993: f64 = t30 * t38;
+        let t1994: f64 = t760 * t1993;
+        let t1995: f64 = t87 * t105;
+        let t1996: f64 = t620 * t1995;
+        let t1997: f64 = t595 * t1993;
+        let t1998 = product(t629, t1995);
+        let t1999 = product(t87, t157);
+        let t2000: f64 = xc * t30;
+        let t2001: f64 = t38 * t2000;
+        let t2002: f64 = t1999.plus(t2001);
         (
-            t1003,
-            t1024,
-            t1036,
-            t1065,
-            t1066,
-            t1157,
-            t1169,
-            t1203,
-            t1245,
-            t1247,
-            t1266,
-            t1275,
+            t1054,
+            t1071,
+            t1093,
+            t1105,
+            t1177,
+            t1208,
+            t1233,
+            t1256,
             t1280,
-            t1302,
-            t1317,
-            t1337,
-            t1369,
-            t1386,
-            t1393,
-            t1430,
+            t1294,
+            t1301,
+            t1330,
+            t1336,
+            t1381,
+            t1387,
+            t1397,
+            t1399,
+            t1421,
+            t1423,
             t1436,
-            t1443,
-            t1447,
-            t1475,
-            t1486,
+            t1461,
+            t1487,
             t1493,
-            t1497,
-            t1500,
-            t1502,
-            t1511,
-            t1517,
+            t1505,
             t1520,
-            t1542,
-            t1567,
-            t1590,
-            t1598,
-            t1602,
+            t1533,
+            t1541,
+            t1570,
+            t1572,
+            t1574,
+            t1578,
+            t1585,
+            t1593,
+            t1601,
             t1611,
-            t1631,
-            t1657,
+            t1618,
+            t1634,
+            t1635,
+            t1638,
+            t1660,
+            t1663,
+            t1673,
+            t1685,
+            t1691,
             t1695,
-            t1699,
-            t1715,
-            t1721,
-            t1728,
-            t1736,
-            t1744,
-            t1750,
-            t1753,
-            t1754,
-            t1758,
-            t1761,
-            t1764,
+            t1705,
+            t1727,
+            t1732,
+            t1734,
+            t1739,
+            t1740,
+            t1741,
+            t1759,
             t1771,
-            t1776,
             t1779,
-            t1790,
-            t1798,
-            t1799,
-            t1806,
-            t1812,
-            t1816,
-            t1823,
-            t1832,
-            t1842,
-            t1864,
-            t1879,
-            t1893,
-            t1905,
-            t1931,
-            t1959,
-            t1970,
-            t1983,
-            t1985,
-            t1988,
-            t1989,
-            t1991,
+            t1789,
+            t1791,
+            t1801,
+            t1805,
+            t1813,
+            t1821,
+            t1824,
+            t1833,
+            t1838,
+            t1851,
+            t1854,
+            t1869,
+            t1882,
+            t1892,
+            t1899,
+            t1909,
+            t1934,
+            t1939,
+            t1944,
+            t1945,
+            t1955,
+            t1962,
+            t1969,
             t1992,
             t1993,
             t1994,
+            t1995,
             t1996,
-            t1999,
-            t2000,
-            t2001,
+            t1997,
+            t1998,
             t2002,
         )
     };
     let (
-        t2187,
-        t2197,
-        t2208,
-        t2252,
-        t2446,
+        t2156,
+        t2172,
+        t2189,
+        t2190,
+        t2227,
+        t2230,
+        t2234,
+        t2236,
+        t2242,
+        t2248,
+        t2286,
+        t2301,
+        t2302,
+        t2385,
+        t2429,
+        t2463,
         t2470,
-        t2494,
-        t2495,
-        t2541,
-        t2544,
-        t2547,
-        t2551,
-        t2558,
-        t2564,
-        t2617,
-        t2622,
+        t2554,
+        t2555,
+        t2556,
+        t2631,
+        t2632,
+        t2633,
+        t2634,
+        t2635,
+        t2636,
         t2637,
         t2638,
-        t2671,
-        t2708,
-        t2734,
+        t2640,
+        t2641,
+        t2642,
+        t2644,
+        t2646,
+        t2647,
+        t2707,
+        t2715,
         t2739,
-        t2790,
-        t2803,
-        t2828,
-        t2831,
-        t2833,
-        t2840,
-        t2948,
-        t2950,
-        t2955,
-        t2956,
-        t2957,
-        t2971,
-        t2990,
-        t3000,
+        t2742,
+        t2762,
+        t2773,
+        t2818,
+        t2844,
+        t2856,
+        t2866,
+        t2880,
+        t2900,
+        t2925,
+        t2926,
+        t2927,
+        t2943,
+        t2944,
+        t2945,
+        t2959,
+        t2982,
+        t2989,
+        t2994,
+        t2998,
+        t2999,
+        t3001,
         t3002,
     ) = {
-        let t2003: f64 = t128 * t2001;
-        let t2004: f64 = t2002.plus(t2003);
-        let t2005: f64 = t597 - t2004;
-        let t2006: f64 = t2005 * 3.34;
-        let t2007: f64 = wy * t2006;
-        let t2008: f64 = t2 * t806;
-        let t2009: f64 = zc + t2008;
-        let t2010 = product(t2009, 3.34);
-        let t2011: f64 = t2010.minus(t19);
-        let t2012 = product(wz, t2011);
-        let t2013: f64 = t2000.plus(t2007);
-        let t2014: f64 = t2012.plus(t2013);
-        let t2015 = product(wz, t2014);
-        let t2016: f64 = yc * 13.36;
-        let t2017: f64 = t2004 * 3.34;
-        let t2018: f64 = t2016 + t2017;
-        let t2019 = product(wz, t2018);
-        let t2020 = product(t2, t810);
-        let t2021: f64 = zc * t5;
-        let t2022: f64 = t117 * t2021;
-        let t2023: f64 = t120 * t2022;
-        let t2024: f64 = t2020.minus(t2023);
-        let t2025: f64 = t2024 * 3.34;
-        let t2026 = product(wx, t2025);
-        let t2027: f64 = wy * t2011;
-        let t2028: f64 = t2026.plus(t2027);
-        let t2029: f64 = t2019.subtracted_from(t2028);
-        let t2030: f64 = wy * t2029;
-        let t2031: f64 = t2015.minus(t2030);
-        let t2032: f64 = t407 + t2031;
-        let t2033: f64 = t1996.plus(t2032);
-        let t2034 = product(t1066, t2025);
-        let t2035: f64 = t2034.subtracted_from(t2033);
-        let t2036: f64 = t1992.plus(t2035);
-        let t2037 = product(t1991, 3.34);
-        let t2038: f64 = t408 + t1790;
-        let t2039: f64 = t2036 + t2038;
-        let t2040: f64 = t2037.plus(104.77080000000001);
-        let t2041: f64 = t2039 - t2040;
-        let t2042: f64 = t280 * t2041;
-        let t2043: f64 = yc * 699.8689439999999;
-        let t2044: f64 = t277 * 174.96723599999999;
-        let t2045: f64 = t391 + t660;
-        let t2046 = product(t2045, 10.68);
-        let t2047: f64 = t2043 + t2044;
-        let t2048: f64 = t2046.plus(t2047);
-        let t2049: f64 = t2048 - t2042;
-        let t2050 = product(t90, t2049);
-        let t2051: f64 = t665 * t792;
-        let t2052 = product(t2008, 3.34);
-        let t2053: f64 = t2052.added_to(t1758);
-        let t2054: f64 = t2053 - t19;
-        let t2055 = product(t1066, t2054);
-        let t2056: f64 = t120 * t124;
-        let t2057: f64 = t842 * t2056;
-        let t2058: f64 = t286 * t792;
-        let t2059 = product(t626, t2058);
-        let t2060: f64 = t2059.added_to(t2057);
-        let t2061: f64 = t2016 - t1994;
-        let t2062 = product(wx, t2061);
-        let t2063 = product(wy, t1999);
-        let t2064: f64 = wz * t2025;
-        let t2065: f64 = t2063.plus(t2064);
-        let t2066: f64 = t2062.minus(t2065);
-        let t2067 = product(wz, t2066);
-        let t2068: f64 = wx * t2029;
-        let t2069: f64 = t2067.plus(t2068);
-        let t2070: f64 = t208 * t2006;
-        let t2071 = product(t655, t2070);
-        let t2072: f64 = t408 + t1832;
-        let t2073: f64 = t2036 + t2072;
-        let t2074: f64 = t2073 - t2040;
-        let t2075 = product(t181, t2074);
-        let t2076: f64 = t665 * t1988;
-        let t2077: f64 = t2075.plus(t2076);
-        let t2078: f64 = t90 * t2077;
-        let t2079: f64 = t2071.minus(t2078);
-        let t2080: f64 = t2069 + t2079;
-        let t2081: f64 = t2060 * 3.34;
-        let t2082: f64 = t2080 + t2081;
-        let t2083: f64 = t2055.subtracted_from(t2082);
-        let t2084 = product(t181, t2083);
-        let t2085: f64 = t2084.subtracted_from(t1989);
-        let t2086 = product(t208, t2085);
-        let t2087: f64 = t2086.added_to(t1832);
-        let t2088: f64 = t408 + t2035;
-        let t2089: f64 = t2087 + t2088;
-        let t2090: f64 = t2089 - t2040;
-        let t2091 = product(t20, t2090);
-        let t2092: f64 = t2051 * 3.34;
-        let t2093: f64 = t2091.subtracted_from(t2092);
-        let t2094 = product(t90, t2093);
-        let t2095: f64 = t120 * t923;
-        let t2096: f64 = wx * 6.68;
-        let t2097 = product(t2095, 3.34);
+        let t2003: f64 = t2002 * 3.34;
+        let t2004 = product(t629, t2003);
+        let t2005: f64 = t87 * t1805;
+        let t2006 = product(t2005, 3.34);
+        let t2007: f64 = t2006.added_to(t262);
+        let t2008: f64 = t1838 - t2007;
+        let t2009: f64 = t620 * t2008;
+        let t2010: f64 = t2004.plus(t2009);
+        let t2011: f64 = t38 * t212;
+        let t2012: f64 = yc - t2011;
+        let t2013 = product(t2012, 3.34);
+        let t2014: f64 = t2013.added_to(t253);
+        let t2015 = product(wy, t2014);
+        let t2016: f64 = t87 * t179;
+        let t2017 = product(t104, t2016);
+        let t2018: f64 = t109 * t2016;
+        let t2019: f64 = t2017.plus(t2018);
+        let t2020: f64 = t712 + t2019;
+        let t2021: f64 = t2020 * 3.34;
+        let t2022: f64 = -t2021;
+        let t2023: f64 = wz * t2022;
+        let t2024: f64 = xc - t2005;
+        let t2025 = product(t2024, 3.34);
+        let t2026: f64 = t2025.minus(t262);
+        let t2027 = product(wx, t2026);
+        let t2028: f64 = t2015.plus(t2023);
+        let t2029: f64 = t2027.plus(t2028);
+        let t2030 = product(wy, t2029);
+        let t2031: f64 = zc * 13.36;
+        let t2032: f64 = t2019 * 3.34;
+        let t2033: f64 = t2031 + t2032;
+        let t2034 = product(wy, t2033);
+        let t2035 = product(wz, t2014);
+        let t2036: f64 = wx * t2003;
+        let t2037: f64 = t2034.plus(t2036);
+        let t2038: f64 = t2035.subtracted_from(t2037);
+        let t2039: f64 = wz * t2038;
+        let t2040: f64 = t2030.plus(t2039);
+        let t2041: f64 = t403 + t2040;
+        let t2042: f64 = zc * 21.36;
+        let t2043: f64 = t712 * 3.34;
+        let t2044: f64 = t2042 + t2043;
+        let t2045 = product(t595, t2044);
+        let t2046: f64 = t2045.subtracted_from(t2041);
+        let t2047: f64 = t2010 + t2046;
+        let t2048: f64 = t1994 * 3.34;
+        let t2049: f64 = t1685 + t2048;
+        let t2050: f64 = t404 + t2047;
+        let t2051: f64 = t2049 + t2050;
+        let t2052 = product(t255, t2051);
+        let t2053: f64 = t760 * t1995;
+        let t2054 = product(t206, t2051);
+        let t2055: f64 = t2032 + t2042;
+        let t2056: f64 = t629 * t2055;
+        let t2057: f64 = t2054.minus(t2056);
+        let t2058: f64 = t2031 + t2043;
+        let t2059 = product(wx, t2058);
+        let t2060: f64 = wy * t2003;
+        let t2061 = product(wz, t2026);
+        let t2062: f64 = t2059.plus(t2060);
+        let t2063: f64 = t2061.subtracted_from(t2062);
+        let t2064 = product(wz, t2063);
+        let t2065: f64 = wx * t2029;
+        let t2066: f64 = t2064.plus(t2065);
+        let t2067 = product(t595, t2003);
+        let t2068: f64 = t2067.added_to(t483);
+        let t2069: f64 = t2066 + t2068;
+        let t2070 = product(t2011, 3.34);
+        let t2071: f64 = t253 + t1635;
+        let t2072: f64 = t2070.subtracted_from(t2071);
+        let t2073 = product(t620, t2072);
+        let t2074: f64 = t2073.subtracted_from(t2069);
+        let t2075: f64 = t2057 + t2074;
+        let t2076: f64 = t2053 * 3.34;
+        let t2077: f64 = t1892 + t2076;
+        let t2078: f64 = t484 + t2075;
+        let t2079: f64 = t2077 + t2078;
+        let t2080: f64 = t611 * t2079;
+        let t2081 = product(t576, t1993);
+        let t2082: f64 = t788 * t1995;
+        let t2083: f64 = t2081.minus(t2082);
+        let t2084 = product(t854, t2051);
+        let t2085: f64 = t265 * t2079;
+        let t2086: f64 = t2084.plus(t2085);
+        let t2087 = product(t629, t2072);
+        let t2088 = product(wx, t2038);
+        let t2089: f64 = wy * t2063;
+        let t2090: f64 = t2088.minus(t2089);
+        let t2091 = product(t620, t2022);
+        let t2092: f64 = t595 * t2008;
+        let t2093: f64 = t2091.plus(t2092);
+        let t2094: f64 = t2090 - t2093;
+        let t2095: f64 = t2087.plus(t2094);
+        let t2096: f64 = t2086 + t2095;
+        let t2097 = product(t2083, 3.34);
         let t2098: f64 = t2097.added_to(t2096);
-        let t2099 = product(wy, t2098);
-        let t2100 = product(t120, t929);
-        let t2101: f64 = wx * t0;
-        let t2102: f64 = t2 * t2101;
-        let t2103: f64 = t2100.plus(t2102);
+        let t2099 = product(t882, t2098);
+        let t2100: f64 = t620 * t1993;
+        let t2101 = product(t38, t1493);
+        let t2102: f64 = t87 * t889;
+        let t2103: f64 = t2101.minus(t2102);
         let t2104: f64 = t2103 * 3.34;
-        let t2105: f64 = wz * t2104;
-        let t2106: f64 = t2099.plus(t2105);
-        let t2107: f64 = t301 * t2056;
-        let t2108: f64 = t604 * t2107;
-        let t2109 = product(t665, t2025);
-        let t2110: f64 = t141 * t2074;
-        let t2111: f64 = t2109.plus(t2110);
-        let t2112 = product(t90, t2111);
-        let t2113 = product(t237, t2083);
-        let t2114: f64 = t655 * t2054;
-        let t2115: f64 = t2113.plus(t2114);
-        let t2116: f64 = t208 * t2115;
-        let t2117: f64 = t2112.minus(t2116);
-        let t2118 = product(wx, t2014);
-        let t2119: f64 = wy * t2066;
-        let t2120: f64 = t2118.plus(t2119);
-        let t2121: f64 = t1993 + t2017;
-        let t2122 = product(t1066, t2121);
-        let t2123: f64 = t2122.subtracted_from(t2120);
-        let t2124: f64 = t2117 + t2123;
-        let t2125 = product(t403, 85.44);
-        let t2126: f64 = t625 * 21.36;
-        let t2127: f64 = t2125.plus(t2126);
-        let t2128 = product(t286, t2127);
-        let t2129: f64 = t2128.added_to(t449);
-        let t2130 = product(t2108, 3.34);
-        let t2131: f64 = t2130.added_to(t450);
-        let t2132: f64 = t2124 + t2129;
-        let t2133: f64 = t2131 + t2132;
-        let t2134 = product(t281, t2133);
-        let t2135: f64 = t635 - t630;
-        let t2136: f64 = t2135 * 10.68;
-        let t2137: f64 = t2134.plus(t2136);
-        let t2138 = product(t254, t2137);
-        let t2139: f64 = t655 * t792;
-        let t2140 = product(t20, t2083);
-        let t2141: f64 = t2139 * 3.34;
+        let t2105 = product(wy, t2104);
+        let t2106: f64 = t87 * t895;
+        let t2107 = product(t2106, 3.34);
+        let t2108: f64 = t2107.added_to(t1899);
+        let t2109: f64 = wz * t2108;
+        let t2110: f64 = t2105.minus(t2109);
+        let t2111 = product(t282, t2079);
+        let t2112: f64 = t291 * t2098;
+        let t2113: f64 = t2111.minus(t2112);
+        let t2114: f64 = t2110 + t2113;
+        let t2115: f64 = t2100 * 3.34;
+        let t2116: f64 = t1740 + t2114;
+        let t2117: f64 = t2116 - t2115;
+        let t2118 = product(t596, t2117);
+        let t2119 = product(t296, t2079);
+        let t2120: f64 = t2119.added_to(t2047);
+        let t2121: f64 = t2049 + t2120;
+        let t2122: f64 = t404 + t2121;
+        let t2123 = product(t301, t2122);
+        let t2124: f64 = wz * t30;
+        let t2125: f64 = t38 * t2124;
+        let t2126 = product(t2125, 3.34);
+        let t2127: f64 = t2126.added_to(t1695);
+        let t2128 = product(wz, t2127);
+        let t2129: f64 = wx * t2104;
+        let t2130: f64 = t2128.plus(t2129);
+        let t2131: f64 = t2123.minus(t2130);
+        let t2132 = product(t321, t2098);
+        let t2133: f64 = t323 * t2117;
+        let t2134: f64 = t2132.minus(t2133);
+        let t2135: f64 = t2131 + t2134;
+        let t2136 = product(t1996, 3.34);
+        let t2137: f64 = t2136.added_to(t1945);
+        let t2138: f64 = t2135 + t2137;
+        let t2139 = product(t599, t2138);
+        let t2140 = product(wx, t2108);
+        let t2141: f64 = wy * t2127;
         let t2142: f64 = t2140.plus(t2141);
-        let t2143: f64 = t208 * t2142;
-        let t2144: f64 = t2138.plus(t2143);
-        let t2145: f64 = t2106 - t2144;
-        let t2146: f64 = -t2145;
-        let t2147: f64 = t507 * t2146;
-        let t2148: f64 = t2094.minus(t2147);
-        let t2149: f64 = t637 * t2056;
-        let t2150 = product(t403, 42.72);
-        let t2151: f64 = t625 * 10.68;
-        let t2152: f64 = t2150.plus(t2151);
-        let t2153 = product(t286, t2152);
-        let t2154: f64 = t2153.added_to(t449);
-        let t2155: f64 = t2124 + t2154;
-        let t2156: f64 = t2131 + t2155;
-        let t2157 = product(t268, t2156);
-        let t2158: f64 = t2149 * 3.34;
-        let t2159: f64 = t2157.subtracted_from(t2158);
-        let t2160 = product(t254, t2159);
-        let t2161: f64 = t2 * t371;
-        let t2162 = product(t2161, 3.34);
-        let t2163: f64 = t2162.subtracted_from(t1812);
-        let t2164 = product(wz, t2163);
-        let t2165: f64 = wx * t2098;
-        let t2166: f64 = t2164.plus(t2165);
-        let t2167: f64 = t2160.plus(t2166);
-        let t2168: f64 = t2148 + t2167;
-        let t2169 = product(t548, t2168);
-        let t2170: f64 = t655 * t2056;
-        let t2171 = product(t498, t2083);
-        let t2172: f64 = t2170 * 3.34;
-        let t2173: f64 = t2171.subtracted_from(t2172);
-        let t2174: f64 = t208 * t2173;
-        let t2175: f64 = t2169.plus(t2174);
-        let t2176 = product(wy, t2163);
-        let t2177: f64 = wx * t2104;
-        let t2178: f64 = t2176.minus(t2177);
-        let t2179 = product(t561, t2156);
-        let t2180: f64 = t553 * t2146;
-        let t2181: f64 = t2179.plus(t2180);
-        let t2182: f64 = t2178 - t2181;
-        let t2183: f64 = t2175 - t2182;
-        let t2184: f64 = t2050.minus(t2183);
-        let t2185 = product(t650, t2184);
-        let t2186 = product(t601, t2184);
-        let t2187: f64 = t2186.subtracted_from(t2168);
-        let t2188 = product(t622, t2187);
-        let t2189: f64 = t620 * t2184;
-        let t2190: f64 = t2188.plus(t2189);
-        let t2191: f64 = t2145 + t2190;
-        let t2192: f64 = t286 * t2191;
-        let t2193 = product(t643, t2187);
-        let t2194: f64 = t2193.subtracted_from(t2192);
-        let t2195 = product(t20, t2194);
-        let t2196 = product(t637, t2054);
-        let t2197: f64 = -t2192;
-        let t2198 = product(t281, t2197);
-        let t2199 = product(t633, t2184);
-        let t2200: f64 = t604 * t2056;
-        let t2201 = product(t268, t2187);
-        let t2202: f64 = t2200 * 3.34;
-        let t2203: f64 = t2201.plus(t2202);
-        let t2204: f64 = t301 * t2203;
-        let t2205: f64 = t2199.plus(t2204);
-        let t2206: f64 = t450 + t2155;
-        let t2207: f64 = t2205 + t2206;
-        let t2208: f64 = t2198.subtracted_from(t2207);
-        let t2209: f64 = t237 * t2208;
-        let t2210: f64 = t2196.plus(t2209);
-        let t2211: f64 = t254 * t2210;
-        let t2212: f64 = t2195.added_to(t2080);
-        let t2213: f64 = t2081 + t2212;
-        let t2214: f64 = t2185.plus(t2211);
-        let t2215: f64 = t2213 - t2214;
-        let t2216 = product(t181, t2215);
-        let t2217: f64 = t2216.subtracted_from(t1989);
-        let t2218 = product(t208, t2217);
-        let t2219 = product(t637, t2025);
-        let t2220: f64 = t141 * t2208;
-        let t2221: f64 = t2219.minus(t2220);
-        let t2222 = product(t254, t2221);
-        let t2223: f64 = t604 * t792;
-        let t2224 = product(t20, t2187);
-        let t2225: f64 = t2223 * 3.34;
-        let t2226: f64 = t2224.subtracted_from(t2225);
-        let t2227: f64 = t301 * t2226;
-        let t2228 = product(yc, 1399.7378879999999);
-        let t2229: f64 = t277 * 349.93447199999997;
-        let t2230 = product(t391, 21.36);
-        let t2231: f64 = t660 * 10.68;
-        let t2232: f64 = t2228.plus(t2229);
-        let t2233: f64 = t2230.plus(t2231);
-        let t2234: f64 = t2232 + t2233;
-        let t2235: f64 = t2234 - t2042;
-        let t2236 = product(t90, t2235);
-        let t2237: f64 = t2236.subtracted_from(t2183);
-        let t2238 = product(t280, t2237);
-        let t2239: f64 = t531 + t543;
-        let t2240 = product(t2239, 10.68);
-        let t2241: f64 = t2240.added_to(t1959);
-        let t2242: f64 = t2238.plus(2516.5946160000008);
-        let t2243: f64 = t2241 - t2242;
-        let t2244: f64 = t530 * t2243;
-        let t2245: f64 = t2218.plus(t2244);
-        let t2246: f64 = t408 + t2033;
+        let t2143: f64 = t1998.added_to(t1997);
+        let t2144: f64 = t2143 * 3.34;
+        let t2145: f64 = t2118.plus(t2144);
+        let t2146: f64 = t2139.plus(t2142);
+        let t2147: f64 = t2145 + t2146;
+        let t2148: f64 = t2052.plus(t2080);
+        let t2149: f64 = t2099.plus(t2148);
+        let t2150: f64 = t2147 - t2149;
+        let t2151 = product(t550, t2150);
+        let t2152: f64 = t2151.added_to(t2135);
+        let t2153: f64 = t2137 + t2152;
+        let t2154: f64 = -t2153;
+        let t2155: f64 = t320 * t2154;
+        let t2156: f64 = -t2155;
+        let t2157 = product(t279, t2156);
+        let t2158 = product(t311, t2156);
+        let t2159 = product(t556, t2150);
+        let t2160: f64 = t2159.added_to(t1740);
+        let t2161: f64 = t2114 + t2160;
+        let t2162: f64 = t2158.added_to(t2115);
+        let t2163: f64 = t2161 - t2162;
+        let t2164 = product(t561, t2163);
+        let t2165 = product(t304, t2156);
+        let t2166: f64 = t548 * t2150;
+        let t2167: f64 = t2164.plus(t2166);
+        let t2168: f64 = t2098 + t2167;
+        let t2169: f64 = t2165.subtracted_from(t2168);
+        let t2170 = product(t572, t2169);
+        let t2171: f64 = t574 * t2150;
+        let t2172: f64 = t289 * t2163;
+        let t2173 = product(t206, t2156);
+        let t2174: f64 = t2173.added_to(t2172);
+        let t2175 = product(t279, t2174);
+        let t2176: f64 = t2170.plus(t2171);
+        let t2177: f64 = t2077 + t2176;
+        let t2178: f64 = t2078 + t2177;
+        let t2179: f64 = t2175.subtracted_from(t2178);
+        let t2180 = product(t296, t2179);
+        let t2181: f64 = t568 * t2169;
+        let t2182 = product(t570, t2150);
+        let t2183: f64 = t2180.plus(t2181);
+        let t2184: f64 = t2182.added_to(t2047);
+        let t2185: f64 = t2049 + t2183;
+        let t2186: f64 = t404 + t2184;
+        let t2187: f64 = t2185 + t2186;
+        let t2188: f64 = t2157.subtracted_from(t2187);
+        let t2189: f64 = t83 * t2188;
+        let t2190: f64 = t201 * t956;
+        let t2191 = product(t618, t1071);
+        let t2192 = product(t618, t1093);
+        let t2193: f64 = t2192.subtracted_from(t1177);
+        let t2194: f64 = t206 * t2193;
+        let t2195: f64 = t2191.plus(t2194);
+        let t2196: f64 = t1208 - t2195;
+        let t2197 = product(t201, t2196);
+        let t2198 = product(t618, t1054);
+        let t2199 = product(t605, t1105);
+        let t2200: f64 = t854 * t2193;
+        let t2201: f64 = t265 * t2196;
+        let t2202: f64 = t2198.plus(t2201);
+        let t2203: f64 = t1233 + t2202;
+        let t2204: f64 = t2199.plus(t2200);
+        let t2205: f64 = t2203 - t2204;
+        let t2206 = product(t248, t2205);
+        let t2207 = product(t255, t2193);
+        let t2208 = product(t611, t2196);
+        let t2209: f64 = t882 * t2205;
+        let t2210 = product(t282, t2196);
+        let t2211 = product(t291, t2205);
+        let t2212: f64 = t2211.added_to(t1256);
+        let t2213: f64 = t2210.subtracted_from(t2212);
+        let t2214 = product(t596, t2213);
+        let t2215 = product(t321, t2205);
+        let t2216: f64 = t323 * t2213;
+        let t2217: f64 = t2215.plus(t2216);
+        let t2218: f64 = t1280 + t2217;
+        let t2219: f64 = t599 * t2218;
+        let t2220: f64 = t2207.plus(t2219);
+        let t2221: f64 = t1294 + t2220;
+        let t2222: f64 = t2208.plus(t2209);
+        let t2223: f64 = t2214.plus(t2222);
+        let t2224: f64 = t2221 - t2223;
+        let t2225 = product(t597, t2224);
+        let t2226 = product(t289, t2213);
+        let t2227: f64 = t320 * t323;
+        let t2228: f64 = t1301 * t2227;
+        let t2229: f64 = t2226.plus(t2228);
+        let t2230: f64 = t2225.minus(t2229);
+        let t2231: f64 = -t2230;
+        let t2232: f64 = t291 * t2231;
+        let t2233: f64 = t2206.minus(t2232);
+        let t2234: f64 = t320 * t321;
+        let t2235 = product(t1301, t2234);
+        let t2236: f64 = t338 * t882;
+        let t2237: f64 = t2224 * t2236;
+        let t2238: f64 = t2235.minus(t2237);
+        let t2239: f64 = t2233 - t2238;
+        let t2240: f64 = t265 * t2239;
+        let t2241 = product(t282, t2231);
+        let t2242: f64 = t320 * t608;
+        let t2243 = product(t1301, t2242);
+        let t2244: f64 = t612 * t2224;
+        let t2245: f64 = t2197.plus(t2240);
+        let t2246: f64 = t2241.plus(t2244);
         let t2247: f64 = t2245 + t2246;
-        let t2248: f64 = t2222.plus(t2227);
-        let t2249: f64 = t2248 + 104.77080000000001;
-        let t2250: f64 = t2247 - t2249;
-        let t2251: f64 = t90 * t2250;
-        let t2252: f64 = -t2251;
-        let t2253: f64 = t45 * t53;
-        let t2254: f64 = t842 * t2253;
-        let t2255: f64 = t95 * t124;
-        let t2256: f64 = t301 * t2255;
-        let t2257: f64 = t604 * t2256;
-        let t2258: f64 = t286 * t2253;
-        let t2259 = product(t626, t2258);
-        let t2260 = product(t95, t164);
-        let t2261: f64 = xc * t45;
-        let t2262: f64 = t53 * t2261;
-        let t2263: f64 = t2260.plus(t2262);
-        let t2264: f64 = t2263 * 3.34;
-        let t2265 = product(t1247, t2264);
-        let t2266: f64 = t95 * t2022;
-        let t2267 = product(t2266, 3.34);
-        let t2268: f64 = t2267.added_to(t266);
-        let t2269: f64 = t1985 - t2268;
-        let t2270 = product(t1066, t2269);
-        let t2271: f64 = t53 * t219;
-        let t2272: f64 = yc - t2271;
-        let t2273 = product(t2272, 3.34);
-        let t2274: f64 = t2273.added_to(t279);
-        let t2275 = product(wy, t2274);
-        let t2276: f64 = t95 * t186;
-        let t2277 = product(t123, t2276);
-        let t2278: f64 = t128 * t2276;
-        let t2279: f64 = t2277.plus(t2278);
-        let t2280: f64 = t616 + t2279;
-        let t2281: f64 = t2280 * 3.34;
-        let t2282: f64 = -t2281;
-        let t2283: f64 = wz * t2282;
-        let t2284: f64 = xc - t2266;
-        let t2285 = product(t2284, 3.34);
-        let t2286: f64 = t2285.minus(t266);
-        let t2287 = product(wx, t2286);
-        let t2288: f64 = t2275.plus(t2283);
-        let t2289: f64 = t2287.plus(t2288);
-        let t2290 = product(wy, t2289);
-        let t2291: f64 = zc * 13.36;
-        let t2292: f64 = t2279 * 3.34;
-        let t2293: f64 = t2291 + t2292;
-        let t2294 = product(wy, t2293);
-        let t2295 = product(wz, t2274);
-        let t2296: f64 = wx * t2264;
-        let t2297: f64 = t2294.plus(t2296);
-        let t2298: f64 = t2295.subtracted_from(t2297);
-        let t2299: f64 = wz * t2298;
-        let t2300: f64 = t2290.plus(t2299);
-        let t2301: f64 = t305 + t2300;
-        let t2302: f64 = zc * 21.36;
-        let t2303: f64 = t616 * 3.34;
-        let t2304: f64 = t2302 + t2303;
-        let t2305 = product(t1302, t2304);
-        let t2306: f64 = t2305.subtracted_from(t2301);
-        let t2307: f64 = t2270.plus(t2306);
-        let t2308: f64 = t1823 + t2307;
-        let t2309: f64 = t2254 * 3.34;
-        let t2310: f64 = t2265.plus(t2309);
-        let t2311: f64 = t364 + t2308;
-        let t2312: f64 = t2310 + t2311;
-        let t2313 = product(t141, t2312);
-        let t2314: f64 = t665 * t2269;
-        let t2315: f64 = t2313.minus(t2314);
-        let t2316 = product(t90, t2315);
-        let t2317: f64 = t254 * t2282;
-        let t2318: f64 = t637 * t2317;
-        let t2319: f64 = t2316.minus(t2318);
-        let t2320: f64 = t842 * t2255;
-        let t2321: f64 = t665 * t2264;
-        let t2322 = product(t181, t2312);
-        let t2323: f64 = t2322.added_to(t2321);
-        let t2324 = product(t90, t2323);
-        let t2325: f64 = t2324.added_to(t2154);
-        let t2326: f64 = t2291 + t2303;
-        let t2327 = product(wx, t2326);
-        let t2328: f64 = wy * t2264;
-        let t2329 = product(wz, t2286);
-        let t2330: f64 = t2327.plus(t2328);
-        let t2331: f64 = t2329.subtracted_from(t2330);
-        let t2332 = product(wz, t2331);
-        let t2333: f64 = wx * t2289;
-        let t2334: f64 = t2332.plus(t2333);
-        let t2335: f64 = t2292 + t2302;
-        let t2336 = product(t1247, t2335);
-        let t2337: f64 = t2336.subtracted_from(t2334);
-        let t2338 = product(t2271, 3.34);
-        let t2339: f64 = t279 + t1776;
-        let t2340: f64 = t2338.subtracted_from(t2339);
-        let t2341 = product(t1066, t2340);
-        let t2342: f64 = t2341.subtracted_from(t2337);
-        let t2343: f64 = t2320 * 3.34;
-        let t2344: f64 = t450 + t2343;
-        let t2345: f64 = t2325 + t2342;
-        let t2346: f64 = t2344 + t2345;
-        let t2347 = product(t237, t2346);
-        let t2348: f64 = t655 * t2340;
-        let t2349: f64 = t2347.plus(t2348);
-        let t2350 = product(t208, t2349);
-        let t2351 = product(wx, t2298);
-        let t2352: f64 = wy * t2331;
-        let t2353: f64 = t2351.minus(t2352);
-        let t2354: f64 = t2350.plus(t2353);
-        let t2355: f64 = t2319 + t2354;
-        let t2356: f64 = t2259.minus(t2257);
-        let t2357 = product(t2356, 3.34);
-        let t2358: f64 = t2357.added_to(t2355);
-        let t2359 = product(t561, t2358);
-        let t2360 = product(t53, t1602);
-        let t2361: f64 = t95 * t923;
-        let t2362: f64 = t2360.minus(t2361);
-        let t2363: f64 = t2362 * 3.34;
-        let t2364 = product(wy, t2363);
-        let t2365: f64 = t95 * t929;
-        let t2366 = product(t2365, 3.34);
-        let t2367: f64 = t2366.added_to(t2096);
-        let t2368: f64 = wz * t2367;
-        let t2369: f64 = t2364.minus(t2368);
-        let t2370: f64 = t1864 + t2307;
-        let t2371: f64 = t364 + t2370;
-        let t2372: f64 = t2310 + t2371;
-        let t2373 = product(t181, t2372);
-        let t2374: f64 = t2373.added_to(t2321);
-        let t2375 = product(t90, t2374);
-        let t2376: f64 = t2375.added_to(t2343);
-        let t2377: f64 = t2129 + t2342;
+        let t2248: f64 = t2243.minus(t2247);
+        let t2249 = product(t618, t1387);
+        let t2250 = product(t618, t1397);
+        let t2251: f64 = t2250.subtracted_from(t1436);
+        let t2252: f64 = t206 * t2251;
+        let t2253: f64 = t2249.plus(t2252);
+        let t2254: f64 = t1461 - t2253;
+        let t2255 = product(t201, t2254);
+        let t2256 = product(t854, t2251);
+        let t2257 = product(t265, t2254);
+        let t2258: f64 = t2257.added_to(t1487);
+        let t2259: f64 = t2256.subtracted_from(t2258);
+        let t2260 = product(t248, t2259);
+        let t2261: f64 = t105 * t618;
+        let t2262 = product(t1336, t2261);
+        let t2263: f64 = t255 * t2251;
+        let t2264 = product(t611, t2254);
+        let t2265: f64 = t882 * t2259;
+        let t2266 = product(t282, t2254);
+        let t2267 = product(t291, t2259);
+        let t2268: f64 = t2267.added_to(t1505);
+        let t2269: f64 = t2266.subtracted_from(t2268);
+        let t2270 = product(t596, t2269);
+        let t2271 = product(t321, t2259);
+        let t2272: f64 = t323 * t2269;
+        let t2273: f64 = t2271.plus(t2272);
+        let t2274: f64 = t1520 + t2273;
+        let t2275 = product(t599, t2274);
+        let t2276: f64 = t2262.plus(t2263);
+        let t2277: f64 = t2275.added_to(t1533);
+        let t2278: f64 = t2276 + t2277;
+        let t2279: f64 = t2264.plus(t2265);
+        let t2280: f64 = t2270.plus(t2279);
+        let t2281: f64 = t2278 - t2280;
+        let t2282 = product(t597, t2281);
+        let t2283 = product(t289, t2269);
+        let t2284: f64 = t1541 * t2227;
+        let t2285: f64 = t2283.plus(t2284);
+        let t2286: f64 = t2282.minus(t2285);
+        let t2287: f64 = -t2286;
+        let t2288: f64 = t291 * t2287;
+        let t2289: f64 = t2260.minus(t2288);
+        let t2290 = product(t1541, t2234);
+        let t2291: f64 = t2236 * t2281;
+        let t2292: f64 = t2290.minus(t2291);
+        let t2293: f64 = t2289 - t2292;
+        let t2294: f64 = t265 * t2293;
+        let t2295 = product(t282, t2287);
+        let t2296 = product(t1541, t2242);
+        let t2297: f64 = t612 * t2281;
+        let t2298: f64 = t2255.plus(t2294);
+        let t2299: f64 = t2295.plus(t2297);
+        let t2300: f64 = t2298 + t2299;
+        let t2301: f64 = t2296.minus(t2300);
+        let t2302: f64 = t201 * t1779;
+        let t2303 = product(t618, t1824);
+        let t2304 = product(t605, t717);
+        let t2305: f64 = xc * t618;
+        let t2306 = product(t595, t1854);
+        let t2307: f64 = t618 * t1821;
+        let t2308: f64 = t602 * t717;
+        let t2309 = product(t5, t595);
+        let t2310: f64 = t9 * t595;
+        let t2311: f64 = t2309.plus(t2310);
+        let t2312: f64 = t385 + t2305;
+        let t2313: f64 = t2311 + t2312;
+        let t2314 = product(t2313, 4.0);
+        let t2315 = product(t2308, 3.34);
+        let t2316: f64 = t2314.added_to(t1663);
+        let t2317: f64 = t2306.plus(t2307);
+        let t2318: f64 = t2316 + t2317;
+        let t2319: f64 = t1833 + t2318;
+        let t2320: f64 = t2315.plus(104.77080000000001);
+        let t2321: f64 = t2319 - t2320;
+        let t2322 = product(t206, t2321);
+        let t2323: f64 = t2304.added_to(t1851);
+        let t2324 = product(t2323, 3.34);
+        let t2325: f64 = t2303.added_to(t1869);
+        let t2326: f64 = t2324.plus(t2325);
+        let t2327: f64 = t2322.subtracted_from(t2326);
+        let t2328 = product(t201, t2327);
+        let t2329 = product(t614, t1969);
+        let t2330: f64 = t282 * t1962;
+        let t2331 = product(t1955, t2242);
+        let t2332: f64 = t618 * t1791;
+        let t2333 = product(t255, t2321);
+        let t2334 = product(t611, t2327);
+        let t2335: f64 = yc * t620;
+        let t2336 = product(t618, t1813);
+        let t2337 = product(t620, t1801);
+        let t2338: f64 = t602 * t1791;
+        let t2339 = product(t854, t2321);
+        let t2340: f64 = t265 * t2327;
+        let t2341 = product(t50, t618);
+        let t2342: f64 = t52 * t618;
+        let t2343: f64 = t2341.plus(t2342);
+        let t2344: f64 = t605 * 10.68;
+        let t2345: f64 = t2335 * 8.0;
+        let t2346 = product(t2338, 3.34);
+        let t2347 = product(t2343, 2.0);
+        let t2348: f64 = t2339.plus(t2344);
+        let t2349: f64 = t2346.added_to(t1882);
+        let t2350: f64 = t2348 + t2349;
+        let t2351: f64 = t484 + t2350;
+        let t2352: f64 = t2336.plus(t2345);
+        let t2353: f64 = t2337.plus(t2340);
+        let t2354: f64 = t2352 + t2353;
+        let t2355: f64 = t2347.plus(t2354);
+        let t2356: f64 = t2351 - t2355;
+        let t2357 = product(t882, t2356);
+        let t2358: f64 = t618 * t717;
+        let t2359 = product(t282, t2327);
+        let t2360: f64 = t291 * t2356;
+        let t2361 = product(t2358, 3.34);
+        let t2362: f64 = t2361.added_to(t1732);
+        let t2363: f64 = t2359.plus(t2360);
+        let t2364: f64 = t2362 + t2363;
+        let t2365: f64 = t2364 - t1909;
+        let t2366: f64 = t596 * t2365;
+        let t2367 = product(t321, t2356);
+        let t2368: f64 = t323 * t2365;
+        let t2369: f64 = t1934 + t1939;
+        let t2370: f64 = t2367.plus(t2368);
+        let t2371: f64 = t2369 - t2370;
+        let t2372 = product(t599, t2371);
+        let t2373: f64 = t2332 * 3.34;
+        let t2374: f64 = t2334.added_to(t1945);
+        let t2375: f64 = t1944 + t2374;
+        let t2376: f64 = t2333.plus(t2373);
+        let t2377: f64 = t2357.plus(t2366);
         let t2378: f64 = t2376 + t2377;
-        let t2379: f64 = t450 + t2378;
-        let t2380 = product(t20, t2379);
-        let t2381 = product(t652, 10.68);
-        let t2382: f64 = t2380.added_to(t1798);
-        let t2383: f64 = t2381.plus(t2382);
-        let t2384: f64 = t2383 - t1799;
-        let t2385 = product(t208, t2384);
-        let t2386: f64 = t637 * t2253;
-        let t2387 = product(t281, t2358);
-        let t2388: f64 = t2386 * 3.34;
-        let t2389: f64 = t2387.plus(t2388);
-        let t2390: f64 = t254 * t2389;
-        let t2391: f64 = t2385.minus(t2390);
-        let t2392: f64 = t2369 + t2391;
-        let t2393 = product(t553, t2392);
-        let t2394 = product(t507, t2392);
-        let t2395: f64 = t655 * t2264;
-        let t2396 = product(t181, t2346);
-        let t2397: f64 = t2396.added_to(t2395);
-        let t2398 = product(t208, t2397);
-        let t2399: f64 = t2398.added_to(t2309);
-        let t2400: f64 = t2371 + t2399;
-        let t2401 = product(t20, t2400);
-        let t2402: f64 = t659 + t663;
-        let t2403 = product(t2402, 10.68);
-        let t2404: f64 = t2401.added_to(t2043);
-        let t2405: f64 = t2403.added_to(t2044);
-        let t2406: f64 = t2404 + t2405;
-        let t2407: f64 = t90 * t2406;
-        let t2408: f64 = t2394.minus(t2407);
-        let t2409: f64 = t637 * t2255;
-        let t2410 = product(t268, t2358);
-        let t2411: f64 = t2409 * 3.34;
-        let t2412: f64 = t2410.plus(t2411);
-        let t2413 = product(t254, t2412);
-        let t2414: f64 = wz * t45;
-        let t2415: f64 = t53 * t2414;
-        let t2416 = product(t2415, 3.34);
-        let t2417: f64 = t2416.added_to(t1806);
-        let t2418 = product(wz, t2417);
-        let t2419: f64 = wx * t2363;
-        let t2420: f64 = t2418.plus(t2419);
-        let t2421: f64 = t2413.minus(t2420);
-        let t2422: f64 = t2408 - t2421;
-        let t2423: f64 = -t2422;
-        let t2424: f64 = t548 * t2423;
-        let t2425: f64 = t665 * t2253;
-        let t2426 = product(t280, t2312);
-        let t2427: f64 = t2425 * 3.34;
-        let t2428: f64 = t2426.subtracted_from(t2427);
-        let t2429 = product(t90, t2428);
-        let t2430: f64 = t655 * t2255;
-        let t2431 = product(t498, t2346);
-        let t2432: f64 = t2430 * 3.34;
-        let t2433: f64 = t2431.subtracted_from(t2432);
-        let t2434: f64 = t208 * t2433;
-        let t2435 = product(wx, t2367);
-        let t2436: f64 = wy * t2417;
-        let t2437: f64 = t2435.plus(t2436);
-        let t2438: f64 = t2393.plus(t2424);
-        let t2439: f64 = t2429.plus(t2434);
-        let t2440: f64 = t2438 + t2439;
-        let t2441: f64 = t2437 + t2440;
-        let t2442: f64 = t2359.subtracted_from(t2441);
-        let t2443 = product(t601, t2442);
-        let t2444: f64 = t2443.subtracted_from(t2422);
-        let t2445: f64 = t301 * t2444;
-        let t2446: f64 = -t2445;
-        let t2447 = product(t20, t2446);
-        let t2448 = product(t661, t2442);
-        let t2449 = product(t637, t2269);
-        let t2450 = product(t268, t2446);
-        let t2451 = product(t633, t2442);
-        let t2452: f64 = t626 * t2253;
-        let t2453 = product(t292, t2446);
-        let t2454 = product(t620, t2442);
-        let t2455: f64 = t2454.added_to(t2392);
-        let t2456: f64 = t2453.subtracted_from(t2455);
-        let t2457 = product(t281, t2456);
-        let t2458: f64 = t2452 * 3.34;
-        let t2459: f64 = t2457.plus(t2458);
-        let t2460: f64 = t286 * t2459;
-        let t2461: f64 = t2257 * 3.34;
-        let t2462: f64 = t2451.plus(t2460);
-        let t2463: f64 = t2355 + t2462;
-        let t2464: f64 = t2450.plus(t2461);
-        let t2465: f64 = t2463 - t2464;
-        let t2466: f64 = t141 * t2465;
-        let t2467: f64 = t2449.plus(t2466);
-        let t2468 = product(t254, t2467);
-        let t2469 = product(t650, t2442);
-        let t2470: f64 = t286 * t2456;
-        let t2471 = product(t213, t2446);
-        let t2472: f64 = t2471.added_to(t2470);
-        let t2473 = product(t20, t2472);
-        let t2474 = product(t637, t2340);
-        let t2475: f64 = t237 * t2465;
-        let t2476: f64 = t2474.minus(t2475);
-        let t2477: f64 = t254 * t2476;
-        let t2478: f64 = t2469.added_to(t2343);
-        let t2479: f64 = t2325 + t2337;
-        let t2480: f64 = t2478 + t2479;
-        let t2481: f64 = t450 + t2480;
-        let t2482: f64 = t2473.plus(t2477);
-        let t2483: f64 = t2481 - t2482;
-        let t2484 = product(t181, t2483);
-        let t2485: f64 = t2484.added_to(t2395);
-        let t2486: f64 = t208 * t2485;
-        let t2487: f64 = t2448.added_to(t1823);
-        let t2488: f64 = t2468.plus(t2486);
-        let t2489: f64 = t2306 + t2309;
-        let t2490: f64 = t2487 + t2488;
-        let t2491: f64 = t364 + t2489;
-        let t2492: f64 = t2490 + t2491;
-        let t2493: f64 = t2447.subtracted_from(t2492);
-        let t2494: f64 = t90 * t2493;
-        let t2495: f64 = t208 * t1024;
-        let t2496 = product(t587, t1169);
-        let t2497 = product(t581, t1266);
-        let t2498: f64 = t566 * t1065;
-        let t2499 = product(t587, t1157);
-        let t2500 = product(t581, t1169);
-        let t2501: f64 = t2499.added_to(t1280);
-        let t2502: f64 = t2500.subtracted_from(t2501);
-        let t2503 = product(t213, t2502);
-        let t2504: f64 = t2496.added_to(t1245);
-        let t2505: f64 = t2497.plus(t2498);
-        let t2506: f64 = t2503.plus(t2505);
-        let t2507: f64 = t2504 - t2506;
-        let t2508 = product(t208, t2507);
-        let t2509 = product(t581, t1065);
-        let t2510: f64 = t566 * t1203;
-        let t2511 = product(t558, t1275);
-        let t2512: f64 = t567 * t2502;
-        let t2513 = product(t499, t2507);
-        let t2514: f64 = t2509.plus(t2510);
-        let t2515: f64 = t2513.added_to(t1317);
+        let t2379: f64 = t2372.plus(t2378);
+        let t2380: f64 = t2375 - t2379;
+        let t2381: f64 = t612 * t2380;
+        let t2382: f64 = t2329.plus(t2330);
+        let t2383: f64 = t2331.plus(t2381);
+        let t2384: f64 = t2382 + t2383;
+        let t2385: f64 = t2328.subtracted_from(t2384);
+        let t2386 = product(t618, t2033);
+        let t2387: f64 = t620 * t2014;
+        let t2388: f64 = zc * t595;
+        let t2389 = product(t595, t2058);
+        let t2390 = product(t618, t2003);
+        let t2391 = product(t620, t2026);
+        let t2392 = product(t32, t620);
+        let t2393: f64 = t43 * t620;
+        let t2394: f64 = t2392.plus(t2393);
+        let t2395: f64 = t602 * 10.68;
+        let t2396: f64 = t2388 * 8.0;
+        let t2397 = product(t2394, 2.0);
+        let t2398: f64 = t2390.plus(t2395);
+        let t2399: f64 = t2391.added_to(t2041);
+        let t2400: f64 = t404 + t2048;
+        let t2401: f64 = t2398 + t2399;
+        let t2402: f64 = t2397.plus(t2400);
+        let t2403: f64 = t2401 + t2402;
+        let t2404: f64 = t2389.plus(t2396);
+        let t2405: f64 = t2403 - t2404;
+        let t2406 = product(t206, t2405);
+        let t2407: f64 = t2335 + t2343;
+        let t2408: f64 = t456 - t2407;
+        let t2409 = product(t2408, 4.0);
+        let t2410: f64 = t2409.added_to(t2344);
+        let t2411: f64 = t2406.added_to(t2069);
+        let t2412: f64 = t2410 + t2411;
+        let t2413: f64 = t2076 + t2412;
+        let t2414: f64 = t2386.plus(t2387);
+        let t2415: f64 = t2413 - t2414;
+        let t2416 = product(t201, t2415);
+        let t2417 = product(t602, t1995);
+        let t2418: f64 = t605 * t1993;
+        let t2419 = product(t854, t2405);
+        let t2420 = product(t265, t2415);
+        let t2421: f64 = t618 * t2072;
+        let t2422: f64 = t2417.subtracted_from(t2418);
+        let t2423: f64 = t2422 * 3.34;
+        let t2424: f64 = t2419.plus(t2423);
+        let t2425: f64 = t2420.plus(t2421);
+        let t2426: f64 = t2424 + t2425;
+        let t2427: f64 = t2094 + t2426;
+        let t2428 = product(t248, t2427);
+        let t2429: f64 = t289 * t291;
+        let t2430: f64 = t2163 * t2429;
+        let t2431: f64 = t2428.plus(t2430);
+        let t2432 = product(t321, t2156);
+        let t2433 = product(t618, t1995);
+        let t2434 = product(t255, t2405);
+        let t2435: f64 = t611 * t2415;
+        let t2436 = product(t882, t2427);
+        let t2437 = product(t282, t2415);
+        let t2438 = product(t291, t2427);
+        let t2439: f64 = t618 * 10.68;
+        let t2440: f64 = t2437.plus(t2439);
+        let t2441: f64 = t2110 + t2440;
+        let t2442: f64 = t2438.added_to(t2115);
+        let t2443: f64 = t2441 - t2442;
+        let t2444 = product(t596, t2443);
+        let t2445 = product(t321, t2427);
+        let t2446 = product(t323, t2443);
+        let t2447: f64 = t2445.added_to(t2131);
+        let t2448: f64 = t2137 + t2447;
+        let t2449: f64 = t2446.subtracted_from(t2448);
+        let t2450 = product(t599, t2449);
+        let t2451: f64 = t2433.added_to(t1997);
+        let t2452: f64 = t2451 * 3.34;
+        let t2453: f64 = t2444.plus(t2452);
+        let t2454: f64 = t2450.added_to(t2142);
+        let t2455: f64 = t2453 + t2454;
+        let t2456: f64 = t2434.plus(t2435);
+        let t2457: f64 = t2436.plus(t2456);
+        let t2458: f64 = t2455 - t2457;
+        let t2459: f64 = t2236 * t2458;
+        let t2460: f64 = t2432.minus(t2459);
+        let t2461: f64 = t2431 - t2460;
+        let t2462: f64 = t265 * t2461;
+        let t2463: f64 = t282 * t289;
+        let t2464 = product(t2163, t2463);
+        let t2465: f64 = t608 * t2156;
+        let t2466 = product(t612, t2458);
+        let t2467: f64 = t2464.plus(t2465);
+        let t2468: f64 = t2416.plus(t2462);
+        let t2469: f64 = t2466.plus(t2468);
+        let t2470: f64 = t2467 - t2469;
+        let t2471 = product(t101, t618);
+        let t2472: f64 = t2471.minus(t805);
+        let t2473 = product(t2472, 0.4119400000000001);
+        let t2474: f64 = t2473.added_to(t418);
+        let t2475 = product(t101, t2474);
+        let t2476 = product(t29, t618);
+        let t2477: f64 = t2476.subtracted_from(t796);
+        let t2478 = product(t2477, 0.22443999999999997);
+        let t2479: f64 = t2478.added_to(t422);
+        let t2480 = product(t29, t2479);
+        let t2481: f64 = t618 * t722;
+        let t2482: f64 = t602 * t630;
+        let t2483 = product(t605, t759);
+        let t2484 = product(t87, t618);
+        let t2485: f64 = t2484.added_to(t632);
+        let t2486 = product(t2485, 0.4119400000000001);
+        let t2487: f64 = t2486.subtracted_from(t650);
+        let t2488 = product(t87, t2487);
+        let t2489 = product(t38, t618);
+        let t2490: f64 = t2489.added_to(t655);
+        let t2491 = product(t2490, 0.22443999999999997);
+        let t2492: f64 = t2491.subtracted_from(t667);
+        let t2493: f64 = t38 * t2492;
+        let t2494 = product(t618, t745);
+        let t2495: f64 = t602 * t787;
+        let t2496: f64 = t2494.plus(t2495);
+        let t2497: f64 = t778 + t2496;
+        let t2498: f64 = t854 * t2497;
+        let t2499 = product(t87, t2474);
+        let t2500 = product(t38, t2479);
+        let t2501: f64 = t618 * t735;
+        let t2502 = product(t605, t787);
+        let t2503: f64 = t101 * t2487;
+        let t2504 = product(t29, t2492);
+        let t2505: f64 = t206 * t2497;
+        let t2506: f64 = t2500.plus(t2503);
+        let t2507: f64 = t2504.added_to(t845);
+        let t2508: f64 = t2506 + t2507;
+        let t2509: f64 = t2499.plus(t2501);
+        let t2510: f64 = t2502.plus(t2505);
+        let t2511: f64 = t2509 + t2510;
+        let t2512: f64 = t2508 - t2511;
+        let t2513 = product(t265, t2512);
+        let t2514: f64 = t2480.plus(t2482);
+        let t2515: f64 = t2483.plus(t2498);
         let t2516: f64 = t2514 + t2515;
-        let t2517: f64 = t2511.plus(t2512);
-        let t2518: f64 = t2516 - t2517;
-        let t2519 = product(t254, t2518);
-        let t2520 = product(t587, t1275);
-        let t2521 = product(t494, t2502);
-        let t2522: f64 = t577 * t2507;
-        let t2523 = product(t561, t2518);
-        let t2524 = product(t566, t1275);
-        let t2525: f64 = t273 * t2507;
-        let t2526 = product(t290, t2518);
-        let t2527: f64 = t2526.added_to(t1337);
-        let t2528: f64 = t2524.plus(t2525);
-        let t2529: f64 = t2527 - t2528;
-        let t2530: f64 = t553 * t2529;
-        let t2531 = product(t502, t2518);
-        let t2532: f64 = t507 * t2529;
-        let t2533: f64 = t2531.plus(t2532);
-        let t2534: f64 = t1369 + t2533;
-        let t2535: f64 = t548 * t2534;
-        let t2536: f64 = t2521.plus(t2535);
-        let t2537: f64 = t1386 + t2536;
-        let t2538: f64 = t2520.plus(t2522);
-        let t2539: f64 = t2523.plus(t2530);
-        let t2540: f64 = t2538 + t2539;
-        let t2541: f64 = t2537 - t2540;
-        let t2542 = product(t554, t2541);
-        let t2543 = product(t286, t2529);
-        let t2544: f64 = t301 * t507;
-        let t2545: f64 = t1393 * t2544;
-        let t2546: f64 = t2543.plus(t2545);
-        let t2547: f64 = t2542.minus(t2546);
-        let t2548: f64 = -t2547;
-        let t2549: f64 = t290 * t2548;
-        let t2550: f64 = t2519.minus(t2549);
-        let t2551: f64 = t301 * t502;
-        let t2552 = product(t1393, t2551);
-        let t2553: f64 = t562 * t2541;
-        let t2554: f64 = t2552.minus(t2553);
-        let t2555: f64 = t2550 - t2554;
-        let t2556: f64 = t499 * t2555;
-        let t2557 = product(t273, t2548);
-        let t2558: f64 = t301 * t572;
-        let t2559 = product(t1393, t2558);
-        let t2560: f64 = t578 * t2541;
-        let t2561: f64 = t2508.plus(t2556);
-        let t2562: f64 = t2557.plus(t2560);
-        let t2563: f64 = t2561 + t2562;
-        let t2564: f64 = t2559.minus(t2563);
-        let t2565 = product(t587, t1486);
-        let t2566 = product(t581, t1517);
-        let t2567: f64 = t219 * t566;
-        let t2568: f64 = t1443 * t2567;
-        let t2569 = product(t587, t1497);
-        let t2570 = product(t581, t1486);
-        let t2571: f64 = t124 * t566;
-        let t2572: f64 = t1493 * t2571;
-        let t2573: f64 = t2569.plus(t2572);
-        let t2574: f64 = t1542 + t2573;
-        let t2575: f64 = t2570.subtracted_from(t2574);
-        let t2576 = product(t213, t2575);
-        let t2577: f64 = t2565.added_to(t1567);
-        let t2578: f64 = t2566.plus(t2568);
-        let t2579: f64 = t2576.plus(t2578);
-        let t2580: f64 = t2577 - t2579;
-        let t2581 = product(t208, t2580);
-        let t2582 = product(t566, t1475);
-        let t2583 = product(t567, t2575);
-        let t2584: f64 = t499 * t2580;
-        let t2585: f64 = t2582.plus(t2584);
-        let t2586: f64 = t1598 + t2585;
-        let t2587: f64 = t2583.subtracted_from(t2586);
-        let t2588 = product(t254, t2587);
-        let t2589: f64 = t45 * t587;
-        let t2590 = product(t1443, t2589);
-        let t2591: f64 = t124 * t581;
-        let t2592 = product(t1436, t2591);
-        let t2593: f64 = t494 * t2575;
-        let t2594: f64 = t577 * t2580;
-        let t2595 = product(t561, t2587);
-        let t2596: f64 = t45 * t566;
-        let t2597 = product(t1443, t2596);
-        let t2598: f64 = t273 * t2580;
-        let t2599 = product(t290, t2587);
-        let t2600: f64 = t2599.added_to(t1611);
-        let t2601: f64 = t2597.plus(t2598);
-        let t2602: f64 = t2600 - t2601;
-        let t2603: f64 = t553 * t2602;
-        let t2604 = product(t1436, t2571);
-        let t2605: f64 = t502 * t2587;
-        let t2606 = product(t507, t2602);
-        let t2607: f64 = t2604.plus(t2605);
-        let t2608: f64 = t2606.added_to(t1631);
-        let t2609: f64 = t2607 + t2608;
-        let t2610 = product(t548, t2609);
-        let t2611: f64 = t2592.plus(t2593);
-        let t2612: f64 = t2610.added_to(t1447);
-        let t2613: f64 = t2611 + t2612;
-        let t2614: f64 = t2590.plus(t2594);
-        let t2615: f64 = t2595.plus(t2603);
-        let t2616: f64 = t2614 + t2615;
-        let t2617: f64 = t2613 - t2616;
-        let t2618 = product(t554, t2617);
-        let t2619 = product(t286, t2602);
-        let t2620: f64 = t1657 * t2544;
-        let t2621: f64 = t2619.plus(t2620);
-        let t2622: f64 = t2618.minus(t2621);
-        let t2623: f64 = -t2622;
-        let t2624: f64 = t290 * t2623;
-        let t2625: f64 = t2588.minus(t2624);
-        let t2626 = product(t1657, t2551);
-        let t2627: f64 = t562 * t2617;
-        let t2628: f64 = t2626.minus(t2627);
-        let t2629: f64 = t2625 - t2628;
-        let t2630: f64 = t499 * t2629;
-        let t2631 = product(t273, t2623);
-        let t2632 = product(t1657, t2558);
-        let t2633: f64 = t578 * t2617;
-        let t2634: f64 = t2581.plus(t2630);
-        let t2635: f64 = t2631.plus(t2633);
-        let t2636: f64 = t2634 + t2635;
-        let t2637: f64 = t2632.minus(t2636);
-        let t2638: f64 = t208 * t1970;
-        let t2639 = product(t581, t2006);
-        let t2640 = product(t558, t792);
-        let t2641: f64 = xc * t581;
-        let t2642 = product(t587, t2061);
-        let t2643: f64 = t581 * t1999;
-        let t2644 = product(t566, t2025);
-        let t2645: f64 = t551 * t792;
-        let t2646 = product(t7, t587);
-        let t2647: f64 = t13 * t587;
-        let t2648: f64 = t2646.plus(t2647);
-        let t2649: f64 = t349 + t2641;
-        let t2650: f64 = t2648 + t2649;
-        let t2651 = product(t2650, 4.0);
-        let t2652: f64 = t2645 * 3.34;
-        let t2653: f64 = t2651.added_to(t1832);
-        let t2654: f64 = t2642.plus(t2643);
-        let t2655: f64 = t2653 + t2654;
-        let t2656: f64 = t2032 + t2655;
-        let t2657: f64 = t2644.plus(t2652);
-        let t2658: f64 = t2657 + 104.77080000000001;
-        let t2659: f64 = t2656 - t2658;
-        let t2660 = product(t213, t2659);
-        let t2661: f64 = t566 * t2054;
-        let t2662 = product(t587, t1988);
-        let t2663: f64 = t2640.added_to(t2057);
-        let t2664 = product(t2663, 3.34);
-        let t2665: f64 = t2639.added_to(t2069);
-        let t2666: f64 = t2664.plus(t2665);
-        let t2667: f64 = t2660.plus(t2661);
-        let t2668: f64 = t2662.plus(t2667);
-        let t2669: f64 = t2666 - t2668;
-        let t2670 = product(t208, t2669);
-        let t2671: f64 = t254 * t499;
-        let t2672 = product(t2208, t2671);
-        let t2673: f64 = t273 * t2197;
-        let t2674 = product(t2187, t2558);
-        let t2675: f64 = t581 * t2056;
-        let t2676 = product(t494, t2659);
-        let t2677 = product(t577, t2669);
-        let t2678: f64 = yc * t566;
-        let t2679 = product(t587, t2025);
-        let t2680 = product(t581, t2011);
-        let t2681 = product(t566, t2018);
-        let t2682: f64 = t551 * t2056;
-        let t2683: f64 = t567 * t2659;
-        let t2684: f64 = t499 * t2669;
-        let t2685 = product(t65, t581);
-        let t2686: f64 = t67 * t581;
+        let t2517: f64 = t870 + t2516;
+        let t2518: f64 = t2475.plus(t2481);
+        let t2519: f64 = t2488.plus(t2493);
+        let t2520: f64 = t2518 + t2519;
+        let t2521: f64 = t2513.plus(t2520);
+        let t2522: f64 = t2517 - t2521;
+        let t2523 = product(t248, t2522);
+        let t2524: f64 = t941 * t2429;
+        let t2525 = product(t321, t2522);
+        let t2526 = product(t618, t787);
+        let t2527 = product(t282, t2512);
+        let t2528: f64 = t291 * t2522;
+        let t2529: f64 = t2526.added_to(t901);
+        let t2530: f64 = t2527.plus(t2528);
+        let t2531: f64 = t2529 - t2530;
+        let t2532 = product(t323, t2531);
+        let t2533: f64 = t2532.added_to(t919);
+        let t2534: f64 = t2525.subtracted_from(t2533);
+        let t2535 = product(t320, t2534);
+        let t2536 = product(t618, t630);
+        let t2537: f64 = t255 * t2497;
+        let t2538 = product(t611, t2512);
+        let t2539 = product(t882, t2522);
+        let t2540: f64 = t596 * t2531;
+        let t2541: f64 = t599 * t2534;
+        let t2542: f64 = t2536.plus(t2537);
+        let t2543: f64 = t2539.plus(t2541);
+        let t2544: f64 = t2542 + t2543;
+        let t2545: f64 = t929 + t2544;
+        let t2546: f64 = t2538.plus(t2540);
+        let t2547: f64 = t2545 - t2546;
+        let t2548: f64 = t600 * t2547;
+        let t2549: f64 = t2535.plus(t2548);
+        let t2550 = product(t321, t2549);
+        let t2551 = product(t2236, t2547);
+        let t2552: f64 = t2523.plus(t2524);
+        let t2553: f64 = t2550.plus(t2552);
+        let t2554: f64 = t2551.minus(t2553);
+        let t2555: f64 = -t2239;
+        let t2556: f64 = -t2293;
+        let t2557 = product(t595, t1585);
+        let t2558 = product(t618, t1601);
+        let t2559: f64 = t620 * t1593;
+        let t2560: f64 = t605 * t1574;
+        let t2561 = product(t602, t1572);
+        let t2562 = product(t618, t1638);
+        let t2563: f64 = t2561.added_to(t1578);
+        let t2564: f64 = t2563 * 3.34;
+        let t2565: f64 = t2562.plus(t2564);
+        let t2566: f64 = t1634 - t2565;
+        let t2567 = product(t854, t2566);
+        let t2568 = product(t595, t1618);
+        let t2569: f64 = t618 * t1611;
+        let t2570: f64 = t605 * t1572;
+        let t2571 = product(t206, t2566);
+        let t2572 = product(t2305, 8.0);
+        let t2573 = product(t2570, 3.34);
+        let t2574 = product(t2311, 2.0);
+        let t2575: f64 = t2572.added_to(t1663);
+        let t2576: f64 = t2568.plus(t2569);
+        let t2577: f64 = t2573.added_to(t1660);
+        let t2578: f64 = t2574.added_to(t461);
+        let t2579: f64 = t2575 + t2576;
+        let t2580: f64 = t2577 + t2578;
+        let t2581: f64 = t2579 + t2580;
+        let t2582: f64 = t2571.plus(104.77080000000001);
+        let t2583: f64 = t2581 - t2582;
+        let t2584: f64 = t265 * t2583;
+        let t2585: f64 = t402 + t2394;
+        let t2586: f64 = t2585 - t2388;
+        let t2587 = product(t2586, 4.0);
+        let t2588 = product(t2560, 3.34);
+        let t2589: f64 = t2587.added_to(t2395);
+        let t2590: f64 = t2558.plus(t2559);
+        let t2591: f64 = t2567.added_to(t1673);
+        let t2592: f64 = t2589 + t2590;
+        let t2593: f64 = t2591 + t2592;
+        let t2594: f64 = t2557.plus(t2584);
+        let t2595: f64 = t2588.plus(t2594);
+        let t2596: f64 = t2593 - t2595;
+        let t2597 = product(t248, t2596);
+        let t2598: f64 = t1759 * t2429;
+        let t2599 = product(t321, t2596);
+        let t2600 = product(t618, t1572);
+        let t2601 = product(t282, t2583);
+        let t2602: f64 = t291 * t2596;
+        let t2603: f64 = t2600.subtracted_from(t1691);
+        let t2604 = product(t2603, 3.34);
+        let t2605: f64 = t2604.added_to(t1705);
+        let t2606: f64 = t2601.plus(t2602);
+        let t2607: f64 = t2605 - t2606;
+        let t2608 = product(t323, t2607);
+        let t2609: f64 = t2608.added_to(t1727);
+        let t2610: f64 = t1734 + t2609;
+        let t2611: f64 = t2599.subtracted_from(t2610);
+        let t2612 = product(t320, t2611);
+        let t2613 = product(t255, t2566);
+        let t2614 = product(t611, t2583);
+        let t2615: f64 = t882 * t2596;
+        let t2616: f64 = t596 * t2607;
+        let t2617 = product(t599, t2611);
+        let t2618: f64 = t1741 + t2439;
+        let t2619: f64 = t2613.plus(t2615);
+        let t2620: f64 = t2617.added_to(t1739);
+        let t2621: f64 = t2618 + t2619;
+        let t2622: f64 = t2620 + t2621;
+        let t2623: f64 = t2614.plus(t2616);
+        let t2624: f64 = t2622 - t2623;
+        let t2625: f64 = t600 * t2624;
+        let t2626: f64 = t2612.plus(t2625);
+        let t2627 = product(t321, t2626);
+        let t2628 = product(t2236, t2624);
+        let t2629: f64 = t2597.plus(t2598);
+        let t2630: f64 = t2627.plus(t2629);
+        let t2631: f64 = t2628.minus(t2630);
+        let t2632: f64 = t248 * t1969;
+        let t2633: f64 = -t2461;
+        let t2634: f64 = -t2549;
+        let t2635: f64 = t320 * t1301;
+        let t2636: f64 = t320 * t1541;
+        let t2637: f64 = -t2626;
+        let t2638: f64 = t320 * t1955;
+        let t2639: f64 = t338 * t2547;
+        let t2640: f64 = -t2639;
+        let t2641: f64 = t338 * t2224;
+        let t2642: f64 = t338 * t2281;
+        let t2643: f64 = t338 * t2624;
+        let t2644: f64 = -t2643;
+        let t2645: f64 = t338 * t2380;
+        let t2646: f64 = -t2645;
+        let t2647: f64 = t338 * t2458;
+        let t2648: f64 = xc * vy;
+        let t2649: f64 = zc * vz;
+        let t2650: f64 = yc * vy;
+        let t2651: f64 = t2649 + t2650;
+        let t2652: f64 = wy * t373;
+        let t2653: f64 = wz * t172;
+        let t2654: f64 = t2652 - t2653;
+        let t2655 = product(t13, t1421);
+        let t2656: f64 = t14 * t1423;
+        let t2657: f64 = t2655.plus(t2656);
+        let t2658: f64 = t3 * t2657;
+        let t2659: f64 = -t2658;
+        let t2660 = product(t2, t2659);
+        let t2661 = product(t14, 0.0);
+        let t2662 = product(t2, t1421);
+        let t2663: f64 = t414 * 0.1875000000000001;
+        let t2664: f64 = t802 * t2663;
+        let t2665: f64 = t2662.plus(t2664);
+        let t2666: f64 = t13 * t2665;
+        let t2667: f64 = t2661.plus(t2666);
+        let t2668: f64 = t3 * t2667;
+        let t2669: f64 = t2660.plus(t2668);
+        let t2670: f64 = t2654 - t2669;
+        let t2671: f64 = t2651 * 4.0;
+        let t2672: f64 = t2670 + t2671;
+        let t2673 = product(t255, t2672);
+        let t2674 = product(t206, t2672);
+        let t2675: f64 = t378 - t371;
+        let t2676: f64 = t2674.plus(t2675);
+        let t2677 = product(t101, 0.0);
+        let t2678: f64 = wz * t442;
+        let t2679: f64 = t2677.minus(t2678);
+        let t2680 = product(t29, t2665);
+        let t2681: f64 = t60 * t2659;
+        let t2682: f64 = t2680.plus(t2681);
+        let t2683: f64 = t2679 - t2682;
+        let t2684: f64 = t2676 + t2683;
+        let t2685 = product(t374, 2.0);
+        let t2686: f64 = t2648 * 4.0;
         let t2687: f64 = t2685.plus(t2686);
-        let t2688: f64 = t2678 * 8.0;
-        let t2689 = product(t2682, 3.34);
-        let t2690: f64 = t558 * 10.68;
-        let t2691 = product(t2687, 2.0);
-        let t2692: f64 = t2679.plus(t2683);
-        let t2693: f64 = t449 + t2120;
-        let t2694: f64 = t2689.added_to(t450);
-        let t2695: f64 = t2692 + t2693;
-        let t2696: f64 = t2690 + t2694;
-        let t2697: f64 = t2695 + t2696;
-        let t2698: f64 = t2680.plus(t2688);
-        let t2699: f64 = t2681.plus(t2684);
-        let t2700: f64 = t2698 + t2699;
-        let t2701: f64 = t2691.plus(t2700);
-        let t2702: f64 = t2697 - t2701;
-        let t2703 = product(t561, t2702);
-        let t2704: f64 = t581 * t792;
-        let t2705 = product(t273, t2669);
-        let t2706 = product(t290, t2702);
-        let t2707: f64 = t2704 * 3.34;
-        let t2708: f64 = t566 * 10.68;
-        let t2709: f64 = t2705.plus(t2707);
-        let t2710: f64 = t2706.plus(t2708);
+        let t2688: f64 = t2684 + t2687;
+        let t2689: f64 = t611 * t2688;
+        let t2690: f64 = xc * vz;
+        let t2691: f64 = t396 - t391;
+        let t2692 = product(wy, t442);
+        let t2693: f64 = t87 * 0.0;
+        let t2694: f64 = t2692.plus(t2693);
+        let t2695: f64 = t2691 - t2694;
+        let t2696 = product(t38, t2665);
+        let t2697: f64 = t493 * t2659;
+        let t2698: f64 = t2696.minus(t2697);
+        let t2699 = product(t854, t2672);
+        let t2700: f64 = t265 * t2688;
+        let t2701: f64 = t2699.plus(t2700);
+        let t2702: f64 = t2698 - t2701;
+        let t2703: f64 = t2695 + t2702;
+        let t2704 = product(t392, 2.0);
+        let t2705: f64 = t2690 * 4.0;
+        let t2706: f64 = t2704.added_to(t2703);
+        let t2707: f64 = t2706 - t2705;
+        let t2708 = product(t882, t2707);
+        let t2709: f64 = wy * t349;
+        let t2710: f64 = wz * t343;
         let t2711: f64 = t2709 + t2710;
-        let t2712: f64 = t2711 - t2106;
-        let t2713: f64 = t553 * t2712;
-        let t2714 = product(t566, t2056);
-        let t2715: f64 = t587 * t792;
-        let t2716 = product(t502, t2702);
-        let t2717: f64 = t507 * t2712;
-        let t2718 = product(t260, t2090);
-        let t2719: f64 = t2714.plus(t2715);
-        let t2720 = product(t2719, 3.34);
-        let t2721: f64 = t2720.added_to(t2166);
-        let t2722: f64 = t2716.plus(t2717);
-        let t2723: f64 = t2718.plus(t2722);
-        let t2724: f64 = t2721 - t2723;
-        let t2725 = product(t548, t2724);
-        let t2726: f64 = t2675 * 3.34;
-        let t2727: f64 = t587 * 10.68;
-        let t2728: f64 = t2677.added_to(t2178);
-        let t2729: f64 = t2727 + t2728;
-        let t2730: f64 = t2676.plus(t2726);
-        let t2731: f64 = t2703.plus(t2713);
-        let t2732: f64 = t2730 + t2731;
-        let t2733: f64 = t2725.plus(t2732);
-        let t2734: f64 = t2729 - t2733;
-        let t2735: f64 = t578 * t2734;
-        let t2736: f64 = t2672.plus(t2673);
-        let t2737: f64 = t2674.plus(t2735);
+        let t2712 = product(t282, t2688);
+        let t2713: f64 = t291 * t2707;
+        let t2714: f64 = t2712.plus(t2713);
+        let t2715: f64 = t2711 + t2714;
+        let t2716: f64 = t596 * t2715;
+        let t2717 = product(t321, t2707);
+        let t2718: f64 = t2717.minus(t509);
+        let t2719 = product(t323, t2715);
+        let t2720 = product(t296, t2688);
+        let t2721: f64 = t2720.added_to(t2670);
+        let t2722: f64 = t2671 + t2721;
+        let t2723: f64 = t301 * t2722;
+        let t2724: f64 = t2719.minus(t2723);
+        let t2725: f64 = t2718 + t2724;
+        let t2726: f64 = vz * 4.0;
+        let t2727 = product(t508, 2.0);
+        let t2728: f64 = t2727.added_to(t2726);
+        let t2729: f64 = t2725 + t2728;
+        let t2730 = product(t599, t2729);
+        let t2731: f64 = vy * 4.0;
+        let t2732: f64 = t344 * 2.0;
+        let t2733: f64 = t341 + t2731;
+        let t2734: f64 = t2708.plus(t2716);
+        let t2735: f64 = t2733 + t2734;
+        let t2736: f64 = t2673.plus(t2689);
+        let t2737: f64 = t2730.plus(t2732);
         let t2738: f64 = t2736 + t2737;
-        let t2739: f64 = t2670.subtracted_from(t2738);
-        let t2740 = product(t587, t2264);
-        let t2741 = product(t581, t2293);
-        let t2742: f64 = t566 * t2274;
-        let t2743: f64 = zc * t587;
-        let t2744 = product(t587, t2326);
-        let t2745 = product(t581, t2264);
-        let t2746: f64 = t566 * t2286;
-        let t2747 = product(t47, t566);
-        let t2748: f64 = t58 * t566;
-        let t2749: f64 = t2747.plus(t2748);
-        let t2750: f64 = t2743 * 8.0;
-        let t2751: f64 = t551 * 10.68;
-        let t2752 = product(t2749, 2.0);
-        let t2753: f64 = t2745.plus(t2746);
-        let t2754: f64 = t2301 + t2309;
-        let t2755: f64 = t364 + t2751;
-        let t2756: f64 = t2753 + t2754;
-        let t2757: f64 = t2752.plus(t2755);
-        let t2758: f64 = t2756 + t2757;
-        let t2759: f64 = t2744.plus(t2750);
-        let t2760: f64 = t2758 - t2759;
-        let t2761 = product(t213, t2760);
-        let t2762: f64 = t2678 + t2687;
-        let t2763: f64 = t403 - t2762;
-        let t2764: f64 = t2763 * 4.0;
-        let t2765: f64 = t2740.plus(t2764);
-        let t2766: f64 = t2761.added_to(t449);
-        let t2767: f64 = t2334 + t2343;
-        let t2768: f64 = t2765 + t2766;
-        let t2769: f64 = t2690 + t2767;
-        let t2770: f64 = t2768 + t2769;
-        let t2771: f64 = t2741.plus(t2742);
-        let t2772: f64 = t2770 - t2771;
-        let t2773 = product(t208, t2772);
-        let t2774 = product(t566, t2282);
-        let t2775 = product(t551, t2255);
-        let t2776: f64 = t558 * t2253;
-        let t2777 = product(t567, t2760);
-        let t2778: f64 = t499 * t2772;
-        let t2779: f64 = t587 * t2269;
-        let t2780 = product(t581, t2340);
-        let t2781: f64 = t2775.subtracted_from(t2776);
-        let t2782 = product(t2781, 3.34);
-        let t2783: f64 = t2777.plus(t2778);
-        let t2784: f64 = t2780.added_to(t2353);
-        let t2785: f64 = t2783 + t2784;
-        let t2786: f64 = t2782.plus(t2785);
-        let t2787: f64 = t2774.plus(t2779);
-        let t2788: f64 = t2786 - t2787;
-        let t2789 = product(t254, t2788);
-        let t2790: f64 = t286 * t290;
-        let t2791: f64 = t2456 * t2790;
-        let t2792: f64 = t2789.plus(t2791);
-        let t2793 = product(t502, t2446);
-        let t2794 = product(t587, t2253);
-        let t2795: f64 = t581 * t2255;
-        let t2796 = product(t494, t2760);
-        let t2797: f64 = t577 * t2772;
-        let t2798 = product(t561, t2788);
-        let t2799: f64 = t566 * t2253;
-        let t2800 = product(t273, t2772);
-        let t2801 = product(t290, t2788);
-        let t2802: f64 = t2799 * 3.34;
-        let t2803: f64 = t581 * 10.68;
-        let t2804: f64 = t2800.added_to(t2369);
-        let t2805: f64 = t2803 + t2804;
-        let t2806: f64 = t2801.plus(t2802);
-        let t2807: f64 = t2805 - t2806;
-        let t2808 = product(t553, t2807);
-        let t2809: f64 = t566 * t2255;
-        let t2810 = product(t502, t2788);
-        let t2811 = product(t507, t2807);
-        let t2812: f64 = t2311 + t2399;
-        let t2813 = product(t260, t2812);
-        let t2814: f64 = t2809 * 3.34;
-        let t2815: f64 = t2810.plus(t2814);
-        let t2816: f64 = t2813.added_to(t2727);
-        let t2817: f64 = t2815 + t2816;
-        let t2818: f64 = t2811.added_to(t2420);
-        let t2819: f64 = t2817 - t2818;
-        let t2820 = product(t548, t2819);
-        let t2821: f64 = t2794.plus(t2795);
-        let t2822: f64 = t2821 * 3.34;
-        let t2823: f64 = t2808.plus(t2822);
-        let t2824: f64 = t2820.added_to(t2437);
-        let t2825: f64 = t2823 + t2824;
-        let t2826: f64 = t2796.plus(t2797);
-        let t2827: f64 = t2798.plus(t2826);
-        let t2828: f64 = t2825 - t2827;
-        let t2829: f64 = t562 * t2828;
-        let t2830: f64 = t2793.minus(t2829);
-        let t2831: f64 = t2792 - t2830;
-        let t2832: f64 = t499 * t2831;
-        let t2833: f64 = t273 * t286;
-        let t2834 = product(t2456, t2833);
-        let t2835: f64 = t572 * t2446;
-        let t2836 = product(t578, t2828);
-        let t2837: f64 = t2834.plus(t2835);
-        let t2838: f64 = t2773.plus(t2832);
-        let t2839: f64 = t2836.plus(t2838);
-        let t2840: f64 = t2837 - t2839;
-        let t2841 = product(t587, t677);
-        let t2842 = product(t120, t581);
-        let t2843: f64 = t95 * t566;
-        let t2844: f64 = t2841.plus(t2843);
-        let t2845: f64 = t2842.minus(t2844);
-        let t2846 = product(t2845, 0.4119400000000001);
-        let t2847: f64 = t2846.added_to(t378);
-        let t2848 = product(t120, t2847);
-        let t2849 = product(t48, t587);
-        let t2850: f64 = t44 * t581;
-        let t2851 = product(t53, t566);
-        let t2852: f64 = t2849.plus(t2850);
-        let t2853: f64 = t2851.minus(t2852);
-        let t2854 = product(t2853, 0.22443999999999997);
-        let t2855: f64 = t2854.added_to(t382);
-        let t2856 = product(t44, t2855);
-        let t2857: f64 = t587 * t821;
-        let t2858 = product(t581, t797);
-        let t2859: f64 = t566 * t704;
-        let t2860: f64 = t124 * t551;
-        let t2861: f64 = t609 * t2860;
-        let t2862 = product(t558, t619);
-        let t2863 = product(t95, t581);
-        let t2864: f64 = t120 * t566;
-        let t2865: f64 = t2863.plus(t2864);
-        let t2866 = product(t2865, 0.4119400000000001);
-        let t2867: f64 = t2866.subtracted_from(t727);
-        let t2868 = product(t95, t2867);
-        let t2869 = product(t53, t581);
-        let t2870: f64 = t44 * t566;
-        let t2871: f64 = t2869.plus(t2870);
-        let t2872 = product(t2871, 0.22443999999999997);
-        let t2873: f64 = t2872.subtracted_from(t857);
-        let t2874: f64 = t53 * t2873;
-        let t2875 = product(t587, t803);
-        let t2876: f64 = t581 * t787;
-        let t2877 = product(t566, t821);
-        let t2878: f64 = t551 * t600;
-        let t2879: f64 = t2875.plus(t2876);
-        let t2880: f64 = t2877.plus(t2878);
-        let t2881: f64 = t2879 + t2880;
-        let t2882: f64 = t873 + t2881;
-        let t2883: f64 = t567 * t2882;
-        let t2884 = product(t95, t2847);
-        let t2885 = product(t53, t2855);
-        let t2886: f64 = t587 * t787;
-        let t2887 = product(t581, t777);
-        let t2888: f64 = t566 * t797;
-        let t2889 = product(t558, t600);
-        let t2890: f64 = t120 * t2867;
-        let t2891 = product(t44, t2873);
-        let t2892: f64 = t213 * t2882;
-        let t2893: f64 = t2885.plus(t2890);
-        let t2894: f64 = t2891.added_to(t892);
-        let t2895: f64 = t2893 + t2894;
-        let t2896: f64 = t2884.plus(t2886);
-        let t2897: f64 = t2887.plus(t2888);
-        let t2898: f64 = t2889.plus(t2892);
-        let t2899: f64 = t2896 + t2897;
-        let t2900: f64 = t2898 + t2899;
-        let t2901: f64 = t2895 - t2900;
-        let t2902 = product(t499, t2901);
-        let t2903: f64 = t2856.plus(t2861);
-        let t2904: f64 = t2862.plus(t2883);
-        let t2905: f64 = t2903 + t2904;
-        let t2906: f64 = t827 + t2905;
-        let t2907: f64 = t2848.plus(t2857);
-        let t2908: f64 = t2858.plus(t2859);
-        let t2909: f64 = t2868.plus(t2874);
-        let t2910: f64 = t2907 + t2908;
-        let t2911: f64 = t2902.plus(t2909);
-        let t2912: f64 = t2910 + t2911;
-        let t2913: f64 = t2906 - t2912;
-        let t2914 = product(t254, t2913);
-        let t2915: f64 = t1003 * t2790;
-        let t2916 = product(t609, t2571);
-        let t2917 = product(t587, t600);
-        let t2918: f64 = t502 * t2913;
-        let t2919 = product(t581, t600);
-        let t2920 = product(t566, t619);
-        let t2921: f64 = t273 * t2901;
-        let t2922 = product(t290, t2913);
-        let t2923: f64 = t2919.added_to(t933);
-        let t2924: f64 = t2920.plus(t2921);
-        let t2925: f64 = t2922.plus(t2924);
-        let t2926: f64 = t2923 - t2925;
-        let t2927: f64 = t507 * t2926;
-        let t2928 = product(t260, t952);
-        let t2929: f64 = t2916.plus(t2927);
-        let t2930: f64 = t966 + t2929;
-        let t2931: f64 = t2917.plus(t2918);
-        let t2932: f64 = t2928.plus(t2931);
-        let t2933: f64 = t2930 - t2932;
-        let t2934 = product(t301, t2933);
-        let t2935 = product(t587, t619);
-        let t2936 = product(t609, t2591);
-        let t2937: f64 = t494 * t2882;
-        let t2938: f64 = t577 * t2901;
-        let t2939 = product(t561, t2913);
-        let t2940 = product(t553, t2926);
-        let t2941: f64 = t548 * t2933;
-        let t2942: f64 = t2936.plus(t2937);
-        let t2943: f64 = t2939.plus(t2941);
-        let t2944: f64 = t2942 + t2943;
-        let t2945: f64 = t980 + t2944;
-        let t2946: f64 = t2935.plus(t2938);
-        let t2947: f64 = t2940.plus(t2946);
-        let t2948: f64 = t2945 - t2947;
-        let t2949: f64 = t549 * t2948;
-        let t2950: f64 = t2934.plus(t2949);
-        let t2951 = product(t502, t2950);
-        let t2952 = product(t562, t2948);
-        let t2953: f64 = t2914.plus(t2915);
-        let t2954: f64 = t2951.plus(t2953);
-        let t2955: f64 = t2952.minus(t2954);
-        let t2956: f64 = -t2555;
-        let t2957: f64 = -t2629;
-        let t2958 = product(t587, t1721);
-        let t2959 = product(t581, t1744);
-        let t2960 = product(t566, t1736);
-        let t2961: f64 = t558 * t1753;
-        let t2962 = product(t587, t1715);
-        let t2963 = product(t551, t1699);
-        let t2964: f64 = t581 * t1779;
-        let t2965 = product(t566, t1761);
-        let t2966: f64 = t2963.added_to(t1754);
-        let t2967 = product(t2966, 3.34);
-        let t2968: f64 = t2965.added_to(t1771);
-        let t2969: f64 = t2962.plus(t2964);
-        let t2970: f64 = t2967.plus(t2969);
-        let t2971: f64 = t2968 - t2970;
-        let t2972: f64 = t567 * t2971;
-        let t2973 = product(t587, t1728);
-        let t2974: f64 = t581 * t1764;
-        let t2975 = product(t566, t1744);
-        let t2976: f64 = t558 * t1699;
-        let t2977 = product(t213, t2971);
-        let t2978 = product(t2641, 8.0);
-        let t2979 = product(t2976, 3.34);
-        let t2980 = product(t2648, 2.0);
-        let t2981: f64 = t2978.added_to(t1832);
-        let t2982: f64 = t2973.plus(t2974);
-        let t2983: f64 = t2975.added_to(t1750);
-        let t2984: f64 = t2979.added_to(t408);
-        let t2985: f64 = t2981 + t2982;
-        let t2986: f64 = t2983 + t2984;
-        let t2987: f64 = t2985 + t2986;
-        let t2988: f64 = t2980.plus(t2987);
-        let t2989: f64 = t2977.plus(104.77080000000001);
-        let t2990: f64 = t2988 - t2989;
-        let t2991: f64 = t499 * t2990;
-        let t2992: f64 = t304 + t2749;
-        let t2993: f64 = t2992 - t2743;
-        let t2994: f64 = t2993 * 4.0;
-        let t2995 = product(t2961, 3.34);
-        let t2996: f64 = t2959.plus(t2994);
-        let t2997: f64 = t2960.plus(t2972);
-        let t2998: f64 = t1842 + t2751;
-        let t2999: f64 = t2996 + t2997;
-        let t3000: f64 = t2998 + t2999;
-        let t3001: f64 = t2958.plus(t2991);
-        let t3002: f64 = t2995.plus(t3001);
+        let t2739: f64 = t2735 - t2738;
+        let t2740 = product(t574, t2739);
+        let t2741 = product(t550, t2739);
+        let t2742: f64 = t2741.subtracted_from(t2729);
+        let t2743 = product(t554, t2742);
+        let t2744: f64 = t556 * t2739;
+        let t2745: f64 = t2743.plus(t2744);
+        let t2746: f64 = t2715 + t2745;
+        let t2747 = product(t561, t2746);
+        let t2748 = product(t563, t2742);
+        let t2749: f64 = t548 * t2739;
+        let t2750: f64 = t2747.added_to(t2705);
+        let t2751: f64 = t2748.plus(t2749);
+        let t2752: f64 = t2750 + t2751;
+        let t2753: f64 = t2706 - t2752;
+        let t2754 = product(t572, t2753);
+        let t2755 = product(t289, t2746);
+        let t2756: f64 = t577 * t2742;
+        let t2757: f64 = t2755.minus(t2756);
+        let t2758: f64 = t279 * t2757;
+        let t2759: f64 = t2740.added_to(t2684);
+        let t2760: f64 = t2687 + t2759;
+        let t2761: f64 = t2754.plus(t2758);
+        let t2762: f64 = t2760 - t2761;
+        let t2763 = product(t296, t2762);
+        let t2764: f64 = t587 * t2742;
+        let t2765 = product(t570, t2739);
+        let t2766 = product(t568, t2753);
+        let t2767: f64 = t2763.plus(t2764);
+        let t2768: f64 = t2765.added_to(t2670);
+        let t2769: f64 = t2767 + t2768;
+        let t2770: f64 = t2671 + t2769;
+        let t2771: f64 = t2766.subtracted_from(t2770);
+        let t2772: f64 = t83 * t2771;
+        let t2773: f64 = -t2772;
+        let t2774: f64 = yc * vx;
+        let t2775: f64 = yc * vz;
+        let t2776 = product(t29, t415);
+        let t2777: f64 = t139 * t414;
+        let t2778: f64 = t2776.minus(t2777);
+        let t2779 = product(t14, t2778);
+        let t2780 = product(t137, t414);
+        let t2781 = product(t101, t415);
+        let t2782: f64 = t60 * t1421;
+        let t2783: f64 = t2781.plus(t2782);
+        let t2784: f64 = t2780.subtracted_from(t2783);
+        let t2785: f64 = t13 * t2784;
+        let t2786: f64 = t2779.plus(t2785);
+        let t2787 = product(t3, t2786);
+        let t2788: f64 = t2787.added_to(t379);
+        let t2789 = product(wz, t395);
+        let t2790 = product(t101, t365);
+        let t2791 = product(t139, t358);
+        let t2792: f64 = t137 * t364;
+        let t2793: f64 = t29 * t367;
+        let t2794: f64 = t2790.plus(t2793);
+        let t2795: f64 = t2791.plus(t2792);
+        let t2796: f64 = t2794 - t2795;
+        let t2797: f64 = t2 * t2796;
+        let t2798: f64 = t2789.plus(t2797);
+        let t2799: f64 = t2788 - t2798;
+        let t2800 = product(t371, 2.0);
+        let t2801: f64 = t2774 * 4.0;
+        let t2802: f64 = t2800.plus(t2801);
+        let t2803: f64 = t2799 - t2802;
+        let t2804 = product(t255, t2803);
+        let t2805: f64 = xc * vx;
+        let t2806: f64 = t2649 + t2805;
+        let t2807: f64 = wx * t226;
+        let t2808: f64 = t2653 + t2807;
+        let t2809 = product(t60, t2796);
+        let t2810: f64 = t101 * t2778;
+        let t2811: f64 = t2809.plus(t2810);
+        let t2812: f64 = t2808 + t2811;
+        let t2813 = product(t29, t2784);
+        let t2814: f64 = t206 * t2803;
+        let t2815: f64 = t2813.plus(t2814);
+        let t2816: f64 = t2812 - t2815;
+        let t2817 = product(t2806, 4.0);
+        let t2818: f64 = t2817.added_to(t2816);
+        let t2819 = product(t611, t2818);
+        let t2820: f64 = t439 + t443;
+        let t2821 = product(t493, t2796);
+        let t2822: f64 = wx * t395;
+        let t2823: f64 = t2821.minus(t2822);
+        let t2824: f64 = t2820 + t2823;
+        let t2825 = product(t38, t2784);
+        let t2826: f64 = t87 * t2778;
+        let t2827: f64 = t2825.minus(t2826);
+        let t2828 = product(t854, t2803);
+        let t2829: f64 = t265 * t2818;
+        let t2830: f64 = t2828.minus(t2829);
+        let t2831: f64 = t2827 + t2830;
+        let t2832: f64 = t2824 + t2831;
+        let t2833 = product(t444, 2.0);
+        let t2834: f64 = t2775 * 4.0;
+        let t2835: f64 = t2833.plus(t2834);
+        let t2836: f64 = t2832 + t2835;
+        let t2837: f64 = t882 * t2836;
+        let t2838 = product(t282, t2818);
+        let t2839: f64 = t2838.subtracted_from(t508);
+        let t2840 = product(t291, t2836);
+        let t2841: f64 = t2840.subtracted_from(t2839);
+        let t2842: f64 = t509 * 2.0;
+        let t2843: f64 = t2726 + t2841;
+        let t2844: f64 = t2843 - t2842;
+        let t2845 = product(t596, t2844);
+        let t2846 = product(t321, t2836);
+        let t2847: f64 = t323 * t2844;
+        let t2848: f64 = t2846.minus(t2847);
+        let t2849 = product(t296, t2818);
+        let t2850: f64 = t2849.added_to(t2802);
+        let t2851: f64 = t2799 - t2850;
+        let t2852 = product(t301, t2851);
+        let t2853: f64 = wx * t340;
+        let t2854: f64 = t2710 + t2853;
+        let t2855: f64 = t2852.plus(t2854);
+        let t2856: f64 = t2848 + t2855;
+        let t2857: f64 = t599 * t2856;
+        let t2858: f64 = vx * 4.0;
+        let t2859 = product(t347, 2.0);
+        let t2860: f64 = t2859.added_to(t2858);
+        let t2861: f64 = t2804.plus(t2837);
+        let t2862: f64 = t2860 + t2861;
+        let t2863: f64 = t2819.added_to(t350);
+        let t2864: f64 = t2845.plus(t2857);
+        let t2865: f64 = t2863 + t2864;
+        let t2866: f64 = t2862 - t2865;
+        let t2867 = product(t548, t2866);
+        let t2868 = product(t550, t2866);
+        let t2869: f64 = t2868.subtracted_from(t2856);
+        let t2870 = product(t554, t2869);
+        let t2871 = product(t556, t2866);
+        let t2872: f64 = t2870.added_to(t2842);
+        let t2873: f64 = t2871.plus(t2872);
+        let t2874: f64 = t2843 - t2873;
+        let t2875 = product(t561, t2874);
+        let t2876: f64 = t563 * t2869;
+        let t2877: f64 = t2875.added_to(t2832);
+        let t2878: f64 = t2835 + t2877;
+        let t2879: f64 = t2867.plus(t2876);
+        let t2880: f64 = t2878 - t2879;
+        let t2881 = product(t568, t2880);
+        let t2882 = product(t570, t2866);
+        let t2883 = product(t572, t2880);
+        let t2884 = product(t574, t2866);
+        let t2885 = product(t289, t2874);
+        let t2886: f64 = t577 * t2869;
+        let t2887: f64 = t2885.plus(t2886);
+        let t2888: f64 = t279 * t2887;
+        let t2889: f64 = t2884.plus(t2888);
+        let t2890: f64 = t2818 + t2889;
+        let t2891: f64 = t2883.subtracted_from(t2890);
+        let t2892: f64 = t296 * t2891;
+        let t2893 = product(t587, t2869);
+        let t2894: f64 = t2881.added_to(t2799);
+        let t2895: f64 = t2882.plus(t2892);
+        let t2896: f64 = t2802 + t2895;
+        let t2897: f64 = t2893.plus(t2896);
+        let t2898: f64 = t2894 - t2897;
+        let t2899: f64 = t83 * t2898;
+        let t2900: f64 = -t2899;
+        let t2901: f64 = zc * vx;
+        let t2902 = product(t87, t365);
+        let t2903 = product(t126, t358);
+        let t2904: f64 = t124 * t364;
+        let t2905: f64 = t38 * t367;
+        let t2906: f64 = t2902.plus(t2905);
+        let t2907: f64 = t2903.plus(t2904);
+        let t2908: f64 = t2906 - t2907;
+        let t2909 = product(t2, t2908);
+        let t2910: f64 = wy * t377;
+        let t2911: f64 = t2909.minus(t2910);
+        let t2912 = product(t38, t415);
+        let t2913: f64 = t126 * t414;
+        let t2914: f64 = t2912.minus(t2913);
+        let t2915 = product(t14, t2914);
+        let t2916 = product(t124, t414);
+        let t2917 = product(t87, t415);
+        let t2918: f64 = t493 * t1421;
+        let t2919: f64 = t2916.plus(t2918);
+        let t2920: f64 = t2917.subtracted_from(t2919);
+        let t2921: f64 = t13 * t2920;
+        let t2922: f64 = t2915.minus(t2921);
+        let t2923 = product(t3, t2922);
+        let t2924: f64 = t2923.subtracted_from(t397);
+        let t2925: f64 = t2911 + t2924;
+        let t2926: f64 = t391 * 2.0;
+        let t2927: f64 = t2901 * 4.0;
+        let t2928: f64 = t2925 + t2927;
+        let t2929: f64 = t2928 - t2926;
+        let t2930 = product(t255, t2929);
+        let t2931: f64 = zc * vy;
+        let t2932 = product(t206, t2929);
+        let t2933: f64 = t2932.added_to(t445);
+        let t2934 = product(t60, t2908);
+        let t2935: f64 = wx * t377;
+        let t2936: f64 = t2934.minus(t2935);
+        let t2937 = product(t101, t2914);
+        let t2938: f64 = t29 * t2920;
+        let t2939: f64 = t2937.plus(t2938);
+        let t2940: f64 = t2936 + t2939;
+        let t2941: f64 = t2933 + t2940;
+        let t2942 = product(t439, 2.0);
+        let t2943: f64 = t2931 * 4.0;
+        let t2944: f64 = t2942.added_to(t2941);
+        let t2945: f64 = t2944 - t2943;
+        let t2946: f64 = t611 * t2945;
+        let t2947: f64 = t2650 + t2805;
+        let t2948: f64 = t2652 + t2807;
+        let t2949 = product(t265, t2945);
+        let t2950: f64 = t2949.subtracted_from(t2948);
+        let t2951 = product(t493, t2908);
+        let t2952: f64 = t87 * t2914;
+        let t2953: f64 = t2951.minus(t2952);
+        let t2954 = product(t38, t2920);
+        let t2955: f64 = t854 * t2929;
+        let t2956: f64 = t2954.plus(t2955);
+        let t2957: f64 = t2953 - t2956;
+        let t2958: f64 = t2950 + t2957;
+        let t2959: f64 = t2947 * 4.0;
+        let t2960: f64 = t2958 - t2959;
+        let t2961 = product(t882, t2960);
+        let t2962 = product(t291, t2960);
+        let t2963 = product(t282, t2945);
+        let t2964: f64 = t2963.minus(t344);
+        let t2965: f64 = t2962.plus(t2964);
+        let t2966 = product(t341, 2.0);
+        let t2967: f64 = t2966.added_to(t2731);
+        let t2968: f64 = t2965 + t2967;
+        let t2969: f64 = t596 * t2968;
+        let t2970 = product(t321, t2960);
+        let t2971: f64 = t2970.added_to(t347);
+        let t2972 = product(t323, t2968);
+        let t2973 = product(t296, t2945);
+        let t2974: f64 = t2973.added_to(t2927);
+        let t2975: f64 = t2925 + t2974;
+        let t2976: f64 = t2975 - t2926;
+        let t2977: f64 = t301 * t2976;
+        let t2978: f64 = t2972.minus(t2977);
+        let t2979: f64 = t2971 + t2978;
+        let t2980: f64 = t350 * 2.0;
+        let t2981: f64 = t2858 + t2979;
+        let t2982: f64 = t2981 - t2980;
+        let t2983 = product(t599, t2982);
+        let t2984: f64 = t2709 + t2853;
+        let t2985: f64 = t2930.plus(t2946);
+        let t2986: f64 = t2984 + t2985;
+        let t2987: f64 = t2983.plus(t2986);
+        let t2988: f64 = t2961.plus(t2969);
+        let t2989: f64 = t2987 - t2988;
+        let t2990 = product(t556, t2989);
+        let t2991 = product(t550, t2989);
+        let t2992: f64 = t2991.added_to(t2858);
+        let t2993: f64 = t2979 + t2992;
+        let t2994: f64 = t2993 - t2980;
+        let t2995 = product(t554, t2994);
+        let t2996: f64 = t2995.added_to(t2965);
+        let t2997: f64 = t2967 + t2996;
+        let t2998: f64 = t2990.subtracted_from(t2997);
+        let t2999 = product(t561, t2998);
+        let t3000 = product(t548, t2989);
+        let t3001: f64 = t563 * t2994;
+        let t3002: f64 = t3000.added_to(t2958);
         (
-            t2187,
-            t2197,
-            t2208,
-            t2252,
-            t2446,
+            t2156,
+            t2172,
+            t2189,
+            t2190,
+            t2227,
+            t2230,
+            t2234,
+            t2236,
+            t2242,
+            t2248,
+            t2286,
+            t2301,
+            t2302,
+            t2385,
+            t2429,
+            t2463,
             t2470,
-            t2494,
-            t2495,
-            t2541,
-            t2544,
-            t2547,
-            t2551,
-            t2558,
-            t2564,
-            t2617,
-            t2622,
+            t2554,
+            t2555,
+            t2556,
+            t2631,
+            t2632,
+            t2633,
+            t2634,
+            t2635,
+            t2636,
             t2637,
             t2638,
-            t2671,
-            t2708,
-            t2734,
+            t2640,
+            t2641,
+            t2642,
+            t2644,
+            t2646,
+            t2647,
+            t2707,
+            t2715,
             t2739,
-            t2790,
-            t2803,
-            t2828,
-            t2831,
-            t2833,
-            t2840,
-            t2948,
-            t2950,
-            t2955,
-            t2956,
-            t2957,
-            t2971,
-            t2990,
-            t3000,
+            t2742,
+            t2762,
+            t2773,
+            t2818,
+            t2844,
+            t2856,
+            t2866,
+            t2880,
+            t2900,
+            t2925,
+            t2926,
+            t2927,
+            t2943,
+            t2944,
+            t2945,
+            t2959,
+            t2982,
+            t2989,
+            t2994,
+            t2998,
+            t2999,
+            t3001,
             t3002,
         )
     };
     let (
-        t3046,
-        t3047,
-        t3048,
-        t3049,
-        t3050,
-        t3051,
-        t3052,
-        t3053,
-        t3054,
-        t3055,
-        t3057,
-        t3058,
-        t3059,
-        t3061,
-        t3063,
-        t3064,
-        t3190,
-        t3317,
-        t3427,
-        t3443,
-        t3496,
-        t3510,
-        t3565,
-        t3582,
-        t3586,
-        t3599,
-        t3609,
-        t3660,
-        t3661,
-        t3671,
-        t3679,
-        t3691,
-        t3710,
-        t3711,
-        t3745,
-        t3753,
-        t3765,
-        t3766,
-        t3767,
-        t3768,
-        t3778,
-        t3779,
-        t3780,
-        t3781,
-        t3782,
-        t3783,
-        t3784,
-        t3785,
-        t3786,
-        t3788,
-        t3789,
+        t3010,
+        t3026,
+        t3079,
+        t3093,
+        t3148,
+        t3165,
+        t3244,
+        t3245,
+        t3255,
+        t3263,
+        t3275,
+        t3294,
+        t3295,
+        t3329,
+        t3337,
+        t3349,
+        t3350,
+        t3351,
+        t3352,
+        t3362,
+        t3363,
+        t3364,
+        t3365,
+        t3366,
+        t3367,
+        t3368,
+        t3369,
+        t3370,
+        t3372,
+        t3373,
+        t3375,
+        t3376,
+        t3378,
+        t3379,
+        t3420,
+        t3433,
+        t3474,
+        t3486,
+        t3525,
+        t3539,
+        t3571,
+        t3585,
+        t3645,
+        t3705,
+        t3713,
+        t3721,
+        t3762,
         t3791,
         t3792,
+        t3793,
         t3794,
         t3795,
         t3796,
+        t3797,
+        t3798,
+        t3799,
+        t3807,
+        t3815,
+        t3816,
         t3817,
+        t3818,
         t3819,
-        t3824,
+        t3820,
+        t3821,
+        t3823,
+        t3825,
+        t3827,
+        t3829,
         t3830,
-        t3836,
-        t3849,
-        t3850,
-        t3871,
-        t3873,
-        t3878,
-        t3884,
-        t3890,
-        t3902,
-        t3908,
-        t3925,
-        t3927,
-        t3931,
-        t3941,
-        t3955,
-        t3972,
-        t3977,
-        t3987,
-        t4001,
-        t4002,
+        t3831,
     ) = {
-        let t3003: f64 = t3000 - t3002;
-        let t3004 = product(t254, t3003);
-        let t3005: f64 = t1931 * t2790;
-        let t3006: f64 = t587 * t1699;
-        let t3007 = product(t502, t3003);
-        let t3008 = product(t581, t1699);
-        let t3009: f64 = t566 * t1753;
-        let t3010 = product(t273, t2990);
-        let t3011: f64 = t290 * t3003;
-        let t3012: f64 = t3008.subtracted_from(t3009);
-        let t3013 = product(t3012, 3.34);
-        let t3014: f64 = t3013.added_to(t1816);
-        let t3015: f64 = t3010.plus(t3011);
-        let t3016: f64 = t3014 - t3015;
-        let t3017 = product(t507, t3016);
-        let t3018: f64 = t260 * t1879;
-        let t3019: f64 = t3006 * 3.34;
-        let t3020: f64 = t3017.plus(t3019);
-        let t3021: f64 = t1893 + t2708;
+        let t3003: f64 = t2999.plus(t3001);
+        let t3004: f64 = t2959 + t3003;
+        let t3005: f64 = t3002 - t3004;
+        let t3006 = product(t568, t3005);
+        let t3007 = product(t570, t2989);
+        let t3008 = product(t572, t3005);
+        let t3009 = product(t574, t2989);
+        let t3010: f64 = t289 * t2998;
+        let t3011 = product(t577, t2994);
+        let t3012: f64 = t3011.subtracted_from(t3010);
+        let t3013: f64 = t279 * t3012;
+        let t3014: f64 = t3008.added_to(t2943);
+        let t3015: f64 = t3009.plus(t3013);
+        let t3016: f64 = t3014 + t3015;
+        let t3017: f64 = t2944 - t3016;
+        let t3018 = product(t296, t3017);
+        let t3019 = product(t587, t2994);
+        let t3020: f64 = t3018.added_to(t2927);
+        let t3021: f64 = t3019.added_to(t2925);
         let t3022: f64 = t3020 + t3021;
-        let t3023: f64 = t3007.plus(t3018);
-        let t3024: f64 = t3022 - t3023;
-        let t3025 = product(t301, t3024);
-        let t3026: f64 = t587 * t1753;
-        let t3027 = product(t494, t2971);
-        let t3028 = product(t577, t2990);
-        let t3029 = product(t561, t3003);
-        let t3030: f64 = t553 * t3016;
-        let t3031: f64 = t548 * t3024;
-        let t3032: f64 = t3026 * 3.34;
-        let t3033: f64 = t3027.plus(t3032);
-        let t3034: f64 = t3029.plus(t3031);
-        let t3035: f64 = t1905 + t2803;
-        let t3036: f64 = t3033 + t3034;
-        let t3037: f64 = t3035 + t3036;
-        let t3038: f64 = t3028.plus(t3030);
-        let t3039: f64 = t3037 - t3038;
-        let t3040: f64 = t549 * t3039;
-        let t3041: f64 = t3025.plus(t3040);
-        let t3042 = product(t502, t3041);
-        let t3043 = product(t562, t3039);
-        let t3044: f64 = t3004.plus(t3005);
-        let t3045: f64 = t3042.plus(t3044);
-        let t3046: f64 = t3043.minus(t3045);
-        let t3047: f64 = t254 * t2208;
-        let t3048: f64 = -t2831;
-        let t3049: f64 = t286 * t1003;
-        let t3050: f64 = t286 * t1931;
-        let t3051: f64 = -t2950;
-        let t3052: f64 = t301 * t1393;
-        let t3053: f64 = t301 * t1657;
-        let t3054: f64 = -t3041;
-        let t3055: f64 = t301 * t2187;
-        let t3056: f64 = t530 * t2948;
-        let t3057: f64 = -t3056;
-        let t3058: f64 = t530 * t2541;
-        let t3059: f64 = t530 * t2617;
-        let t3060: f64 = t530 * t3039;
-        let t3061: f64 = -t3060;
-        let t3062: f64 = t530 * t2734;
-        let t3063: f64 = -t3062;
-        let t3064: f64 = t530 * t2828;
-        let t3065: f64 = xc * vy;
-        let t3066: f64 = zc * vz;
-        let t3067: f64 = yc * vy;
-        let t3068: f64 = t3066 + t3067;
-        let t3069: f64 = wy * t325;
-        let t3070: f64 = wz * t179;
-        let t3071: f64 = t3069 - t3070;
-        let t3072 = product(t30, t1500);
-        let t3073: f64 = t31 * t1502;
-        let t3074: f64 = t3072.plus(t3073);
-        let t3075: f64 = t4 * t3074;
-        let t3076: f64 = -t3075;
-        let t3077 = product(t3, t3076);
-        let t3078 = product(t31, 0.0);
-        let t3079 = product(t3, t1500);
-        let t3080: f64 = t374 * 0.1875000000000001;
-        let t3081: f64 = t677 * t3080;
-        let t3082: f64 = t3079.plus(t3081);
-        let t3083: f64 = t30 * t3082;
-        let t3084: f64 = t3078.plus(t3083);
-        let t3085: f64 = t4 * t3084;
-        let t3086: f64 = t3077.plus(t3085);
-        let t3087: f64 = t3071 - t3086;
-        let t3088: f64 = t3068 * 4.0;
-        let t3089: f64 = t3087 + t3088;
-        let t3090 = product(t494, t3089);
-        let t3091 = product(t213, t3089);
-        let t3092: f64 = t342 - t337;
-        let t3093: f64 = t3091.plus(t3092);
-        let t3094 = product(t120, 0.0);
-        let t3095: f64 = wz * t329;
-        let t3096: f64 = t3094.minus(t3095);
-        let t3097 = product(t44, t3082);
-        let t3098: f64 = t8 * t3076;
-        let t3099: f64 = t3097.plus(t3098);
-        let t3100: f64 = t3096 - t3099;
-        let t3101: f64 = t3093 + t3100;
-        let t3102 = product(t338, 2.0);
-        let t3103: f64 = t3065 * 4.0;
-        let t3104: f64 = t3102.plus(t3103);
-        let t3105: f64 = t3101 + t3104;
-        let t3106: f64 = t577 * t3105;
-        let t3107: f64 = xc * vz;
-        let t3108: f64 = t360 - t355;
-        let t3109 = product(wy, t329);
-        let t3110: f64 = t95 * 0.0;
-        let t3111: f64 = t3109.plus(t3110);
-        let t3112: f64 = t3108 - t3111;
-        let t3113 = product(t53, t3082);
-        let t3114: f64 = t460 * t3076;
-        let t3115: f64 = t3113.minus(t3114);
-        let t3116 = product(t567, t3089);
-        let t3117: f64 = t499 * t3105;
-        let t3118: f64 = t3116.plus(t3117);
-        let t3119: f64 = t3115 - t3118;
-        let t3120: f64 = t3112 + t3119;
-        let t3121 = product(t356, 2.0);
-        let t3122: f64 = t3107 * 4.0;
-        let t3123: f64 = t3121.added_to(t3120);
-        let t3124: f64 = t3123 - t3122;
-        let t3125 = product(t561, t3124);
-        let t3126: f64 = wy * t435;
-        let t3127: f64 = wz * t432;
-        let t3128: f64 = t3126 + t3127;
-        let t3129 = product(t273, t3105);
-        let t3130: f64 = t290 * t3124;
-        let t3131: f64 = t3129.plus(t3130);
-        let t3132: f64 = t3128 + t3131;
-        let t3133: f64 = t553 * t3132;
-        let t3134 = product(t502, t3124);
-        let t3135: f64 = t3134.minus(t442);
-        let t3136 = product(t507, t3132);
-        let t3137 = product(t255, t3105);
-        let t3138: f64 = t3137.added_to(t3087);
-        let t3139: f64 = t3088 + t3138;
-        let t3140: f64 = t260 * t3139;
-        let t3141: f64 = t3136.minus(t3140);
-        let t3142: f64 = t3135 + t3141;
-        let t3143: f64 = vz * 4.0;
-        let t3144 = product(t439, 2.0);
-        let t3145: f64 = t3144.added_to(t3143);
-        let t3146: f64 = t3142 + t3145;
-        let t3147 = product(t548, t3146);
-        let t3148: f64 = vy * 4.0;
-        let t3149: f64 = t477 * 2.0;
-        let t3150: f64 = t476 + t3148;
-        let t3151: f64 = t3125.plus(t3133);
-        let t3152: f64 = t3150 + t3151;
-        let t3153: f64 = t3090.plus(t3106);
-        let t3154: f64 = t3147.plus(t3149);
-        let t3155: f64 = t3153 + t3154;
-        let t3156: f64 = t3152 - t3155;
-        let t3157 = product(t650, t3156);
-        let t3158 = product(t601, t3156);
-        let t3159: f64 = t3158.subtracted_from(t3146);
-        let t3160 = product(t622, t3159);
-        let t3161: f64 = t620 * t3156;
-        let t3162: f64 = t3160.plus(t3161);
-        let t3163: f64 = t3132 + t3162;
-        let t3164 = product(t631, t3163);
-        let t3165 = product(t629, t3159);
-        let t3166: f64 = t633 * t3156;
-        let t3167: f64 = t3164.added_to(t3122);
-        let t3168: f64 = t3165.plus(t3166);
-        let t3169: f64 = t3167 + t3168;
-        let t3170: f64 = t3123 - t3169;
-        let t3171 = product(t647, t3170);
-        let t3172 = product(t286, t3163);
-        let t3173: f64 = t643 * t3159;
-        let t3174: f64 = t3172.minus(t3173);
-        let t3175: f64 = t20 * t3174;
-        let t3176: f64 = t3157.added_to(t3101);
-        let t3177: f64 = t3104 + t3176;
-        let t3178: f64 = t3171.plus(t3175);
-        let t3179: f64 = t3177 - t3178;
-        let t3180 = product(t255, t3179);
-        let t3181: f64 = t640 * t3159;
-        let t3182 = product(t661, t3156);
-        let t3183 = product(t657, t3170);
-        let t3184: f64 = t3180.plus(t3181);
-        let t3185: f64 = t3182.added_to(t3087);
-        let t3186: f64 = t3184 + t3185;
-        let t3187: f64 = t3088 + t3186;
-        let t3188: f64 = t3183.subtracted_from(t3187);
-        let t3189: f64 = t90 * t3188;
-        let t3190: f64 = -t3189;
-        let t3191: f64 = yc * vx;
-        let t3192: f64 = yc * vz;
-        let t3193 = product(t44, t375);
-        let t3194: f64 = t146 * t374;
-        let t3195: f64 = t3193.minus(t3194);
-        let t3196 = product(t31, t3195);
-        let t3197 = product(t144, t374);
-        let t3198 = product(t120, t375);
-        let t3199: f64 = t8 * t1500;
-        let t3200: f64 = t3198.plus(t3199);
-        let t3201: f64 = t3197.subtracted_from(t3200);
-        let t3202: f64 = t30 * t3201;
-        let t3203: f64 = t3196.plus(t3202);
-        let t3204 = product(t4, t3203);
-        let t3205: f64 = t3204.added_to(t343);
-        let t3206 = product(wz, t359);
-        let t3207 = product(t120, t318);
-        let t3208 = product(t146, t311);
-        let t3209: f64 = t144 * t317;
-        let t3210: f64 = t44 * t320;
-        let t3211: f64 = t3207.plus(t3210);
-        let t3212: f64 = t3208.plus(t3209);
-        let t3213: f64 = t3211 - t3212;
-        let t3214: f64 = t3 * t3213;
-        let t3215: f64 = t3206.plus(t3214);
-        let t3216: f64 = t3205 - t3215;
-        let t3217 = product(t337, 2.0);
-        let t3218: f64 = t3191 * 4.0;
-        let t3219: f64 = t3217.plus(t3218);
-        let t3220: f64 = t3216 - t3219;
-        let t3221 = product(t494, t3220);
-        let t3222: f64 = xc * vx;
-        let t3223: f64 = t3066 + t3222;
-        let t3224: f64 = wx * t232;
-        let t3225: f64 = t3070 + t3224;
-        let t3226 = product(t8, t3213);
-        let t3227: f64 = t120 * t3195;
-        let t3228: f64 = t3226.plus(t3227);
-        let t3229: f64 = t3225 + t3228;
-        let t3230 = product(t44, t3201);
-        let t3231: f64 = t213 * t3220;
-        let t3232: f64 = t3230.plus(t3231);
-        let t3233: f64 = t3229 - t3232;
-        let t3234 = product(t3223, 4.0);
-        let t3235: f64 = t3234.added_to(t3233);
-        let t3236 = product(t577, t3235);
-        let t3237: f64 = t326 + t330;
-        let t3238 = product(t460, t3213);
-        let t3239: f64 = wx * t359;
-        let t3240: f64 = t3238.minus(t3239);
-        let t3241: f64 = t3237 + t3240;
-        let t3242 = product(t53, t3201);
-        let t3243: f64 = t95 * t3195;
-        let t3244: f64 = t3242.minus(t3243);
-        let t3245 = product(t567, t3220);
-        let t3246: f64 = t499 * t3235;
-        let t3247: f64 = t3245.minus(t3246);
-        let t3248: f64 = t3244 + t3247;
-        let t3249: f64 = t3241 + t3248;
-        let t3250 = product(t331, 2.0);
-        let t3251: f64 = t3192 * 4.0;
-        let t3252: f64 = t3250.plus(t3251);
-        let t3253: f64 = t3249 + t3252;
-        let t3254: f64 = t561 * t3253;
-        let t3255 = product(t273, t3235);
-        let t3256: f64 = t3255.subtracted_from(t439);
-        let t3257 = product(t290, t3253);
-        let t3258: f64 = t3257.subtracted_from(t3256);
-        let t3259: f64 = t442 * 2.0;
-        let t3260: f64 = t3143 + t3258;
-        let t3261: f64 = t3260 - t3259;
-        let t3262 = product(t553, t3261);
-        let t3263 = product(t502, t3253);
-        let t3264: f64 = t507 * t3261;
-        let t3265: f64 = t3263.minus(t3264);
-        let t3266 = product(t255, t3235);
-        let t3267: f64 = t3266.added_to(t3219);
-        let t3268: f64 = t3216 - t3267;
-        let t3269 = product(t260, t3268);
-        let t3270: f64 = wx * t441;
-        let t3271: f64 = t3127 + t3270;
-        let t3272: f64 = t3269.plus(t3271);
-        let t3273: f64 = t3265 + t3272;
-        let t3274: f64 = t548 * t3273;
-        let t3275: f64 = vx * 4.0;
-        let t3276 = product(t433, 2.0);
-        let t3277: f64 = t3276.added_to(t3275);
-        let t3278: f64 = t3221.plus(t3254);
-        let t3279: f64 = t3277 + t3278;
-        let t3280: f64 = t3236.added_to(t436);
-        let t3281: f64 = t3262.plus(t3274);
-        let t3282: f64 = t3280 + t3281;
-        let t3283: f64 = t3279 - t3282;
-        let t3284 = product(t633, t3283);
-        let t3285 = product(t601, t3283);
-        let t3286: f64 = t3285.subtracted_from(t3273);
-        let t3287 = product(t622, t3286);
-        let t3288 = product(t620, t3283);
-        let t3289: f64 = t3287.added_to(t3259);
-        let t3290: f64 = t3288.plus(t3289);
-        let t3291: f64 = t3260 - t3290;
-        let t3292 = product(t631, t3291);
-        let t3293: f64 = t629 * t3286;
-        let t3294: f64 = t3292.added_to(t3249);
-        let t3295: f64 = t3252 + t3294;
-        let t3296: f64 = t3284.plus(t3293);
-        let t3297: f64 = t3295 - t3296;
-        let t3298 = product(t657, t3297);
-        let t3299 = product(t661, t3283);
-        let t3300 = product(t647, t3297);
-        let t3301 = product(t650, t3283);
-        let t3302 = product(t286, t3291);
-        let t3303: f64 = t643 * t3286;
-        let t3304: f64 = t3302.plus(t3303);
-        let t3305: f64 = t20 * t3304;
-        let t3306: f64 = t3301.plus(t3305);
-        let t3307: f64 = t3235 + t3306;
-        let t3308: f64 = t3300.subtracted_from(t3307);
-        let t3309: f64 = t255 * t3308;
-        let t3310 = product(t640, t3286);
-        let t3311: f64 = t3298.added_to(t3216);
-        let t3312: f64 = t3299.plus(t3309);
-        let t3313: f64 = t3219 + t3312;
-        let t3314: f64 = t3310.plus(t3313);
-        let t3315: f64 = t3311 - t3314;
-        let t3316: f64 = t90 * t3315;
-        let t3317: f64 = -t3316;
-        let t3318: f64 = zc * vx;
-        let t3319 = product(t95, t318);
-        let t3320 = product(t98, t311);
-        let t3321: f64 = t96 * t317;
-        let t3322: f64 = t53 * t320;
-        let t3323: f64 = t3319.plus(t3322);
-        let t3324: f64 = t3320.plus(t3321);
-        let t3325: f64 = t3323 - t3324;
-        let t3326 = product(t3, t3325);
-        let t3327: f64 = wy * t341;
-        let t3328: f64 = t3326.minus(t3327);
-        let t3329 = product(t53, t375);
-        let t3330: f64 = t98 * t374;
-        let t3331: f64 = t3329.minus(t3330);
-        let t3332 = product(t31, t3331);
-        let t3333 = product(t96, t374);
-        let t3334 = product(t95, t375);
-        let t3335: f64 = t460 * t1500;
+        let t3023: f64 = t3006.added_to(t2926);
+        let t3024: f64 = t3007.plus(t3023);
+        let t3025: f64 = t3022 - t3024;
+        let t3026: f64 = t83 * t3025;
+        let t3027: f64 = yc * wy;
+        let t3028: f64 = t1399 + t3027;
+        let t3029: f64 = t3028 * 4.0;
+        let t3030 = product(t255, t3029);
+        let t3031: f64 = xc * wy;
+        let t3032 = product(t206, t3029);
+        let t3033: f64 = t3031 * 4.0;
+        let t3034: f64 = t3032.plus(t3033);
+        let t3035: f64 = t611 * t3034;
+        let t3036: f64 = xc * wz;
+        let t3037 = product(t854, t3029);
+        let t3038: f64 = t265 * t3034;
+        let t3039: f64 = t3037.plus(t3038);
+        let t3040: f64 = t3036 * 4.0;
+        let t3041: f64 = t3039 + t3040;
+        let t3042 = product(t882, t3041);
+        let t3043 = product(t282, t3034);
+        let t3044: f64 = t291 * t3041;
+        let t3045: f64 = t3043.minus(t3044);
+        let t3046 = product(t596, t3045);
+        let t3047 = product(t323, t3045);
+        let t3048: f64 = t321 * t3041;
+        let t3049: f64 = t3047.minus(t3048);
+        let t3050 = product(t296, t3034);
+        let t3051: f64 = t3050.added_to(t3029);
+        let t3052 = product(t301, t3051);
+        let t3053: f64 = t3052.subtracted_from(t3049);
+        let t3054: f64 = wz * 4.0;
+        let t3055: f64 = t3053 + t3054;
+        let t3056: f64 = t599 * t3055;
+        let t3057: f64 = wy * 4.0;
+        let t3058: f64 = t3046.plus(t3057);
+        let t3059: f64 = t3030.plus(t3035);
+        let t3060: f64 = t3042.plus(t3056);
+        let t3061: f64 = t3059 + t3060;
+        let t3062: f64 = t3058 - t3061;
+        let t3063 = product(t570, t3062);
+        let t3064 = product(t556, t3062);
+        let t3065 = product(t550, t3062);
+        let t3066: f64 = t3065.subtracted_from(t3055);
+        let t3067: f64 = t554 * t3066;
+        let t3068: f64 = t3064.plus(t3067);
+        let t3069: f64 = t3045 + t3068;
+        let t3070 = product(t561, t3069);
+        let t3071 = product(t563, t3066);
+        let t3072: f64 = t548 * t3062;
+        let t3073: f64 = t3070.added_to(t3040);
+        let t3074: f64 = t3071.plus(t3072);
+        let t3075: f64 = t3073 + t3074;
+        let t3076: f64 = t3039 + t3075;
+        let t3077 = product(t572, t3076);
+        let t3078: f64 = t574 * t3062;
+        let t3079: f64 = t289 * t3069;
+        let t3080 = product(t577, t3066);
+        let t3081: f64 = t3080.subtracted_from(t3079);
+        let t3082 = product(t279, t3081);
+        let t3083: f64 = t3077.plus(t3078);
+        let t3084: f64 = t3034 + t3083;
+        let t3085: f64 = t3082.subtracted_from(t3084);
+        let t3086: f64 = t296 * t3085;
+        let t3087 = product(t568, t3076);
+        let t3088: f64 = t587 * t3066;
+        let t3089: f64 = t3063.plus(t3086);
+        let t3090: f64 = t3087.plus(t3088);
+        let t3091: f64 = t3089 + t3090;
+        let t3092: f64 = t3029 + t3091;
+        let t3093: f64 = t83 * t3092;
+        let t3094: f64 = yc * wx;
+        let t3095: f64 = t3094 * 4.0;
+        let t3096: f64 = t206 * t3095;
+        let t3097 = product(t255, t3095);
+        let t3098 = product(xc, wx);
+        let t3099: f64 = t3098.added_to(t1399);
+        let t3100: f64 = t3099 * 4.0;
+        let t3101: f64 = t3096 + t3100;
+        let t3102: f64 = t611 * t3101;
+        let t3103: f64 = yc * wz;
+        let t3104 = product(t854, t3095);
+        let t3105: f64 = t265 * t3101;
+        let t3106: f64 = t3104.plus(t3105);
+        let t3107: f64 = t3103 * 4.0;
+        let t3108: f64 = t3107 - t3106;
+        let t3109 = product(t882, t3108);
+        let t3110 = product(t282, t3101);
+        let t3111: f64 = t291 * t3108;
+        let t3112: f64 = t3110.plus(t3111);
+        let t3113: f64 = t3054 - t3112;
+        let t3114 = product(t596, t3113);
+        let t3115 = product(t296, t3101);
+        let t3116: f64 = t3115.added_to(t3095);
+        let t3117 = product(t301, t3116);
+        let t3118 = product(t321, t3108);
+        let t3119: f64 = t323 * t3113;
+        let t3120: f64 = t3118.minus(t3119);
+        let t3121: f64 = t3117.minus(t3120);
+        let t3122 = product(t599, t3121);
+        let t3123: f64 = wx * 4.0;
+        let t3124: f64 = t3109.plus(t3123);
+        let t3125: f64 = t3122.plus(t3124);
+        let t3126: f64 = t3097.plus(t3102);
+        let t3127: f64 = t3114.plus(t3126);
+        let t3128: f64 = t3125 - t3127;
+        let t3129 = product(t574, t3128);
+        let t3130 = product(t556, t3128);
+        let t3131 = product(t550, t3128);
+        let t3132: f64 = t3131.added_to(t3121);
+        let t3133: f64 = -t3132;
+        let t3134: f64 = t320 * t3133;
+        let t3135: f64 = -t3134;
+        let t3136 = product(t311, t3135);
+        let t3137: f64 = t3136.added_to(t3054);
+        let t3138: f64 = t3130.added_to(t3112);
+        let t3139: f64 = t3137 - t3138;
+        let t3140 = product(t561, t3139);
+        let t3141 = product(t304, t3135);
+        let t3142 = product(t548, t3128);
+        let t3143: f64 = t3140.added_to(t3107);
+        let t3144: f64 = t3141.plus(t3143);
+        let t3145: f64 = t3142.added_to(t3106);
+        let t3146: f64 = t3144 - t3145;
+        let t3147 = product(t572, t3146);
+        let t3148: f64 = t289 * t3139;
+        let t3149 = product(t206, t3135);
+        let t3150: f64 = t3149.subtracted_from(t3148);
+        let t3151 = product(t279, t3150);
+        let t3152: f64 = t3129.added_to(t3096);
+        let t3153: f64 = t3151.added_to(t3100);
+        let t3154: f64 = t3152 + t3153;
+        let t3155: f64 = t3147.subtracted_from(t3154);
+        let t3156 = product(t296, t3155);
+        let t3157 = product(t570, t3128);
+        let t3158 = product(t568, t3146);
+        let t3159: f64 = t279 * t3135;
+        let t3160: f64 = t3156.added_to(t3095);
+        let t3161: f64 = t3157.plus(t3160);
+        let t3162: f64 = t3158.plus(t3159);
+        let t3163: f64 = t3161 - t3162;
+        let t3164: f64 = t83 * t3163;
+        let t3165: f64 = -t3164;
+        let t3166: f64 = zc * wx;
+        let t3167: f64 = zc * t83;
+        let t3168 = product(t122, t3167);
+        let t3169: f64 = t3168.added_to(xc);
+        let t3170: f64 = t3169 * 4.0;
+        let t3171: f64 = wx * t3170;
+        let t3172: f64 = wx * t83;
+        let t3173 = product(t174, t3172);
+        let t3174: f64 = t3173.subtracted_from(wy);
+        let t3175: f64 = t3174 * 4.0;
+        let t3176: f64 = zc * t201;
+        let t3177: f64 = t231 * t3176;
+        let t3178 = product(t3175, t3177);
+        let t3179: f64 = t3178.subtracted_from(t3171);
+        let t3180: f64 = t3027 * 4.0;
+        let t3181: f64 = t3179 + t3180;
+        let t3182 = product(t882, t3181);
+        let t3183: f64 = zc * t279;
+        let t3184: f64 = t201 * t3183;
+        let t3185 = product(t3175, t3184);
+        let t3186: f64 = t291 * t3181;
+        let t3187: f64 = t3185.plus(t3186);
+        let t3188: f64 = t3057 - t3187;
+        let t3189 = product(t596, t3188);
+        let t3190 = product(t323, t3188);
+        let t3191 = product(t296, t3175);
+        let t3192: f64 = t3191.subtracted_from(t3123);
+        let t3193: f64 = t83 * t3183;
+        let t3194: f64 = t3192 * t3193;
+        let t3195 = product(t321, t3181);
+        let t3196: f64 = t3195.added_to(t3194);
+        let t3197: f64 = t3190.minus(t3196);
+        let t3198: f64 = t3123 + t3197;
+        let t3199: f64 = t599 * t3198;
+        let t3200: f64 = wx * t254;
+        let t3201: f64 = t83 * t3200;
+        let t3202 = product(t611, t3175);
+        let t3203: f64 = t3201 * 4.0;
+        let t3204: f64 = t3202.subtracted_from(t3203);
+        let t3205 = product(zc, t3204);
+        let t3206: f64 = t3182.plus(t3199);
+        let t3207: f64 = t3205.plus(t3206);
+        let t3208: f64 = t3189.subtracted_from(t3207);
+        let t3209 = product(t550, t3208);
+        let t3210: f64 = t3209.added_to(t3123);
+        let t3211: f64 = t3197 + t3210;
+        let t3212 = product(t563, t3211);
+        let t3213 = product(t554, t3211);
+        let t3214 = product(t556, t3208);
+        let t3215: f64 = t3213.added_to(t3057);
+        let t3216: f64 = t3214.added_to(t3187);
+        let t3217: f64 = t3215 - t3216;
+        let t3218 = product(t561, t3217);
+        let t3219 = product(t548, t3208);
+        let t3220: f64 = t3212.added_to(t3180);
+        let t3221: f64 = t3218.added_to(t3179);
+        let t3222: f64 = t3220 + t3221;
+        let t3223: f64 = t3219.subtracted_from(t3222);
+        let t3224 = product(t568, t3223);
+        let t3225 = product(t587, t3211);
+        let t3226 = product(zc, t3175);
+        let t3227 = product(t572, t3223);
+        let t3228: f64 = t574 * t3208;
+        let t3229 = product(t289, t3217);
+        let t3230: f64 = t577 * t3211;
+        let t3231: f64 = t3229.minus(t3230);
+        let t3232 = product(t279, t3231);
+        let t3233: f64 = t3226.plus(t3228);
+        let t3234: f64 = t3232.plus(t3233);
+        let t3235: f64 = t3227.subtracted_from(t3234);
+        let t3236 = product(t296, t3235);
+        let t3237: f64 = t570 * t3208;
+        let t3238: f64 = t3166 * 4.0;
+        let t3239: f64 = t3224.plus(t3238);
+        let t3240: f64 = t3225.plus(t3239);
+        let t3241: f64 = t3236.plus(t3237);
+        let t3242: f64 = t3240 - t3241;
+        let t3243: f64 = t83 * t3242;
+        let t3244: f64 = -t3243;
+        let t3245: f64 = t201 * t2762;
+        let t3246 = product(t201, t2818);
+        let t3247 = product(t614, t2880);
+        let t3248 = product(t597, t2866);
+        let t3249 = product(t289, t2844);
+        let t3250 = product(t320, t2856);
+        let t3251: f64 = t600 * t2866;
+        let t3252: f64 = t3250.minus(t3251);
+        let t3253: f64 = t323 * t3252;
+        let t3254: f64 = t3249.minus(t3253);
+        let t3255: f64 = t3248.minus(t3254);
+        let t3256: f64 = -t3255;
+        let t3257: f64 = t282 * t3256;
+        let t3258 = product(t608, t3252);
+        let t3259: f64 = t612 * t2866;
+        let t3260: f64 = t3246.plus(t3257);
+        let t3261: f64 = t3258.plus(t3259);
+        let t3262: f64 = t3260 + t3261;
+        let t3263: f64 = t3247.minus(t3262);
+        let t3264 = product(t201, t2945);
+        let t3265 = product(t614, t3005);
+        let t3266: f64 = t2463 * t2998;
+        let t3267 = product(t320, t2982);
+        let t3268: f64 = t600 * t2989;
+        let t3269: f64 = t3267.plus(t3268);
+        let t3270: f64 = t608 * t3269;
+        let t3271 = product(t612, t2989);
+        let t3272: f64 = t3265.plus(t3266);
+        let t3273: f64 = t3271.plus(t3272);
+        let t3274: f64 = t3264.plus(t3270);
+        let t3275: f64 = t3273 - t3274;
+        let t3276 = product(t201, t3034);
+        let t3277 = product(t248, t3041);
+        let t3278: f64 = t2429 * t3069;
+        let t3279: f64 = t3277.plus(t3278);
+        let t3280 = product(t320, t3055);
+        let t3281: f64 = t600 * t3062;
+        let t3282: f64 = t3280.minus(t3281);
+        let t3283 = product(t321, t3282);
+        let t3284: f64 = t2236 * t3062;
+        let t3285: f64 = t3283.plus(t3284);
+        let t3286: f64 = t3279 + t3285;
+        let t3287: f64 = t265 * t3286;
+        let t3288 = product(t2463, t3069);
+        let t3289 = product(t608, t3282);
+        let t3290: f64 = t612 * t3062;
+        let t3291: f64 = t3276.plus(t3287);
+        let t3292: f64 = t3289.plus(t3290);
+        let t3293: f64 = t3291 + t3292;
+        let t3294: f64 = t3288.minus(t3293);
+        let t3295: f64 = t201 * t3155;
+        let t3296: f64 = t83 * t3166;
+        let t3297 = product(t174, t3296);
+        let t3298: f64 = t3297.subtracted_from(t1381);
+        let t3299: f64 = t3298 * 4.0;
+        let t3300 = product(t201, t3299);
+        let t3301 = product(t614, t3223);
+        let t3302: f64 = t254 * t3166;
+        let t3303: f64 = t83 * t3302;
+        let t3304 = product(t611, t3299);
+        let t3305 = product(t265, t3299);
+        let t3306: f64 = t3171 + t3180;
+        let t3307: f64 = t3305.subtracted_from(t3306);
+        let t3308 = product(t882, t3307);
+        let t3309 = product(t282, t3299);
+        let t3310: f64 = t291 * t3307;
+        let t3311: f64 = t3309.plus(t3310);
+        let t3312: f64 = t3057 - t3311;
+        let t3313: f64 = t596 * t3312;
+        let t3314 = product(t321, t3307);
+        let t3315 = product(t323, t3312);
+        let t3316: f64 = t3315.added_to(t3123);
+        let t3317: f64 = t3314.added_to(t3194);
+        let t3318: f64 = t3316 - t3317;
+        let t3319 = product(t599, t3318);
+        let t3320: f64 = t3303 * 4.0;
+        let t3321: f64 = t3308.plus(t3320);
+        let t3322: f64 = t3319.plus(t3321);
+        let t3323: f64 = t3304.plus(t3313);
+        let t3324: f64 = t3322 - t3323;
+        let t3325 = product(t597, t3324);
+        let t3326 = product(t289, t3312);
+        let t3327: f64 = t2227 * t3211;
+        let t3328: f64 = t3326.plus(t3327);
+        let t3329: f64 = t3325.minus(t3328);
+        let t3330: f64 = -t3329;
+        let t3331: f64 = t282 * t3330;
+        let t3332: f64 = t2242 * t3211;
+        let t3333 = product(t612, t3324);
+        let t3334: f64 = t3301.plus(t3332);
+        let t3335: f64 = t3300.plus(t3331);
         let t3336: f64 = t3333.plus(t3335);
-        let t3337: f64 = t3334.subtracted_from(t3336);
-        let t3338: f64 = t30 * t3337;
-        let t3339: f64 = t3332.minus(t3338);
-        let t3340 = product(t4, t3339);
-        let t3341: f64 = t3340.subtracted_from(t361);
-        let t3342: f64 = t3328 + t3341;
-        let t3343: f64 = t355 * 2.0;
-        let t3344: f64 = t3318 * 4.0;
-        let t3345: f64 = t3342 + t3344;
-        let t3346: f64 = t3345 - t3343;
-        let t3347 = product(t494, t3346);
-        let t3348: f64 = zc * vy;
-        let t3349 = product(t213, t3346);
-        let t3350: f64 = t3349.added_to(t332);
-        let t3351 = product(t8, t3325);
-        let t3352: f64 = wx * t341;
-        let t3353: f64 = t3351.minus(t3352);
-        let t3354 = product(t120, t3331);
-        let t3355: f64 = t44 * t3337;
-        let t3356: f64 = t3354.plus(t3355);
-        let t3357: f64 = t3353 + t3356;
-        let t3358: f64 = t3350 + t3357;
-        let t3359 = product(t326, 2.0);
-        let t3360: f64 = t3348 * 4.0;
-        let t3361: f64 = t3359.added_to(t3358);
-        let t3362: f64 = t3361 - t3360;
-        let t3363: f64 = t577 * t3362;
-        let t3364: f64 = t3067 + t3222;
-        let t3365: f64 = t3069 + t3224;
-        let t3366 = product(t499, t3362);
-        let t3367: f64 = t3366.subtracted_from(t3365);
-        let t3368 = product(t460, t3325);
-        let t3369: f64 = t95 * t3331;
-        let t3370: f64 = t3368.minus(t3369);
-        let t3371 = product(t53, t3337);
-        let t3372: f64 = t567 * t3346;
-        let t3373: f64 = t3371.plus(t3372);
-        let t3374: f64 = t3370 - t3373;
-        let t3375: f64 = t3367 + t3374;
-        let t3376: f64 = t3364 * 4.0;
-        let t3377: f64 = t3375 - t3376;
-        let t3378 = product(t561, t3377);
-        let t3379 = product(t290, t3377);
-        let t3380 = product(t273, t3362);
-        let t3381: f64 = t3380.minus(t477);
-        let t3382: f64 = t3379.plus(t3381);
-        let t3383 = product(t476, 2.0);
-        let t3384: f64 = t3383.added_to(t3148);
-        let t3385: f64 = t3382 + t3384;
-        let t3386: f64 = t553 * t3385;
-        let t3387 = product(t502, t3377);
-        let t3388: f64 = t3387.added_to(t433);
-        let t3389 = product(t507, t3385);
-        let t3390 = product(t255, t3362);
-        let t3391: f64 = t3390.added_to(t3344);
-        let t3392: f64 = t3342 + t3391;
-        let t3393: f64 = t3392 - t3343;
-        let t3394: f64 = t260 * t3393;
-        let t3395: f64 = t3389.minus(t3394);
-        let t3396: f64 = t3388 + t3395;
-        let t3397: f64 = t436 * 2.0;
-        let t3398: f64 = t3275 + t3396;
-        let t3399: f64 = t3398 - t3397;
-        let t3400 = product(t548, t3399);
-        let t3401: f64 = t3126 + t3270;
-        let t3402: f64 = t3347.plus(t3363);
-        let t3403: f64 = t3401 + t3402;
-        let t3404: f64 = t3400.plus(t3403);
-        let t3405: f64 = t3378.plus(t3386);
-        let t3406: f64 = t3404 - t3405;
-        let t3407 = product(t620, t3406);
-        let t3408 = product(t601, t3406);
-        let t3409: f64 = t3408.added_to(t3275);
-        let t3410: f64 = t3396 + t3409;
-        let t3411: f64 = t3410 - t3397;
-        let t3412 = product(t622, t3411);
-        let t3413: f64 = t3412.added_to(t3382);
-        let t3414: f64 = t3384 + t3413;
-        let t3415: f64 = t3407.subtracted_from(t3414);
-        let t3416 = product(t631, t3415);
-        let t3417 = product(t633, t3406);
-        let t3418: f64 = t629 * t3411;
-        let t3419: f64 = t3417.added_to(t3375);
-        let t3420: f64 = t3416.plus(t3418);
-        let t3421: f64 = t3376 + t3420;
-        let t3422: f64 = t3419 - t3421;
-        let t3423 = product(t657, t3422);
-        let t3424 = product(t661, t3406);
-        let t3425 = product(t647, t3422);
-        let t3426 = product(t650, t3406);
-        let t3427: f64 = t286 * t3415;
-        let t3428 = product(t643, t3411);
-        let t3429: f64 = t3428.subtracted_from(t3427);
-        let t3430: f64 = t20 * t3429;
-        let t3431: f64 = t3425.added_to(t3360);
-        let t3432: f64 = t3426.plus(t3430);
-        let t3433: f64 = t3431 + t3432;
-        let t3434: f64 = t3361 - t3433;
-        let t3435 = product(t255, t3434);
-        let t3436 = product(t640, t3411);
-        let t3437: f64 = t3435.added_to(t3344);
-        let t3438: f64 = t3436.added_to(t3342);
-        let t3439: f64 = t3437 + t3438;
-        let t3440: f64 = t3423.added_to(t3343);
-        let t3441: f64 = t3424.plus(t3440);
-        let t3442: f64 = t3439 - t3441;
-        let t3443: f64 = t90 * t3442;
-        let t3444: f64 = yc * wy;
-        let t3445: f64 = t1520 + t3444;
-        let t3446: f64 = t3445 * 4.0;
-        let t3447 = product(t494, t3446);
-        let t3448: f64 = xc * wy;
-        let t3449 = product(t213, t3446);
-        let t3450: f64 = t3448 * 4.0;
-        let t3451: f64 = t3449.plus(t3450);
-        let t3452: f64 = t577 * t3451;
-        let t3453: f64 = xc * wz;
-        let t3454 = product(t567, t3446);
-        let t3455: f64 = t499 * t3451;
-        let t3456: f64 = t3454.plus(t3455);
-        let t3457: f64 = t3453 * 4.0;
-        let t3458: f64 = t3456 + t3457;
-        let t3459 = product(t561, t3458);
-        let t3460 = product(t273, t3451);
-        let t3461: f64 = t290 * t3458;
-        let t3462: f64 = t3460.minus(t3461);
-        let t3463 = product(t553, t3462);
-        let t3464 = product(t507, t3462);
-        let t3465: f64 = t502 * t3458;
-        let t3466: f64 = t3464.minus(t3465);
-        let t3467 = product(t255, t3451);
-        let t3468: f64 = t3467.added_to(t3446);
-        let t3469 = product(t260, t3468);
-        let t3470: f64 = t3469.subtracted_from(t3466);
-        let t3471: f64 = wz * 4.0;
-        let t3472: f64 = t3470 + t3471;
-        let t3473: f64 = t548 * t3472;
-        let t3474: f64 = wy * 4.0;
-        let t3475: f64 = t3463.plus(t3474);
-        let t3476: f64 = t3447.plus(t3452);
-        let t3477: f64 = t3459.plus(t3473);
-        let t3478: f64 = t3476 + t3477;
-        let t3479: f64 = t3475 - t3478;
-        let t3480 = product(t661, t3479);
-        let t3481 = product(t620, t3479);
-        let t3482 = product(t601, t3479);
-        let t3483: f64 = t3482.subtracted_from(t3472);
-        let t3484: f64 = t622 * t3483;
-        let t3485: f64 = t3481.plus(t3484);
-        let t3486: f64 = t3462 + t3485;
-        let t3487 = product(t631, t3486);
-        let t3488 = product(t629, t3483);
-        let t3489: f64 = t633 * t3479;
-        let t3490: f64 = t3487.added_to(t3457);
-        let t3491: f64 = t3488.plus(t3489);
-        let t3492: f64 = t3490 + t3491;
-        let t3493: f64 = t3456 + t3492;
-        let t3494 = product(t647, t3493);
-        let t3495: f64 = t650 * t3479;
-        let t3496: f64 = t286 * t3486;
-        let t3497 = product(t643, t3483);
-        let t3498: f64 = t3497.subtracted_from(t3496);
-        let t3499 = product(t20, t3498);
-        let t3500: f64 = t3494.plus(t3495);
-        let t3501: f64 = t3451 + t3500;
-        let t3502: f64 = t3499.subtracted_from(t3501);
-        let t3503: f64 = t255 * t3502;
-        let t3504 = product(t657, t3493);
-        let t3505: f64 = t640 * t3483;
-        let t3506: f64 = t3480.plus(t3503);
-        let t3507: f64 = t3504.plus(t3505);
-        let t3508: f64 = t3506 + t3507;
-        let t3509: f64 = t3446 + t3508;
-        let t3510: f64 = t90 * t3509;
-        let t3511: f64 = yc * wx;
-        let t3512: f64 = t3511 * 4.0;
-        let t3513: f64 = t213 * t3512;
-        let t3514 = product(t494, t3512);
-        let t3515 = product(xc, wx);
-        let t3516: f64 = t3515.added_to(t1520);
-        let t3517: f64 = t3516 * 4.0;
-        let t3518: f64 = t3513 + t3517;
-        let t3519: f64 = t577 * t3518;
-        let t3520: f64 = yc * wz;
-        let t3521 = product(t567, t3512);
-        let t3522: f64 = t499 * t3518;
-        let t3523: f64 = t3521.plus(t3522);
-        let t3524: f64 = t3520 * 4.0;
-        let t3525: f64 = t3524 - t3523;
-        let t3526 = product(t561, t3525);
-        let t3527 = product(t273, t3518);
-        let t3528: f64 = t290 * t3525;
-        let t3529: f64 = t3527.plus(t3528);
-        let t3530: f64 = t3471 - t3529;
-        let t3531 = product(t553, t3530);
-        let t3532 = product(t255, t3518);
-        let t3533: f64 = t3532.added_to(t3512);
-        let t3534 = product(t260, t3533);
-        let t3535 = product(t502, t3525);
-        let t3536: f64 = t507 * t3530;
-        let t3537: f64 = t3535.minus(t3536);
-        let t3538: f64 = t3534.minus(t3537);
-        let t3539 = product(t548, t3538);
-        let t3540: f64 = wx * 4.0;
-        let t3541: f64 = t3526.plus(t3540);
-        let t3542: f64 = t3539.plus(t3541);
-        let t3543: f64 = t3514.plus(t3519);
-        let t3544: f64 = t3531.plus(t3543);
-        let t3545: f64 = t3542 - t3544;
-        let t3546 = product(t650, t3545);
-        let t3547 = product(t620, t3545);
-        let t3548 = product(t601, t3545);
-        let t3549: f64 = t3548.added_to(t3538);
-        let t3550: f64 = -t3549;
-        let t3551: f64 = t301 * t3550;
-        let t3552: f64 = -t3551;
-        let t3553 = product(t292, t3552);
-        let t3554: f64 = t3553.added_to(t3471);
-        let t3555: f64 = t3547.added_to(t3529);
-        let t3556: f64 = t3554 - t3555;
-        let t3557 = product(t631, t3556);
-        let t3558 = product(t268, t3552);
-        let t3559 = product(t633, t3545);
-        let t3560: f64 = t3557.added_to(t3524);
-        let t3561: f64 = t3558.plus(t3560);
-        let t3562: f64 = t3559.added_to(t3523);
-        let t3563: f64 = t3561 - t3562;
-        let t3564 = product(t647, t3563);
-        let t3565: f64 = t286 * t3556;
-        let t3566 = product(t213, t3552);
-        let t3567: f64 = t3566.subtracted_from(t3565);
-        let t3568 = product(t20, t3567);
-        let t3569: f64 = t3546.added_to(t3513);
-        let t3570: f64 = t3568.added_to(t3517);
-        let t3571: f64 = t3569 + t3570;
-        let t3572: f64 = t3564.subtracted_from(t3571);
-        let t3573 = product(t255, t3572);
-        let t3574 = product(t661, t3545);
-        let t3575 = product(t657, t3563);
-        let t3576: f64 = t20 * t3552;
-        let t3577: f64 = t3573.added_to(t3512);
-        let t3578: f64 = t3574.plus(t3577);
-        let t3579: f64 = t3575.plus(t3576);
-        let t3580: f64 = t3578 - t3579;
-        let t3581: f64 = t90 * t3580;
-        let t3582: f64 = -t3581;
-        let t3583: f64 = zc * wx;
-        let t3584: f64 = zc * t90;
-        let t3585 = product(t141, t3584);
-        let t3586: f64 = t3585.added_to(xc);
-        let t3587: f64 = t3586 * 4.0;
-        let t3588: f64 = wx * t3587;
-        let t3589: f64 = wx * t90;
-        let t3590 = product(t181, t3589);
-        let t3591: f64 = t3590.subtracted_from(wy);
-        let t3592: f64 = t3591 * 4.0;
-        let t3593: f64 = t237 * t1590;
-        let t3594 = product(t3592, t3593);
-        let t3595: f64 = t3594.subtracted_from(t3588);
-        let t3596: f64 = t3444 * 4.0;
-        let t3597: f64 = t3595 + t3596;
-        let t3598 = product(t561, t3597);
-        let t3599: f64 = zc * t20;
-        let t3600: f64 = t208 * t3599;
-        let t3601 = product(t3592, t3600);
-        let t3602: f64 = t290 * t3597;
-        let t3603: f64 = t3601.plus(t3602);
-        let t3604: f64 = t3474 - t3603;
-        let t3605 = product(t553, t3604);
-        let t3606 = product(t507, t3604);
-        let t3607 = product(t255, t3592);
-        let t3608: f64 = t3607.subtracted_from(t3540);
-        let t3609: f64 = t90 * t3599;
-        let t3610: f64 = t3608 * t3609;
-        let t3611 = product(t502, t3597);
-        let t3612: f64 = t3611.added_to(t3610);
-        let t3613: f64 = t3606.minus(t3612);
-        let t3614: f64 = t3540 + t3613;
-        let t3615: f64 = t548 * t3614;
-        let t3616: f64 = wx * t280;
-        let t3617: f64 = t90 * t3616;
-        let t3618 = product(t577, t3592);
-        let t3619: f64 = t3617 * 4.0;
-        let t3620: f64 = t3618.subtracted_from(t3619);
-        let t3621 = product(zc, t3620);
-        let t3622: f64 = t3598.plus(t3615);
-        let t3623: f64 = t3621.plus(t3622);
-        let t3624: f64 = t3605.subtracted_from(t3623);
-        let t3625 = product(t601, t3624);
-        let t3626: f64 = t3625.added_to(t3540);
-        let t3627: f64 = t3613 + t3626;
-        let t3628 = product(t629, t3627);
-        let t3629 = product(t622, t3627);
-        let t3630 = product(t620, t3624);
-        let t3631: f64 = t3629.added_to(t3474);
-        let t3632: f64 = t3630.added_to(t3603);
-        let t3633: f64 = t3631 - t3632;
-        let t3634 = product(t631, t3633);
-        let t3635 = product(t633, t3624);
-        let t3636: f64 = t3628.added_to(t3596);
-        let t3637: f64 = t3634.added_to(t3595);
-        let t3638: f64 = t3636 + t3637;
-        let t3639: f64 = t3635.subtracted_from(t3638);
-        let t3640 = product(t657, t3639);
-        let t3641 = product(t640, t3627);
-        let t3642 = product(zc, t3592);
-        let t3643 = product(t647, t3639);
-        let t3644: f64 = t650 * t3624;
-        let t3645 = product(t286, t3633);
-        let t3646: f64 = t643 * t3627;
-        let t3647: f64 = t3645.minus(t3646);
-        let t3648 = product(t20, t3647);
-        let t3649: f64 = t3642.plus(t3644);
-        let t3650: f64 = t3648.plus(t3649);
-        let t3651: f64 = t3643.subtracted_from(t3650);
-        let t3652 = product(t255, t3651);
-        let t3653: f64 = t661 * t3624;
-        let t3654: f64 = t3583 * 4.0;
-        let t3655: f64 = t3640.plus(t3654);
-        let t3656: f64 = t3641.plus(t3655);
-        let t3657: f64 = t3652.plus(t3653);
-        let t3658: f64 = t3656 - t3657;
-        let t3659: f64 = t90 * t3658;
-        let t3660: f64 = -t3659;
-        let t3661: f64 = t208 * t3179;
-        let t3662 = product(t208, t3235);
-        let t3663 = product(t2671, t3297);
-        let t3664 = product(t554, t3283);
-        let t3665 = product(t286, t3261);
-        let t3666 = product(t301, t3273);
-        let t3667: f64 = t549 * t3283;
-        let t3668: f64 = t3666.minus(t3667);
-        let t3669: f64 = t507 * t3668;
-        let t3670: f64 = t3665.minus(t3669);
-        let t3671: f64 = t3664.minus(t3670);
-        let t3672: f64 = -t3671;
-        let t3673: f64 = t273 * t3672;
-        let t3674 = product(t572, t3668);
-        let t3675: f64 = t578 * t3283;
-        let t3676: f64 = t3662.plus(t3673);
-        let t3677: f64 = t3674.plus(t3675);
-        let t3678: f64 = t3676 + t3677;
-        let t3679: f64 = t3663.minus(t3678);
-        let t3680 = product(t208, t3362);
-        let t3681 = product(t2671, t3422);
-        let t3682: f64 = t2833 * t3415;
-        let t3683 = product(t301, t3399);
-        let t3684: f64 = t549 * t3406;
-        let t3685: f64 = t3683.plus(t3684);
-        let t3686: f64 = t572 * t3685;
-        let t3687 = product(t578, t3406);
-        let t3688: f64 = t3681.plus(t3682);
-        let t3689: f64 = t3687.plus(t3688);
-        let t3690: f64 = t3680.plus(t3686);
-        let t3691: f64 = t3689 - t3690;
-        let t3692 = product(t208, t3451);
-        let t3693 = product(t254, t3458);
-        let t3694: f64 = t2790 * t3486;
-        let t3695: f64 = t3693.plus(t3694);
-        let t3696 = product(t301, t3472);
-        let t3697: f64 = t549 * t3479;
-        let t3698: f64 = t3696.minus(t3697);
-        let t3699 = product(t502, t3698);
-        let t3700: f64 = t562 * t3479;
-        let t3701: f64 = t3699.plus(t3700);
-        let t3702: f64 = t3695 + t3701;
-        let t3703: f64 = t499 * t3702;
-        let t3704 = product(t2833, t3486);
-        let t3705 = product(t572, t3698);
-        let t3706: f64 = t578 * t3479;
-        let t3707: f64 = t3692.plus(t3703);
-        let t3708: f64 = t3705.plus(t3706);
-        let t3709: f64 = t3707 + t3708;
-        let t3710: f64 = t3704.minus(t3709);
-        let t3711: f64 = t208 * t3572;
-        let t3712: f64 = t90 * t3583;
-        let t3713 = product(t181, t3712);
-        let t3714: f64 = t3713.subtracted_from(t1511);
-        let t3715: f64 = t3714 * 4.0;
-        let t3716 = product(t208, t3715);
-        let t3717 = product(t2671, t3639);
-        let t3718: f64 = t280 * t3583;
-        let t3719: f64 = t90 * t3718;
-        let t3720 = product(t577, t3715);
-        let t3721 = product(t499, t3715);
-        let t3722: f64 = t3588 + t3596;
-        let t3723: f64 = t3721.subtracted_from(t3722);
-        let t3724 = product(t561, t3723);
-        let t3725 = product(t273, t3715);
-        let t3726: f64 = t290 * t3723;
-        let t3727: f64 = t3725.plus(t3726);
-        let t3728: f64 = t3474 - t3727;
-        let t3729: f64 = t553 * t3728;
-        let t3730 = product(t502, t3723);
-        let t3731 = product(t507, t3728);
-        let t3732: f64 = t3731.added_to(t3540);
-        let t3733: f64 = t3730.added_to(t3610);
-        let t3734: f64 = t3732 - t3733;
-        let t3735 = product(t548, t3734);
-        let t3736: f64 = t3719 * 4.0;
-        let t3737: f64 = t3724.plus(t3736);
-        let t3738: f64 = t3735.plus(t3737);
-        let t3739: f64 = t3720.plus(t3729);
-        let t3740: f64 = t3738 - t3739;
-        let t3741 = product(t554, t3740);
-        let t3742 = product(t286, t3728);
-        let t3743: f64 = t2544 * t3627;
-        let t3744: f64 = t3742.plus(t3743);
-        let t3745: f64 = t3741.minus(t3744);
-        let t3746: f64 = -t3745;
-        let t3747: f64 = t273 * t3746;
-        let t3748: f64 = t2558 * t3627;
-        let t3749 = product(t578, t3740);
-        let t3750: f64 = t3717.plus(t3748);
-        let t3751: f64 = t3716.plus(t3747);
-        let t3752: f64 = t3749.plus(t3751);
-        let t3753: f64 = t3750 - t3752;
-        let t3754 = product(t254, t3124);
-        let t3755 = product(t554, t3156);
-        let t3756 = product(t286, t3132);
-        let t3757: f64 = t2544 * t3159;
-        let t3758: f64 = t3756.plus(t3757);
-        let t3759: f64 = t3755.plus(t3758);
-        let t3760 = product(t290, t3759);
-        let t3761: f64 = t2551 * t3159;
-        let t3762 = product(t562, t3156);
-        let t3763: f64 = t3760.plus(t3761);
-        let t3764: f64 = t3762.plus(t3763);
-        let t3765: f64 = t3754.subtracted_from(t3764);
-        let t3766: f64 = t254 * t3297;
-        let t3767: f64 = t254 * t3422;
-        let t3768: f64 = -t3702;
-        let t3769 = product(t254, t3525);
-        let t3770: f64 = t2790 * t3556;
-        let t3771 = product(t301, t3538);
-        let t3772: f64 = t549 * t3545;
-        let t3773: f64 = t3771.plus(t3772);
-        let t3774 = product(t502, t3773);
-        let t3775 = product(t562, t3545);
-        let t3776: f64 = t3769.plus(t3770);
-        let t3777: f64 = t3774.plus(t3776);
-        let t3778: f64 = t3775.minus(t3777);
-        let t3779: f64 = t254 * t3639;
-        let t3780: f64 = -t3759;
-        let t3781: f64 = t301 * t3159;
-        let t3782: f64 = -t3668;
-        let t3783: f64 = -t3685;
-        let t3784: f64 = -t3698;
-        let t3785: f64 = -t3773;
-        let t3786: f64 = t301 * t3627;
-        let t3787: f64 = t530 * t3156;
-        let t3788: f64 = -t3787;
-        let t3789: f64 = t530 * t3283;
-        let t3790: f64 = t530 * t3406;
-        let t3791: f64 = -t3790;
-        let t3792: f64 = t530 * t3479;
-        let t3793: f64 = t530 * t3545;
-        let t3794: f64 = -t3793;
-        let t3795: f64 = t530 * t3740;
-        let t3796: f64 = t65 * t208;
-        let t3797 = product(t498, t3796);
-        let t3798 = product(t237, t3796);
-        let t3799: f64 = t3798.subtracted_from(yc);
-        let t3800 = product(t561, t3799);
-        let t3801: f64 = t20 * t65;
-        let t3802 = product(t208, t3801);
-        let t3803: f64 = t290 * t3799;
-        let t3804: f64 = t3802.plus(t3803);
-        let t3805: f64 = t3804 - 1.0;
-        let t3806: f64 = t553 * t3805;
-        let t3807: f64 = t90 * t3801;
-        let t3808: f64 = t181 * t3807;
-        let t3809 = product(t208, t3808);
-        let t3810: f64 = t502 * t3799;
+        let t3337: f64 = t3334 - t3336;
+        let t3338 = product(t248, t2707);
+        let t3339 = product(t597, t2739);
+        let t3340 = product(t289, t2715);
+        let t3341: f64 = t2227 * t2742;
+        let t3342: f64 = t3340.plus(t3341);
+        let t3343: f64 = t3339.plus(t3342);
+        let t3344 = product(t291, t3343);
+        let t3345: f64 = t2234 * t2742;
+        let t3346 = product(t2236, t2739);
+        let t3347: f64 = t3344.plus(t3345);
+        let t3348: f64 = t3346.plus(t3347);
+        let t3349: f64 = t3338.subtracted_from(t3348);
+        let t3350: f64 = t248 * t2880;
+        let t3351: f64 = t248 * t3005;
+        let t3352: f64 = -t3286;
+        let t3353 = product(t248, t3108);
+        let t3354: f64 = t2429 * t3139;
+        let t3355 = product(t320, t3121);
+        let t3356: f64 = t600 * t3128;
+        let t3357: f64 = t3355.plus(t3356);
+        let t3358 = product(t321, t3357);
+        let t3359 = product(t2236, t3128);
+        let t3360: f64 = t3353.plus(t3354);
+        let t3361: f64 = t3358.plus(t3360);
+        let t3362: f64 = t3359.minus(t3361);
+        let t3363: f64 = t248 * t3223;
+        let t3364: f64 = -t3343;
+        let t3365: f64 = t320 * t2742;
+        let t3366: f64 = -t3252;
+        let t3367: f64 = -t3269;
+        let t3368: f64 = -t3282;
+        let t3369: f64 = -t3357;
+        let t3370: f64 = t320 * t3211;
+        let t3371: f64 = t338 * t2739;
+        let t3372: f64 = -t3371;
+        let t3373: f64 = t338 * t2866;
+        let t3374: f64 = t338 * t2989;
+        let t3375: f64 = -t3374;
+        let t3376: f64 = t338 * t3062;
+        let t3377: f64 = t338 * t3128;
+        let t3378: f64 = -t3377;
+        let t3379: f64 = t338 * t3324;
+        let t3380: f64 = t50 * t201;
+        let t3381 = product(t264, t3380);
+        let t3382 = product(t231, t3380);
+        let t3383: f64 = t3382.subtracted_from(yc);
+        let t3384 = product(t882, t3383);
+        let t3385: f64 = t50 * t279;
+        let t3386 = product(t201, t3385);
+        let t3387: f64 = t291 * t3383;
+        let t3388: f64 = t3386.plus(t3387);
+        let t3389: f64 = t3388 - 1.0;
+        let t3390: f64 = t596 * t3389;
+        let t3391: f64 = t83 * t3385;
+        let t3392: f64 = t174 * t3391;
+        let t3393 = product(t201, t3392);
+        let t3394: f64 = t321 * t3383;
+        let t3395: f64 = t3393.minus(t3394);
+        let t3396 = product(t323, t3389);
+        let t3397: f64 = t3396.subtracted_from(t3395);
+        let t3398 = product(t599, t3397);
+        let t3399: f64 = t3384.plus(t3390);
+        let t3400: f64 = t3398.plus(t3399);
+        let t3401: f64 = t3381.minus(t3400);
+        let t3402 = product(t550, t3401);
+        let t3403: f64 = t3402.subtracted_from(t3397);
+        let t3404 = product(t554, t3403);
+        let t3405: f64 = t556 * t3401;
+        let t3406: f64 = t3404.plus(t3405);
+        let t3407: f64 = t3406 + 1.0;
+        let t3408: f64 = t3388 - t3407;
+        let t3409 = product(t561, t3408);
+        let t3410 = product(t563, t3403);
+        let t3411: f64 = t548 * t3401;
+        let t3412: f64 = t3410.plus(t3411);
+        let t3413: f64 = t3383 + t3412;
+        let t3414: f64 = t3409.subtracted_from(t3413);
+        let t3415 = product(t568, t3414);
+        let t3416: f64 = t587 * t3403;
+        let t3417 = product(t570, t3401);
+        let t3418 = product(t572, t3414);
+        let t3419: f64 = t574 * t3401;
+        let t3420: f64 = t289 * t3408;
+        let t3421 = product(t577, t3403);
+        let t3422: f64 = t3421.added_to(t3420);
+        let t3423 = product(t279, t3422);
+        let t3424: f64 = t3418.plus(t3419);
+        let t3425: f64 = t3423.plus(0.2);
+        let t3426: f64 = t3424 + t3425;
+        let t3427: f64 = zc - t3426;
+        let t3428 = product(t296, t3427);
+        let t3429: f64 = t3415.plus(t3416);
+        let t3430: f64 = t3417.plus(t3429);
+        let t3431: f64 = t3428.subtracted_from(t3430);
+        let t3432: f64 = t83 * t3431;
+        let t3433: f64 = -t3432;
+        let t3434: f64 = t52 * t201;
+        let t3435 = product(t264, t3434);
+        let t3436 = product(t231, t3434);
+        let t3437: f64 = t3436.subtracted_from(yc);
+        let t3438 = product(t882, t3437);
+        let t3439: f64 = t52 * t279;
+        let t3440 = product(t201, t3439);
+        let t3441: f64 = t291 * t3437;
+        let t3442: f64 = t3440.plus(t3441);
+        let t3443: f64 = t3442 - 1.0;
+        let t3444: f64 = t596 * t3443;
+        let t3445: f64 = t83 * t3439;
+        let t3446: f64 = t174 * t3445;
+        let t3447 = product(t201, t3446);
+        let t3448: f64 = t321 * t3437;
+        let t3449: f64 = t3447.minus(t3448);
+        let t3450 = product(t323, t3443);
+        let t3451: f64 = t3450.subtracted_from(t3449);
+        let t3452 = product(t599, t3451);
+        let t3453: f64 = t3438.plus(t3444);
+        let t3454: f64 = t3452.plus(t3453);
+        let t3455: f64 = t3435.minus(t3454);
+        let t3456 = product(t550, t3455);
+        let t3457: f64 = t3456.subtracted_from(t3451);
+        let t3458 = product(t554, t3457);
+        let t3459: f64 = t556 * t3455;
+        let t3460: f64 = t3458.plus(t3459);
+        let t3461: f64 = t3460 + 1.0;
+        let t3462: f64 = t3442 - t3461;
+        let t3463 = product(t561, t3462);
+        let t3464 = product(t563, t3457);
+        let t3465: f64 = t548 * t3455;
+        let t3466: f64 = t3464.plus(t3465);
+        let t3467: f64 = t3437 + t3466;
+        let t3468: f64 = t3463.subtracted_from(t3467);
+        let t3469 = product(t568, t3468);
+        let t3470: f64 = t587 * t3457;
+        let t3471 = product(t570, t3455);
+        let t3472 = product(t572, t3468);
+        let t3473: f64 = t574 * t3455;
+        let t3474: f64 = t289 * t3462;
+        let t3475 = product(t577, t3457);
+        let t3476: f64 = t3475.added_to(t3474);
+        let t3477 = product(t279, t3476);
+        let t3478: f64 = t3472.plus(t3473);
+        let t3479: f64 = t3477.plus(t3478);
+        let t3480: f64 = t52 - t3479;
+        let t3481 = product(t296, t3480);
+        let t3482: f64 = t3469.plus(t3470);
+        let t3483: f64 = t3471.plus(t3482);
+        let t3484: f64 = t3481.subtracted_from(t3483);
+        let t3485: f64 = t83 * t3484;
+        let t3486: f64 = -t3485;
+        let t3487 = product(t300, t3167);
+        let t3488: f64 = t3487.added_to(xc);
+        let t3489: f64 = t3488 - 0.2;
+        let t3490 = product(t882, t3489);
+        let t3491: f64 = t174 * t3193;
+        let t3492: f64 = t201 * t3491;
+        let t3493 = product(t291, t3489);
+        let t3494: f64 = t3493.subtracted_from(t3492);
+        let t3495 = product(t596, t3494);
+        let t3496: f64 = t315 * t3193;
+        let t3497 = product(t321, t3489);
+        let t3498: f64 = t323 * t3494;
+        let t3499: f64 = t3497.minus(t3498);
+        let t3500: f64 = t3496 + t3499;
+        let t3501: f64 = t3500 - 1.0;
+        let t3502: f64 = t599 * t3501;
+        let t3503: f64 = t327 * t3167;
+        let t3504: f64 = t3490.plus(t3503);
+        let t3505: f64 = t3495.plus(t3502);
+        let t3506: f64 = t3504 - t3505;
+        let t3507 = product(t550, t3506);
+        let t3508: f64 = t3507.plus(1.0);
+        let t3509: f64 = t3500 - t3508;
+        let t3510 = product(t587, t3509);
+        let t3511: f64 = t174 * t3167;
+        let t3512 = product(t554, t3509);
+        let t3513: f64 = t556 * t3506;
+        let t3514: f64 = t3512.plus(t3513);
+        let t3515: f64 = t3494 - t3514;
+        let t3516 = product(t561, t3515);
+        let t3517 = product(t563, t3509);
+        let t3518: f64 = t548 * t3506;
+        let t3519: f64 = t3516.added_to(t3488);
+        let t3520: f64 = t3517.plus(t3518);
+        let t3521: f64 = t3520 + 0.2;
+        let t3522: f64 = t3519 - t3521;
+        let t3523 = product(t572, t3522);
+        let t3524 = product(t574, t3506);
+        let t3525: f64 = t289 * t3515;
+        let t3526 = product(t577, t3509);
+        let t3527: f64 = t3526.added_to(t3525);
+        let t3528: f64 = t279 * t3527;
+        let t3529: f64 = t3523.added_to(t3511);
+        let t3530: f64 = t3524.plus(t3528);
+        let t3531: f64 = t3529 - t3530;
+        let t3532 = product(t296, t3531);
+        let t3533: f64 = t568 * t3522;
+        let t3534: f64 = t570 * t3506;
+        let t3535: f64 = t3510.plus(t3534);
+        let t3536: f64 = t3532.plus(t3533);
+        let t3537: f64 = t3535 - t3536;
+        let t3538 = product(t83, t3537);
+        let t3539: f64 = t3538.subtracted_from(t3167);
+        let t3540: f64 = t3488 + 0.2;
+        let t3541 = product(t882, t3540);
+        let t3542 = product(t291, t3540);
+        let t3543: f64 = t3542.subtracted_from(t3492);
+        let t3544 = product(t596, t3543);
+        let t3545 = product(t321, t3540);
+        let t3546: f64 = t3545.added_to(t3496);
+        let t3547 = product(t323, t3543);
+        let t3548: f64 = t3547.subtracted_from(t3546);
+        let t3549: f64 = t3548 - 1.0;
+        let t3550: f64 = t599 * t3549;
+        let t3551: f64 = t3541.added_to(t3503);
+        let t3552: f64 = t3544.plus(t3550);
+        let t3553: f64 = t3551 - t3552;
+        let t3554 = product(t550, t3553);
+        let t3555: f64 = t3554.plus(1.0);
+        let t3556: f64 = t3548 - t3555;
+        let t3557 = product(t587, t3556);
+        let t3558 = product(t554, t3556);
+        let t3559: f64 = t556 * t3553;
+        let t3560: f64 = t3558.plus(t3559);
+        let t3561: f64 = t3543 - t3560;
+        let t3562 = product(t561, t3561);
+        let t3563 = product(t563, t3556);
+        let t3564: f64 = t548 * t3553;
+        let t3565: f64 = t3562.added_to(t3488);
+        let t3566: f64 = t3565 + 0.2;
+        let t3567: f64 = t3563.plus(t3564);
+        let t3568: f64 = t3566 - t3567;
+        let t3569 = product(t572, t3568);
+        let t3570 = product(t574, t3553);
+        let t3571: f64 = t289 * t3561;
+        let t3572 = product(t577, t3556);
+        let t3573: f64 = t3572.added_to(t3571);
+        let t3574: f64 = t279 * t3573;
+        let t3575: f64 = t3569.added_to(t3511);
+        let t3576: f64 = t3570.plus(t3574);
+        let t3577: f64 = t3575 - t3576;
+        let t3578 = product(t296, t3577);
+        let t3579: f64 = t568 * t3568;
+        let t3580: f64 = t570 * t3553;
+        let t3581: f64 = t3557.plus(t3580);
+        let t3582: f64 = t3578.plus(t3579);
+        let t3583: f64 = t3581 - t3582;
+        let t3584 = product(t83, t3583);
+        let t3585: f64 = t3584.subtracted_from(t3167);
+        let t3586: f64 = t5 * t254;
+        let t3587 = product(t83, t3586);
+        let t3588: f64 = t5 * t83;
+        let t3589 = product(t174, t3588);
+        let t3590: f64 = t3589.added_to(xc);
+        let t3591: f64 = t611 * t3590;
+        let t3592 = product(t122, t3588);
+        let t3593: f64 = t265 * t3590;
+        let t3594: f64 = t3592.plus(t3593);
+        let t3595 = product(t882, t3594);
+        let t3596 = product(t282, t3590);
+        let t3597: f64 = t291 * t3594;
+        let t3598: f64 = t3596.minus(t3597);
+        let t3599 = product(t596, t3598);
+        let t3600 = product(t296, t3590);
+        let t3601: f64 = t3600.added_to(yc);
+        let t3602: f64 = t3601 - 0.2;
+        let t3603 = product(t301, t3602);
+        let t3604 = product(t321, t3594);
+        let t3605: f64 = t323 * t3598;
+        let t3606: f64 = t3604.minus(t3605);
+        let t3607: f64 = t3603.plus(t3606);
+        let t3608: f64 = t599 * t3607;
+        let t3609: f64 = t3587.plus(t3591);
+        let t3610: f64 = t3595.plus(t3609);
+        let t3611: f64 = t3599.plus(t3608);
+        let t3612: f64 = t3611 + 1.0;
+        let t3613: f64 = t3610 - t3612;
+        let t3614 = product(t548, t3613);
+        let t3615 = product(t550, t3613);
+        let t3616: f64 = t3615.subtracted_from(t3607);
+        let t3617 = product(t554, t3616);
+        let t3618: f64 = t556 * t3613;
+        let t3619: f64 = t3617.plus(t3618);
+        let t3620: f64 = t3598 - t3619;
+        let t3621 = product(t561, t3620);
+        let t3622: f64 = t563 * t3616;
+        let t3623: f64 = t3621.added_to(t3594);
+        let t3624: f64 = t3614.plus(t3622);
+        let t3625: f64 = t3623 - t3624;
+        let t3626 = product(t572, t3625);
+        let t3627 = product(t574, t3613);
+        let t3628 = product(t289, t3620);
+        let t3629: f64 = t577 * t3616;
+        let t3630: f64 = t3628.plus(t3629);
+        let t3631: f64 = t279 * t3630;
+        let t3632: f64 = t3626.added_to(t3590);
+        let t3633: f64 = t3627.plus(t3631);
+        let t3634: f64 = t3632 - t3633;
+        let t3635 = product(t296, t3634);
+        let t3636 = product(t568, t3625);
+        let t3637 = product(t570, t3613);
+        let t3638: f64 = t587 * t3616;
+        let t3639: f64 = t3635.added_to(yc);
+        let t3640: f64 = t3636.plus(t3639);
+        let t3641: f64 = t3637.plus(t3638);
+        let t3642: f64 = t3641 + 0.2;
+        let t3643: f64 = t3640 - t3642;
+        let t3644: f64 = t83 * t3643;
+        let t3645: f64 = -t3644;
+        let t3646: f64 = t9 * t254;
+        let t3647 = product(t83, t3646);
+        let t3648: f64 = t9 * t83;
+        let t3649 = product(t174, t3648);
+        let t3650: f64 = t3649.added_to(xc);
+        let t3651: f64 = t611 * t3650;
+        let t3652 = product(t122, t3648);
+        let t3653: f64 = t265 * t3650;
+        let t3654: f64 = t3652.plus(t3653);
+        let t3655 = product(t882, t3654);
+        let t3656 = product(t282, t3650);
+        let t3657: f64 = t291 * t3654;
+        let t3658: f64 = t3656.minus(t3657);
+        let t3659 = product(t596, t3658);
+        let t3660 = product(t296, t3650);
+        let t3661: f64 = t3660.added_to(yc);
+        let t3662: f64 = t3661 + 0.2;
+        let t3663 = product(t301, t3662);
+        let t3664 = product(t321, t3654);
+        let t3665: f64 = t323 * t3658;
+        let t3666: f64 = t3664.minus(t3665);
+        let t3667: f64 = t3663.plus(t3666);
+        let t3668: f64 = t599 * t3667;
+        let t3669: f64 = t3647.plus(t3651);
+        let t3670: f64 = t3655.plus(t3669);
+        let t3671: f64 = t3659.plus(t3668);
+        let t3672: f64 = t3671 + 1.0;
+        let t3673: f64 = t3670 - t3672;
+        let t3674 = product(t548, t3673);
+        let t3675 = product(t550, t3673);
+        let t3676: f64 = t3675.subtracted_from(t3667);
+        let t3677 = product(t554, t3676);
+        let t3678: f64 = t556 * t3673;
+        let t3679: f64 = t3677.plus(t3678);
+        let t3680: f64 = t3658 - t3679;
+        let t3681 = product(t561, t3680);
+        let t3682: f64 = t563 * t3676;
+        let t3683: f64 = t3681.added_to(t3654);
+        let t3684: f64 = t3674.plus(t3682);
+        let t3685: f64 = t3683 - t3684;
+        let t3686 = product(t572, t3685);
+        let t3687 = product(t574, t3673);
+        let t3688 = product(t289, t3680);
+        let t3689: f64 = t577 * t3676;
+        let t3690: f64 = t3688.plus(t3689);
+        let t3691: f64 = t279 * t3690;
+        let t3692: f64 = t3686.added_to(t3650);
+        let t3693: f64 = t3687.plus(t3691);
+        let t3694: f64 = t3692 - t3693;
+        let t3695 = product(t296, t3694);
+        let t3696 = product(t568, t3685);
+        let t3697 = product(t570, t3673);
+        let t3698: f64 = t587 * t3676;
+        let t3699: f64 = t3695.added_to(yc);
+        let t3700: f64 = t3696.plus(0.2);
+        let t3701: f64 = t3699 + t3700;
+        let t3702: f64 = t3697.plus(t3698);
+        let t3703: f64 = t3701 - t3702;
+        let t3704: f64 = t83 * t3703;
+        let t3705: f64 = -t3704;
+        let t3706 = product(t614, t3414);
+        let t3707: f64 = t2463 * t3408;
+        let t3708 = product(t2242, t3403);
+        let t3709: f64 = t612 * t3401;
+        let t3710: f64 = t3706.plus(t3707);
+        let t3711: f64 = t3708.plus(t3709);
+        let t3712: f64 = t3710 + t3711;
+        let t3713: f64 = t3712 - t3380;
+        let t3714 = product(t614, t3468);
+        let t3715: f64 = t2463 * t3462;
+        let t3716 = product(t2242, t3457);
+        let t3717: f64 = t612 * t3455;
+        let t3718: f64 = t3714.plus(t3715);
+        let t3719: f64 = t3716.plus(t3717);
+        let t3720: f64 = t3718 + t3719;
+        let t3721: f64 = t3720 - t3434;
+        let t3722: f64 = t201 * t3511;
+        let t3723 = product(t231, t3722);
+        let t3724: f64 = t3723.added_to(t3169);
+        let t3725: f64 = t3724 - 0.2;
+        let t3726 = product(t248, t3725);
+        let t3727: f64 = t2429 * t3515;
+        let t3728: f64 = t3726.plus(t3727);
+        let t3729 = product(t2234, t3509);
+        let t3730 = product(t882, t3725);
+        let t3731 = product(t291, t3725);
+        let t3732: f64 = t3731.subtracted_from(t3492);
+        let t3733 = product(t596, t3732);
+        let t3734 = product(t321, t3725);
+        let t3735 = product(t323, t3732);
+        let t3736: f64 = t83 * t83;
+        let t3737: f64 = t3183 * t3736;
+        let t3738: f64 = t175 * t3737;
+        let t3739 = product(t201, t3738);
+        let t3740: f64 = t3739.added_to(t3193);
+        let t3741: f64 = t3734.plus(t3740);
+        let t3742: f64 = t3735.plus(1.0);
+        let t3743: f64 = t3741 - t3742;
+        let t3744: f64 = t599 * t3743;
+        let t3745: f64 = zc * t254;
+        let t3746 = product(t83, t3745);
+        let t3747: f64 = t264 * t3722;
+        let t3748: f64 = t3746.plus(t3747);
+        let t3749: f64 = t3730.plus(t3748);
+        let t3750: f64 = t3733.plus(t3744);
+        let t3751: f64 = t3749 - t3750;
+        let t3752: f64 = t2236 * t3751;
+        let t3753: f64 = t3729.plus(t3752);
+        let t3754: f64 = t3728 - t3753;
+        let t3755 = product(t265, t3754);
+        let t3756 = product(t2463, t3515);
+        let t3757: f64 = t2242 * t3509;
+        let t3758 = product(t612, t3751);
+        let t3759: f64 = t3756.plus(t3757);
+        let t3760: f64 = t3758.plus(t3759);
+        let t3761: f64 = t3755.added_to(t3722);
+        let t3762: f64 = t3760 - t3761;
+        let t3763: f64 = t3724 + 0.2;
+        let t3764 = product(t248, t3763);
+        let t3765: f64 = t2429 * t3561;
+        let t3766: f64 = t3764.plus(t3765);
+        let t3767 = product(t2234, t3556);
+        let t3768 = product(t882, t3763);
+        let t3769 = product(t291, t3763);
+        let t3770: f64 = t3769.subtracted_from(t3492);
+        let t3771 = product(t596, t3770);
+        let t3772 = product(t321, t3763);
+        let t3773 = product(t323, t3770);
+        let t3774: f64 = t3772.added_to(t3740);
+        let t3775: f64 = t3773.plus(1.0);
+        let t3776: f64 = t3774 - t3775;
+        let t3777: f64 = t599 * t3776;
+        let t3778: f64 = t3768.added_to(t3748);
+        let t3779: f64 = t3771.plus(t3777);
+        let t3780: f64 = t3778 - t3779;
+        let t3781: f64 = t2236 * t3780;
+        let t3782: f64 = t3767.plus(t3781);
+        let t3783: f64 = t3766 - t3782;
+        let t3784 = product(t265, t3783);
+        let t3785 = product(t2463, t3561);
+        let t3786: f64 = t2242 * t3556;
+        let t3787 = product(t612, t3780);
+        let t3788: f64 = t3785.plus(t3786);
+        let t3789: f64 = t3787.plus(t3788);
+        let t3790: f64 = t3784.added_to(t3722);
+        let t3791: f64 = t3789 - t3790;
+        let t3792: f64 = t201 * t3634;
+        let t3793: f64 = t201 * t3694;
+        let t3794: f64 = t248 * t3414;
+        let t3795: f64 = t248 * t3468;
+        let t3796: f64 = -t3754;
+        let t3797: f64 = -t3783;
+        let t3798: f64 = t248 * t3625;
+        let t3799: f64 = t248 * t3685;
+        let t3800 = product(t289, t3598);
+        let t3801 = product(t320, t3607);
+        let t3802: f64 = t600 * t3613;
+        let t3803: f64 = t3801.minus(t3802);
+        let t3804 = product(t323, t3803);
+        let t3805: f64 = t597 * t3613;
+        let t3806: f64 = t3804.plus(t3805);
+        let t3807: f64 = t3800.subtracted_from(t3806);
+        let t3808 = product(t289, t3658);
+        let t3809 = product(t320, t3667);
+        let t3810: f64 = t600 * t3673;
         let t3811: f64 = t3809.minus(t3810);
-        let t3812 = product(t507, t3805);
-        let t3813: f64 = t3812.subtracted_from(t3811);
-        let t3814 = product(t548, t3813);
-        let t3815: f64 = t3800.plus(t3806);
-        let t3816: f64 = t3814.plus(t3815);
-        let t3817: f64 = t3797.minus(t3816);
-        let t3818 = product(t601, t3817);
-        let t3819: f64 = t3818.subtracted_from(t3813);
-        let t3820 = product(t622, t3819);
-        let t3821: f64 = t620 * t3817;
-        let t3822: f64 = t3820.plus(t3821);
-        let t3823: f64 = t3822 + 1.0;
-        let t3824: f64 = t3804 - t3823;
-        let t3825 = product(t631, t3824);
-        let t3826 = product(t629, t3819);
-        let t3827: f64 = t633 * t3817;
-        let t3828: f64 = t3826.plus(t3827);
-        let t3829: f64 = t3799 + t3828;
-        let t3830: f64 = t3825.subtracted_from(t3829);
-        let t3831 = product(t657, t3830);
-        let t3832: f64 = t640 * t3819;
-        let t3833 = product(t661, t3817);
-        let t3834 = product(t647, t3830);
-        let t3835: f64 = t650 * t3817;
-        let t3836: f64 = t286 * t3824;
-        let t3837 = product(t643, t3819);
-        let t3838: f64 = t3837.added_to(t3836);
-        let t3839 = product(t20, t3838);
-        let t3840: f64 = t3834.plus(t3835);
-        let t3841: f64 = t3839.plus(0.2);
-        let t3842: f64 = t3840 + t3841;
-        let t3843: f64 = zc - t3842;
-        let t3844 = product(t255, t3843);
-        let t3845: f64 = t3831.plus(t3832);
-        let t3846: f64 = t3833.plus(t3845);
-        let t3847: f64 = t3844.subtracted_from(t3846);
-        let t3848: f64 = t90 * t3847;
-        let t3849: f64 = -t3848;
-        let t3850: f64 = t67 * t208;
-        let t3851 = product(t498, t3850);
-        let t3852 = product(t237, t3850);
-        let t3853: f64 = t3852.subtracted_from(yc);
-        let t3854 = product(t561, t3853);
-        let t3855: f64 = t20 * t67;
-        let t3856 = product(t208, t3855);
-        let t3857: f64 = t290 * t3853;
-        let t3858: f64 = t3856.plus(t3857);
-        let t3859: f64 = t3858 - 1.0;
-        let t3860: f64 = t553 * t3859;
-        let t3861: f64 = t90 * t3855;
-        let t3862: f64 = t181 * t3861;
-        let t3863 = product(t208, t3862);
-        let t3864: f64 = t502 * t3853;
-        let t3865: f64 = t3863.minus(t3864);
-        let t3866 = product(t507, t3859);
-        let t3867: f64 = t3866.subtracted_from(t3865);
-        let t3868 = product(t548, t3867);
-        let t3869: f64 = t3854.plus(t3860);
-        let t3870: f64 = t3868.plus(t3869);
-        let t3871: f64 = t3851.minus(t3870);
-        let t3872 = product(t601, t3871);
-        let t3873: f64 = t3872.subtracted_from(t3867);
-        let t3874 = product(t622, t3873);
-        let t3875: f64 = t620 * t3871;
-        let t3876: f64 = t3874.plus(t3875);
-        let t3877: f64 = t3876 + 1.0;
-        let t3878: f64 = t3858 - t3877;
-        let t3879 = product(t631, t3878);
-        let t3880 = product(t629, t3873);
-        let t3881: f64 = t633 * t3871;
-        let t3882: f64 = t3880.plus(t3881);
-        let t3883: f64 = t3853 + t3882;
-        let t3884: f64 = t3879.subtracted_from(t3883);
-        let t3885 = product(t657, t3884);
-        let t3886: f64 = t640 * t3873;
-        let t3887 = product(t661, t3871);
-        let t3888 = product(t647, t3884);
-        let t3889: f64 = t650 * t3871;
-        let t3890: f64 = t286 * t3878;
-        let t3891 = product(t643, t3873);
-        let t3892: f64 = t3891.added_to(t3890);
-        let t3893 = product(t20, t3892);
-        let t3894: f64 = t3888.plus(t3889);
-        let t3895: f64 = t3893.plus(t3894);
-        let t3896: f64 = t67 - t3895;
-        let t3897 = product(t255, t3896);
-        let t3898: f64 = t3885.plus(t3886);
-        let t3899: f64 = t3887.plus(t3898);
-        let t3900: f64 = t3897.subtracted_from(t3899);
-        let t3901: f64 = t90 * t3900;
-        let t3902: f64 = -t3901;
-        let t3903 = product(t259, t3584);
-        let t3904: f64 = t3903.added_to(xc);
-        let t3905: f64 = t3904 - 0.2;
-        let t3906 = product(t561, t3905);
-        let t3907: f64 = t181 * t3609;
-        let t3908: f64 = t208 * t3907;
-        let t3909 = product(t290, t3905);
-        let t3910: f64 = t3909.subtracted_from(t3908);
-        let t3911 = product(t553, t3910);
-        let t3912: f64 = t296 * t3609;
-        let t3913 = product(t502, t3905);
-        let t3914: f64 = t507 * t3910;
-        let t3915: f64 = t3913.minus(t3914);
-        let t3916: f64 = t3912 + t3915;
-        let t3917: f64 = t3916 - 1.0;
-        let t3918: f64 = t548 * t3917;
-        let t3919: f64 = t511 * t3584;
-        let t3920: f64 = t3906.plus(t3919);
-        let t3921: f64 = t3911.plus(t3918);
-        let t3922: f64 = t3920 - t3921;
-        let t3923 = product(t601, t3922);
-        let t3924: f64 = t3923.plus(1.0);
-        let t3925: f64 = t3916 - t3924;
-        let t3926 = product(t640, t3925);
-        let t3927: f64 = t181 * t3584;
-        let t3928 = product(t622, t3925);
-        let t3929: f64 = t620 * t3922;
-        let t3930: f64 = t3928.plus(t3929);
-        let t3931: f64 = t3910 - t3930;
-        let t3932 = product(t631, t3931);
-        let t3933 = product(t629, t3925);
-        let t3934: f64 = t633 * t3922;
-        let t3935: f64 = t3932.added_to(t3904);
-        let t3936: f64 = t3933.plus(t3934);
-        let t3937: f64 = t3936 + 0.2;
-        let t3938: f64 = t3935 - t3937;
-        let t3939 = product(t647, t3938);
-        let t3940 = product(t650, t3922);
-        let t3941: f64 = t286 * t3931;
-        let t3942 = product(t643, t3925);
-        let t3943: f64 = t3942.added_to(t3941);
-        let t3944: f64 = t20 * t3943;
-        let t3945: f64 = t3939.added_to(t3927);
-        let t3946: f64 = t3940.plus(t3944);
-        let t3947: f64 = t3945 - t3946;
-        let t3948 = product(t255, t3947);
-        let t3949: f64 = t657 * t3938;
-        let t3950: f64 = t661 * t3922;
-        let t3951: f64 = t3926.plus(t3950);
-        let t3952: f64 = t3948.plus(t3949);
-        let t3953: f64 = t3951 - t3952;
-        let t3954 = product(t90, t3953);
-        let t3955: f64 = t3954.subtracted_from(t3584);
-        let t3956: f64 = t3904 + 0.2;
-        let t3957 = product(t561, t3956);
-        let t3958 = product(t290, t3956);
-        let t3959: f64 = t3958.subtracted_from(t3908);
-        let t3960 = product(t553, t3959);
-        let t3961 = product(t502, t3956);
-        let t3962: f64 = t3961.added_to(t3912);
-        let t3963 = product(t507, t3959);
-        let t3964: f64 = t3963.subtracted_from(t3962);
-        let t3965: f64 = t3964 - 1.0;
-        let t3966: f64 = t548 * t3965;
-        let t3967: f64 = t3957.added_to(t3919);
-        let t3968: f64 = t3960.plus(t3966);
-        let t3969: f64 = t3967 - t3968;
-        let t3970 = product(t601, t3969);
-        let t3971: f64 = t3970.plus(1.0);
-        let t3972: f64 = t3964 - t3971;
-        let t3973 = product(t640, t3972);
-        let t3974 = product(t622, t3972);
-        let t3975: f64 = t620 * t3969;
-        let t3976: f64 = t3974.plus(t3975);
-        let t3977: f64 = t3959 - t3976;
-        let t3978 = product(t631, t3977);
-        let t3979 = product(t629, t3972);
-        let t3980: f64 = t633 * t3969;
-        let t3981: f64 = t3978.added_to(t3904);
-        let t3982: f64 = t3981 + 0.2;
-        let t3983: f64 = t3979.plus(t3980);
-        let t3984: f64 = t3982 - t3983;
-        let t3985 = product(t647, t3984);
-        let t3986 = product(t650, t3969);
-        let t3987: f64 = t286 * t3977;
-        let t3988 = product(t643, t3972);
-        let t3989: f64 = t3988.added_to(t3987);
-        let t3990: f64 = t20 * t3989;
-        let t3991: f64 = t3985.added_to(t3927);
-        let t3992: f64 = t3986.plus(t3990);
-        let t3993: f64 = t3991 - t3992;
-        let t3994 = product(t255, t3993);
-        let t3995: f64 = t657 * t3984;
-        let t3996: f64 = t661 * t3969;
-        let t3997: f64 = t3973.plus(t3996);
-        let t3998: f64 = t3994.plus(t3995);
-        let t3999: f64 = t3997 - t3998;
-        let t4000 = product(t90, t3999);
-        let t4001: f64 = t4000.subtracted_from(t3584);
-        let t4002: f64 = t7 * t280;
+        let t3812 = product(t323, t3811);
+        let t3813: f64 = t597 * t3673;
+        let t3814: f64 = t3812.plus(t3813);
+        let t3815: f64 = t3808.subtracted_from(t3814);
+        let t3816: f64 = t320 * t3403;
+        let t3817: f64 = t320 * t3457;
+        let t3818: f64 = t320 * t3509;
+        let t3819: f64 = t320 * t3556;
+        let t3820: f64 = -t3803;
+        let t3821: f64 = -t3811;
+        let t3822: f64 = t338 * t3401;
+        let t3823: f64 = -t3822;
+        let t3824: f64 = t338 * t3455;
+        let t3825: f64 = -t3824;
+        let t3826: f64 = t338 * t3751;
+        let t3827: f64 = -t3826;
+        let t3828: f64 = t338 * t3780;
+        let t3829: f64 = -t3828;
+        let t3830: f64 = t338 * t3613;
+        let t3831: f64 = t338 * t3673;
         (
-            t3046,
-            t3047,
-            t3048,
-            t3049,
-            t3050,
-            t3051,
-            t3052,
-            t3053,
-            t3054,
-            t3055,
-            t3057,
-            t3058,
-            t3059,
-            t3061,
-            t3063,
-            t3064,
-            t3190,
-            t3317,
-            t3427,
-            t3443,
-            t3496,
-            t3510,
-            t3565,
-            t3582,
-            t3586,
-            t3599,
-            t3609,
-            t3660,
-            t3661,
-            t3671,
-            t3679,
-            t3691,
-            t3710,
-            t3711,
-            t3745,
-            t3753,
-            t3765,
-            t3766,
-            t3767,
-            t3768,
-            t3778,
-            t3779,
-            t3780,
-            t3781,
-            t3782,
-            t3783,
-            t3784,
-            t3785,
-            t3786,
-            t3788,
-            t3789,
+            t3010,
+            t3026,
+            t3079,
+            t3093,
+            t3148,
+            t3165,
+            t3244,
+            t3245,
+            t3255,
+            t3263,
+            t3275,
+            t3294,
+            t3295,
+            t3329,
+            t3337,
+            t3349,
+            t3350,
+            t3351,
+            t3352,
+            t3362,
+            t3363,
+            t3364,
+            t3365,
+            t3366,
+            t3367,
+            t3368,
+            t3369,
+            t3370,
+            t3372,
+            t3373,
+            t3375,
+            t3376,
+            t3378,
+            t3379,
+            t3420,
+            t3433,
+            t3474,
+            t3486,
+            t3525,
+            t3539,
+            t3571,
+            t3585,
+            t3645,
+            t3705,
+            t3713,
+            t3721,
+            t3762,
             t3791,
             t3792,
+            t3793,
             t3794,
             t3795,
             t3796,
+            t3797,
+            t3798,
+            t3799,
+            t3807,
+            t3815,
+            t3816,
             t3817,
+            t3818,
             t3819,
-            t3824,
+            t3820,
+            t3821,
+            t3823,
+            t3825,
+            t3827,
+            t3829,
             t3830,
-            t3836,
-            t3849,
-            t3850,
-            t3871,
-            t3873,
-            t3878,
-            t3884,
-            t3890,
-            t3902,
-            t3908,
-            t3925,
-            t3927,
-            t3931,
-            t3941,
-            t3955,
-            t3972,
-            t3977,
-            t3987,
-            t4001,
-            t4002,
-        )
-    };
-    let (
-        t4061,
-        t4121,
-        t4129,
-        t4137,
-        t4178,
-        t4207,
-        t4208,
-        t4209,
-        t4210,
-        t4211,
-        t4212,
-        t4213,
-        t4214,
-        t4215,
-        t4223,
-        t4231,
-        t4232,
-        t4233,
-        t4234,
-        t4235,
-        t4236,
-        t4237,
-        t4239,
-        t4241,
-        t4243,
-        t4245,
-        t4246,
-        t4247,
-    ) = {
-        let t4003 = product(t90, t4002);
-        let t4004: f64 = t7 * t90;
-        let t4005 = product(t181, t4004);
-        let t4006: f64 = t4005.added_to(xc);
-        let t4007: f64 = t577 * t4006;
-        let t4008 = product(t141, t4004);
-        let t4009: f64 = t499 * t4006;
-        let t4010: f64 = t4008.plus(t4009);
-        let t4011 = product(t561, t4010);
-        let t4012 = product(t273, t4006);
-        let t4013: f64 = t290 * t4010;
-        let t4014: f64 = t4012.minus(t4013);
-        let t4015 = product(t553, t4014);
-        let t4016 = product(t255, t4006);
-        let t4017: f64 = t4016.added_to(yc);
-        let t4018: f64 = t4017 - 0.2;
-        let t4019 = product(t260, t4018);
-        let t4020 = product(t502, t4010);
-        let t4021: f64 = t507 * t4014;
-        let t4022: f64 = t4020.minus(t4021);
-        let t4023: f64 = t4019.plus(t4022);
-        let t4024: f64 = t548 * t4023;
-        let t4025: f64 = t4003.plus(t4007);
-        let t4026: f64 = t4011.plus(t4025);
-        let t4027: f64 = t4015.plus(t4024);
-        let t4028: f64 = t4027 + 1.0;
-        let t4029: f64 = t4026 - t4028;
-        let t4030 = product(t633, t4029);
-        let t4031 = product(t601, t4029);
-        let t4032: f64 = t4031.subtracted_from(t4023);
-        let t4033 = product(t622, t4032);
-        let t4034: f64 = t620 * t4029;
-        let t4035: f64 = t4033.plus(t4034);
-        let t4036: f64 = t4014 - t4035;
-        let t4037 = product(t631, t4036);
-        let t4038: f64 = t629 * t4032;
-        let t4039: f64 = t4037.added_to(t4010);
-        let t4040: f64 = t4030.plus(t4038);
-        let t4041: f64 = t4039 - t4040;
-        let t4042 = product(t647, t4041);
-        let t4043 = product(t650, t4029);
-        let t4044 = product(t286, t4036);
-        let t4045: f64 = t643 * t4032;
-        let t4046: f64 = t4044.plus(t4045);
-        let t4047: f64 = t20 * t4046;
-        let t4048: f64 = t4042.added_to(t4006);
-        let t4049: f64 = t4043.plus(t4047);
-        let t4050: f64 = t4048 - t4049;
-        let t4051 = product(t255, t4050);
-        let t4052 = product(t657, t4041);
-        let t4053 = product(t661, t4029);
-        let t4054: f64 = t640 * t4032;
-        let t4055: f64 = t4051.added_to(yc);
-        let t4056: f64 = t4052.plus(t4055);
-        let t4057: f64 = t4053.plus(t4054);
-        let t4058: f64 = t4057 + 0.2;
-        let t4059: f64 = t4056 - t4058;
-        let t4060: f64 = t90 * t4059;
-        let t4061: f64 = -t4060;
-        let t4062: f64 = t13 * t280;
-        let t4063 = product(t90, t4062);
-        let t4064: f64 = t13 * t90;
-        let t4065 = product(t181, t4064);
-        let t4066: f64 = t4065.added_to(xc);
-        let t4067: f64 = t577 * t4066;
-        let t4068 = product(t141, t4064);
-        let t4069: f64 = t499 * t4066;
-        let t4070: f64 = t4068.plus(t4069);
-        let t4071 = product(t561, t4070);
-        let t4072 = product(t273, t4066);
-        let t4073: f64 = t290 * t4070;
-        let t4074: f64 = t4072.minus(t4073);
-        let t4075 = product(t553, t4074);
-        let t4076 = product(t255, t4066);
-        let t4077: f64 = t4076.added_to(yc);
-        let t4078: f64 = t4077 + 0.2;
-        let t4079 = product(t260, t4078);
-        let t4080 = product(t502, t4070);
-        let t4081: f64 = t507 * t4074;
-        let t4082: f64 = t4080.minus(t4081);
-        let t4083: f64 = t4079.plus(t4082);
-        let t4084: f64 = t548 * t4083;
-        let t4085: f64 = t4063.plus(t4067);
-        let t4086: f64 = t4071.plus(t4085);
-        let t4087: f64 = t4075.plus(t4084);
-        let t4088: f64 = t4087 + 1.0;
-        let t4089: f64 = t4086 - t4088;
-        let t4090 = product(t633, t4089);
-        let t4091 = product(t601, t4089);
-        let t4092: f64 = t4091.subtracted_from(t4083);
-        let t4093 = product(t622, t4092);
-        let t4094: f64 = t620 * t4089;
-        let t4095: f64 = t4093.plus(t4094);
-        let t4096: f64 = t4074 - t4095;
-        let t4097 = product(t631, t4096);
-        let t4098: f64 = t629 * t4092;
-        let t4099: f64 = t4097.added_to(t4070);
-        let t4100: f64 = t4090.plus(t4098);
-        let t4101: f64 = t4099 - t4100;
-        let t4102 = product(t647, t4101);
-        let t4103 = product(t650, t4089);
-        let t4104 = product(t286, t4096);
-        let t4105: f64 = t643 * t4092;
-        let t4106: f64 = t4104.plus(t4105);
-        let t4107: f64 = t20 * t4106;
-        let t4108: f64 = t4102.added_to(t4066);
-        let t4109: f64 = t4103.plus(t4107);
-        let t4110: f64 = t4108 - t4109;
-        let t4111 = product(t255, t4110);
-        let t4112 = product(t657, t4101);
-        let t4113 = product(t661, t4089);
-        let t4114: f64 = t640 * t4092;
-        let t4115: f64 = t4111.added_to(yc);
-        let t4116: f64 = t4112.plus(0.2);
-        let t4117: f64 = t4115 + t4116;
-        let t4118: f64 = t4113.plus(t4114);
-        let t4119: f64 = t4117 - t4118;
-        let t4120: f64 = t90 * t4119;
-        let t4121: f64 = -t4120;
-        let t4122 = product(t2671, t3830);
-        let t4123: f64 = t2833 * t3824;
-        let t4124 = product(t2558, t3819);
-        let t4125: f64 = t578 * t3817;
-        let t4126: f64 = t4122.plus(t4123);
-        let t4127: f64 = t4124.plus(t4125);
-        let t4128: f64 = t4126 + t4127;
-        let t4129: f64 = t4128 - t3796;
-        let t4130 = product(t2671, t3884);
-        let t4131: f64 = t2833 * t3878;
-        let t4132 = product(t2558, t3873);
-        let t4133: f64 = t578 * t3871;
-        let t4134: f64 = t4130.plus(t4131);
-        let t4135: f64 = t4132.plus(t4133);
-        let t4136: f64 = t4134 + t4135;
-        let t4137: f64 = t4136 - t3850;
-        let t4138: f64 = t208 * t3927;
-        let t4139 = product(t237, t4138);
-        let t4140: f64 = t4139.added_to(t3586);
-        let t4141: f64 = t4140 - 0.2;
-        let t4142 = product(t254, t4141);
-        let t4143: f64 = t2790 * t3931;
-        let t4144: f64 = t4142.plus(t4143);
-        let t4145 = product(t2551, t3925);
-        let t4146 = product(t561, t4141);
-        let t4147 = product(t290, t4141);
-        let t4148: f64 = t4147.subtracted_from(t3908);
-        let t4149 = product(t553, t4148);
-        let t4150 = product(t502, t4141);
-        let t4151 = product(t507, t4148);
-        let t4152: f64 = t90 * t90;
-        let t4153: f64 = t3599 * t4152;
-        let t4154: f64 = t182 * t4153;
-        let t4155 = product(t208, t4154);
-        let t4156: f64 = t4155.added_to(t3609);
-        let t4157: f64 = t4150.plus(t4156);
-        let t4158: f64 = t4151.plus(1.0);
-        let t4159: f64 = t4157 - t4158;
-        let t4160: f64 = t548 * t4159;
-        let t4161: f64 = zc * t280;
-        let t4162 = product(t90, t4161);
-        let t4163: f64 = t498 * t4138;
-        let t4164: f64 = t4162.plus(t4163);
-        let t4165: f64 = t4146.plus(t4164);
-        let t4166: f64 = t4149.plus(t4160);
-        let t4167: f64 = t4165 - t4166;
-        let t4168: f64 = t562 * t4167;
-        let t4169: f64 = t4145.plus(t4168);
-        let t4170: f64 = t4144 - t4169;
-        let t4171 = product(t499, t4170);
-        let t4172 = product(t2833, t3931);
-        let t4173: f64 = t2558 * t3925;
-        let t4174 = product(t578, t4167);
-        let t4175: f64 = t4172.plus(t4173);
-        let t4176: f64 = t4174.plus(t4175);
-        let t4177: f64 = t4171.added_to(t4138);
-        let t4178: f64 = t4176 - t4177;
-        let t4179: f64 = t4140 + 0.2;
-        let t4180 = product(t254, t4179);
-        let t4181: f64 = t2790 * t3977;
-        let t4182: f64 = t4180.plus(t4181);
-        let t4183 = product(t2551, t3972);
-        let t4184 = product(t561, t4179);
-        let t4185 = product(t290, t4179);
-        let t4186: f64 = t4185.subtracted_from(t3908);
-        let t4187 = product(t553, t4186);
-        let t4188 = product(t502, t4179);
-        let t4189 = product(t507, t4186);
-        let t4190: f64 = t4188.added_to(t4156);
-        let t4191: f64 = t4189.plus(1.0);
-        let t4192: f64 = t4190 - t4191;
-        let t4193: f64 = t548 * t4192;
-        let t4194: f64 = t4184.added_to(t4164);
-        let t4195: f64 = t4187.plus(t4193);
-        let t4196: f64 = t4194 - t4195;
-        let t4197: f64 = t562 * t4196;
-        let t4198: f64 = t4183.plus(t4197);
-        let t4199: f64 = t4182 - t4198;
-        let t4200 = product(t499, t4199);
-        let t4201 = product(t2833, t3977);
-        let t4202: f64 = t2558 * t3972;
-        let t4203 = product(t578, t4196);
-        let t4204: f64 = t4201.plus(t4202);
-        let t4205: f64 = t4203.plus(t4204);
-        let t4206: f64 = t4200.added_to(t4138);
-        let t4207: f64 = t4205 - t4206;
-        let t4208: f64 = t208 * t4050;
-        let t4209: f64 = t208 * t4110;
-        let t4210: f64 = t254 * t3830;
-        let t4211: f64 = t254 * t3884;
-        let t4212: f64 = -t4170;
-        let t4213: f64 = -t4199;
-        let t4214: f64 = t254 * t4041;
-        let t4215: f64 = t254 * t4101;
-        let t4216 = product(t286, t4014);
-        let t4217 = product(t301, t4023);
-        let t4218: f64 = t549 * t4029;
-        let t4219: f64 = t4217.minus(t4218);
-        let t4220 = product(t507, t4219);
-        let t4221: f64 = t554 * t4029;
-        let t4222: f64 = t4220.plus(t4221);
-        let t4223: f64 = t4216.subtracted_from(t4222);
-        let t4224 = product(t286, t4074);
-        let t4225 = product(t301, t4083);
-        let t4226: f64 = t549 * t4089;
-        let t4227: f64 = t4225.minus(t4226);
-        let t4228 = product(t507, t4227);
-        let t4229: f64 = t554 * t4089;
-        let t4230: f64 = t4228.plus(t4229);
-        let t4231: f64 = t4224.subtracted_from(t4230);
-        let t4232: f64 = t301 * t3819;
-        let t4233: f64 = t301 * t3873;
-        let t4234: f64 = t301 * t3925;
-        let t4235: f64 = t301 * t3972;
-        let t4236: f64 = -t4219;
-        let t4237: f64 = -t4227;
-        let t4238: f64 = t530 * t3817;
-        let t4239: f64 = -t4238;
-        let t4240: f64 = t530 * t3871;
-        let t4241: f64 = -t4240;
-        let t4242: f64 = t530 * t4167;
-        let t4243: f64 = -t4242;
-        let t4244: f64 = t530 * t4196;
-        let t4245: f64 = -t4244;
-        let t4246: f64 = t530 * t4029;
-        let t4247: f64 = t530 * t4089;
-        (
-            t4061,
-            t4121,
-            t4129,
-            t4137,
-            t4178,
-            t4207,
-            t4208,
-            t4209,
-            t4210,
-            t4211,
-            t4212,
-            t4213,
-            t4214,
-            t4215,
-            t4223,
-            t4231,
-            t4232,
-            t4233,
-            t4234,
-            t4235,
-            t4236,
-            t4237,
-            t4239,
-            t4241,
-            t4243,
-            t4245,
-            t4246,
-            t4247,
+            t3831,
         )
     };
     (
-        [t587, t588, t566, t589, t590, t592],
+        [t595, t619, t620, t621, t622, t624],
         [
-            [t1036, t1430, t1695, t1983, t2252, t2494],
-            [t2495, t2564, t2637, t2638, t2739, t2840],
-            [t2955, t2956, t2957, t3046, t3047, t3048],
-            [t3049, t2547, t2622, t3050, t2197, t2470],
-            [t3051, t3052, t3053, t3054, t3055, t2446],
-            [t3057, t3058, t3059, t3061, t3063, t3064],
+            [t965, t1330, t1570, t1789, t1992, t2189],
+            [t2190, t2248, t2301, t2302, t2385, t2470],
+            [t2554, t2555, t2556, t2631, t2632, t2633],
+            [t950, t2230, t2286, t1771, t1962, t2172],
+            [t2634, t2635, t2636, t2637, t2638, t2156],
+            [t2640, t2641, t2642, t2644, t2646, t2647],
         ],
         [
-            [t3190, t3317, t3443, t3510, t3582, t3660],
-            [t3661, t3679, t3691, t3710, t3711, t3753],
-            [t3765, t3766, t3767, t3768, t3778, t3779],
-            [t3780, t3671, t3427, t3496, t3565, t3745],
-            [t3781, t3782, t3783, t3784, t3785, t3786],
-            [t3788, t3789, t3791, t3792, t3794, t3795],
+            [t2773, t2900, t3026, t3093, t3165, t3244],
+            [t3245, t3263, t3275, t3294, t3295, t3337],
+            [t3349, t3350, t3351, t3352, t3362, t3363],
+            [t3364, t3255, t3010, t3079, t3148, t3329],
+            [t3365, t3366, t3367, t3368, t3369, t3370],
+            [t3372, t3373, t3375, t3376, t3378, t3379],
         ],
         [
-            [t3849, t3902, t3955, t4001, t4061, t4121],
-            [t4129, t4137, t4178, t4207, t4208, t4209],
-            [t4210, t4211, t4212, t4213, t4214, t4215],
-            [t3836, t3890, t3941, t3987, t4223, t4231],
-            [t4232, t4233, t4234, t4235, t4236, t4237],
-            [t4239, t4241, t4243, t4245, t4246, t4247],
+            [t3433, t3486, t3539, t3585, t3645, t3705],
+            [t3713, t3721, t3762, t3791, t3792, t3793],
+            [t3794, t3795, t3796, t3797, t3798, t3799],
+            [t3420, t3474, t3525, t3571, t3807, t3815],
+            [t3816, t3817, t3818, t3819, t3820, t3821],
+            [t3823, t3825, t3827, t3829, t3830, t3831],
         ],
-        [t677, t44, t460],
+        [t802, t29, t493],
     )
 }
 /// Inverse dynamics from the actuators' motion and its exact Jacobians: `Γ`, `∂Γ/∂q`, `∂Γ/∂q̇`, `∂Γ/∂q̈`.

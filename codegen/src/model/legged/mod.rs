@@ -746,6 +746,35 @@ macro_rules! legged_mechanics {
             let rows = $crate::model::legged::rows_at(self, posed);
             $crate::model::legged::solve_transposed(&rows, &wrench)
         }
+
+        fn inverse_dynamics_jacobians<'g>(
+            &self,
+            dynamics: &$crate::model::bodies::Dynamics<'g>,
+            posed: &$crate::model::geometry::Posed<'g>,
+            motion: &$crate::model::geometry::Motion<'g>,
+            gamma: &$crate::linalg::Vec6<'g>,
+            wrt: &[Vec<$crate::Expr<'g>>],
+        ) -> Vec<Vec<$crate::Expr<'g>>> {
+            let wrench = self.task_wrench(dynamics, posed, motion).to_vec();
+            let rows = $crate::model::legged::rows_at(self, posed);
+            let six = |v: &[$crate::Expr<'g>]| $crate::linalg::Vector::from_fn(|i| v[i]);
+            $crate::model::derivatives::by_wrench_residual(
+                &wrench,
+                |x| (rows.m.transpose() * six(x)).to_vec(),
+                &gamma.to_vec(),
+                |w| $crate::model::legged::solve_transposed(&rows, &six(w)).to_vec(),
+                |x| {
+                    let k = motion.accel.0.iter().position(|a| a.id == x.id)?;
+                    Some(self.task_inertia(dynamics, posed).column(k).to_vec())
+                },
+                wrt,
+                self.differentiation(),
+            )
+        }
+
+        fn differentiation(&self) -> $crate::model::derivatives::Differentiation {
+            $crate::model::derivatives::Differentiation::Reverse
+        }
     };
 }
 pub(crate) use legged_mechanics;
