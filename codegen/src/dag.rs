@@ -555,11 +555,7 @@ impl Arena {
                     if self.const_value(db) == Some(0.0) {
                         continue;
                     }
-                    let rest = factors
-                        .iter()
-                        .enumerate()
-                        .map(|(j, &(b, e))| (b, if j == k { e - 1 } else { e }));
-                    let rest = self.make_product(rest);
+                    let rest = self.cofactor(&factors, k);
                     let term = self.mul(rest, db);
                     sum = self.combine(sum, 1.0, term, f64::from(exp));
                 }
@@ -570,34 +566,49 @@ impl Arena {
                 if self.const_value(da) == Some(0.0) {
                     da
                 } else {
-                    let outer = match f {
-                        Func::Sin => self.call(Func::Cos, a),
-                        Func::Cos => {
-                            let s = self.call(Func::Sin, a);
-                            self.neg(s)
-                        }
-                        Func::Sqrt => {
-                            let r = self.call(Func::Sqrt, a);
-                            let two_r = self.scale(r, 2.0);
-                            self.recip(two_r)
-                        }
-                        // Zero wherever it is defined.
-                        Func::Sign => self.constant(0.0),
-                        Func::Keep => self.constant(1.0),
-                        // 1 / (1 + a²).
-                        Func::Atan => {
-                            let square = self.mul(a, a);
-                            let one = self.constant(1.0);
-                            let denominator = self.add(one, square);
-                            self.recip(denominator)
-                        }
-                    };
+                    let outer = self.call_derivative(f, a);
                     self.mul(outer, da)
                 }
             }
         };
         memo.insert(id, d);
         d
+    }
+
+    /// `f'(a)`, the derivative of the call `f(a)` with respect to its argument.
+    fn call_derivative(&mut self, f: Func, a: NodeId) -> NodeId {
+        match f {
+            Func::Sin => self.call(Func::Cos, a),
+            Func::Cos => {
+                let s = self.call(Func::Sin, a);
+                self.neg(s)
+            }
+            Func::Sqrt => {
+                let r = self.call(Func::Sqrt, a);
+                let two_r = self.scale(r, 2.0);
+                self.recip(two_r)
+            }
+            // Zero wherever it is defined.
+            Func::Sign => self.constant(0.0),
+            Func::Keep => self.constant(1.0),
+            // 1 / (1 + a²).
+            Func::Atan => {
+                let square = self.mul(a, a);
+                let one = self.constant(1.0);
+                let denominator = self.add(one, square);
+                self.recip(denominator)
+            }
+        }
+    }
+
+    /// `Π_{j≠k} b_j^(e_j) · b_k^(e_k - 1)`: the product's derivative with respect to its `k`-th
+    /// base, but for the exponent `e_k` that scales it.
+    fn cofactor(&mut self, factors: &[(NodeId, i32)], k: usize) -> NodeId {
+        let rest = factors
+            .iter()
+            .enumerate()
+            .map(|(j, &(b, e))| (b, if j == k { e - 1 } else { e }));
+        self.make_product(rest)
     }
 
     /// `∂id/∂x` for each input `x` of `wrt`, by reverse mode: one sweep from `id` back through
@@ -636,37 +647,17 @@ impl Arena {
                 }
                 Node::Product(factors) => {
                     for (k, &(base, exp)) in factors.iter().enumerate() {
-                        let rest = factors
-                            .iter()
-                            .enumerate()
-                            .map(|(j, &(b, e))| (b, if j == k { e - 1 } else { e }));
-                        let rest = self.make_product(rest);
+                        let rest = self.cofactor(&factors, k);
                         let local = self.mul(rest, adjoint);
                         let d = self.scale(local, f64::from(exp));
                         parts.entry(base).or_default().push(d);
                     }
                 }
                 Node::Call(f, a) => {
-                    let outer = match f {
-                        Func::Sin => self.call(Func::Cos, a),
-                        Func::Cos => {
-                            let s = self.call(Func::Sin, a);
-                            self.neg(s)
-                        }
-                        Func::Sqrt => {
-                            let r = self.call(Func::Sqrt, a);
-                            let two_r = self.scale(r, 2.0);
-                            self.recip(two_r)
-                        }
-                        Func::Sign => continue,
-                        Func::Keep => self.constant(1.0),
-                        Func::Atan => {
-                            let square = self.mul(a, a);
-                            let one = self.constant(1.0);
-                            let denominator = self.add(one, square);
-                            self.recip(denominator)
-                        }
-                    };
+                    let outer = self.call_derivative(f, a);
+                    if self.const_value(outer) == Some(0.0) {
+                        continue;
+                    }
                     let d = self.mul(outer, adjoint);
                     parts.entry(a).or_default().push(d);
                 }
