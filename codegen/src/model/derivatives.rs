@@ -102,18 +102,23 @@ pub fn by_wrench_residual<'g>(
     let residual: Vec<Expr<'g>> = wrench.iter().zip(&held).map(|(&w, &h)| w - h).collect();
     let at_solution: Vec<(Expr<'g>, Expr<'g>)> =
         unknown.iter().copied().zip(gamma.iter().copied()).collect();
+    let given: Vec<Vec<Option<Vec<Expr<'g>>>>> = wrt
+        .iter()
+        .map(|xs| xs.iter().map(|&x| known(x)).collect())
+        .collect();
     let differentiated: Vec<Expr<'g>> = wrt
         .iter()
         .flatten()
-        .copied()
-        .filter(|&x| known(x).is_none())
+        .zip(given.iter().flatten())
+        .filter_map(|(&x, column)| column.is_none().then_some(x))
         .collect();
     let mut partials = columns_at(&residual, &differentiated, &at_solution, mode).into_iter();
-    wrt.iter()
-        .map(|xs| {
-            let columns: Vec<Vec<Expr<'g>>> = xs
-                .iter()
-                .map(|&x| solve(&known(x).unwrap_or_else(|| partials.next().expect("a column"))))
+    given
+        .into_iter()
+        .map(|columns| {
+            let columns: Vec<Vec<Expr<'g>>> = columns
+                .into_iter()
+                .map(|column| solve(&column.unwrap_or_else(|| partials.next().expect("a column"))))
                 .collect();
             (0..n)
                 .flat_map(|i| columns.iter().map(move |c| c[i]))

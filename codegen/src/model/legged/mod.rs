@@ -758,6 +758,7 @@ macro_rules! legged_mechanics {
             let wrench = self.task_wrench(dynamics, posed, motion).to_vec();
             let rows = $crate::model::legged::rows_at(self, posed);
             let six = |v: &[$crate::Expr<'g>]| $crate::linalg::Vector::from_fn(|i| v[i]);
+            let inertia = self.task_inertia(dynamics, posed);
             $crate::model::derivatives::by_wrench_residual(
                 &wrench,
                 |x| (rows.m.transpose() * six(x)).to_vec(),
@@ -765,7 +766,7 @@ macro_rules! legged_mechanics {
                 |w| $crate::model::legged::solve_transposed(&rows, &six(w)).to_vec(),
                 |x| {
                     let k = motion.accel.0.iter().position(|a| a.id == x.id)?;
-                    Some(self.task_inertia(dynamics, posed).column(k).to_vec())
+                    Some(inertia.column(k).to_vec())
                 },
                 wrt,
                 self.differentiation(),
