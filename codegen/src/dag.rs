@@ -131,6 +131,16 @@ pub struct Policy {
     /// Distribute a product over a sum that is one term plus a constant, `t·(x + c) = t·x + c·t`,
     /// so that offsets such as the `±L` of a pair of legs cancel where their terms meet.
     pub distribute_offsets: bool,
+    /// Take the Jacobians a kernel asks for ([`Graph::jacobian`]) by reverse mode, one sweep per
+    /// output, else by forward mode, one sweep per input. Which is cheaper depends on the
+    /// kernel, not on its shape alone: the simplifying constructors fold each sweep
+    /// differently, so the optimizer tries both.
+    pub reverse_mode: bool,
+    /// Which of the values a model offers as units ([`Expr::keep_where_cheaper`]) are kept
+    /// whole, the others folded into their users: bit `k` for the `k`-th offer the build meets.
+    /// Keeping a value whole saves where its users would each expand it, and costs where they
+    /// would cancel parts of it, which only the count tells apart, so the optimizer chooses.
+    pub kept_offers: u32,
 }
 
 impl Policy {
@@ -139,6 +149,8 @@ impl Policy {
         absorb_constants: false,
         share_reciprocals: true,
         distribute_offsets: false,
+        reverse_mode: false,
+        kept_offers: 0,
     };
 }
 
@@ -156,6 +168,11 @@ pub struct Arena {
     policy: Policy,
     /// Set when a constant division by zero, a non-finite constant or a model error was met.
     invalid: Option<String>,
+    /// Set when a Jacobian was taken ([`Graph::jacobian`]), so the policy's mode mattered.
+    took_jacobian: bool,
+    /// The offers met ([`Expr::keep_where_cheaper`]), in the order first met: bit `k` of
+    /// [`Policy::kept_offers`] is the `k`-th.
+    offers: Vec<&'static str>,
 }
 
 /// A linear form: terms with coefficients plus a constant.
@@ -177,6 +194,18 @@ impl Arena {
     /// non-finite constant or model error met while building it.
     pub fn invalid(&self) -> Option<&str> {
         self.invalid.as_deref()
+    }
+
+    /// Whether the graph took a Jacobian ([`Graph::jacobian`]): only then does
+    /// [`Policy::reverse_mode`] change it.
+    pub fn took_jacobian(&self) -> bool {
+        self.took_jacobian
+    }
+
+    /// The offers the build met ([`Expr::keep_where_cheaper`]), in the order of the bits of
+    /// [`Policy::kept_offers`].
+    pub fn offers(&self) -> &[&'static str] {
+        &self.offers
     }
 
     pub fn node(&self, id: NodeId) -> &Node {
@@ -812,6 +841,26 @@ impl Graph {
             .collect()
     }
 
+    /// `∂f/∂x` row-major (row `i` for `f[i]`, column `j` for `xs[j]`), by the mode the
+    /// policy names ([`Policy::reverse_mode`]).
+    ///
+    /// # Panics
+    /// If an `x` is not an input node (a bug in the model).
+    pub fn jacobian<'g>(&'g self, f: &[Expr<'g>], xs: &[Expr<'g>]) -> Vec<Expr<'g>> {
+        let reverse = {
+            let mut arena = self.arena.borrow_mut();
+            arena.took_jacobian = true;
+            arena.policy.reverse_mode
+        };
+        if reverse {
+            return self.gradients(f, xs);
+        }
+        let columns: Vec<Vec<Expr<'g>>> = xs.iter().map(|&x| self.derivatives(f, x)).collect();
+        (0..f.len())
+            .flat_map(|i| columns.iter().map(move |c| c[i]))
+            .collect()
+    }
+
     /// `∂e/∂x` row-major (row `i` for `exprs[i]`, column `j` for `xs[j]`), by reverse mode.
     ///
     /// # Panics
@@ -897,6 +946,26 @@ impl<'g> Expr<'g> {
     /// The same value as a unit ([`Func::Keep`]): computed once, used whole.
     pub fn keep(self) -> Self {
         self.wrap(self.graph.with(|a| a.call(Func::Keep, self.id)))
+    }
+    /// The same value, kept as a unit ([`Expr::keep`]) where the policy keeps the `offer` it
+    /// belongs to ([`Policy::kept_offers`]): for values whose keeping pays in some kernels and
+    /// not in others. One offer names a group of values kept or folded together.
+    pub fn keep_where_cheaper(self, offer: &'static str) -> Self {
+        let keep = self.graph.with(|a| {
+            let k = match a.offers.iter().position(|&o| o == offer) {
+                Some(k) => k,
+                None => {
+                    a.offers.push(offer);
+                    a.offers.len() - 1
+                }
+            };
+            k < 32 && a.policy.kept_offers & (1 << k) != 0
+        });
+        if keep {
+            self.keep()
+        } else {
+            self
+        }
     }
     pub fn recip(self) -> Self {
         self.wrap(self.graph.with(|a| a.recip(self.id)))
@@ -1096,6 +1165,27 @@ mod tests {
                     "case {n}, ∂/∂x{wrt}: {reverse} vs {fd}"
                 );
             }
+        }
+    }
+
+    /// An offer is kept whole where its bit is set, bits numbered in the order the offers are
+    /// first met, and an offer met again is the same bit; the value is the same either way.
+    #[test]
+    fn offers_are_kept_where_their_bit_is_set() {
+        for kept_offers in 0..4u32 {
+            let g = Graph::new(Policy {
+                kept_offers,
+                ..FLAT
+            });
+            let (x, y) = (g.input(0), g.input(1));
+            let a = (x + y).keep_where_cheaper("a");
+            let b = (x * y).keep_where_cheaper("b");
+            let a_again = (x - y).keep_where_cheaper("a");
+            let kept = |e: Expr<'_>| matches!(g.arena().node(e.id), Node::Call(Func::Keep, _));
+            assert_eq!(kept(a), kept_offers & 1 != 0);
+            assert_eq!(kept(b), kept_offers & 2 != 0);
+            assert_eq!(kept(a_again), kept_offers & 1 != 0);
+            assert_eq!(g.arena().offers(), ["a", "b"]);
         }
     }
 

@@ -164,10 +164,19 @@ fn policies() -> impl Iterator<Item = Policy> {
                         absorb_constants,
                         share_reciprocals,
                         distribute_offsets,
+                        ..Policy::FLAT
                     })
                 })
         })
     })
+}
+
+/// What a kernel's graph meets that makes more of a [`Policy`] matter: whether it takes
+/// Jacobians (their mode), and how many values it offers as units.
+#[derive(Clone, Copy, Debug, Default)]
+struct Switches {
+    jacobian: bool,
+    offers: usize,
 }
 
 impl KernelSpec {
@@ -212,11 +221,16 @@ impl KernelSpec {
         self.inputs.iter().map(|a| a.shape.len()).sum()
     }
 
-    /// The program under `policy`, its sums planned with shared sub-sums or not.
-    fn program(&self, policy: Policy, share_subsums: bool) -> Result<Program, Error> {
+    /// The program under `policy`, its sums planned with shared sub-sums or not, and what
+    /// building it met that makes more of the policy matter.
+    fn program(&self, policy: Policy, share_subsums: bool) -> Result<(Program, Switches), Error> {
         let graph = Graph::new(policy);
         let outputs = self.build_on(&graph)?;
         let mut arena = graph.into_arena();
+        let met = Switches {
+            jacobian: arena.took_jacobian(),
+            offers: arena.offers().len().min(32),
+        };
         let outputs = factor(&mut arena, &outputs);
         let program = lower(&arena, &outputs, share_subsums);
         let declared = self.input_len() as u32;
@@ -226,47 +240,212 @@ impl KernelSpec {
                 reason: format!("the outputs depend on the undeclared input {i}"),
             });
         }
-        Ok(program)
+        Ok((program, met))
     }
 
-    /// The count of the program under every policy, sub-sums shared (for studying the optimizer).
+    /// The count of the program under each policy, in order, until `stop_before` a policy
+    /// says stop given the counts so far. Where the graph meets them ([`Switches`]), the first
+    /// policy chooses the switches ([`KernelSpec::choose_switches`]) and the others are tried
+    /// in each mode with the offers it kept there.
+    fn search(
+        &self,
+        share_subsums: bool,
+        stop_before: impl Fn(Policy, &[(Policy, OpCount)]) -> bool,
+    ) -> Result<Vec<(Policy, OpCount)>, Error> {
+        let mut tried: Vec<(Policy, OpCount)> = Vec::new();
+        let mut chosen: Vec<Policy> = Vec::new();
+        for base in policies() {
+            if stop_before(base, &tried) {
+                break;
+            }
+            if chosen.is_empty() {
+                chosen = self.choose_switches(base, share_subsums, &mut tried)?;
+                continue;
+            }
+            for setting in &chosen {
+                let policy = Policy {
+                    reverse_mode: setting.reverse_mode,
+                    kept_offers: setting.kept_offers,
+                    ..base
+                };
+                let (program, _) = self.program(policy, share_subsums)?;
+                tried.push((policy, program.count()));
+            }
+        }
+        Ok(tried)
+    }
+
+    /// Under `base`, for each differentiation mode the graph needs, the offers to keep: each
+    /// offer in turn is kept where that lowers the cost so far (greedy, one build an offer).
+    /// Every program built is pushed on `tried`.
+    fn choose_switches(
+        &self,
+        base: Policy,
+        share_subsums: bool,
+        tried: &mut Vec<(Policy, OpCount)>,
+    ) -> Result<Vec<Policy>, Error> {
+        let mut cost_of = |policy: Policy| -> Result<((f64, f64), Switches), Error> {
+            let (program, met) = self.program(policy, share_subsums)?;
+            let count = program.count();
+            let cost = self.objective.cost(&count);
+            tried.push((policy, count));
+            Ok((cost, met))
+        };
+        let (first, met) = cost_of(base)?;
+        let modes: &[bool] = if met.jacobian {
+            &[false, true]
+        } else {
+            &[false]
+        };
+        let mut chosen = Vec::new();
+        for &reverse_mode in modes {
+            let mut best = Policy {
+                reverse_mode,
+                ..base
+            };
+            let mut best_cost = if reverse_mode {
+                cost_of(best)?.0
+            } else {
+                first
+            };
+            for offer in 0..met.offers {
+                let candidate = Policy {
+                    kept_offers: best.kept_offers | 1 << offer,
+                    ..best
+                };
+                let (cost, _) = cost_of(candidate)?;
+                if cost < best_cost {
+                    (best, best_cost) = (candidate, cost);
+                }
+            }
+            chosen.push(best);
+        }
+        Ok(chosen)
+    }
+
+    /// The count of the program under every policy, sub-sums shared (for studying the
+    /// optimizer).
     ///
     /// # Errors
     /// As [`KernelSpec::compile`].
     pub fn costs_by_policy(&self) -> Result<Vec<(Policy, OpCount)>, Error> {
-        policies()
-            .map(|p| Ok((p, self.program(p, true)?.count())))
-            .collect()
+        self.search(true, |_, _| false)
     }
 
     /// Compiles under every policy, keeps the cheapest, and lowers that one again sharing the
     /// sub-sums its sums have in common (which only ever saves additions). The policies that
     /// distribute products over sums are tried only when the best flat program weighs at most
-    /// [`EXPANSION_LIMIT`].
+    /// [`EXPANSION_LIMIT`]. A kernel that takes Jacobians is tried in both differentiation
+    /// modes, and one offered units with the offers its first policy kept: each
+    /// derivative kernel gets the cheaper mode.
     pub fn compile(&self) -> Result<Compiled, Error> {
-        let mut best: Option<(Policy, f64, f64)> = None;
-        let (flat, expanding): (Vec<Policy>, Vec<Policy>) =
-            policies().partition(|p| p.expand_limit == 1);
-        for policy in flat.into_iter().chain(expanding) {
-            let too_large = |&(_, cost, _): &(Policy, f64, f64)| cost > EXPANSION_LIMIT;
-            if policy.expand_limit > 1
+        let cost = |count: &OpCount| self.objective.cost(count);
+        let cheapest = |tried: &[(Policy, OpCount)]| {
+            tried
+                .iter()
+                .map(|(policy, count)| (*policy, cost(count)))
+                .reduce(|best, next| if next.1 < best.1 { next } else { best })
+        };
+        let tried = self.search(false, |base, tried| {
+            base.expand_limit > 1
                 && self.objective == Objective::Speed
-                && best.as_ref().is_some_and(too_large)
-            {
-                break;
-            }
-            let count = self.program(policy, false)?.count();
-            let (cost, tie) = self.objective.cost(&count);
-            if best.is_none_or(|(_, c, t)| (cost, tie) < (c, t)) {
-                best = Some((policy, cost, tie));
-            }
-        }
-        let (policy, ..) = best.expect("at least one policy");
-        let program = self.program(policy, true)?;
+                && cheapest(tried).is_some_and(|(_, (weight, _))| weight > EXPANSION_LIMIT)
+        })?;
+        let best: Option<(Policy, (f64, f64))> = cheapest(&tried);
+        let (policy, _) = best.expect("at least one policy");
+        let (program, _) = self.program(policy, true)?;
         Ok(Compiled {
             count: program.count(),
             program,
             policy,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(build: BuildFn) -> KernelSpec {
+        KernelSpec {
+            name: "probe".into(),
+            family: "test".into(),
+            setting: Setting::Free,
+            equations: vec![],
+            title: String::new(),
+            doc: String::new(),
+            chapter: None,
+            objective: Objective::Speed,
+            inputs: vec![Arg::new(
+                "x",
+                Shape::Vector(3),
+                ["x0", "x1", "x2"].map(String::from).to_vec(),
+                "",
+            )],
+            outputs: vec![Arg::output("y", Shape::Vector(3), "")],
+            build,
+        }
+    }
+
+    /// The switches are tried only where the graph meets them: a kernel that takes no
+    /// Jacobian and offers nothing is built under the rewriting policies alone; one that
+    /// takes a Jacobian in both modes; an offer both kept and folded.
+    #[test]
+    fn the_search_tries_the_switches_a_kernel_meets_and_no_others() {
+        let plain = spec(Box::new(|_, x| {
+            vec![vec![x[0][0] * x[0][1], x[0][1], x[0][2]]]
+        }));
+        let costs = plain.costs_by_policy().unwrap();
+        assert_eq!(costs.len(), policies().count());
+        assert!(costs
+            .iter()
+            .all(|(p, _)| !p.reverse_mode && p.kept_offers == 0));
+
+        let differentiated = spec(Box::new(|g, x| {
+            let f = [(x[0][0] * x[0][1]).sin() * x[0][2]];
+            vec![g.jacobian(&f, &x[0])]
+        }));
+        let costs = differentiated.costs_by_policy().unwrap();
+        assert!(costs.iter().any(|(p, _)| p.reverse_mode));
+        assert!(costs.iter().any(|(p, _)| !p.reverse_mode));
+
+        let offered = spec(Box::new(|_, x| {
+            let s = (x[0][0] + x[0][1]).keep_where_cheaper("s");
+            vec![vec![s * x[0][2], s * x[0][1], s]]
+        }));
+        let costs = offered.costs_by_policy().unwrap();
+        assert!(costs.iter().any(|(p, _)| p.kept_offers == 1));
+        assert!(costs.iter().all(|(p, _)| p.kept_offers <= 1));
+    }
+
+    /// Whichever mode wins, the compiled Jacobian is the derivative: both modes agree with
+    /// the hand-derived gradient of `sin(x0 x1) x2`.
+    #[test]
+    fn the_compiled_jacobian_is_the_derivative_in_either_mode() {
+        let differentiated = spec(Box::new(|g, x| {
+            let f = [(x[0][0] * x[0][1]).sin() * x[0][2]];
+            vec![g.jacobian(&f, &x[0])]
+        }));
+        let x: [f64; 3] = [0.3, -1.2, 2.5];
+        let expected = [
+            (x[0] * x[1]).cos() * x[1] * x[2],
+            (x[0] * x[1]).cos() * x[0] * x[2],
+            (x[0] * x[1]).sin(),
+        ];
+        for reverse_mode in [false, true] {
+            let policy = Policy {
+                reverse_mode,
+                ..Policy::FLAT
+            };
+            let (program, met) = differentiated.program(policy, true).unwrap();
+            assert!(met.jacobian);
+            for (got, want) in program.eval(&x).iter().zip(expected) {
+                assert!((got - want).abs() < 1e-15, "{got} != {want}");
+            }
+        }
+        let compiled = differentiated.compile().unwrap();
+        for (got, want) in compiled.program.eval(&x).iter().zip(expected) {
+            assert!((got - want).abs() < 1e-15, "{got} != {want}");
+        }
     }
 }

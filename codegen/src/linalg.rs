@@ -86,6 +86,11 @@ impl<'g, const N: usize> Vector<'g, N> {
     pub fn to_vec(&self) -> Vec<Expr<'g>> {
         self.0.to_vec()
     }
+
+    /// Each element offered as a unit under `offer` ([`Expr::keep_where_cheaper`]).
+    pub fn keep_where_cheaper(self, offer: &'static str) -> Self {
+        Vector(self.0.map(|e| e.keep_where_cheaper(offer)))
+    }
 }
 
 impl<'g, const N: usize> Index<usize> for Vector<'g, N> {

@@ -143,8 +143,8 @@ impl<'g> Frame<'g> {
         let rt = r.transpose();
         Frame {
             r,
-            omega: rt * *omega,
-            omega_dot: rt * *omega_dot,
+            omega: (rt * *omega).keep_where_cheaper("ω in the platform frame"),
+            omega_dot: (rt * *omega_dot).keep_where_cheaper("ω̇ in the platform frame"),
         }
     }
 

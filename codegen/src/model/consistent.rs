@@ -194,6 +194,7 @@ pub fn platform_view<'g>(posed: &Posed<'g>) -> PlatformView<'g> {
             None => rt * posed.p[i],
         };
         Vector::from_fn(|j| if j == AXIS[i] { g.zero() } else { full[j] })
+            .keep_where_cheaper("p_i, the legs' platform points in the platform frame")
     });
     PlatformView {
         p,
@@ -278,8 +279,12 @@ fn platform_motion<'g>(posed: &Posed<'g>, motion: &Motion<'g>) -> PlatformMotion
         None => {
             let frame = Frame::new(posed.r, &motion.twist.top(), &motion.accel.top());
             PlatformMotion {
-                u: frame.to_platform(&motion.twist.bottom()),
-                a: frame.to_platform(&motion.accel.bottom()),
+                u: frame
+                    .to_platform(&motion.twist.bottom())
+                    .keep_where_cheaper("u, v_C in the platform frame"),
+                a: frame
+                    .to_platform(&motion.accel.bottom())
+                    .keep_where_cheaper("a, a_C in the platform frame"),
                 frame,
                 joint: None,
             }
@@ -288,11 +293,13 @@ fn platform_motion<'g>(posed: &Posed<'g>, motion: &Motion<'g>) -> PlatformMotion
             let view = platform_view(posed);
             let scaled = |v: &Vec6<'g>| Vector::from_fn(|i| view.d[i] * v[i]);
             // `D Q̇ = S (w; u)`.
-            let wu = s_inverse(&view.p, &scaled(&joint.qd));
+            let wu = s_inverse(&view.p, &scaled(&joint.qd))
+                .keep_where_cheaper("(w; u) from the actuators' rates");
             let (w, u) = (wu.top(), wu.bottom());
             // `D Q̈ = S (ẇ; a) + b(w, u, Q̇)`.
             let bias = acceleration_bias(&view, &w, &u, &joint.qd);
-            let wda = s_inverse(&view.p, &(scaled(&joint.qdd) - bias));
+            let wda = s_inverse(&view.p, &(scaled(&joint.qdd) - bias))
+                .keep_where_cheaper("(ẇ; a) from the actuators' accelerations");
             PlatformMotion {
                 frame: Frame {
                     r: posed.r,

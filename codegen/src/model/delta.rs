@@ -23,7 +23,7 @@
 
 use super::bodies::{Dynamics, Inertial};
 use super::calibration;
-use super::derivatives::{self, Differentiation};
+use super::derivatives;
 use super::geometry::{Motion, Posed};
 use super::kernels::{Build, Cite, Context, Decl, Guard, Input, Kernel, Output, Reads};
 use super::legged::{self, rus::Rus, Leg, LegState};
@@ -825,10 +825,11 @@ const fn jacobian(name: &'static str, doc: &'static str) -> Output {
 
 /// The Delta's derivative kernels (feature `derivatives` of `c5-generated`): the inverse
 /// dynamics by the implicit function theorem on `J⁻ᵀ Γ = W` ([`derivatives::by_wrench_residual`],
-/// through its own solve, `M_x` for `∂W/∂a_C`), in reverse mode (4 090 multiplications, 5 335
-/// in forward mode); the forward dynamics by the implicit function theorem on
-/// `ID(C, v_C, a_C) = Γ` ([`super::derivatives::Implicit`]), `∂a_C/∂Γ` the exact derivative of
-/// its own solve, in forward mode (5 546, 5 868 in reverse mode).
+/// through its own solve, `M_x` for `∂W/∂a_C`); the forward dynamics by the implicit function
+/// theorem on `ID(C, v_C, a_C) = Γ` ([`super::derivatives::Implicit`]), `∂a_C/∂Γ` the exact
+/// derivative of its own solve. The optimizer takes each in the cheaper mode
+/// ([`crate::dag::Policy::reverse_mode`]): reverse for the first (4 090 multiplications, 5 335
+/// in forward mode), forward for the second (5 546, 5 868 in reverse mode).
 const DERIVATIVE_KERNELS: &[Decl] = &[
     decl(
         Kernel::InverseDynamicsDerivatives,
@@ -861,7 +862,6 @@ const DERIVATIVE_KERNELS: &[Decl] = &[
                     Some(inertia.column(k).to_vec())
                 },
                 &wrt,
-                Differentiation::Reverse,
             );
             let mut out = vec![gamma];
             out.extend(jacobians);
@@ -887,7 +887,7 @@ const DERIVATIVE_KERNELS: &[Decl] = &[
             let at = Translation::of(cx);
             let forces = cx.input(Input::Gamma);
             let accel = forward_dynamics(cx, &at, &vec3(&forces)).to_vec();
-            let d_gamma = derivatives::jacobian_rows(g, &accel, &forces, Differentiation::Forward);
+            let d_gamma = g.jacobian(&accel, &forces);
             let unknown: Vec3 = Vector::from_fn(|k| g.input(INTERNAL_INPUTS + k as u32));
             let probe = Translation {
                 accel: unknown,
@@ -901,7 +901,6 @@ const DERIVATIVE_KERNELS: &[Decl] = &[
                 gamma: &gamma,
                 unknown: &unknown.to_vec(),
                 accel: &accel,
-                mode: Differentiation::Forward,
             };
             let d_pose = implicit.jacobian(&cx.input(Input::Position));
             let d_twist = implicit.jacobian(&cx.input(Input::Velocity));

@@ -32,35 +32,6 @@ pub fn is_derivative(kernel: Kernel) -> bool {
     )
 }
 
-/// How the engine takes a Jacobian. Both build exact derivatives through the simplifying
-/// constructors on the value's graph; they differ in what they share, and so in cost.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Differentiation {
-    /// One sweep per input (tangents): the cheaper for the C5's small closed forms, which the
-    /// constructors keep folded.
-    Forward,
-    /// One sweep per output (adjoints): the cheaper where long chains of leg bodies feed a few
-    /// outputs, the legged mechanisms' (the hexapod's forward dynamics' Jacobians 29 % fewer
-    /// multiplications; docs/derivatives.md).
-    Reverse,
-}
-
-/// `∂f/∂x` row-major: row `i` for `f[i]`, column `j` for `x[j]`.
-pub(crate) fn jacobian_rows<'g>(
-    g: &'g Graph,
-    f: &[Expr<'g>],
-    x: &[Expr<'g>],
-    mode: Differentiation,
-) -> Vec<Expr<'g>> {
-    if mode == Differentiation::Reverse {
-        return g.gradients(f, x);
-    }
-    let columns: Vec<Vec<Expr<'g>>> = x.iter().map(|&u| g.derivatives(f, u)).collect();
-    (0..f.len())
-        .flat_map(|i| columns.iter().map(move |c| c[i]))
-        .collect()
-}
-
 /// `Γ` and its Jacobians with respect to each of the kernel's inputs, in their order, by the
 /// model's own method ([`Mechanics::inverse_dynamics_jacobians`]).
 fn inverse_dynamics_and_jacobians<'g>(
@@ -90,7 +61,6 @@ pub fn by_wrench_residual<'g>(
     solve: impl Fn(&[Expr<'g>]) -> Vec<Expr<'g>>,
     known: impl Fn(Expr<'g>) -> Option<Vec<Expr<'g>>>,
     wrt: &[Vec<Expr<'g>>],
-    mode: Differentiation,
 ) -> Vec<Vec<Expr<'g>>> {
     let g = gamma[0].graph();
     let n = gamma.len();
@@ -112,7 +82,7 @@ pub fn by_wrench_residual<'g>(
         .zip(given.iter().flatten())
         .filter_map(|(&x, column)| column.is_none().then_some(x))
         .collect();
-    let mut partials = columns_at(&residual, &differentiated, &at_solution, mode).into_iter();
+    let mut partials = columns_at(&residual, &differentiated, &at_solution).into_iter();
     given
         .into_iter()
         .map(|columns| {
@@ -133,13 +103,12 @@ fn columns_at<'g>(
     f: &[Expr<'g>],
     xs: &[Expr<'g>],
     at_solution: &[(Expr<'g>, Expr<'g>)],
-    mode: Differentiation,
 ) -> Vec<Vec<Expr<'g>>> {
     let Some(&first) = f.first() else {
         return vec![];
     };
     let g = first.graph();
-    let rows = g.substitute(&jacobian_rows(g, f, xs, mode), at_solution);
+    let rows = g.substitute(&g.jacobian(f, xs), at_solution);
     let m = xs.len();
     (0..m)
         .map(|j| (0..f.len()).map(|i| rows[i * m + j]).collect())
@@ -183,7 +152,7 @@ pub fn by_task_residual<'g, M: Mechanics + ?Sized>(
         |dr: &[Expr<'g>]| -> Vec6<'g> { -inertia.ldlt_solve(&Vector::from_fn(|i| dr[i])) };
     let columns = |xs: &[Expr<'g>]| {
         from_columns(
-            &columns_at(&residual, xs, &at_solution, mech.differentiation())
+            &columns_at(&residual, xs, &at_solution)
                 .iter()
                 .map(|dr| sensitivity(dr))
                 .collect::<Vec<_>>(),
@@ -213,8 +182,7 @@ pub fn by_inverse_dynamics<'g, M: Mechanics + ?Sized>(
     wrt: &ForwardInputs<'_, 'g>,
 ) -> [Vec<Expr<'g>>; 3] {
     let g = accel[0].graph();
-    let mode = mech.differentiation();
-    let d_gamma = jacobian_rows(g, &accel.to_vec(), wrt.forces, mode);
+    let d_gamma = g.jacobian(&accel.to_vec(), wrt.forces);
     let unknown = free_acceleration(g);
     let gamma = mech
         .inverse_dynamics(dynamics, posed, &Motion::new(*twist, unknown))
@@ -224,7 +192,6 @@ pub fn by_inverse_dynamics<'g, M: Mechanics + ?Sized>(
         gamma: &gamma,
         unknown: &unknown.to_vec(),
         accel: &accel.to_vec(),
-        mode,
     };
     [
         implicit.jacobian(wrt.pose),
@@ -243,8 +210,6 @@ pub(crate) struct Implicit<'a, 'g> {
     pub unknown: &'a [Expr<'g>],
     /// The forward dynamics' acceleration, put in for the unknowns after differentiating.
     pub accel: &'a [Expr<'g>],
-    /// How `∂ID/∂x` is taken.
-    pub mode: Differentiation,
 }
 
 impl<'g> Implicit<'_, 'g> {
@@ -258,7 +223,7 @@ impl<'g> Implicit<'_, 'g> {
             .copied()
             .zip(self.accel.iter().copied())
             .collect();
-        let partial = g.substitute(&jacobian_rows(g, self.gamma, xs, self.mode), &at_solution);
+        let partial = g.substitute(&g.jacobian(self.gamma, xs), &at_solution);
         let m = xs.len();
         (0..n * m)
             .map(|ij| {

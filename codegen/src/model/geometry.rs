@@ -130,11 +130,15 @@ pub fn half_spacing<'g>(geometry: &[Expr<'g>]) -> Expr<'g> {
 pub fn pose<'g>(geometry: &[Expr<'g>], x: &[Expr<'g>]) -> Posed<'g> {
     let half_spacing = self::half_spacing(geometry);
     let r = rotation_of_pose(x);
+    let r = Mat(r.0.map(|row| row.map(|e| e.keep_where_cheaper("R"))));
     let c = Vector([x[3], x[4], x[5]]);
     let g = x[0].graph();
-    let q: [Expr<'g>; 6] =
-        std::array::from_fn(|i| actuator_length(&r, &c, &anchor(half_spacing, i), i));
-    let p = std::array::from_fn(|i| p_i2(&c, &anchor(half_spacing, i), q[i], &axis(g, i)));
+    let q: [Expr<'g>; 6] = std::array::from_fn(|i| {
+        actuator_length(&r, &c, &anchor(half_spacing, i), i).keep_where_cheaper("Q_i1")
+    });
+    let p = std::array::from_fn(|i| {
+        p_i2(&c, &anchor(half_spacing, i), q[i], &axis(g, i)).keep_where_cheaper("P_i2")
+    });
     Posed {
         r,
         c,
@@ -200,11 +204,12 @@ pub fn forward_kinematics<'g>(geometry: &[Expr<'g>], q: &[Expr<'g>; 6]) -> Posed
     let inverse_square: [Expr<'g>; 3] =
         std::array::from_fn(|k| columns[k].dot(&columns[k]).recip());
     let unit: [Vec3<'g>; 3] = std::array::from_fn(|k| columns[k].scale(inverse_square[k].sqrt()));
-    let r = Mat::from_fn(|row, k| unit[k][row]);
+    let r = Mat::from_fn(|row, k| unit[k][row].keep_where_cheaper("R from the actuators"));
     // `m̂_k·C = (1 + abc) h_k` for these columns.
     let centre = (0..3)
         .map(|k| columns[k].scale(forward * half_sum[k] * inverse_square[k]))
-        .fold(Vec3::zeros(g), |acc, v| acc + v);
+        .fold(Vec3::zeros(g), |acc, v| acc + v)
+        .keep_where_cheaper("C from the actuators");
     let p = std::array::from_fn(|i| p_i2(&centre, &anchor(half_spacing, i), q[i], &axis(g, i)));
     // `R e_k · C = r_kk (m̂_k · C) = r_kk h_k`.
     let centre_in_platform = Vector::from_fn(|k| r.0[k][k] * half_sum[k]);

@@ -193,12 +193,6 @@ pub trait Mechanics: Sync {
         derivatives::by_task_residual(self, dynamics, posed, twist, gamma, accel, wrt)
     }
 
-    /// How the engine takes this model's Jacobians (the derivative kernels'). Default:
-    /// forward mode.
-    fn differentiation(&self) -> derivatives::Differentiation {
-        derivatives::Differentiation::Forward
-    }
-
     /// `∂Γ/∂x` (row-major, `6 × xs.len()`) of `gamma`, this model's inverse dynamics at the
     /// state, for each of the kernel inputs `wrt`. Default: `Γ` differentiated directly.
     fn inverse_dynamics_jacobians<'g>(
@@ -211,7 +205,7 @@ pub trait Mechanics: Sync {
     ) -> Vec<Vec<crate::Expr<'g>>> {
         let g = gamma[0].graph();
         wrt.iter()
-            .map(|xs| derivatives::jacobian_rows(g, &gamma.to_vec(), xs, self.differentiation()))
+            .map(|xs| g.jacobian(&gamma.to_vec(), xs))
             .collect()
     }
 
@@ -220,12 +214,13 @@ pub trait Mechanics: Sync {
     /// affine in it, with `J⁻¹` its linear part); the actuators' motion is kept beside.
     fn motion_from_actuators<'g>(&self, posed: &Posed<'g>, joint: &JointMotion<'g>) -> Motion<'g> {
         let jac = self.jacobian(posed);
-        let twist = jac * joint.qd;
+        let twist = (jac * joint.qd).keep_where_cheaper("V from the actuators' rates");
         let zero = Vec6::zeros(twist[0].graph());
         let bias = self.joint_accelerations(posed, &Motion::new(twist, zero));
         Motion {
             twist,
-            accel: jac * (joint.qdd - bias),
+            accel: (jac * (joint.qdd - bias))
+                .keep_where_cheaper("(ω̇; a_C) from the actuators' accelerations"),
             joint: Some(*joint),
         }
     }

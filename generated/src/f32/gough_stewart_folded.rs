@@ -8,11 +8,11 @@
 //   joint_velocities                   145   12   129    5  3 sin_cos, 12 sqrt
 //   joint_accelerations                295    6   237    5  3 sin_cos, 12 sqrt
 //   leg_wrench                         874   12   567   19  3 sin_cos, 12 sqrt
-//   platform_wrench                    106    0    51    0  3 sin_cos
-//   task_inertia                       768   12   573   11  3 sin_cos, 12 sqrt
-//   task_bias                          893   12   543   19  3 sin_cos, 12 sqrt
-//   forward_dynamics                  1930   29  1386   36  3 sin_cos, 12 sqrt
-//   inverse_dynamics                  1206   24   793   39  3 sin_cos, 12 sqrt
+//   platform_wrench                    100    0    47    0  3 sin_cos
+//   task_inertia                       767   12   573   11  3 sin_cos, 12 sqrt
+//   task_bias                          884   12   537   19  3 sin_cos, 12 sqrt
+//   forward_dynamics                  1923   29  1380   35  3 sin_cos, 12 sqrt
+//   inverse_dynamics                  1200   24   789   39  3 sin_cos, 12 sqrt
 //   singularity_terms                  342   17   227   15  3 sin_cos, 12 sqrt
 //   forward_kinematics_step            607   12   363    7  3 sin_cos, 12 sqrt
 //
@@ -5027,7 +5027,7 @@ pub fn leg_wrench(
 ///
 /// - `f`: `F_{N+1} = (n; f)` (N·m, N), base frame
 ///
-/// Operations: 106 mul, 0 div, 51 add, 0 neg, 3 sin_cos (chapter convention: 106m + 51a).
+/// Operations: 100 mul, 0 div, 47 add, 0 neg, 3 sin_cos (chapter convention: 100m + 47a).
 #[inline]
 pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [f32; 6] {
     let [alpha, beta, gamma, _, _, _] = *pose;
@@ -5036,164 +5036,154 @@ pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [
     let (t0, t1): (f32, f32) = sin_cos(beta);
     let t2: f32 = wdx * t0;
     let (t3, t4): (f32, f32) = sin_cos(alpha);
-    let (t5, t6): (f32, f32) = sin_cos(gamma);
-    let t7: f32 = t3 * t5;
-    let t8: f32 = t0 * t4;
-    let t9: f32 = t6 * t8;
-    let t10: f32 = t7 - t9;
-    let t11: f32 = wz * t10;
-    let t12: f32 = wx * t1;
-    let t13: f32 = t6 * t12;
-    let t14: f32 = t4 * t5;
-    let t15: f32 = t0 * t3;
-    let t16: f32 = t6 * t15;
-    let t17: f32 = t14 + t16;
-    let t18: f32 = wy * t17;
-    let t19: f32 = t13 + t18;
-    let t20: f32 = t11 + t19;
-    let t21: f32 = wx * t5;
-    let t22: f32 = t1 * t21;
-    let t23: f32 = t4 * t6;
-    let t24: f32 = t5 * t15;
-    let t25: f32 = t23 - t24;
-    let t26: f32 = wy * t25;
-    let t27: f32 = t22 - t26;
-    let t28: f32 = t3 * t6;
-    let t29: f32 = t0 * t5;
-    let t30: f32 = t4 * t29;
-    let t31: f32 = t28 + t30;
-    let t32: f32 = wz * t31;
-    let t33: f32 = t27 - t32;
-    let t34: f32 = t33 * 0.4108;
-    let t35: f32 = t20 * t34;
-    let t36: f32 = t20 * 0.4108;
-    let t37: f32 = t33 * t36;
-    let t38: f32 = wdy * t3;
-    let t39: f32 = wdz * t4;
-    let t40: f32 = t38 - t39;
-    let t41: f32 = t40 * 0.7;
-    let t42: f32 = t1 * t41;
-    let t43: f32 = t2 * 0.7;
-    let t44: f32 = t37 + t43;
-    let t45: f32 = t35 + t42;
-    let t46: f32 = t44 - t45;
-    let t47: f32 = t0 * t46;
-    let t48: f32 = wdx * t1;
-    let t49: f32 = t6 * t48;
-    let t50: f32 = wdy * t17;
-    let t51: f32 = wdz * t10;
-    let t52: f32 = wz * t4;
-    let t53: f32 = t1 * t52;
-    let t54: f32 = wx * t0;
-    let t55: f32 = wy * t3;
-    let t56: f32 = t1 * t55;
-    let t57: f32 = t54 - t56;
-    let t58: f32 = t53 + t57;
-    let t59: f32 = t58 * 0.7;
-    let t60: f32 = t33 * t59;
-    let t61: f32 = t34 * t58;
-    let t62: f32 = t49 + t50;
-    let t63: f32 = t51 + t62;
-    let t64: f32 = t63 * 0.4108;
-    let t65: f32 = t61 + t64;
-    let t66: f32 = t65 - t60;
-    let t67: f32 = t6 * t66;
-    let t68: f32 = wdx * t5;
-    let t69: f32 = t1 * t68;
-    let t70: f32 = wdy * t25;
-    let t71: f32 = wdz * t31;
-    let t72: f32 = t36 * t58;
-    let t73: f32 = t20 * t59;
-    let t74: f32 = t70 + t71;
-    let t75: f32 = t69 - t74;
-    let t76: f32 = t75 * 0.4108;
-    let t77: f32 = t73 + t76;
-    let t78: f32 = t77 - t72;
-    let t79: f32 = t5 * t78;
-    let t80: f32 = az + 9.81;
-    let t81: f32 = t3 * t80;
-    let t82: f32 = ay * t4;
-    let t83: f32 = t81 + t82;
+    let t5: f32 = wdy * t3;
+    let t6: f32 = wdz * t4;
+    let t7: f32 = t5 - t6;
+    let t8: f32 = t7 * 0.7;
+    let t9: f32 = t1 * t8;
+    let t10: f32 = t2 * 0.7;
+    let t11: f32 = t10 - t9;
+    let t12: f32 = t0 * t11;
+    let (t13, t14): (f32, f32) = sin_cos(gamma);
+    let t15: f32 = wdx * t1;
+    let t16: f32 = t14 * t15;
+    let t17: f32 = t4 * t13;
+    let t18: f32 = t0 * t3;
+    let t19: f32 = t14 * t18;
+    let t20: f32 = t17 + t19;
+    let t21: f32 = wdy * t20;
+    let t22: f32 = t3 * t13;
+    let t23: f32 = t0 * t4;
+    let t24: f32 = t14 * t23;
+    let t25: f32 = t22 - t24;
+    let t26: f32 = wdz * t25;
+    let t27: f32 = wx * t13;
+    let t28: f32 = t1 * t27;
+    let t29: f32 = t4 * t14;
+    let t30: f32 = t13 * t18;
+    let t31: f32 = t29 - t30;
+    let t32: f32 = wy * t31;
+    let t33: f32 = t3 * t14;
+    let t34: f32 = t0 * t13;
+    let t35: f32 = t4 * t34;
+    let t36: f32 = t33 + t35;
+    let t37: f32 = wz * t36;
+    let t38: f32 = t32 + t37;
+    let t39: f32 = t28 - t38;
+    let t40: f32 = wx * t0;
+    let t41: f32 = wy * t3;
+    let t42: f32 = wz * t4;
+    let t43: f32 = t41 - t42;
+    let t44: f32 = t1 * t43;
+    let t45: f32 = t40 - t44;
+    let t46: f32 = t39 * t45;
+    let t47: f32 = t16 + t21;
+    let t48: f32 = t26 + t47;
+    let t49: f32 = t48 * 0.4108;
+    let t50: f32 = t46 * 0.2892;
+    let t51: f32 = t49 - t50;
+    let t52: f32 = t14 * t51;
+    let t53: f32 = wdx * t13;
+    let t54: f32 = t1 * t53;
+    let t55: f32 = wdy * t31;
+    let t56: f32 = wdz * t36;
+    let t57: f32 = wx * t1;
+    let t58: f32 = t14 * t57;
+    let t59: f32 = wy * t20;
+    let t60: f32 = wz * t25;
+    let t61: f32 = t58 + t59;
+    let t62: f32 = t60 + t61;
+    let t63: f32 = t45 * t62;
+    let t64: f32 = t55 + t56;
+    let t65: f32 = t54 - t64;
+    let t66: f32 = t65 * 0.4108;
+    let t67: f32 = t63 * 0.2892;
+    let t68: f32 = t66 + t67;
+    let t69: f32 = t13 * t68;
+    let t70: f32 = az + 9.81;
+    let t71: f32 = t3 * t70;
+    let t72: f32 = ay * t4;
+    let t73: f32 = t71 + t72;
+    let t74: f32 = t73 * 0.36;
+    let t75: f32 = t52 + t69;
+    let t76: f32 = t75 - t74;
+    let t77: f32 = t1 * t76;
+    let t78: f32 = t12 + t77;
+    let t79: f32 = t0 * t70;
+    let t80: f32 = t20 * t51;
+    let t81: f32 = t31 * t68;
+    let t82: f32 = t3 * t11;
+    let t83: f32 = ax * t4;
     let t84: f32 = t83 * 0.36;
-    let t85: f32 = t67 + t79;
-    let t86: f32 = t85 - t84;
-    let t87: f32 = t1 * t86;
-    let t88: f32 = t47 + t87;
-    let t89: f32 = t17 * t66;
-    let t90: f32 = t25 * t78;
-    let t91: f32 = t0 * t80;
-    let t92: f32 = t3 * t46;
-    let t93: f32 = ax * t4;
-    let t94: f32 = t93 * 0.36;
-    let t95: f32 = t92 - t94;
-    let t96: f32 = t1 * t95;
-    let t97: f32 = t91 * 0.36;
-    let t98: f32 = t90 + t96;
-    let t99: f32 = t97 + t98;
-    let t100: f32 = t89 - t99;
-    let t101: f32 = t10 * t66;
-    let t102: f32 = t31 * t78;
-    let t103: f32 = ay * t0;
-    let t104: f32 = t4 * t46;
-    let t105: f32 = ax * t3;
-    let t106: f32 = t105 * 0.36;
-    let t107: f32 = t104 + t106;
-    let t108: f32 = t1 * t107;
-    let t109: f32 = t103 * 0.36;
-    let t110: f32 = t101 + t108;
-    let t111: f32 = t109 + t110;
-    let t112: f32 = t111 - t102;
-    let t113: f32 = wx * t3;
-    let t114: f32 = t1 * t113;
-    let t115: f32 = wy * t0;
-    let t116: f32 = t114 + t115;
-    let t117: f32 = t116 * 0.36;
-    let t118: f32 = wy * t117;
-    let t119: f32 = wz * t0;
-    let t120: f32 = wx * t4;
-    let t121: f32 = t1 * t120;
-    let t122: f32 = t119 - t121;
-    let t123: f32 = t122 * 0.36;
-    let t124: f32 = wz * t123;
-    let t125: f32 = wdy * t4;
-    let t126: f32 = wdz * t3;
-    let t127: f32 = t125 + t126;
-    let t128: f32 = t127 * 0.36;
-    let t129: f32 = t1 * t128;
-    let t130: f32 = ax * 12.0;
-    let t131: f32 = t129 + t130;
-    let t132: f32 = t118 + t124;
-    let t133: f32 = t131 - t132;
-    let t134: f32 = wdz * t0;
-    let t135: f32 = wx * t117;
-    let t136: f32 = wdx * t4;
-    let t137: f32 = wy * t4;
-    let t138: f32 = wz * t3;
-    let t139: f32 = t137 + t138;
-    let t140: f32 = t139 * 0.36;
-    let t141: f32 = wz * t140;
-    let t142: f32 = t136 * 0.36;
-    let t143: f32 = t142 - t141;
-    let t144: f32 = t1 * t143;
-    let t145: f32 = ay * 12.0;
-    let t146: f32 = t134 * 0.36;
-    let t147: f32 = t145 + t146;
-    let t148: f32 = t135 + t147;
-    let t149: f32 = t148 - t144;
-    let t150: f32 = wdy * t0;
-    let t151: f32 = wx * t123;
-    let t152: f32 = wdx * t3;
-    let t153: f32 = wy * t140;
-    let t154: f32 = t152 * 0.36;
-    let t155: f32 = t153 + t154;
-    let t156: f32 = t1 * t155;
-    let t157: f32 = az * 12.0;
-    let t158: f32 = t150 * 0.36;
-    let t159: f32 = t151 + t157;
-    let t160: f32 = t159 + 117.72;
-    let t161: f32 = t156 + t158;
-    let t162: f32 = t160 - t161;
-    [t88, t100, t112, t133, t149, t162]
+    let t85: f32 = t82 - t84;
+    let t86: f32 = t1 * t85;
+    let t87: f32 = t79 * 0.36;
+    let t88: f32 = t81 + t87;
+    let t89: f32 = t86 + t88;
+    let t90: f32 = t80 - t89;
+    let t91: f32 = ay * t0;
+    let t92: f32 = t25 * t51;
+    let t93: f32 = t36 * t68;
+    let t94: f32 = t4 * t11;
+    let t95: f32 = ax * t3;
+    let t96: f32 = t95 * 0.36;
+    let t97: f32 = t94 + t96;
+    let t98: f32 = t1 * t97;
+    let t99: f32 = t91 * 0.36;
+    let t100: f32 = t92 + t99;
+    let t101: f32 = t98 + t100;
+    let t102: f32 = t101 - t93;
+    let t103: f32 = wx * t3;
+    let t104: f32 = t1 * t103;
+    let t105: f32 = wy * t0;
+    let t106: f32 = t104 + t105;
+    let t107: f32 = t106 * 0.36;
+    let t108: f32 = wy * t107;
+    let t109: f32 = wz * t0;
+    let t110: f32 = wx * t4;
+    let t111: f32 = t1 * t110;
+    let t112: f32 = t109 - t111;
+    let t113: f32 = t112 * 0.36;
+    let t114: f32 = wz * t113;
+    let t115: f32 = wdy * t4;
+    let t116: f32 = wdz * t3;
+    let t117: f32 = t115 + t116;
+    let t118: f32 = t117 * 0.36;
+    let t119: f32 = t1 * t118;
+    let t120: f32 = ax * 12.0;
+    let t121: f32 = t119 + t120;
+    let t122: f32 = t108 + t114;
+    let t123: f32 = t121 - t122;
+    let t124: f32 = wdz * t0;
+    let t125: f32 = wx * t107;
+    let t126: f32 = wdx * t4;
+    let t127: f32 = wy * t4;
+    let t128: f32 = wz * t3;
+    let t129: f32 = t127 + t128;
+    let t130: f32 = t129 * 0.36;
+    let t131: f32 = wz * t130;
+    let t132: f32 = t126 * 0.36;
+    let t133: f32 = t132 - t131;
+    let t134: f32 = t1 * t133;
+    let t135: f32 = ay * 12.0;
+    let t136: f32 = t124 * 0.36;
+    let t137: f32 = t135 + t136;
+    let t138: f32 = t125 + t137;
+    let t139: f32 = t138 - t134;
+    let t140: f32 = wdy * t0;
+    let t141: f32 = wx * t113;
+    let t142: f32 = wdx * t3;
+    let t143: f32 = wy * t130;
+    let t144: f32 = t142 * 0.36;
+    let t145: f32 = t143 + t144;
+    let t146: f32 = t1 * t145;
+    let t147: f32 = az * 12.0;
+    let t148: f32 = t140 * 0.36;
+    let t149: f32 = t141 + t147;
+    let t150: f32 = t149 + 117.72;
+    let t151: f32 = t146 + t148;
+    let t152: f32 = t150 - t151;
+    [t78, t90, t102, t123, t139, t152]
 }
 /// Task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: symmetric positive definite.
 ///
@@ -5214,7 +5204,7 @@ pub fn platform_wrench(pose: &[f32; 6], twist: &[f32; 6], accel: &[f32; 6]) -> [
 /// - `m`: `M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 768 mul, 12 div, 573 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 780m + 573a).
+/// Operations: 767 mul, 12 div, 573 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 779m + 573a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
@@ -5225,6 +5215,8 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
         t4,
         t10,
         t14,
+        t21,
+        t24,
         t27,
         t34,
         t44,
@@ -5327,12 +5319,12 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
         t962,
         t963,
         t964,
-        t965,
         t966,
-        t968,
-        t994,
-        t997,
-        t998,
+        t992,
+        t995,
+        t996,
+        t999,
+        t1000,
         t1001,
         t1002,
     ) = {
@@ -6296,52 +6288,54 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
         let t960: f32 = t353 + t674;
         let t961: f32 = t959 - t960;
         let t962: f32 = -t961;
-        let t963: f32 = t21 * 0.4108;
-        let t964: f32 = t21 * t963;
-        let t965: f32 = t24 * 0.4108;
-        let t966: f32 = t24 * t965;
-        let t967: f32 = t3 * t3;
-        let t968: f32 = t676 * t967;
-        let t969: f32 = t44 * t699;
-        let t970: f32 = t969 * 0.3;
-        let t971: f32 = t699 - t970;
-        let t972: f32 = t699 * t971;
-        let t973: f32 = t44 * t83;
-        let t974: f32 = t973 * 0.3;
-        let t975: f32 = t83 - t974;
-        let t976: f32 = t83 * t975;
-        let t977: f32 = t80 * t80;
-        let t978: f32 = t699 * 0.3;
-        let t979: f32 = t969 * 0.295;
-        let t980: f32 = t978 - t979;
-        let t981: f32 = t699 * t980;
-        let t982: f32 = t44 * t67;
-        let t983: f32 = t83 * t982;
-        let t984: f32 = t83 * 0.3;
-        let t985: f32 = t973 * 0.295;
-        let t986: f32 = t983 * 0.003;
-        let t987: f32 = t985 + t986;
-        let t988: f32 = t984 - t987;
-        let t989: f32 = t83 * t988;
-        let t990: f32 = t981 + t989;
-        let t991: f32 = t44 * t990;
-        let t992: f32 = t972 + t976;
-        let t993: f32 = t977 + t992;
-        let t994: f32 = t993 - t991;
-        let t995: f32 = t17 * t994;
-        let t996: f32 = t34 * t723;
-        let t997: f32 = t995 - t996;
-        let t998: f32 = t17 * t997;
-        let t999: f32 = t17 * t723;
-        let t1000: f32 = t34 * t133;
-        let t1001: f32 = t999 - t1000;
-        let t1002: f32 = t34 * t1001;
+        let t963: f32 = t21 * t21;
+        let t964: f32 = t24 * t24;
+        let t965: f32 = t3 * t3;
+        let t966: f32 = t676 * t965;
+        let t967: f32 = t44 * t699;
+        let t968: f32 = t967 * 0.3;
+        let t969: f32 = t699 - t968;
+        let t970: f32 = t699 * t969;
+        let t971: f32 = t44 * t83;
+        let t972: f32 = t971 * 0.3;
+        let t973: f32 = t83 - t972;
+        let t974: f32 = t83 * t973;
+        let t975: f32 = t80 * t80;
+        let t976: f32 = t699 * 0.3;
+        let t977: f32 = t967 * 0.295;
+        let t978: f32 = t976 - t977;
+        let t979: f32 = t699 * t978;
+        let t980: f32 = t44 * t67;
+        let t981: f32 = t83 * t980;
+        let t982: f32 = t83 * 0.3;
+        let t983: f32 = t971 * 0.295;
+        let t984: f32 = t981 * 0.003;
+        let t985: f32 = t983 + t984;
+        let t986: f32 = t982 - t985;
+        let t987: f32 = t83 * t986;
+        let t988: f32 = t979 + t987;
+        let t989: f32 = t44 * t988;
+        let t990: f32 = t970 + t974;
+        let t991: f32 = t975 + t990;
+        let t992: f32 = t991 - t989;
+        let t993: f32 = t17 * t992;
+        let t994: f32 = t34 * t723;
+        let t995: f32 = t993 - t994;
+        let t996: f32 = t17 * t995;
+        let t997: f32 = t17 * t723;
+        let t998: f32 = t34 * t133;
+        let t999: f32 = t997 - t998;
+        let t1000: f32 = t34 * t999;
+        let t1001: f32 = t151 * t731;
+        let t1002: f32 = t1001 * 0.3;
         (
             t0,
             t3,
             t4,
             t10,
             t14,
+            t21,
+            t24,
             t27,
             t34,
             t44,
@@ -6444,452 +6438,451 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
             t962,
             t963,
             t964,
-            t965,
             t966,
-            t968,
-            t994,
-            t997,
-            t998,
+            t992,
+            t995,
+            t996,
+            t999,
+            t1000,
             t1001,
             t1002,
         )
     };
     let (
-        t1187,
+        t1186,
         t1230,
         t1236,
         t1241,
         t1249,
-        t1318,
-        t1324,
-        t1330,
-        t1342,
-        t1348,
-        t1353,
-        t1358,
-        t1364,
-        t1369,
+        t1317,
+        t1323,
+        t1329,
+        t1341,
+        t1347,
+        t1352,
+        t1357,
+        t1363,
+        t1368,
+        t1374,
         t1375,
         t1376,
         t1377,
         t1378,
         t1379,
         t1380,
-        t1381,
     ) = {
-        let t1003: f32 = t151 * t731;
-        let t1004: f32 = t1003 * 0.3;
-        let t1005: f32 = t731 - t1004;
-        let t1006: f32 = t731 * t1005;
-        let t1007: f32 = t151 * t189;
-        let t1008: f32 = t1007 * 0.3;
-        let t1009: f32 = t189 - t1008;
-        let t1010: f32 = t189 * t1009;
-        let t1011: f32 = t186 * t186;
-        let t1012: f32 = t731 * 0.3;
-        let t1013: f32 = t1003 * 0.295;
-        let t1014: f32 = t1012 - t1013;
-        let t1015: f32 = t731 * t1014;
-        let t1016: f32 = t151 * t173;
-        let t1017: f32 = t189 * t1016;
-        let t1018: f32 = t189 * 0.3;
-        let t1019: f32 = t1007 * 0.295;
-        let t1020: f32 = t1017 * 0.003;
-        let t1021: f32 = t1019 + t1020;
-        let t1022: f32 = t1018 - t1021;
-        let t1023: f32 = t189 * t1022;
-        let t1024: f32 = t1015 + t1023;
-        let t1025: f32 = t151 * t1024;
-        let t1026: f32 = t1006 + t1010;
-        let t1027: f32 = t1011 + t1026;
-        let t1028: f32 = t1027 - t1025;
-        let t1029: f32 = t137 * t1028;
-        let t1030: f32 = t141 * t755;
-        let t1031: f32 = t1029 - t1030;
-        let t1032: f32 = t137 * t1031;
-        let t1033: f32 = t137 * t755;
-        let t1034: f32 = t141 * t239;
-        let t1035: f32 = t1033 - t1034;
-        let t1036: f32 = t141 * t1035;
-        let t1037: f32 = t263 * t763;
-        let t1038: f32 = t1037 * 0.3;
-        let t1039: f32 = t763 - t1038;
-        let t1040: f32 = t763 * t1039;
-        let t1041: f32 = t263 * t301;
-        let t1042: f32 = t1041 * 0.3;
-        let t1043: f32 = t301 - t1042;
-        let t1044: f32 = t301 * t1043;
-        let t1045: f32 = t298 * t298;
-        let t1046: f32 = t763 * 0.3;
-        let t1047: f32 = t1037 * 0.295;
-        let t1048: f32 = t1046 - t1047;
-        let t1049: f32 = t763 * t1048;
-        let t1050: f32 = t263 * t285;
-        let t1051: f32 = t301 * t1050;
-        let t1052: f32 = t301 * 0.3;
-        let t1053: f32 = t1041 * 0.295;
-        let t1054: f32 = t1051 * 0.003;
-        let t1055: f32 = t1053 + t1054;
-        let t1056: f32 = t1052 - t1055;
-        let t1057: f32 = t301 * t1056;
-        let t1058: f32 = t1049 + t1057;
-        let t1059: f32 = t263 * t1058;
-        let t1060: f32 = t1040 + t1044;
-        let t1061: f32 = t1045 + t1060;
-        let t1062: f32 = t1061 - t1059;
-        let t1063: f32 = t245 * t1062;
-        let t1064: f32 = t253 * t787;
-        let t1065: f32 = t1063 - t1064;
-        let t1066: f32 = t245 * t1065;
-        let t1067: f32 = t245 * t787;
-        let t1068: f32 = t253 * t351;
-        let t1069: f32 = t1067 - t1068;
-        let t1070: f32 = t253 * t1069;
-        let t1071: f32 = t375 * t795;
-        let t1072: f32 = t1071 * 0.3;
-        let t1073: f32 = t795 - t1072;
-        let t1074: f32 = t795 * t1073;
-        let t1075: f32 = t375 * t413;
-        let t1076: f32 = t1075 * 0.3;
-        let t1077: f32 = t413 - t1076;
-        let t1078: f32 = t413 * t1077;
-        let t1079: f32 = t410 * t410;
-        let t1080: f32 = t795 * 0.3;
-        let t1081: f32 = t1071 * 0.295;
-        let t1082: f32 = t1080 - t1081;
-        let t1083: f32 = t795 * t1082;
-        let t1084: f32 = t375 * t397;
-        let t1085: f32 = t413 * t1084;
-        let t1086: f32 = t413 * 0.3;
-        let t1087: f32 = t1075 * 0.295;
-        let t1088: f32 = t1085 * 0.003;
-        let t1089: f32 = t1087 + t1088;
-        let t1090: f32 = t1086 - t1089;
-        let t1091: f32 = t413 * t1090;
-        let t1092: f32 = t1083 + t1091;
-        let t1093: f32 = t375 * t1092;
-        let t1094: f32 = t1074 + t1078;
-        let t1095: f32 = t1079 + t1094;
-        let t1096: f32 = t1095 - t1093;
-        let t1097: f32 = t357 * t1096;
-        let t1098: f32 = t365 * t819;
-        let t1099: f32 = t1097 - t1098;
-        let t1100: f32 = t357 * t1099;
-        let t1101: f32 = t357 * t819;
-        let t1102: f32 = t365 * t463;
-        let t1103: f32 = t1101 - t1102;
-        let t1104: f32 = t365 * t1103;
-        let t1105: f32 = t481 * t827;
-        let t1106: f32 = t1105 * 0.3;
-        let t1107: f32 = t827 - t1106;
-        let t1108: f32 = t827 * t1107;
-        let t1109: f32 = t481 * t518;
-        let t1110: f32 = t1109 * 0.3;
-        let t1111: f32 = t518 - t1110;
-        let t1112: f32 = t518 * t1111;
-        let t1113: f32 = t515 * t515;
-        let t1114: f32 = t827 * 0.3;
-        let t1115: f32 = t1105 * 0.295;
-        let t1116: f32 = t1114 - t1115;
-        let t1117: f32 = t827 * t1116;
-        let t1118: f32 = t481 * t502;
-        let t1119: f32 = t518 * t1118;
-        let t1120: f32 = t518 * 0.3;
-        let t1121: f32 = t1109 * 0.295;
-        let t1122: f32 = t1119 * 0.003;
-        let t1123: f32 = t1121 + t1122;
-        let t1124: f32 = t1120 - t1123;
-        let t1125: f32 = t518 * t1124;
-        let t1126: f32 = t1117 + t1125;
-        let t1127: f32 = t481 * t1126;
-        let t1128: f32 = t1108 + t1112;
-        let t1129: f32 = t1113 + t1128;
-        let t1130: f32 = t1129 - t1127;
-        let t1131: f32 = t467 * t1130;
-        let t1132: f32 = t471 * t851;
-        let t1133: f32 = t1131 - t1132;
-        let t1134: f32 = t467 * t1133;
-        let t1135: f32 = t467 * t851;
-        let t1136: f32 = t471 * t568;
-        let t1137: f32 = t1135 - t1136;
-        let t1138: f32 = t471 * t1137;
-        let t1139: f32 = t585 * t859;
-        let t1140: f32 = t1139 * 0.3;
-        let t1141: f32 = t859 - t1140;
-        let t1142: f32 = t859 * t1141;
-        let t1143: f32 = t585 * t622;
-        let t1144: f32 = t1143 * 0.3;
-        let t1145: f32 = t622 - t1144;
-        let t1146: f32 = t622 * t1145;
-        let t1147: f32 = t619 * t619;
-        let t1148: f32 = t859 * 0.3;
-        let t1149: f32 = t1139 * 0.295;
-        let t1150: f32 = t1148 - t1149;
-        let t1151: f32 = t859 * t1150;
-        let t1152: f32 = t585 * t606;
-        let t1153: f32 = t622 * t1152;
-        let t1154: f32 = t622 * 0.3;
-        let t1155: f32 = t1143 * 0.295;
-        let t1156: f32 = t1153 * 0.003;
-        let t1157: f32 = t1155 + t1156;
-        let t1158: f32 = t1154 - t1157;
-        let t1159: f32 = t622 * t1158;
-        let t1160: f32 = t1151 + t1159;
-        let t1161: f32 = t585 * t1160;
-        let t1162: f32 = t1142 + t1146;
-        let t1163: f32 = t1147 + t1162;
-        let t1164: f32 = t1163 - t1161;
-        let t1165: f32 = t572 * t1164;
-        let t1166: f32 = t576 * t883;
-        let t1167: f32 = t1165 - t1166;
-        let t1168: f32 = t572 * t1167;
-        let t1169: f32 = t572 * t883;
-        let t1170: f32 = t576 * t672;
-        let t1171: f32 = t1169 - t1170;
-        let t1172: f32 = t576 * t1171;
-        let t1173: f32 = t968 * 0.7;
-        let t1174: f32 = t964 + t966;
-        let t1175: f32 = t998 + t1032;
-        let t1176: f32 = t1066 + t1100;
-        let t1177: f32 = t1134 + t1168;
+        let t1003: f32 = t731 - t1002;
+        let t1004: f32 = t731 * t1003;
+        let t1005: f32 = t151 * t189;
+        let t1006: f32 = t1005 * 0.3;
+        let t1007: f32 = t189 - t1006;
+        let t1008: f32 = t189 * t1007;
+        let t1009: f32 = t186 * t186;
+        let t1010: f32 = t731 * 0.3;
+        let t1011: f32 = t1001 * 0.295;
+        let t1012: f32 = t1010 - t1011;
+        let t1013: f32 = t731 * t1012;
+        let t1014: f32 = t151 * t173;
+        let t1015: f32 = t189 * t1014;
+        let t1016: f32 = t189 * 0.3;
+        let t1017: f32 = t1005 * 0.295;
+        let t1018: f32 = t1015 * 0.003;
+        let t1019: f32 = t1017 + t1018;
+        let t1020: f32 = t1016 - t1019;
+        let t1021: f32 = t189 * t1020;
+        let t1022: f32 = t1013 + t1021;
+        let t1023: f32 = t151 * t1022;
+        let t1024: f32 = t1004 + t1008;
+        let t1025: f32 = t1009 + t1024;
+        let t1026: f32 = t1025 - t1023;
+        let t1027: f32 = t137 * t1026;
+        let t1028: f32 = t141 * t755;
+        let t1029: f32 = t1027 - t1028;
+        let t1030: f32 = t137 * t1029;
+        let t1031: f32 = t137 * t755;
+        let t1032: f32 = t141 * t239;
+        let t1033: f32 = t1031 - t1032;
+        let t1034: f32 = t141 * t1033;
+        let t1035: f32 = t263 * t763;
+        let t1036: f32 = t1035 * 0.3;
+        let t1037: f32 = t763 - t1036;
+        let t1038: f32 = t763 * t1037;
+        let t1039: f32 = t263 * t301;
+        let t1040: f32 = t1039 * 0.3;
+        let t1041: f32 = t301 - t1040;
+        let t1042: f32 = t301 * t1041;
+        let t1043: f32 = t298 * t298;
+        let t1044: f32 = t763 * 0.3;
+        let t1045: f32 = t1035 * 0.295;
+        let t1046: f32 = t1044 - t1045;
+        let t1047: f32 = t763 * t1046;
+        let t1048: f32 = t263 * t285;
+        let t1049: f32 = t301 * t1048;
+        let t1050: f32 = t301 * 0.3;
+        let t1051: f32 = t1039 * 0.295;
+        let t1052: f32 = t1049 * 0.003;
+        let t1053: f32 = t1051 + t1052;
+        let t1054: f32 = t1050 - t1053;
+        let t1055: f32 = t301 * t1054;
+        let t1056: f32 = t1047 + t1055;
+        let t1057: f32 = t263 * t1056;
+        let t1058: f32 = t1038 + t1042;
+        let t1059: f32 = t1043 + t1058;
+        let t1060: f32 = t1059 - t1057;
+        let t1061: f32 = t245 * t1060;
+        let t1062: f32 = t253 * t787;
+        let t1063: f32 = t1061 - t1062;
+        let t1064: f32 = t245 * t1063;
+        let t1065: f32 = t245 * t787;
+        let t1066: f32 = t253 * t351;
+        let t1067: f32 = t1065 - t1066;
+        let t1068: f32 = t253 * t1067;
+        let t1069: f32 = t375 * t795;
+        let t1070: f32 = t1069 * 0.3;
+        let t1071: f32 = t795 - t1070;
+        let t1072: f32 = t795 * t1071;
+        let t1073: f32 = t375 * t413;
+        let t1074: f32 = t1073 * 0.3;
+        let t1075: f32 = t413 - t1074;
+        let t1076: f32 = t413 * t1075;
+        let t1077: f32 = t410 * t410;
+        let t1078: f32 = t795 * 0.3;
+        let t1079: f32 = t1069 * 0.295;
+        let t1080: f32 = t1078 - t1079;
+        let t1081: f32 = t795 * t1080;
+        let t1082: f32 = t375 * t397;
+        let t1083: f32 = t413 * t1082;
+        let t1084: f32 = t413 * 0.3;
+        let t1085: f32 = t1073 * 0.295;
+        let t1086: f32 = t1083 * 0.003;
+        let t1087: f32 = t1085 + t1086;
+        let t1088: f32 = t1084 - t1087;
+        let t1089: f32 = t413 * t1088;
+        let t1090: f32 = t1081 + t1089;
+        let t1091: f32 = t375 * t1090;
+        let t1092: f32 = t1072 + t1076;
+        let t1093: f32 = t1077 + t1092;
+        let t1094: f32 = t1093 - t1091;
+        let t1095: f32 = t357 * t1094;
+        let t1096: f32 = t365 * t819;
+        let t1097: f32 = t1095 - t1096;
+        let t1098: f32 = t357 * t1097;
+        let t1099: f32 = t357 * t819;
+        let t1100: f32 = t365 * t463;
+        let t1101: f32 = t1099 - t1100;
+        let t1102: f32 = t365 * t1101;
+        let t1103: f32 = t481 * t827;
+        let t1104: f32 = t1103 * 0.3;
+        let t1105: f32 = t827 - t1104;
+        let t1106: f32 = t827 * t1105;
+        let t1107: f32 = t481 * t518;
+        let t1108: f32 = t1107 * 0.3;
+        let t1109: f32 = t518 - t1108;
+        let t1110: f32 = t518 * t1109;
+        let t1111: f32 = t515 * t515;
+        let t1112: f32 = t827 * 0.3;
+        let t1113: f32 = t1103 * 0.295;
+        let t1114: f32 = t1112 - t1113;
+        let t1115: f32 = t827 * t1114;
+        let t1116: f32 = t481 * t502;
+        let t1117: f32 = t518 * t1116;
+        let t1118: f32 = t518 * 0.3;
+        let t1119: f32 = t1107 * 0.295;
+        let t1120: f32 = t1117 * 0.003;
+        let t1121: f32 = t1119 + t1120;
+        let t1122: f32 = t1118 - t1121;
+        let t1123: f32 = t518 * t1122;
+        let t1124: f32 = t1115 + t1123;
+        let t1125: f32 = t481 * t1124;
+        let t1126: f32 = t1106 + t1110;
+        let t1127: f32 = t1111 + t1126;
+        let t1128: f32 = t1127 - t1125;
+        let t1129: f32 = t467 * t1128;
+        let t1130: f32 = t471 * t851;
+        let t1131: f32 = t1129 - t1130;
+        let t1132: f32 = t467 * t1131;
+        let t1133: f32 = t467 * t851;
+        let t1134: f32 = t471 * t568;
+        let t1135: f32 = t1133 - t1134;
+        let t1136: f32 = t471 * t1135;
+        let t1137: f32 = t585 * t859;
+        let t1138: f32 = t1137 * 0.3;
+        let t1139: f32 = t859 - t1138;
+        let t1140: f32 = t859 * t1139;
+        let t1141: f32 = t585 * t622;
+        let t1142: f32 = t1141 * 0.3;
+        let t1143: f32 = t622 - t1142;
+        let t1144: f32 = t622 * t1143;
+        let t1145: f32 = t619 * t619;
+        let t1146: f32 = t859 * 0.3;
+        let t1147: f32 = t1137 * 0.295;
+        let t1148: f32 = t1146 - t1147;
+        let t1149: f32 = t859 * t1148;
+        let t1150: f32 = t585 * t606;
+        let t1151: f32 = t622 * t1150;
+        let t1152: f32 = t622 * 0.3;
+        let t1153: f32 = t1141 * 0.295;
+        let t1154: f32 = t1151 * 0.003;
+        let t1155: f32 = t1153 + t1154;
+        let t1156: f32 = t1152 - t1155;
+        let t1157: f32 = t622 * t1156;
+        let t1158: f32 = t1149 + t1157;
+        let t1159: f32 = t585 * t1158;
+        let t1160: f32 = t1140 + t1144;
+        let t1161: f32 = t1145 + t1160;
+        let t1162: f32 = t1161 - t1159;
+        let t1163: f32 = t572 * t1162;
+        let t1164: f32 = t576 * t883;
+        let t1165: f32 = t1163 - t1164;
+        let t1166: f32 = t572 * t1165;
+        let t1167: f32 = t572 * t883;
+        let t1168: f32 = t576 * t672;
+        let t1169: f32 = t1167 - t1168;
+        let t1170: f32 = t576 * t1169;
+        let t1171: f32 = t963 + t964;
+        let t1172: f32 = t1171 * 0.4108;
+        let t1173: f32 = t966 * 0.7;
+        let t1174: f32 = t1172 + t1173;
+        let t1175: f32 = t996 + t1030;
+        let t1176: f32 = t1064 + t1098;
+        let t1177: f32 = t1132 + t1166;
         let t1178: f32 = t1174 + t1175;
         let t1179: f32 = t1176 + t1177;
         let t1180: f32 = t1178 + t1179;
-        let t1181: f32 = t1173 + t1180;
-        let t1182: f32 = t1002 + t1036;
-        let t1183: f32 = t1070 + t1104;
-        let t1184: f32 = t1138 + t1172;
-        let t1185: f32 = t1182 + t1183;
-        let t1186: f32 = t1184 + t1185;
-        let t1187: f32 = t1181 - t1186;
-        let t1188: f32 = t10 * t963;
-        let t1189: f32 = t14 * t965;
-        let t1190: f32 = t3 * t4;
-        let t1191: f32 = t676 * t1190;
-        let t1192: f32 = t27 * t997;
-        let t1193: f32 = t34 * t124;
-        let t1194: f32 = t711 - t1193;
-        let t1195: f32 = t34 * t1194;
-        let t1196: f32 = t138 * t1031;
-        let t1197: f32 = t141 * t230;
-        let t1198: f32 = t743 - t1197;
-        let t1199: f32 = t141 * t1198;
-        let t1200: f32 = t248 * t1065;
-        let t1201: f32 = t253 * t342;
-        let t1202: f32 = t775 - t1201;
-        let t1203: f32 = t253 * t1202;
-        let t1204: f32 = t360 * t1099;
-        let t1205: f32 = t365 * t454;
-        let t1206: f32 = t807 - t1205;
-        let t1207: f32 = t365 * t1206;
-        let t1208: f32 = t468 * t1133;
-        let t1209: f32 = t471 * t559;
-        let t1210: f32 = t839 - t1209;
-        let t1211: f32 = t471 * t1210;
-        let t1212: f32 = t573 * t1167;
-        let t1213: f32 = t576 * t663;
-        let t1214: f32 = t871 - t1213;
-        let t1215: f32 = t576 * t1214;
-        let t1216: f32 = t1191 * 0.7;
-        let t1217: f32 = t1188 + t1189;
-        let t1218: f32 = t1195 + t1199;
-        let t1219: f32 = t1203 + t1207;
-        let t1220: f32 = t1211 + t1215;
-        let t1221: f32 = t1217 + t1218;
-        let t1222: f32 = t1219 + t1220;
+        let t1181: f32 = t1000 + t1034;
+        let t1182: f32 = t1068 + t1102;
+        let t1183: f32 = t1136 + t1170;
+        let t1184: f32 = t1181 + t1182;
+        let t1185: f32 = t1183 + t1184;
+        let t1186: f32 = t1180 - t1185;
+        let t1187: f32 = t10 * t21;
+        let t1188: f32 = t14 * t24;
+        let t1189: f32 = t3 * t4;
+        let t1190: f32 = t676 * t1189;
+        let t1191: f32 = t27 * t995;
+        let t1192: f32 = t34 * t124;
+        let t1193: f32 = t711 - t1192;
+        let t1194: f32 = t34 * t1193;
+        let t1195: f32 = t138 * t1029;
+        let t1196: f32 = t141 * t230;
+        let t1197: f32 = t743 - t1196;
+        let t1198: f32 = t141 * t1197;
+        let t1199: f32 = t248 * t1063;
+        let t1200: f32 = t253 * t342;
+        let t1201: f32 = t775 - t1200;
+        let t1202: f32 = t253 * t1201;
+        let t1203: f32 = t360 * t1097;
+        let t1204: f32 = t365 * t454;
+        let t1205: f32 = t807 - t1204;
+        let t1206: f32 = t365 * t1205;
+        let t1207: f32 = t468 * t1131;
+        let t1208: f32 = t471 * t559;
+        let t1209: f32 = t839 - t1208;
+        let t1210: f32 = t471 * t1209;
+        let t1211: f32 = t573 * t1165;
+        let t1212: f32 = t576 * t663;
+        let t1213: f32 = t871 - t1212;
+        let t1214: f32 = t576 * t1213;
+        let t1215: f32 = t1187 + t1188;
+        let t1216: f32 = t1215 * 0.4108;
+        let t1217: f32 = t1190 * 0.7;
+        let t1218: f32 = t1194 + t1216;
+        let t1219: f32 = t1198 + t1202;
+        let t1220: f32 = t1206 + t1210;
+        let t1221: f32 = t1218 + t1219;
+        let t1222: f32 = t1214 + t1220;
         let t1223: f32 = t1221 + t1222;
-        let t1224: f32 = t1192 + t1196;
-        let t1225: f32 = t1200 + t1204;
-        let t1226: f32 = t1208 + t1212;
+        let t1224: f32 = t1191 + t1217;
+        let t1225: f32 = t1195 + t1199;
+        let t1226: f32 = t1203 + t1207;
         let t1227: f32 = t1224 + t1225;
-        let t1228: f32 = t1216 + t1226;
+        let t1228: f32 = t1211 + t1226;
         let t1229: f32 = t1227 + t1228;
         let t1230: f32 = t1223 - t1229;
-        let t1231: f32 = t946 + t997;
-        let t1232: f32 = t1031 + t1099;
+        let t1231: f32 = t946 + t995;
+        let t1232: f32 = t1029 + t1097;
         let t1233: f32 = t1231 + t1232;
-        let t1234: f32 = t1133 + t1233;
-        let t1235: f32 = t1065 + t1167;
+        let t1234: f32 = t1131 + t1233;
+        let t1235: f32 = t1063 + t1165;
         let t1236: f32 = t1234 - t1235;
-        let t1237: f32 = t1194 + t1198;
-        let t1238: f32 = t1206 + t1210;
+        let t1237: f32 = t1193 + t1197;
+        let t1238: f32 = t1205 + t1209;
         let t1239: f32 = t1237 + t1238;
-        let t1240: f32 = t1202 + t1214;
+        let t1240: f32 = t1201 + t1213;
         let t1241: f32 = t1239 - t1240;
         let t1242: f32 = t0 * 0.36;
-        let t1243: f32 = t1069 + t1242;
-        let t1244: f32 = t1171 + t1243;
-        let t1245: f32 = t1001 + t1035;
-        let t1246: f32 = t1103 + t1137;
+        let t1243: f32 = t1067 + t1242;
+        let t1244: f32 = t1169 + t1243;
+        let t1245: f32 = t999 + t1033;
+        let t1246: f32 = t1101 + t1135;
         let t1247: f32 = t1245 + t1246;
         let t1248: f32 = t1244 - t1247;
         let t1249: f32 = -t1248;
-        let t1250: f32 = t10 * 0.4108;
-        let t1251: f32 = t10 * t1250;
-        let t1252: f32 = t14 * 0.4108;
-        let t1253: f32 = t14 * t1252;
-        let t1254: f32 = t4 * t4;
-        let t1255: f32 = t676 * t1254;
-        let t1256: f32 = t27 * t994;
-        let t1257: f32 = t34 * t710;
-        let t1258: f32 = t1256 - t1257;
-        let t1259: f32 = t27 * t1258;
-        let t1260: f32 = t27 * t710;
-        let t1261: f32 = t34 * t96;
-        let t1262: f32 = t1260 - t1261;
-        let t1263: f32 = t34 * t1262;
-        let t1264: f32 = t138 * t1028;
-        let t1265: f32 = t141 * t742;
-        let t1266: f32 = t1264 - t1265;
-        let t1267: f32 = t138 * t1266;
-        let t1268: f32 = t138 * t742;
-        let t1269: f32 = t141 * t202;
-        let t1270: f32 = t1268 - t1269;
-        let t1271: f32 = t141 * t1270;
-        let t1272: f32 = t248 * t1062;
-        let t1273: f32 = t253 * t774;
-        let t1274: f32 = t1272 - t1273;
-        let t1275: f32 = t248 * t1274;
-        let t1276: f32 = t248 * t774;
-        let t1277: f32 = t253 * t314;
-        let t1278: f32 = t1276 - t1277;
-        let t1279: f32 = t253 * t1278;
-        let t1280: f32 = t360 * t1096;
-        let t1281: f32 = t365 * t806;
-        let t1282: f32 = t1280 - t1281;
-        let t1283: f32 = t360 * t1282;
-        let t1284: f32 = t360 * t806;
-        let t1285: f32 = t365 * t426;
-        let t1286: f32 = t1284 - t1285;
-        let t1287: f32 = t365 * t1286;
-        let t1288: f32 = t468 * t1130;
-        let t1289: f32 = t471 * t838;
-        let t1290: f32 = t1288 - t1289;
-        let t1291: f32 = t468 * t1290;
-        let t1292: f32 = t468 * t838;
-        let t1293: f32 = t471 * t531;
-        let t1294: f32 = t1292 - t1293;
-        let t1295: f32 = t471 * t1294;
-        let t1296: f32 = t573 * t1164;
-        let t1297: f32 = t576 * t870;
-        let t1298: f32 = t1296 - t1297;
-        let t1299: f32 = t573 * t1298;
-        let t1300: f32 = t573 * t870;
-        let t1301: f32 = t576 * t635;
-        let t1302: f32 = t1300 - t1301;
-        let t1303: f32 = t576 * t1302;
-        let t1304: f32 = t1255 * 0.7;
-        let t1305: f32 = t1251 + t1253;
-        let t1306: f32 = t1259 + t1267;
-        let t1307: f32 = t1275 + t1283;
-        let t1308: f32 = t1291 + t1299;
+        let t1250: f32 = t10 * t10;
+        let t1251: f32 = t14 * t14;
+        let t1252: f32 = t4 * t4;
+        let t1253: f32 = t676 * t1252;
+        let t1254: f32 = t27 * t992;
+        let t1255: f32 = t34 * t710;
+        let t1256: f32 = t1254 - t1255;
+        let t1257: f32 = t27 * t1256;
+        let t1258: f32 = t27 * t710;
+        let t1259: f32 = t34 * t96;
+        let t1260: f32 = t1258 - t1259;
+        let t1261: f32 = t34 * t1260;
+        let t1262: f32 = t138 * t1026;
+        let t1263: f32 = t141 * t742;
+        let t1264: f32 = t1262 - t1263;
+        let t1265: f32 = t138 * t1264;
+        let t1266: f32 = t138 * t742;
+        let t1267: f32 = t141 * t202;
+        let t1268: f32 = t1266 - t1267;
+        let t1269: f32 = t141 * t1268;
+        let t1270: f32 = t248 * t1060;
+        let t1271: f32 = t253 * t774;
+        let t1272: f32 = t1270 - t1271;
+        let t1273: f32 = t248 * t1272;
+        let t1274: f32 = t248 * t774;
+        let t1275: f32 = t253 * t314;
+        let t1276: f32 = t1274 - t1275;
+        let t1277: f32 = t253 * t1276;
+        let t1278: f32 = t360 * t1094;
+        let t1279: f32 = t365 * t806;
+        let t1280: f32 = t1278 - t1279;
+        let t1281: f32 = t360 * t1280;
+        let t1282: f32 = t360 * t806;
+        let t1283: f32 = t365 * t426;
+        let t1284: f32 = t1282 - t1283;
+        let t1285: f32 = t365 * t1284;
+        let t1286: f32 = t468 * t1128;
+        let t1287: f32 = t471 * t838;
+        let t1288: f32 = t1286 - t1287;
+        let t1289: f32 = t468 * t1288;
+        let t1290: f32 = t468 * t838;
+        let t1291: f32 = t471 * t531;
+        let t1292: f32 = t1290 - t1291;
+        let t1293: f32 = t471 * t1292;
+        let t1294: f32 = t573 * t1162;
+        let t1295: f32 = t576 * t870;
+        let t1296: f32 = t1294 - t1295;
+        let t1297: f32 = t573 * t1296;
+        let t1298: f32 = t573 * t870;
+        let t1299: f32 = t576 * t635;
+        let t1300: f32 = t1298 - t1299;
+        let t1301: f32 = t576 * t1300;
+        let t1302: f32 = t1250 + t1251;
+        let t1303: f32 = t1302 * 0.4108;
+        let t1304: f32 = t1253 * 0.7;
+        let t1305: f32 = t1303 + t1304;
+        let t1306: f32 = t1257 + t1265;
+        let t1307: f32 = t1273 + t1281;
+        let t1308: f32 = t1289 + t1297;
         let t1309: f32 = t1305 + t1306;
         let t1310: f32 = t1307 + t1308;
         let t1311: f32 = t1309 + t1310;
-        let t1312: f32 = t1304 + t1311;
-        let t1313: f32 = t1263 + t1271;
-        let t1314: f32 = t1279 + t1287;
-        let t1315: f32 = t1295 + t1303;
-        let t1316: f32 = t1313 + t1314;
-        let t1317: f32 = t1315 + t1316;
-        let t1318: f32 = t1312 - t1317;
-        let t1319: f32 = t955 + t1274;
-        let t1320: f32 = t1298 + t1319;
-        let t1321: f32 = t1258 + t1266;
-        let t1322: f32 = t1282 + t1290;
-        let t1323: f32 = t1321 + t1322;
-        let t1324: f32 = t1320 - t1323;
-        let t1325: f32 = t1242 + t1278;
-        let t1326: f32 = t1302 + t1325;
-        let t1327: f32 = t1262 + t1270;
-        let t1328: f32 = t1286 + t1294;
-        let t1329: f32 = t1327 + t1328;
-        let t1330: f32 = t1326 - t1329;
-        let t1331: f32 = t724 - t1193;
-        let t1332: f32 = t756 - t1197;
-        let t1333: f32 = t788 - t1201;
-        let t1334: f32 = t820 - t1205;
-        let t1335: f32 = t852 - t1209;
-        let t1336: f32 = t884 - t1213;
-        let t1337: f32 = t1331 + t1332;
-        let t1338: f32 = t1334 + t1335;
-        let t1339: f32 = t1337 + t1338;
-        let t1340: f32 = t1333 + t1336;
-        let t1341: f32 = t1339 - t1340;
-        let t1342: f32 = -t1341;
-        let t1343: f32 = t994 + t1028;
-        let t1344: f32 = t1062 + t1096;
-        let t1345: f32 = t1130 + t1164;
-        let t1346: f32 = t1343 + t1344;
-        let t1347: f32 = t1345 + 12.0;
-        let t1348: f32 = t1346 + t1347;
-        let t1349: f32 = t710 + t742;
-        let t1350: f32 = t774 + t806;
-        let t1351: f32 = t838 + t870;
-        let t1352: f32 = t1349 + t1350;
-        let t1353: f32 = t1351 + t1352;
-        let t1354: f32 = t723 + t755;
-        let t1355: f32 = t787 + t819;
-        let t1356: f32 = t851 + t883;
-        let t1357: f32 = t1354 + t1355;
-        let t1358: f32 = t1356 + t1357;
-        let t1359: f32 = t96 + t202;
-        let t1360: f32 = t314 + t426;
-        let t1361: f32 = t531 + t635;
-        let t1362: f32 = t1359 + t1360;
-        let t1363: f32 = t1361 + 12.0;
-        let t1364: f32 = t1362 + t1363;
-        let t1365: f32 = t124 + t230;
-        let t1366: f32 = t342 + t454;
-        let t1367: f32 = t559 + t663;
-        let t1368: f32 = t1365 + t1366;
-        let t1369: f32 = t1367 + t1368;
-        let t1370: f32 = t133 + t239;
-        let t1371: f32 = t351 + t463;
-        let t1372: f32 = t568 + t672;
-        let t1373: f32 = t1370 + t1371;
-        let t1374: f32 = t1372 + 12.0;
-        let t1375: f32 = t1373 + t1374;
-        let t1376: f32 = t44 * t59;
-        let t1377: f32 = t151 * t165;
-        let t1378: f32 = t263 * t277;
-        let t1379: f32 = t375 * t389;
-        let t1380: f32 = t481 * t494;
-        let t1381: f32 = t585 * t598;
+        let t1312: f32 = t1261 + t1269;
+        let t1313: f32 = t1277 + t1285;
+        let t1314: f32 = t1293 + t1301;
+        let t1315: f32 = t1312 + t1313;
+        let t1316: f32 = t1314 + t1315;
+        let t1317: f32 = t1311 - t1316;
+        let t1318: f32 = t955 + t1272;
+        let t1319: f32 = t1296 + t1318;
+        let t1320: f32 = t1256 + t1264;
+        let t1321: f32 = t1280 + t1288;
+        let t1322: f32 = t1320 + t1321;
+        let t1323: f32 = t1319 - t1322;
+        let t1324: f32 = t1242 + t1276;
+        let t1325: f32 = t1300 + t1324;
+        let t1326: f32 = t1260 + t1268;
+        let t1327: f32 = t1284 + t1292;
+        let t1328: f32 = t1326 + t1327;
+        let t1329: f32 = t1325 - t1328;
+        let t1330: f32 = t724 - t1192;
+        let t1331: f32 = t756 - t1196;
+        let t1332: f32 = t788 - t1200;
+        let t1333: f32 = t820 - t1204;
+        let t1334: f32 = t852 - t1208;
+        let t1335: f32 = t884 - t1212;
+        let t1336: f32 = t1330 + t1331;
+        let t1337: f32 = t1333 + t1334;
+        let t1338: f32 = t1336 + t1337;
+        let t1339: f32 = t1332 + t1335;
+        let t1340: f32 = t1338 - t1339;
+        let t1341: f32 = -t1340;
+        let t1342: f32 = t992 + t1026;
+        let t1343: f32 = t1060 + t1094;
+        let t1344: f32 = t1128 + t1162;
+        let t1345: f32 = t1342 + t1343;
+        let t1346: f32 = t1344 + 12.0;
+        let t1347: f32 = t1345 + t1346;
+        let t1348: f32 = t710 + t742;
+        let t1349: f32 = t774 + t806;
+        let t1350: f32 = t838 + t870;
+        let t1351: f32 = t1348 + t1349;
+        let t1352: f32 = t1350 + t1351;
+        let t1353: f32 = t723 + t755;
+        let t1354: f32 = t787 + t819;
+        let t1355: f32 = t851 + t883;
+        let t1356: f32 = t1353 + t1354;
+        let t1357: f32 = t1355 + t1356;
+        let t1358: f32 = t96 + t202;
+        let t1359: f32 = t314 + t426;
+        let t1360: f32 = t531 + t635;
+        let t1361: f32 = t1358 + t1359;
+        let t1362: f32 = t1360 + 12.0;
+        let t1363: f32 = t1361 + t1362;
+        let t1364: f32 = t124 + t230;
+        let t1365: f32 = t342 + t454;
+        let t1366: f32 = t559 + t663;
+        let t1367: f32 = t1364 + t1365;
+        let t1368: f32 = t1366 + t1367;
+        let t1369: f32 = t133 + t239;
+        let t1370: f32 = t351 + t463;
+        let t1371: f32 = t568 + t672;
+        let t1372: f32 = t1369 + t1370;
+        let t1373: f32 = t1371 + 12.0;
+        let t1374: f32 = t1372 + t1373;
+        let t1375: f32 = t44 * t59;
+        let t1376: f32 = t151 * t165;
+        let t1377: f32 = t263 * t277;
+        let t1378: f32 = t375 * t389;
+        let t1379: f32 = t481 * t494;
+        let t1380: f32 = t585 * t598;
         (
-            t1187,
+            t1186,
             t1230,
             t1236,
             t1241,
             t1249,
-            t1318,
-            t1324,
-            t1330,
-            t1342,
-            t1348,
-            t1353,
-            t1358,
-            t1364,
-            t1369,
+            t1317,
+            t1323,
+            t1329,
+            t1341,
+            t1347,
+            t1352,
+            t1357,
+            t1363,
+            t1368,
+            t1374,
             t1375,
             t1376,
             t1377,
             t1378,
             t1379,
             t1380,
-            t1381,
         )
     };
     (
         [
             [t695, t907, t938, t944, t953, t962],
-            [t907, t1187, t1230, t1236, t1241, t1249],
-            [t938, t1230, t1318, t1324, t1330, t1342],
-            [t944, t1236, t1324, t1348, t1353, t1358],
-            [t953, t1241, t1330, t1353, t1364, t1369],
-            [t962, t1249, t1342, t1358, t1369, t1375],
+            [t907, t1186, t1230, t1236, t1241, t1249],
+            [t938, t1230, t1317, t1323, t1329, t1341],
+            [t944, t1236, t1323, t1347, t1352, t1357],
+            [t953, t1241, t1329, t1352, t1363, t1368],
+            [t962, t1249, t1341, t1357, t1368, t1374],
         ],
-        [t1376, t1377, t1378, t1379, t1380, t1381],
+        [t1375, t1376, t1377, t1378, t1379, t1380],
     )
 }
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
@@ -6911,7 +6904,7 @@ pub fn task_inertia(pose: &[f32; 6]) -> ([[f32; 6]; 6], [f32; 6]) {
 /// - `h`: `h = (n; f)` at `C`, base frame (N·m, N)
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 893 mul, 12 div, 543 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 905m + 543a).
+/// Operations: 884 mul, 12 div, 537 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 896m + 537a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
@@ -6922,1810 +6915,1771 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
         t1,
         t2,
         t3,
-        t4,
         t5,
+        t6,
         t9,
+        t13,
         t16,
-        t19,
-        t24,
-        t30,
-        t32,
-        t33,
-        t35,
+        t28,
+        t34,
         t37,
-        t38,
-        t41,
-        t53,
+        t40,
+        t49,
         t58,
-        t67,
-        t76,
-        t86,
-        t105,
-        t107,
-        t154,
-        t157,
-        t171,
-        t177,
-        t186,
+        t68,
+        t87,
+        t89,
+        t136,
+        t139,
+        t153,
+        t159,
+        t168,
+        t191,
+        t197,
+        t202,
+        t206,
+        t208,
         t209,
-        t215,
-        t220,
+        t212,
+        t222,
         t224,
+        t225,
         t226,
-        t227,
-        t230,
-        t240,
-        t242,
-        t243,
-        t244,
-        t251,
+        t233,
+        t236,
+        t245,
         t254,
-        t263,
-        t272,
-        t282,
-        t301,
-        t303,
+        t264,
+        t283,
+        t285,
+        t332,
+        t335,
+        t340,
         t350,
-        t353,
-        t358,
-        t368,
-        t382,
+        t364,
+        t384,
+        t389,
+        t398,
         t402,
-        t407,
-        t416,
+        t404,
+        t405,
+        t408,
+        t418,
         t420,
+        t421,
         t422,
         t423,
-        t426,
+        t424,
+        t431,
+        t432,
+        t433,
+        t434,
         t436,
+        t437,
         t438,
-        t439,
-        t440,
-        t441,
-        t442,
-        t449,
-        t450,
-        t451,
-        t452,
-        t454,
-        t455,
+        t447,
         t456,
-        t465,
-        t474,
-        t484,
-        t503,
-        t505,
-        t552,
-        t555,
-        t564,
-        t575,
-        t585,
-        t594,
-        t610,
-        t618,
+        t466,
+        t485,
+        t487,
+        t534,
+        t537,
+        t546,
+        t557,
+        t567,
+        t576,
+        t592,
+        t600,
+        t603,
+        t605,
+        t606,
+        t609,
+        t619,
         t621,
-        t623,
-        t624,
-        t627,
-        t637,
+        t622,
+        t625,
+        t634,
         t639,
-        t640,
-        t643,
-        t652,
+        t648,
         t657,
-        t666,
-        t675,
-        t685,
-        t704,
-        t706,
-        t753,
-        t756,
-        t765,
-        t776,
-        t786,
-        t795,
-        t811,
-        t819,
+        t667,
+        t686,
+        t688,
+        t735,
+        t738,
+        t747,
+        t758,
+        t768,
+        t777,
+        t793,
+        t801,
+        t804,
+        t806,
+        t807,
+        t810,
+        t820,
         t822,
+        t823,
         t824,
-        t825,
-        t828,
-        t838,
-        t840,
-        t841,
+        t830,
+        t833,
         t842,
-        t848,
         t851,
-        t860,
-        t862,
-        t869,
-        t873,
-        t879,
-        t890,
-        t894,
-        t898,
-        t900,
-        t903,
-        t907,
-        t943,
-        t947,
-        t950,
-        t964,
-        t966,
-        t968,
-        t969,
-        t971,
-        t978,
-        t980,
-        t982,
-        t987,
-        t993,
+        t855,
+        t861,
+        t872,
+        t876,
+        t880,
+        t882,
+        t889,
+        t929,
+        t932,
+        t946,
+        t951,
+        t960,
+        t983,
+        t989,
         t994,
+        t998,
+        t1000,
         t1001,
         t1002,
     ) = {
-        let (t0, t1): (f32, f32) = sin_cos(beta);
-        let (t2, t3): (f32, f32) = sin_cos(alpha);
-        let (t4, t5): (f32, f32) = sin_cos(gamma);
-        let t6: f32 = t2 * t4;
-        let t7: f32 = t0 * t3;
-        let t8: f32 = t5 * t7;
-        let t9: f32 = t6 - t8;
-        let t10: f32 = wz * t9;
-        let t11: f32 = wx * t1;
-        let t12: f32 = t5 * t11;
-        let t13: f32 = t3 * t4;
-        let t14: f32 = t0 * t2;
-        let t15: f32 = t5 * t14;
-        let t16: f32 = t13 + t15;
-        let t17: f32 = wy * t16;
-        let t18: f32 = t12 + t17;
-        let t19: f32 = t10 + t18;
-        let t20: f32 = wx * t4;
-        let t21: f32 = t1 * t20;
-        let t22: f32 = t3 * t5;
-        let t23: f32 = t4 * t14;
-        let t24: f32 = t22 - t23;
-        let t25: f32 = wy * t24;
-        let t26: f32 = t21 - t25;
-        let t27: f32 = t2 * t5;
-        let t28: f32 = t0 * t4;
-        let t29: f32 = t3 * t28;
-        let t30: f32 = t27 + t29;
-        let t31: f32 = wz * t30;
-        let t32: f32 = t26 - t31;
-        let t33: f32 = t32 * 0.4108;
-        let t34: f32 = t19 * t33;
-        let t35: f32 = t19 * 0.4108;
-        let t36: f32 = t32 * t35;
-        let t37: f32 = t34 - t36;
-        let t38: f32 = t0 * t37;
-        let t39: f32 = t9 * 0.25;
-        let t40: f32 = t30 * 0.15;
-        let t41: f32 = t39 + t40;
-        let t42: f32 = zc + t41;
-        let t43: f32 = t42 * 0.17503293;
-        let t44: f32 = -t43;
-        let t45: f32 = t42 * 0.9845626;
-        let t46: f32 = -t45;
-        let t47: f32 = t46 * t46;
-        let t48: f32 = t44 * t44;
-        let t49: f32 = t1 * t5;
-        let t50: f32 = t1 * t4;
-        let t51: f32 = t49 * 0.25;
-        let t52: f32 = t50 * 0.15;
-        let t53: f32 = t51 - t52;
-        let t54: f32 = xc + t53;
-        let t55: f32 = t54 - 0.45;
-        let t56: f32 = t16 * 0.25;
-        let t57: f32 = t24 * 0.15;
-        let t58: f32 = t56 + t57;
-        let t59: f32 = yc + t58;
-        let t60: f32 = t59 - 0.08;
-        let t61: f32 = t55 * 0.9845626;
-        let t62: f32 = t60 * 0.17503293;
-        let t63: f32 = t61 + t62;
-        let t64: f32 = t63 * t63;
-        let t65: f32 = t47 + t48;
-        let t66: f32 = t64 + t65;
-        let t67: f32 = sqrt(t66);
-        let t68: f32 = 1.0 / t67;
-        let t69: f32 = t44 * t68;
-        let t70: f32 = t55 * t55;
-        let t71: f32 = t60 * t60;
-        let t72: f32 = t42 * t42;
-        let t73: f32 = t70 + t71;
-        let t74: f32 = t72 + t73;
-        let t75: f32 = sqrt(t74);
-        let t76: f32 = 1.0 / t75;
-        let t77: f32 = t55 * 0.17503293;
-        let t78: f32 = t60 * 0.9845626;
-        let t79: f32 = t77 - t78;
-        let t80: f32 = t68 * t79;
-        let t81: f32 = t76 * t76;
-        let t82: f32 = wy * t41;
-        let t83: f32 = wz * t58;
-        let t84: f32 = t82 - t83;
-        let t85: f32 = vx + t84;
-        let t86: f32 = t46 * t68;
-        let t87: f32 = t85 * t86;
-        let t88: f32 = wz * t53;
-        let t89: f32 = wx * t41;
-        let t90: f32 = t88 - t89;
-        let t91: f32 = vy + t90;
-        let t92: f32 = t69 * t91;
-        let t93: f32 = wx * t58;
-        let t94: f32 = wy * t53;
-        let t95: f32 = t93 - t94;
-        let t96: f32 = vz + t95;
-        let t97: f32 = t63 * t68;
-        let t98: f32 = t96 * t97;
-        let t99: f32 = t87 + t92;
-        let t100: f32 = t98 + t99;
-        let t101: f32 = t42 * t76;
-        let t102: f32 = t69 * t101;
-        let t103: f32 = t60 * t76;
-        let t104: f32 = t97 * t103;
-        let t105: f32 = t102 - t104;
-        let t106: f32 = t85 * t105;
-        let t107: f32 = t55 * t76;
-        let t108: f32 = t97 * t107;
-        let t109: f32 = t86 * t101;
-        let t110: f32 = t108 - t109;
-        let t111: f32 = t91 * t110;
-        let t112: f32 = t86 * t103;
-        let t113: f32 = t69 * t107;
-        let t114: f32 = t112 - t113;
-        let t115: f32 = t96 * t114;
-        let t116: f32 = t106 + t111;
-        let t117: f32 = t115 + t116;
-        let t118: f32 = t80 * t81;
-        let t119: f32 = t100 * t118;
-        let t120: f32 = t117 * t119;
-        let t121: f32 = t85 * t107;
-        let t122: f32 = t91 * t103;
-        let t123: f32 = t96 * t101;
-        let t124: f32 = t121 + t122;
-        let t125: f32 = t123 + t124;
-        let t126: f32 = t76 * t125;
-        let t127: f32 = t126 * 2.0;
-        let t128: f32 = t76 * t100;
-        let t129: f32 = t127 * t128;
-        let t130: f32 = t120 + t129;
-        let t131: f32 = t80 * t130;
-        let t132: f32 = t68 * t68;
-        let t133: f32 = t74 * t76;
-        let t134: f32 = t132 * t133;
-        let t135: f32 = t100 * t134;
-        let t136: f32 = t117 * t135;
-        let t137: f32 = wy * t95;
-        let t138: f32 = wz * t90;
-        let t139: f32 = t137 - t138;
-        let t140: f32 = t86 * t139;
-        let t141: f32 = wz * t84;
-        let t142: f32 = wx * t95;
-        let t143: f32 = t141 - t142;
-        let t144: f32 = t69 * t143;
-        let t145: f32 = wx * t90;
-        let t146: f32 = wy * t84;
-        let t147: f32 = t145 - t146;
-        let t148: f32 = t97 * t147;
-        let t149: f32 = t140 + t144;
-        let t150: f32 = t148 + t149;
-        let t151: f32 = t80 * t150;
-        let t152: f32 = t136 - t151;
-        let t153: f32 = t76 * t152;
-        let t154: f32 = t131 + t153;
-        let t155: f32 = t69 * t76;
-        let t156: f32 = t80 * t155;
-        let t157: f32 = t154 * t156;
-        let t158: f32 = t101 * 9.81;
-        let t159: f32 = -t158;
-        let t160: f32 = t107 * t139;
-        let t161: f32 = t103 * t143;
-        let t162: f32 = t101 * t147;
-        let t163: f32 = t160 + t161;
-        let t164: f32 = t162 + t163;
-        let t165: f32 = t128 * t128;
-        let t166: f32 = t76 * t117;
-        let t167: f32 = t166 * t166;
-        let t168: f32 = t165 + t167;
-        let t169: f32 = t168 * 0.3;
-        let t170: f32 = t164 + t169;
-        let t171: f32 = t159 - t170;
-        let t172: f32 = t103 * t171;
-        let t173: f32 = t97 * 9.81;
-        let t174: f32 = -t173;
-        let t175: f32 = t76 * t150;
-        let t176: f32 = t130 - t175;
-        let t177: f32 = t76 * t80;
-        let t178: f32 = t100 * t177;
-        let t179: f32 = t166 * t178;
-        let t180: f32 = t174 * 0.2;
-        let t181: f32 = t150 * 0.3;
-        let t182: f32 = t176 * 0.295;
-        let t183: f32 = t179 * 0.292;
-        let t184: f32 = t180 + t181;
-        let t185: f32 = t182 + t184;
-        let t186: f32 = t185 - t183;
-        let t187: f32 = t155 * t186;
-        let t188: f32 = t172 + t187;
-        let t189: f32 = t114 * 9.81;
-        let t190: f32 = -t189;
-        let t191: f32 = t114 * t147;
-        let t192: f32 = t105 * t139;
-        let t193: f32 = t110 * t143;
-        let t194: f32 = t192 + t193;
-        let t195: f32 = t191 + t194;
-        let t196: f32 = t100 * t100;
-        let t197: f32 = t177 * t196;
-        let t198: f32 = t117 * t127;
-        let t199: f32 = t195 + t197;
-        let t200: f32 = t199 - t198;
-        let t201: f32 = t76 * t200;
-        let t202: f32 = t128 * t178;
-        let t203: f32 = t190 * 0.2;
-        let t204: f32 = t195 * 0.3;
-        let t205: f32 = t201 * 0.295;
-        let t206: f32 = t202 * 0.292;
-        let t207: f32 = t203 + t204;
+        let (t0, t1): (f32, f32) = sin_cos(alpha);
+        let (t2, t3): (f32, f32) = sin_cos(gamma);
+        let t4: f32 = t0 * t2;
+        let (t5, t6): (f32, f32) = sin_cos(beta);
+        let t7: f32 = t1 * t5;
+        let t8: f32 = t3 * t7;
+        let t9: f32 = t4 - t8;
+        let t10: f32 = t0 * t3;
+        let t11: f32 = t2 * t5;
+        let t12: f32 = t1 * t11;
+        let t13: f32 = t10 + t12;
+        let t14: f32 = t9 * 0.25;
+        let t15: f32 = t13 * 0.15;
+        let t16: f32 = t14 + t15;
+        let t17: f32 = zc + t16;
+        let t18: f32 = t17 * 0.17503293;
+        let t19: f32 = -t18;
+        let t20: f32 = t17 * 0.9845626;
+        let t21: f32 = -t20;
+        let t22: f32 = t21 * t21;
+        let t23: f32 = t19 * t19;
+        let t24: f32 = t3 * t6;
+        let t25: f32 = t2 * t6;
+        let t26: f32 = t24 * 0.25;
+        let t27: f32 = t25 * 0.15;
+        let t28: f32 = t26 - t27;
+        let t29: f32 = xc + t28;
+        let t30: f32 = t29 - 0.45;
+        let t31: f32 = t1 * t2;
+        let t32: f32 = t0 * t5;
+        let t33: f32 = t3 * t32;
+        let t34: f32 = t31 + t33;
+        let t35: f32 = t1 * t3;
+        let t36: f32 = t2 * t32;
+        let t37: f32 = t35 - t36;
+        let t38: f32 = t34 * 0.25;
+        let t39: f32 = t37 * 0.15;
+        let t40: f32 = t38 + t39;
+        let t41: f32 = yc + t40;
+        let t42: f32 = t41 - 0.08;
+        let t43: f32 = t30 * 0.9845626;
+        let t44: f32 = t42 * 0.17503293;
+        let t45: f32 = t43 + t44;
+        let t46: f32 = t45 * t45;
+        let t47: f32 = t22 + t23;
+        let t48: f32 = t46 + t47;
+        let t49: f32 = sqrt(t48);
+        let t50: f32 = 1.0 / t49;
+        let t51: f32 = t19 * t50;
+        let t52: f32 = t30 * t30;
+        let t53: f32 = t42 * t42;
+        let t54: f32 = t17 * t17;
+        let t55: f32 = t52 + t53;
+        let t56: f32 = t54 + t55;
+        let t57: f32 = sqrt(t56);
+        let t58: f32 = 1.0 / t57;
+        let t59: f32 = t30 * 0.17503293;
+        let t60: f32 = t42 * 0.9845626;
+        let t61: f32 = t59 - t60;
+        let t62: f32 = t50 * t61;
+        let t63: f32 = t58 * t58;
+        let t64: f32 = wy * t16;
+        let t65: f32 = wz * t40;
+        let t66: f32 = t64 - t65;
+        let t67: f32 = vx + t66;
+        let t68: f32 = t21 * t50;
+        let t69: f32 = t67 * t68;
+        let t70: f32 = wz * t28;
+        let t71: f32 = wx * t16;
+        let t72: f32 = t70 - t71;
+        let t73: f32 = vy + t72;
+        let t74: f32 = t51 * t73;
+        let t75: f32 = wx * t40;
+        let t76: f32 = wy * t28;
+        let t77: f32 = t75 - t76;
+        let t78: f32 = vz + t77;
+        let t79: f32 = t45 * t50;
+        let t80: f32 = t78 * t79;
+        let t81: f32 = t69 + t74;
+        let t82: f32 = t80 + t81;
+        let t83: f32 = t17 * t58;
+        let t84: f32 = t51 * t83;
+        let t85: f32 = t42 * t58;
+        let t86: f32 = t79 * t85;
+        let t87: f32 = t84 - t86;
+        let t88: f32 = t67 * t87;
+        let t89: f32 = t30 * t58;
+        let t90: f32 = t79 * t89;
+        let t91: f32 = t68 * t83;
+        let t92: f32 = t90 - t91;
+        let t93: f32 = t73 * t92;
+        let t94: f32 = t68 * t85;
+        let t95: f32 = t51 * t89;
+        let t96: f32 = t94 - t95;
+        let t97: f32 = t78 * t96;
+        let t98: f32 = t88 + t93;
+        let t99: f32 = t97 + t98;
+        let t100: f32 = t62 * t63;
+        let t101: f32 = t82 * t100;
+        let t102: f32 = t99 * t101;
+        let t103: f32 = t67 * t89;
+        let t104: f32 = t73 * t85;
+        let t105: f32 = t78 * t83;
+        let t106: f32 = t103 + t104;
+        let t107: f32 = t105 + t106;
+        let t108: f32 = t58 * t107;
+        let t109: f32 = t108 * 2.0;
+        let t110: f32 = t58 * t82;
+        let t111: f32 = t109 * t110;
+        let t112: f32 = t102 + t111;
+        let t113: f32 = t62 * t112;
+        let t114: f32 = t50 * t50;
+        let t115: f32 = t56 * t58;
+        let t116: f32 = t114 * t115;
+        let t117: f32 = t82 * t116;
+        let t118: f32 = t99 * t117;
+        let t119: f32 = wy * t77;
+        let t120: f32 = wz * t72;
+        let t121: f32 = t119 - t120;
+        let t122: f32 = t68 * t121;
+        let t123: f32 = wz * t66;
+        let t124: f32 = wx * t77;
+        let t125: f32 = t123 - t124;
+        let t126: f32 = t51 * t125;
+        let t127: f32 = wx * t72;
+        let t128: f32 = wy * t66;
+        let t129: f32 = t127 - t128;
+        let t130: f32 = t79 * t129;
+        let t131: f32 = t122 + t126;
+        let t132: f32 = t130 + t131;
+        let t133: f32 = t62 * t132;
+        let t134: f32 = t118 - t133;
+        let t135: f32 = t58 * t134;
+        let t136: f32 = t113 + t135;
+        let t137: f32 = t51 * t58;
+        let t138: f32 = t62 * t137;
+        let t139: f32 = t136 * t138;
+        let t140: f32 = t83 * 9.81;
+        let t141: f32 = -t140;
+        let t142: f32 = t89 * t121;
+        let t143: f32 = t85 * t125;
+        let t144: f32 = t83 * t129;
+        let t145: f32 = t142 + t143;
+        let t146: f32 = t144 + t145;
+        let t147: f32 = t110 * t110;
+        let t148: f32 = t58 * t99;
+        let t149: f32 = t148 * t148;
+        let t150: f32 = t147 + t149;
+        let t151: f32 = t150 * 0.3;
+        let t152: f32 = t146 + t151;
+        let t153: f32 = t141 - t152;
+        let t154: f32 = t85 * t153;
+        let t155: f32 = t79 * 9.81;
+        let t156: f32 = -t155;
+        let t157: f32 = t58 * t132;
+        let t158: f32 = t112 - t157;
+        let t159: f32 = t58 * t62;
+        let t160: f32 = t82 * t159;
+        let t161: f32 = t148 * t160;
+        let t162: f32 = t156 * 0.2;
+        let t163: f32 = t132 * 0.3;
+        let t164: f32 = t158 * 0.295;
+        let t165: f32 = t161 * 0.292;
+        let t166: f32 = t162 + t163;
+        let t167: f32 = t164 + t166;
+        let t168: f32 = t167 - t165;
+        let t169: f32 = t137 * t168;
+        let t170: f32 = t154 + t169;
+        let t171: f32 = t96 * 9.81;
+        let t172: f32 = -t171;
+        let t173: f32 = t96 * t129;
+        let t174: f32 = t87 * t121;
+        let t175: f32 = t92 * t125;
+        let t176: f32 = t174 + t175;
+        let t177: f32 = t173 + t176;
+        let t178: f32 = t82 * t82;
+        let t179: f32 = t159 * t178;
+        let t180: f32 = t99 * t109;
+        let t181: f32 = t177 + t179;
+        let t182: f32 = t181 - t180;
+        let t183: f32 = t58 * t182;
+        let t184: f32 = t110 * t160;
+        let t185: f32 = t172 * 0.2;
+        let t186: f32 = t177 * 0.3;
+        let t187: f32 = t183 * 0.295;
+        let t188: f32 = t184 * 0.292;
+        let t189: f32 = t185 + t186;
+        let t190: f32 = t188 + t189;
+        let t191: f32 = t187 - t190;
+        let t192: f32 = t58 * t92;
+        let t193: f32 = t191 * t192;
+        let t194: f32 = t183 - t184;
+        let t195: f32 = t194 * 0.3;
+        let t196: f32 = t172 + t195;
+        let t197: f32 = t196 - t177;
+        let t198: f32 = t92 * t197;
+        let t199: f32 = t158 - t161;
+        let t200: f32 = t199 * 0.3;
+        let t201: f32 = t132 + t200;
+        let t202: f32 = t201 - t156;
+        let t203: f32 = t51 * t202;
+        let t204: f32 = t198 - t203;
+        let t205: f32 = t193 - t204;
+        let t206: f32 = t170 - t205;
+        let t207: f32 = t139 * 0.003;
         let t208: f32 = t206 + t207;
-        let t209: f32 = t205 - t208;
-        let t210: f32 = t76 * t110;
-        let t211: f32 = t209 * t210;
-        let t212: f32 = t201 - t202;
-        let t213: f32 = t212 * 0.3;
-        let t214: f32 = t190 + t213;
-        let t215: f32 = t214 - t195;
-        let t216: f32 = t110 * t215;
-        let t217: f32 = t176 - t179;
-        let t218: f32 = t217 * 0.3;
-        let t219: f32 = t150 + t218;
-        let t220: f32 = t219 - t174;
-        let t221: f32 = t69 * t220;
-        let t222: f32 = t216 - t221;
-        let t223: f32 = t211 - t222;
-        let t224: f32 = t188 - t223;
-        let t225: f32 = t157 * 0.003;
-        let t226: f32 = t224 + t225;
-        let t227: f32 = t41 * t226;
-        let t228: f32 = t76 * t97;
-        let t229: f32 = t80 * t228;
-        let t230: f32 = t154 * t229;
-        let t231: f32 = t101 * t171;
-        let t232: f32 = t186 * t228;
-        let t233: f32 = t231 + t232;
-        let t234: f32 = t76 * t114;
-        let t235: f32 = t209 * t234;
-        let t236: f32 = t114 * t215;
-        let t237: f32 = t97 * t220;
-        let t238: f32 = t236 - t237;
-        let t239: f32 = t235 - t238;
-        let t240: f32 = t233 - t239;
-        let t241: f32 = t230 * 0.003;
-        let t242: f32 = t240 + t241;
-        let t243: f32 = t58 * t242;
-        let t244: f32 = t39 - t40;
-        let t245: f32 = zc + t244;
-        let t246: f32 = t245 * 0.17503293;
-        let t247: f32 = t245 * 0.9845626;
-        let t248: f32 = -t247;
-        let t249: f32 = t248 * t248;
-        let t250: f32 = t246 * t246;
-        let t251: f32 = t51 + t52;
-        let t252: f32 = xc + t251;
-        let t253: f32 = t252 - 0.45;
-        let t254: f32 = t56 - t57;
-        let t255: f32 = yc + t254;
-        let t256: f32 = t255 + 0.08;
-        let t257: f32 = t253 * 0.9845626;
-        let t258: f32 = t256 * 0.17503293;
-        let t259: f32 = t257 - t258;
-        let t260: f32 = t259 * t259;
-        let t261: f32 = t249 + t250;
-        let t262: f32 = t260 + t261;
-        let t263: f32 = sqrt(t262);
-        let t264: f32 = 1.0 / t263;
-        let t265: f32 = t246 * t264;
-        let t266: f32 = t253 * t253;
-        let t267: f32 = t256 * t256;
-        let t268: f32 = t245 * t245;
-        let t269: f32 = t266 + t267;
-        let t270: f32 = t268 + t269;
-        let t271: f32 = sqrt(t270);
-        let t272: f32 = 1.0 / t271;
-        let t273: f32 = t253 * 0.17503293;
-        let t274: f32 = t256 * 0.9845626;
-        let t275: f32 = t273 + t274;
-        let t276: f32 = t264 * t275;
-        let t277: f32 = t272 * t272;
-        let t278: f32 = wy * t244;
-        let t279: f32 = wz * t254;
-        let t280: f32 = t278 - t279;
-        let t281: f32 = vx + t280;
-        let t282: f32 = t248 * t264;
-        let t283: f32 = t281 * t282;
-        let t284: f32 = wz * t251;
-        let t285: f32 = wx * t244;
-        let t286: f32 = t284 - t285;
-        let t287: f32 = vy + t286;
-        let t288: f32 = t265 * t287;
-        let t289: f32 = wx * t254;
-        let t290: f32 = wy * t251;
-        let t291: f32 = t289 - t290;
-        let t292: f32 = vz + t291;
-        let t293: f32 = t259 * t264;
-        let t294: f32 = t292 * t293;
-        let t295: f32 = t283 + t288;
-        let t296: f32 = t294 + t295;
-        let t297: f32 = t245 * t272;
-        let t298: f32 = t265 * t297;
-        let t299: f32 = t256 * t272;
-        let t300: f32 = t293 * t299;
-        let t301: f32 = t298 - t300;
-        let t302: f32 = t281 * t301;
-        let t303: f32 = t253 * t272;
-        let t304: f32 = t293 * t303;
-        let t305: f32 = t282 * t297;
-        let t306: f32 = t304 - t305;
-        let t307: f32 = t287 * t306;
-        let t308: f32 = t282 * t299;
-        let t309: f32 = t265 * t303;
-        let t310: f32 = t308 - t309;
-        let t311: f32 = t292 * t310;
-        let t312: f32 = t302 + t307;
-        let t313: f32 = t311 + t312;
-        let t314: f32 = t276 * t277;
-        let t315: f32 = t296 * t314;
-        let t316: f32 = t313 * t315;
-        let t317: f32 = t281 * t303;
-        let t318: f32 = t287 * t299;
-        let t319: f32 = t292 * t297;
-        let t320: f32 = t317 + t318;
-        let t321: f32 = t319 + t320;
-        let t322: f32 = t272 * t321;
-        let t323: f32 = t322 * 2.0;
-        let t324: f32 = t272 * t296;
-        let t325: f32 = t323 * t324;
-        let t326: f32 = t316 - t325;
-        let t327: f32 = t276 * t326;
-        let t328: f32 = t264 * t264;
-        let t329: f32 = t270 * t272;
-        let t330: f32 = t328 * t329;
-        let t331: f32 = t296 * t330;
-        let t332: f32 = t313 * t331;
-        let t333: f32 = wy * t291;
-        let t334: f32 = wz * t286;
-        let t335: f32 = t333 - t334;
-        let t336: f32 = t282 * t335;
-        let t337: f32 = wz * t280;
-        let t338: f32 = wx * t291;
-        let t339: f32 = t337 - t338;
-        let t340: f32 = t265 * t339;
-        let t341: f32 = wx * t286;
-        let t342: f32 = wy * t280;
-        let t343: f32 = t341 - t342;
-        let t344: f32 = t293 * t343;
-        let t345: f32 = t336 + t340;
-        let t346: f32 = t344 + t345;
-        let t347: f32 = t276 * t346;
-        let t348: f32 = t332 + t347;
-        let t349: f32 = t272 * t348;
-        let t350: f32 = t327 + t349;
-        let t351: f32 = t265 * t272;
-        let t352: f32 = t276 * t351;
-        let t353: f32 = t350 * t352;
-        let t354: f32 = t293 * 9.81;
-        let t355: f32 = -t354;
-        let t356: f32 = t272 * t346;
-        let t357: f32 = t326 + t356;
-        let t358: f32 = t272 * t276;
-        let t359: f32 = t296 * t358;
-        let t360: f32 = t272 * t313;
-        let t361: f32 = t359 * t360;
-        let t362: f32 = t355 * 0.2;
-        let t363: f32 = t346 * 0.3;
-        let t364: f32 = t357 * 0.295;
-        let t365: f32 = t361 * 0.292;
-        let t366: f32 = t362 + t363;
-        let t367: f32 = t365 + t366;
-        let t368: f32 = t364 - t367;
-        let t369: f32 = t351 * t368;
-        let t370: f32 = t297 * 9.81;
-        let t371: f32 = -t370;
-        let t372: f32 = t303 * t335;
-        let t373: f32 = t299 * t339;
-        let t374: f32 = t297 * t343;
-        let t375: f32 = t372 + t373;
-        let t376: f32 = t374 + t375;
-        let t377: f32 = t324 * t324;
-        let t378: f32 = t360 * t360;
-        let t379: f32 = t377 + t378;
-        let t380: f32 = t379 * 0.3;
-        let t381: f32 = t376 + t380;
-        let t382: f32 = t371 - t381;
-        let t383: f32 = t299 * t382;
-        let t384: f32 = t369 - t383;
-        let t385: f32 = t310 * 9.81;
-        let t386: f32 = -t385;
-        let t387: f32 = t310 * t343;
-        let t388: f32 = t301 * t335;
-        let t389: f32 = t306 * t339;
-        let t390: f32 = t388 + t389;
-        let t391: f32 = t387 + t390;
-        let t392: f32 = t296 * t296;
-        let t393: f32 = t358 * t392;
-        let t394: f32 = t313 * t323;
-        let t395: f32 = t393 + t394;
-        let t396: f32 = t391 - t395;
-        let t397: f32 = t272 * t396;
-        let t398: f32 = t324 * t359;
-        let t399: f32 = t397 + t398;
-        let t400: f32 = t399 * 0.3;
-        let t401: f32 = t386 + t400;
-        let t402: f32 = t391 - t401;
-        let t403: f32 = t306 * t402;
-        let t404: f32 = t357 - t361;
-        let t405: f32 = t404 * 0.3;
-        let t406: f32 = t355 + t405;
-        let t407: f32 = t406 - t346;
-        let t408: f32 = t265 * t407;
-        let t409: f32 = t403 - t408;
-        let t410: f32 = t386 * 0.2;
-        let t411: f32 = t391 * 0.3;
-        let t412: f32 = t397 * 0.295;
-        let t413: f32 = t398 * 0.292;
-        let t414: f32 = t410 + t411;
-        let t415: f32 = t412 + t413;
-        let t416: f32 = t414 - t415;
-        let t417: f32 = t272 * t306;
-        let t418: f32 = t416 * t417;
-        let t419: f32 = t409 - t418;
-        let t420: f32 = t384 + t419;
-        let t421: f32 = t353 * 0.003;
-        let t422: f32 = t420 + t421;
-        let t423: f32 = t244 * t422;
-        let t424: f32 = t272 * t293;
-        let t425: f32 = t276 * t424;
-        let t426: f32 = t350 * t425;
-        let t427: f32 = t368 * t424;
-        let t428: f32 = t297 * t382;
-        let t429: f32 = t427 - t428;
-        let t430: f32 = t310 * t402;
-        let t431: f32 = t293 * t407;
-        let t432: f32 = t430 - t431;
-        let t433: f32 = t272 * t310;
-        let t434: f32 = t416 * t433;
-        let t435: f32 = t432 - t434;
-        let t436: f32 = t429 + t435;
-        let t437: f32 = t426 * 0.003;
-        let t438: f32 = t436 + t437;
-        let t439: f32 = t254 * t438;
-        let t440: f32 = t9 * 0.254904;
-        let t441: f32 = t30 * 0.141506;
-        let t442: f32 = t440 - t441;
-        let t443: f32 = zc - t442;
-        let t444: f32 = t443 * 0.76513904;
-        let t445: f32 = -t444;
-        let t446: f32 = t443 * 0.64386505;
-        let t447: f32 = t446 * t446;
-        let t448: f32 = t445 * t445;
-        let t449: f32 = t49 * 0.254904;
-        let t450: f32 = t50 * 0.141506;
-        let t451: f32 = t449 + t450;
-        let t452: f32 = xc + 0.294282;
-        let t453: f32 = t452 - t451;
-        let t454: f32 = t16 * 0.254904;
-        let t455: f32 = t24 * 0.141506;
-        let t456: f32 = t454 - t455;
-        let t457: f32 = t456 + 0.349711;
-        let t458: f32 = yc - t457;
-        let t459: f32 = t453 * 0.64386505;
-        let t460: f32 = t458 * 0.76513904;
-        let t461: f32 = t459 - t460;
-        let t462: f32 = t461 * t461;
-        let t463: f32 = t447 + t448;
-        let t464: f32 = t462 + t463;
-        let t465: f32 = sqrt(t464);
-        let t466: f32 = 1.0 / t465;
-        let t467: f32 = t445 * t466;
-        let t468: f32 = t453 * t453;
-        let t469: f32 = t458 * t458;
-        let t470: f32 = t443 * t443;
-        let t471: f32 = t468 + t469;
-        let t472: f32 = t470 + t471;
-        let t473: f32 = sqrt(t472);
-        let t474: f32 = 1.0 / t473;
-        let t475: f32 = t453 * 0.76513904;
-        let t476: f32 = t458 * 0.64386505;
-        let t477: f32 = t475 + t476;
-        let t478: f32 = t466 * t477;
-        let t479: f32 = t474 * t474;
-        let t480: f32 = wy * t442;
-        let t481: f32 = wz * t456;
-        let t482: f32 = t480 - t481;
-        let t483: f32 = vx - t482;
-        let t484: f32 = t446 * t466;
-        let t485: f32 = t483 * t484;
-        let t486: f32 = wz * t451;
-        let t487: f32 = wx * t442;
-        let t488: f32 = t486 - t487;
-        let t489: f32 = vy - t488;
-        let t490: f32 = t467 * t489;
-        let t491: f32 = wx * t456;
-        let t492: f32 = wy * t451;
-        let t493: f32 = t491 - t492;
-        let t494: f32 = vz - t493;
-        let t495: f32 = t461 * t466;
-        let t496: f32 = t494 * t495;
-        let t497: f32 = t485 + t490;
-        let t498: f32 = t497 - t496;
-        let t499: f32 = t443 * t474;
-        let t500: f32 = t467 * t499;
-        let t501: f32 = t458 * t474;
-        let t502: f32 = t495 * t501;
-        let t503: f32 = t500 + t502;
-        let t504: f32 = t483 * t503;
-        let t505: f32 = t453 * t474;
-        let t506: f32 = t495 * t505;
-        let t507: f32 = t484 * t499;
-        let t508: f32 = t506 + t507;
-        let t509: f32 = t489 * t508;
-        let t510: f32 = t484 * t501;
-        let t511: f32 = t467 * t505;
-        let t512: f32 = t510 - t511;
-        let t513: f32 = t494 * t512;
-        let t514: f32 = t504 + t513;
-        let t515: f32 = t514 - t509;
-        let t516: f32 = t478 * t479;
-        let t517: f32 = t498 * t516;
-        let t518: f32 = t515 * t517;
-        let t519: f32 = t483 * t505;
-        let t520: f32 = t489 * t501;
-        let t521: f32 = t494 * t499;
-        let t522: f32 = t519 + t520;
-        let t523: f32 = t521 + t522;
-        let t524: f32 = t474 * t523;
-        let t525: f32 = t524 * 2.0;
-        let t526: f32 = t474 * t498;
-        let t527: f32 = t525 * t526;
-        let t528: f32 = t518 + t527;
-        let t529: f32 = t478 * t528;
-        let t530: f32 = t466 * t466;
-        let t531: f32 = t472 * t474;
-        let t532: f32 = t530 * t531;
-        let t533: f32 = t498 * t532;
-        let t534: f32 = t515 * t533;
-        let t535: f32 = wy * t493;
-        let t536: f32 = wz * t488;
-        let t537: f32 = t535 - t536;
-        let t538: f32 = t484 * t537;
-        let t539: f32 = wz * t482;
-        let t540: f32 = wx * t493;
-        let t541: f32 = t539 - t540;
-        let t542: f32 = t467 * t541;
-        let t543: f32 = wx * t488;
-        let t544: f32 = wy * t482;
-        let t545: f32 = t543 - t544;
-        let t546: f32 = t495 * t545;
-        let t547: f32 = t538 + t542;
-        let t548: f32 = t547 - t546;
-        let t549: f32 = t478 * t548;
-        let t550: f32 = t534 + t549;
-        let t551: f32 = t474 * t550;
-        let t552: f32 = t529 + t551;
-        let t553: f32 = t467 * t474;
-        let t554: f32 = t478 * t553;
-        let t555: f32 = t552 * t554;
-        let t556: f32 = t512 * 9.81;
-        let t557: f32 = -t556;
-        let t558: f32 = t512 * t545;
-        let t559: f32 = t503 * t537;
-        let t560: f32 = t508 * t541;
-        let t561: f32 = t559 - t560;
-        let t562: f32 = t558 + t561;
-        let t563: f32 = t498 * t498;
-        let t564: f32 = t474 * t478;
-        let t565: f32 = t563 * t564;
-        let t566: f32 = t515 * t525;
-        let t567: f32 = t562 + t566;
-        let t568: f32 = t567 - t565;
-        let t569: f32 = t474 * t568;
-        let t570: f32 = t498 * t564;
-        let t571: f32 = t526 * t570;
-        let t572: f32 = t569 + t571;
-        let t573: f32 = t572 * 0.3;
-        let t574: f32 = t557 + t562;
-        let t575: f32 = t574 - t573;
-        let t576: f32 = t508 * t575;
-        let t577: f32 = t495 * 9.81;
-        let t578: f32 = t474 * t548;
-        let t579: f32 = t528 + t578;
-        let t580: f32 = t474 * t515;
-        let t581: f32 = t570 * t580;
-        let t582: f32 = t579 - t581;
-        let t583: f32 = t582 * 0.3;
-        let t584: f32 = t548 + t577;
-        let t585: f32 = t583 - t584;
-        let t586: f32 = t467 * t585;
-        let t587: f32 = t576 + t586;
-        let t588: f32 = t557 * 0.2;
-        let t589: f32 = t562 * 0.3;
-        let t590: f32 = t569 * 0.295;
-        let t591: f32 = t571 * 0.292;
-        let t592: f32 = t588 + t590;
-        let t593: f32 = t591 + t592;
-        let t594: f32 = t589 - t593;
-        let t595: f32 = t474 * t508;
-        let t596: f32 = t594 * t595;
-        let t597: f32 = t587 - t596;
-        let t598: f32 = t499 * 9.81;
-        let t599: f32 = -t598;
-        let t600: f32 = t505 * t537;
-        let t601: f32 = t501 * t541;
-        let t602: f32 = t499 * t545;
-        let t603: f32 = t600 + t601;
-        let t604: f32 = t602 + t603;
-        let t605: f32 = t526 * t526;
-        let t606: f32 = t580 * t580;
-        let t607: f32 = t605 + t606;
-        let t608: f32 = t607 * 0.3;
-        let t609: f32 = t599 + t604;
-        let t610: f32 = t609 - t608;
-        let t611: f32 = t501 * t610;
-        let t612: f32 = t577 * 0.2;
-        let t613: f32 = t548 * 0.3;
-        let t614: f32 = t579 * 0.295;
-        let t615: f32 = t581 * 0.292;
-        let t616: f32 = t612 + t614;
-        let t617: f32 = t613 + t615;
-        let t618: f32 = t616 - t617;
-        let t619: f32 = t553 * t618;
-        let t620: f32 = t611 + t619;
-        let t621: f32 = t597 - t620;
-        let t622: f32 = t555 * 0.003;
-        let t623: f32 = t621 - t622;
-        let t624: f32 = t442 * t623;
-        let t625: f32 = t474 * t495;
-        let t626: f32 = t478 * t625;
-        let t627: f32 = t552 * t626;
-        let t628: f32 = t499 * t610;
-        let t629: f32 = t618 * t625;
-        let t630: f32 = t628 - t629;
-        let t631: f32 = t474 * t512;
-        let t632: f32 = t594 * t631;
-        let t633: f32 = t512 * t575;
-        let t634: f32 = t495 * t585;
-        let t635: f32 = t633 + t634;
-        let t636: f32 = t632 - t635;
-        let t637: f32 = t630 - t636;
-        let t638: f32 = t627 * 0.003;
-        let t639: f32 = t637 - t638;
-        let t640: f32 = t456 * t639;
-        let t641: f32 = t9 * 0.004904;
-        let t642: f32 = t30 * 0.291506;
-        let t643: f32 = t641 + t642;
-        let t644: f32 = zc + t643;
-        let t645: f32 = t644 * 0.9401728;
-        let t646: f32 = -t645;
-        let t647: f32 = t644 * 0.34069794;
-        let t648: f32 = t647 * t647;
-        let t649: f32 = t646 * t646;
-        let t650: f32 = t49 * 0.004904;
-        let t651: f32 = t50 * 0.291506;
-        let t652: f32 = t650 - t651;
-        let t653: f32 = xc + t652;
-        let t654: f32 = t653 + 0.155718;
-        let t655: f32 = t16 * 0.004904;
-        let t656: f32 = t24 * 0.291506;
-        let t657: f32 = t655 + t656;
-        let t658: f32 = yc + t657;
-        let t659: f32 = t658 - 0.429711;
-        let t660: f32 = t654 * 0.34069794;
-        let t661: f32 = t659 * 0.9401728;
-        let t662: f32 = t660 - t661;
-        let t663: f32 = t662 * t662;
-        let t664: f32 = t648 + t649;
-        let t665: f32 = t663 + t664;
-        let t666: f32 = sqrt(t665);
-        let t667: f32 = 1.0 / t666;
-        let t668: f32 = t646 * t667;
-        let t669: f32 = t654 * t654;
-        let t670: f32 = t659 * t659;
-        let t671: f32 = t644 * t644;
-        let t672: f32 = t669 + t670;
-        let t673: f32 = t671 + t672;
-        let t674: f32 = sqrt(t673);
-        let t675: f32 = 1.0 / t674;
-        let t676: f32 = t654 * 0.9401728;
-        let t677: f32 = t659 * 0.34069794;
-        let t678: f32 = t676 + t677;
-        let t679: f32 = t667 * t678;
-        let t680: f32 = t675 * t675;
-        let t681: f32 = wy * t643;
-        let t682: f32 = wz * t657;
-        let t683: f32 = t681 - t682;
-        let t684: f32 = vx + t683;
-        let t685: f32 = t647 * t667;
-        let t686: f32 = t684 * t685;
-        let t687: f32 = wz * t652;
-        let t688: f32 = wx * t643;
-        let t689: f32 = t687 - t688;
-        let t690: f32 = vy + t689;
-        let t691: f32 = t668 * t690;
-        let t692: f32 = wx * t657;
-        let t693: f32 = wy * t652;
-        let t694: f32 = t692 - t693;
-        let t695: f32 = vz + t694;
-        let t696: f32 = t662 * t667;
-        let t697: f32 = t695 * t696;
-        let t698: f32 = t686 + t691;
-        let t699: f32 = t698 - t697;
-        let t700: f32 = t644 * t675;
-        let t701: f32 = t668 * t700;
-        let t702: f32 = t659 * t675;
-        let t703: f32 = t696 * t702;
-        let t704: f32 = t701 + t703;
-        let t705: f32 = t684 * t704;
-        let t706: f32 = t654 * t675;
-        let t707: f32 = t696 * t706;
-        let t708: f32 = t685 * t700;
-        let t709: f32 = t707 + t708;
-        let t710: f32 = t690 * t709;
-        let t711: f32 = t685 * t702;
-        let t712: f32 = t668 * t706;
-        let t713: f32 = t711 - t712;
-        let t714: f32 = t695 * t713;
-        let t715: f32 = t705 + t714;
-        let t716: f32 = t715 - t710;
-        let t717: f32 = t679 * t680;
-        let t718: f32 = t699 * t717;
-        let t719: f32 = t716 * t718;
-        let t720: f32 = t684 * t706;
-        let t721: f32 = t690 * t702;
-        let t722: f32 = t695 * t700;
-        let t723: f32 = t720 + t721;
-        let t724: f32 = t722 + t723;
-        let t725: f32 = t675 * t724;
-        let t726: f32 = t725 * 2.0;
-        let t727: f32 = t675 * t699;
-        let t728: f32 = t726 * t727;
-        let t729: f32 = t719 + t728;
-        let t730: f32 = t679 * t729;
-        let t731: f32 = t667 * t667;
-        let t732: f32 = t673 * t675;
-        let t733: f32 = t731 * t732;
-        let t734: f32 = t699 * t733;
-        let t735: f32 = t716 * t734;
-        let t736: f32 = wy * t694;
-        let t737: f32 = wz * t689;
-        let t738: f32 = t736 - t737;
-        let t739: f32 = t685 * t738;
-        let t740: f32 = wz * t683;
-        let t741: f32 = wx * t694;
-        let t742: f32 = t740 - t741;
-        let t743: f32 = t668 * t742;
-        let t744: f32 = wx * t689;
-        let t745: f32 = wy * t683;
-        let t746: f32 = t744 - t745;
-        let t747: f32 = t696 * t746;
-        let t748: f32 = t739 + t743;
-        let t749: f32 = t748 - t747;
-        let t750: f32 = t679 * t749;
-        let t751: f32 = t735 - t750;
-        let t752: f32 = t675 * t751;
-        let t753: f32 = t730 + t752;
-        let t754: f32 = t668 * t675;
-        let t755: f32 = t679 * t754;
-        let t756: f32 = t753 * t755;
-        let t757: f32 = t713 * 9.81;
-        let t758: f32 = -t757;
-        let t759: f32 = t713 * t746;
-        let t760: f32 = t704 * t738;
-        let t761: f32 = t709 * t742;
-        let t762: f32 = t760 - t761;
-        let t763: f32 = t759 + t762;
-        let t764: f32 = t699 * t699;
-        let t765: f32 = t675 * t679;
-        let t766: f32 = t764 * t765;
-        let t767: f32 = t716 * t726;
-        let t768: f32 = t763 + t766;
-        let t769: f32 = t768 - t767;
-        let t770: f32 = t675 * t769;
-        let t771: f32 = t699 * t765;
-        let t772: f32 = t727 * t771;
-        let t773: f32 = t770 - t772;
-        let t774: f32 = t773 * 0.3;
-        let t775: f32 = t758 + t774;
-        let t776: f32 = t775 - t763;
-        let t777: f32 = t709 * t776;
-        let t778: f32 = t696 * 9.81;
-        let t779: f32 = t675 * t749;
-        let t780: f32 = t729 - t779;
-        let t781: f32 = t675 * t716;
-        let t782: f32 = t771 * t781;
-        let t783: f32 = t780 - t782;
-        let t784: f32 = t783 * 0.3;
-        let t785: f32 = t749 + t784;
-        let t786: f32 = t785 - t778;
-        let t787: f32 = t668 * t786;
-        let t788: f32 = t777 + t787;
-        let t789: f32 = t758 * 0.2;
-        let t790: f32 = t763 * 0.3;
-        let t791: f32 = t770 * 0.295;
-        let t792: f32 = t772 * 0.292;
-        let t793: f32 = t789 + t790;
-        let t794: f32 = t792 + t793;
-        let t795: f32 = t791 - t794;
-        let t796: f32 = t675 * t709;
-        let t797: f32 = t795 * t796;
-        let t798: f32 = t788 - t797;
-        let t799: f32 = t700 * 9.81;
-        let t800: f32 = -t799;
-        let t801: f32 = t706 * t738;
-        let t802: f32 = t702 * t742;
-        let t803: f32 = t700 * t746;
-        let t804: f32 = t801 + t802;
-        let t805: f32 = t803 + t804;
-        let t806: f32 = t727 * t727;
-        let t807: f32 = t781 * t781;
-        let t808: f32 = t806 + t807;
-        let t809: f32 = t808 * 0.3;
-        let t810: f32 = t805 + t809;
-        let t811: f32 = t800 - t810;
-        let t812: f32 = t702 * t811;
-        let t813: f32 = t778 * 0.2;
-        let t814: f32 = t749 * 0.3;
-        let t815: f32 = t780 * 0.295;
-        let t816: f32 = t782 * 0.292;
-        let t817: f32 = t813 + t814;
-        let t818: f32 = t815 + t817;
-        let t819: f32 = t818 - t816;
-        let t820: f32 = t754 * t819;
-        let t821: f32 = t812 + t820;
-        let t822: f32 = t798 - t821;
-        let t823: f32 = t756 * 0.003;
-        let t824: f32 = t822 - t823;
-        let t825: f32 = t643 * t824;
-        let t826: f32 = t675 * t696;
-        let t827: f32 = t679 * t826;
-        let t828: f32 = t753 * t827;
-        let t829: f32 = t700 * t811;
-        let t830: f32 = t819 * t826;
-        let t831: f32 = t829 - t830;
-        let t832: f32 = t675 * t713;
-        let t833: f32 = t795 * t832;
-        let t834: f32 = t713 * t776;
-        let t835: f32 = t696 * t786;
-        let t836: f32 = t834 + t835;
-        let t837: f32 = t833 - t836;
-        let t838: f32 = t831 - t837;
-        let t839: f32 = t828 * 0.003;
-        let t840: f32 = t838 - t839;
-        let t841: f32 = t657 * t840;
-        let t842: f32 = t641 - t642;
-        let t843: f32 = zc + t842;
-        let t844: f32 = t843 * 0.9401728;
-        let t845: f32 = t843 * 0.34069794;
-        let t846: f32 = t845 * t845;
-        let t847: f32 = t844 * t844;
-        let t848: f32 = t650 + t651;
-        let t849: f32 = xc + t848;
-        let t850: f32 = t849 + 0.155718;
-        let t851: f32 = t655 - t656;
-        let t852: f32 = yc + t851;
-        let t853: f32 = t852 + 0.429711;
-        let t854: f32 = t850 * 0.34069794;
-        let t855: f32 = t853 * 0.9401728;
-        let t856: f32 = t854 + t855;
-        let t857: f32 = t856 * t856;
-        let t858: f32 = t846 + t847;
-        let t859: f32 = t857 + t858;
-        let t860: f32 = sqrt(t859);
-        let t861: f32 = 1.0 / t860;
-        let t862: f32 = t844 * t861;
-        let t863: f32 = t850 * t850;
-        let t864: f32 = t853 * t853;
-        let t865: f32 = t843 * t843;
-        let t866: f32 = t863 + t864;
-        let t867: f32 = t865 + t866;
-        let t868: f32 = sqrt(t867);
-        let t869: f32 = 1.0 / t868;
-        let t870: f32 = t850 * 0.9401728;
-        let t871: f32 = t853 * 0.34069794;
-        let t872: f32 = t870 - t871;
-        let t873: f32 = t861 * t872;
-        let t874: f32 = t869 * t869;
-        let t875: f32 = wy * t842;
-        let t876: f32 = wz * t851;
-        let t877: f32 = t875 - t876;
-        let t878: f32 = vx + t877;
-        let t879: f32 = t845 * t861;
-        let t880: f32 = t878 * t879;
-        let t881: f32 = wz * t848;
-        let t882: f32 = wx * t842;
-        let t883: f32 = t881 - t882;
-        let t884: f32 = vy + t883;
-        let t885: f32 = t862 * t884;
-        let t886: f32 = wx * t851;
-        let t887: f32 = wy * t848;
-        let t888: f32 = t886 - t887;
-        let t889: f32 = vz + t888;
-        let t890: f32 = t856 * t861;
-        let t891: f32 = t889 * t890;
-        let t892: f32 = t880 + t885;
-        let t893: f32 = t892 - t891;
-        let t894: f32 = t843 * t869;
-        let t895: f32 = t862 * t894;
-        let t896: f32 = t853 * t869;
-        let t897: f32 = t890 * t896;
-        let t898: f32 = t895 + t897;
-        let t899: f32 = t878 * t898;
-        let t900: f32 = t850 * t869;
-        let t901: f32 = t890 * t900;
-        let t902: f32 = t879 * t894;
-        let t903: f32 = t901 + t902;
-        let t904: f32 = t884 * t903;
-        let t905: f32 = t879 * t896;
-        let t906: f32 = t862 * t900;
-        let t907: f32 = t905 - t906;
-        let t908: f32 = t889 * t907;
-        let t909: f32 = t899 + t908;
-        let t910: f32 = t909 - t904;
-        let t911: f32 = t873 * t874;
-        let t912: f32 = t893 * t911;
-        let t913: f32 = t910 * t912;
-        let t914: f32 = t878 * t900;
-        let t915: f32 = t884 * t896;
-        let t916: f32 = t889 * t894;
-        let t917: f32 = t914 + t915;
-        let t918: f32 = t916 + t917;
-        let t919: f32 = t869 * t918;
-        let t920: f32 = t919 * 2.0;
-        let t921: f32 = t869 * t893;
-        let t922: f32 = t920 * t921;
-        let t923: f32 = t913 - t922;
-        let t924: f32 = t873 * t923;
-        let t925: f32 = t861 * t861;
-        let t926: f32 = t867 * t869;
-        let t927: f32 = t925 * t926;
-        let t928: f32 = t893 * t927;
-        let t929: f32 = t910 * t928;
-        let t930: f32 = wy * t888;
-        let t931: f32 = wz * t883;
-        let t932: f32 = t930 - t931;
-        let t933: f32 = t879 * t932;
-        let t934: f32 = wz * t877;
-        let t935: f32 = wx * t888;
-        let t936: f32 = t934 - t935;
-        let t937: f32 = t862 * t936;
-        let t938: f32 = wx * t883;
-        let t939: f32 = wy * t877;
-        let t940: f32 = t938 - t939;
-        let t941: f32 = t890 * t940;
-        let t942: f32 = t933 + t937;
-        let t943: f32 = t942 - t941;
-        let t944: f32 = t873 * t943;
-        let t945: f32 = t929 + t944;
-        let t946: f32 = t869 * t945;
-        let t947: f32 = t924 + t946;
-        let t948: f32 = t862 * t869;
-        let t949: f32 = t873 * t948;
-        let t950: f32 = t947 * t949;
-        let t951: f32 = t894 * 9.81;
-        let t952: f32 = -t951;
-        let t953: f32 = t900 * t932;
-        let t954: f32 = t896 * t936;
-        let t955: f32 = t894 * t940;
-        let t956: f32 = t953 + t954;
-        let t957: f32 = t955 + t956;
-        let t958: f32 = t921 * t921;
-        let t959: f32 = t869 * t910;
-        let t960: f32 = t959 * t959;
-        let t961: f32 = t958 + t960;
-        let t962: f32 = t961 * 0.3;
-        let t963: f32 = t957 + t962;
-        let t964: f32 = t952 - t963;
-        let t965: f32 = t896 * t964;
-        let t966: f32 = t890 * 9.81;
-        let t967: f32 = t869 * t943;
-        let t968: f32 = t923 + t967;
-        let t969: f32 = t869 * t873;
-        let t970: f32 = t893 * t969;
-        let t971: f32 = t959 * t970;
-        let t972: f32 = t966 * 0.2;
-        let t973: f32 = t943 * 0.3;
-        let t974: f32 = t968 * 0.295;
-        let t975: f32 = t971 * 0.292;
-        let t976: f32 = t972 + t973;
-        let t977: f32 = t975 + t976;
-        let t978: f32 = t974 - t977;
-        let t979: f32 = t948 * t978;
-        let t980: f32 = t965 - t979;
-        let t981: f32 = t907 * 9.81;
-        let t982: f32 = -t981;
-        let t983: f32 = t907 * t940;
-        let t984: f32 = t898 * t932;
-        let t985: f32 = t903 * t936;
-        let t986: f32 = t984 - t985;
-        let t987: f32 = t983 + t986;
-        let t988: f32 = t893 * t893;
-        let t989: f32 = t969 * t988;
-        let t990: f32 = t910 * t920;
-        let t991: f32 = t989 + t990;
-        let t992: f32 = t987 - t991;
-        let t993: f32 = t869 * t992;
-        let t994: f32 = t921 * t970;
-        let t995: f32 = t982 * 0.2;
-        let t996: f32 = t987 * 0.3;
-        let t997: f32 = t993 * 0.295;
-        let t998: f32 = t994 * 0.292;
-        let t999: f32 = t995 + t996;
-        let t1000: f32 = t997 + t998;
-        let t1001: f32 = t999 - t1000;
-        let t1002: f32 = t869 * t903;
+        let t209: f32 = t16 * t208;
+        let t210: f32 = t58 * t79;
+        let t211: f32 = t62 * t210;
+        let t212: f32 = t136 * t211;
+        let t213: f32 = t83 * t153;
+        let t214: f32 = t168 * t210;
+        let t215: f32 = t213 + t214;
+        let t216: f32 = t58 * t96;
+        let t217: f32 = t191 * t216;
+        let t218: f32 = t96 * t197;
+        let t219: f32 = t79 * t202;
+        let t220: f32 = t218 - t219;
+        let t221: f32 = t217 - t220;
+        let t222: f32 = t215 - t221;
+        let t223: f32 = t212 * 0.003;
+        let t224: f32 = t222 + t223;
+        let t225: f32 = t40 * t224;
+        let t226: f32 = t14 - t15;
+        let t227: f32 = zc + t226;
+        let t228: f32 = t227 * 0.17503293;
+        let t229: f32 = t227 * 0.9845626;
+        let t230: f32 = -t229;
+        let t231: f32 = t230 * t230;
+        let t232: f32 = t228 * t228;
+        let t233: f32 = t26 + t27;
+        let t234: f32 = xc + t233;
+        let t235: f32 = t234 - 0.45;
+        let t236: f32 = t38 - t39;
+        let t237: f32 = yc + t236;
+        let t238: f32 = t237 + 0.08;
+        let t239: f32 = t235 * 0.9845626;
+        let t240: f32 = t238 * 0.17503293;
+        let t241: f32 = t239 - t240;
+        let t242: f32 = t241 * t241;
+        let t243: f32 = t231 + t232;
+        let t244: f32 = t242 + t243;
+        let t245: f32 = sqrt(t244);
+        let t246: f32 = 1.0 / t245;
+        let t247: f32 = t228 * t246;
+        let t248: f32 = t235 * t235;
+        let t249: f32 = t238 * t238;
+        let t250: f32 = t227 * t227;
+        let t251: f32 = t248 + t249;
+        let t252: f32 = t250 + t251;
+        let t253: f32 = sqrt(t252);
+        let t254: f32 = 1.0 / t253;
+        let t255: f32 = t235 * 0.17503293;
+        let t256: f32 = t238 * 0.9845626;
+        let t257: f32 = t255 + t256;
+        let t258: f32 = t246 * t257;
+        let t259: f32 = t254 * t254;
+        let t260: f32 = wy * t226;
+        let t261: f32 = wz * t236;
+        let t262: f32 = t260 - t261;
+        let t263: f32 = vx + t262;
+        let t264: f32 = t230 * t246;
+        let t265: f32 = t263 * t264;
+        let t266: f32 = wz * t233;
+        let t267: f32 = wx * t226;
+        let t268: f32 = t266 - t267;
+        let t269: f32 = vy + t268;
+        let t270: f32 = t247 * t269;
+        let t271: f32 = wx * t236;
+        let t272: f32 = wy * t233;
+        let t273: f32 = t271 - t272;
+        let t274: f32 = vz + t273;
+        let t275: f32 = t241 * t246;
+        let t276: f32 = t274 * t275;
+        let t277: f32 = t265 + t270;
+        let t278: f32 = t276 + t277;
+        let t279: f32 = t227 * t254;
+        let t280: f32 = t247 * t279;
+        let t281: f32 = t238 * t254;
+        let t282: f32 = t275 * t281;
+        let t283: f32 = t280 - t282;
+        let t284: f32 = t263 * t283;
+        let t285: f32 = t235 * t254;
+        let t286: f32 = t275 * t285;
+        let t287: f32 = t264 * t279;
+        let t288: f32 = t286 - t287;
+        let t289: f32 = t269 * t288;
+        let t290: f32 = t264 * t281;
+        let t291: f32 = t247 * t285;
+        let t292: f32 = t290 - t291;
+        let t293: f32 = t274 * t292;
+        let t294: f32 = t284 + t289;
+        let t295: f32 = t293 + t294;
+        let t296: f32 = t258 * t259;
+        let t297: f32 = t278 * t296;
+        let t298: f32 = t295 * t297;
+        let t299: f32 = t263 * t285;
+        let t300: f32 = t269 * t281;
+        let t301: f32 = t274 * t279;
+        let t302: f32 = t299 + t300;
+        let t303: f32 = t301 + t302;
+        let t304: f32 = t254 * t303;
+        let t305: f32 = t304 * 2.0;
+        let t306: f32 = t254 * t278;
+        let t307: f32 = t305 * t306;
+        let t308: f32 = t298 - t307;
+        let t309: f32 = t258 * t308;
+        let t310: f32 = t246 * t246;
+        let t311: f32 = t252 * t254;
+        let t312: f32 = t310 * t311;
+        let t313: f32 = t278 * t312;
+        let t314: f32 = t295 * t313;
+        let t315: f32 = wy * t273;
+        let t316: f32 = wz * t268;
+        let t317: f32 = t315 - t316;
+        let t318: f32 = t264 * t317;
+        let t319: f32 = wz * t262;
+        let t320: f32 = wx * t273;
+        let t321: f32 = t319 - t320;
+        let t322: f32 = t247 * t321;
+        let t323: f32 = wx * t268;
+        let t324: f32 = wy * t262;
+        let t325: f32 = t323 - t324;
+        let t326: f32 = t275 * t325;
+        let t327: f32 = t318 + t322;
+        let t328: f32 = t326 + t327;
+        let t329: f32 = t258 * t328;
+        let t330: f32 = t314 + t329;
+        let t331: f32 = t254 * t330;
+        let t332: f32 = t309 + t331;
+        let t333: f32 = t247 * t254;
+        let t334: f32 = t258 * t333;
+        let t335: f32 = t332 * t334;
+        let t336: f32 = t275 * 9.81;
+        let t337: f32 = -t336;
+        let t338: f32 = t254 * t328;
+        let t339: f32 = t308 + t338;
+        let t340: f32 = t254 * t258;
+        let t341: f32 = t278 * t340;
+        let t342: f32 = t254 * t295;
+        let t343: f32 = t341 * t342;
+        let t344: f32 = t337 * 0.2;
+        let t345: f32 = t328 * 0.3;
+        let t346: f32 = t339 * 0.295;
+        let t347: f32 = t343 * 0.292;
+        let t348: f32 = t344 + t345;
+        let t349: f32 = t347 + t348;
+        let t350: f32 = t346 - t349;
+        let t351: f32 = t333 * t350;
+        let t352: f32 = t279 * 9.81;
+        let t353: f32 = -t352;
+        let t354: f32 = t285 * t317;
+        let t355: f32 = t281 * t321;
+        let t356: f32 = t279 * t325;
+        let t357: f32 = t354 + t355;
+        let t358: f32 = t356 + t357;
+        let t359: f32 = t306 * t306;
+        let t360: f32 = t342 * t342;
+        let t361: f32 = t359 + t360;
+        let t362: f32 = t361 * 0.3;
+        let t363: f32 = t358 + t362;
+        let t364: f32 = t353 - t363;
+        let t365: f32 = t281 * t364;
+        let t366: f32 = t351 - t365;
+        let t367: f32 = t292 * 9.81;
+        let t368: f32 = -t367;
+        let t369: f32 = t292 * t325;
+        let t370: f32 = t283 * t317;
+        let t371: f32 = t288 * t321;
+        let t372: f32 = t370 + t371;
+        let t373: f32 = t369 + t372;
+        let t374: f32 = t278 * t278;
+        let t375: f32 = t340 * t374;
+        let t376: f32 = t295 * t305;
+        let t377: f32 = t375 + t376;
+        let t378: f32 = t373 - t377;
+        let t379: f32 = t254 * t378;
+        let t380: f32 = t306 * t341;
+        let t381: f32 = t379 + t380;
+        let t382: f32 = t381 * 0.3;
+        let t383: f32 = t368 + t382;
+        let t384: f32 = t373 - t383;
+        let t385: f32 = t288 * t384;
+        let t386: f32 = t339 - t343;
+        let t387: f32 = t386 * 0.3;
+        let t388: f32 = t337 + t387;
+        let t389: f32 = t388 - t328;
+        let t390: f32 = t247 * t389;
+        let t391: f32 = t385 - t390;
+        let t392: f32 = t368 * 0.2;
+        let t393: f32 = t373 * 0.3;
+        let t394: f32 = t379 * 0.295;
+        let t395: f32 = t380 * 0.292;
+        let t396: f32 = t392 + t393;
+        let t397: f32 = t394 + t395;
+        let t398: f32 = t396 - t397;
+        let t399: f32 = t254 * t288;
+        let t400: f32 = t398 * t399;
+        let t401: f32 = t391 - t400;
+        let t402: f32 = t366 + t401;
+        let t403: f32 = t335 * 0.003;
+        let t404: f32 = t402 + t403;
+        let t405: f32 = t226 * t404;
+        let t406: f32 = t254 * t275;
+        let t407: f32 = t258 * t406;
+        let t408: f32 = t332 * t407;
+        let t409: f32 = t350 * t406;
+        let t410: f32 = t279 * t364;
+        let t411: f32 = t409 - t410;
+        let t412: f32 = t292 * t384;
+        let t413: f32 = t275 * t389;
+        let t414: f32 = t412 - t413;
+        let t415: f32 = t254 * t292;
+        let t416: f32 = t398 * t415;
+        let t417: f32 = t414 - t416;
+        let t418: f32 = t411 + t417;
+        let t419: f32 = t408 * 0.003;
+        let t420: f32 = t418 + t419;
+        let t421: f32 = t236 * t420;
+        let t422: f32 = t9 * 0.254904;
+        let t423: f32 = t13 * 0.141506;
+        let t424: f32 = t422 - t423;
+        let t425: f32 = zc - t424;
+        let t426: f32 = t425 * 0.76513904;
+        let t427: f32 = -t426;
+        let t428: f32 = t425 * 0.64386505;
+        let t429: f32 = t428 * t428;
+        let t430: f32 = t427 * t427;
+        let t431: f32 = t24 * 0.254904;
+        let t432: f32 = t25 * 0.141506;
+        let t433: f32 = t431 + t432;
+        let t434: f32 = xc + 0.294282;
+        let t435: f32 = t434 - t433;
+        let t436: f32 = t34 * 0.254904;
+        let t437: f32 = t37 * 0.141506;
+        let t438: f32 = t436 - t437;
+        let t439: f32 = t438 + 0.349711;
+        let t440: f32 = yc - t439;
+        let t441: f32 = t435 * 0.64386505;
+        let t442: f32 = t440 * 0.76513904;
+        let t443: f32 = t441 - t442;
+        let t444: f32 = t443 * t443;
+        let t445: f32 = t429 + t430;
+        let t446: f32 = t444 + t445;
+        let t447: f32 = sqrt(t446);
+        let t448: f32 = 1.0 / t447;
+        let t449: f32 = t427 * t448;
+        let t450: f32 = t435 * t435;
+        let t451: f32 = t440 * t440;
+        let t452: f32 = t425 * t425;
+        let t453: f32 = t450 + t451;
+        let t454: f32 = t452 + t453;
+        let t455: f32 = sqrt(t454);
+        let t456: f32 = 1.0 / t455;
+        let t457: f32 = t435 * 0.76513904;
+        let t458: f32 = t440 * 0.64386505;
+        let t459: f32 = t457 + t458;
+        let t460: f32 = t448 * t459;
+        let t461: f32 = t456 * t456;
+        let t462: f32 = wy * t424;
+        let t463: f32 = wz * t438;
+        let t464: f32 = t462 - t463;
+        let t465: f32 = vx - t464;
+        let t466: f32 = t428 * t448;
+        let t467: f32 = t465 * t466;
+        let t468: f32 = wz * t433;
+        let t469: f32 = wx * t424;
+        let t470: f32 = t468 - t469;
+        let t471: f32 = vy - t470;
+        let t472: f32 = t449 * t471;
+        let t473: f32 = wx * t438;
+        let t474: f32 = wy * t433;
+        let t475: f32 = t473 - t474;
+        let t476: f32 = vz - t475;
+        let t477: f32 = t443 * t448;
+        let t478: f32 = t476 * t477;
+        let t479: f32 = t467 + t472;
+        let t480: f32 = t479 - t478;
+        let t481: f32 = t425 * t456;
+        let t482: f32 = t449 * t481;
+        let t483: f32 = t440 * t456;
+        let t484: f32 = t477 * t483;
+        let t485: f32 = t482 + t484;
+        let t486: f32 = t465 * t485;
+        let t487: f32 = t435 * t456;
+        let t488: f32 = t477 * t487;
+        let t489: f32 = t466 * t481;
+        let t490: f32 = t488 + t489;
+        let t491: f32 = t471 * t490;
+        let t492: f32 = t466 * t483;
+        let t493: f32 = t449 * t487;
+        let t494: f32 = t492 - t493;
+        let t495: f32 = t476 * t494;
+        let t496: f32 = t486 + t495;
+        let t497: f32 = t496 - t491;
+        let t498: f32 = t460 * t461;
+        let t499: f32 = t480 * t498;
+        let t500: f32 = t497 * t499;
+        let t501: f32 = t465 * t487;
+        let t502: f32 = t471 * t483;
+        let t503: f32 = t476 * t481;
+        let t504: f32 = t501 + t502;
+        let t505: f32 = t503 + t504;
+        let t506: f32 = t456 * t505;
+        let t507: f32 = t506 * 2.0;
+        let t508: f32 = t456 * t480;
+        let t509: f32 = t507 * t508;
+        let t510: f32 = t500 + t509;
+        let t511: f32 = t460 * t510;
+        let t512: f32 = t448 * t448;
+        let t513: f32 = t454 * t456;
+        let t514: f32 = t512 * t513;
+        let t515: f32 = t480 * t514;
+        let t516: f32 = t497 * t515;
+        let t517: f32 = wy * t475;
+        let t518: f32 = wz * t470;
+        let t519: f32 = t517 - t518;
+        let t520: f32 = t466 * t519;
+        let t521: f32 = wz * t464;
+        let t522: f32 = wx * t475;
+        let t523: f32 = t521 - t522;
+        let t524: f32 = t449 * t523;
+        let t525: f32 = wx * t470;
+        let t526: f32 = wy * t464;
+        let t527: f32 = t525 - t526;
+        let t528: f32 = t477 * t527;
+        let t529: f32 = t520 + t524;
+        let t530: f32 = t529 - t528;
+        let t531: f32 = t460 * t530;
+        let t532: f32 = t516 + t531;
+        let t533: f32 = t456 * t532;
+        let t534: f32 = t511 + t533;
+        let t535: f32 = t449 * t456;
+        let t536: f32 = t460 * t535;
+        let t537: f32 = t534 * t536;
+        let t538: f32 = t494 * 9.81;
+        let t539: f32 = -t538;
+        let t540: f32 = t494 * t527;
+        let t541: f32 = t485 * t519;
+        let t542: f32 = t490 * t523;
+        let t543: f32 = t541 - t542;
+        let t544: f32 = t540 + t543;
+        let t545: f32 = t480 * t480;
+        let t546: f32 = t456 * t460;
+        let t547: f32 = t545 * t546;
+        let t548: f32 = t497 * t507;
+        let t549: f32 = t544 + t548;
+        let t550: f32 = t549 - t547;
+        let t551: f32 = t456 * t550;
+        let t552: f32 = t480 * t546;
+        let t553: f32 = t508 * t552;
+        let t554: f32 = t551 + t553;
+        let t555: f32 = t554 * 0.3;
+        let t556: f32 = t539 + t544;
+        let t557: f32 = t556 - t555;
+        let t558: f32 = t490 * t557;
+        let t559: f32 = t477 * 9.81;
+        let t560: f32 = t456 * t530;
+        let t561: f32 = t510 + t560;
+        let t562: f32 = t456 * t497;
+        let t563: f32 = t552 * t562;
+        let t564: f32 = t561 - t563;
+        let t565: f32 = t564 * 0.3;
+        let t566: f32 = t530 + t559;
+        let t567: f32 = t565 - t566;
+        let t568: f32 = t449 * t567;
+        let t569: f32 = t558 + t568;
+        let t570: f32 = t539 * 0.2;
+        let t571: f32 = t544 * 0.3;
+        let t572: f32 = t551 * 0.295;
+        let t573: f32 = t553 * 0.292;
+        let t574: f32 = t570 + t572;
+        let t575: f32 = t573 + t574;
+        let t576: f32 = t571 - t575;
+        let t577: f32 = t456 * t490;
+        let t578: f32 = t576 * t577;
+        let t579: f32 = t569 - t578;
+        let t580: f32 = t481 * 9.81;
+        let t581: f32 = -t580;
+        let t582: f32 = t487 * t519;
+        let t583: f32 = t483 * t523;
+        let t584: f32 = t481 * t527;
+        let t585: f32 = t582 + t583;
+        let t586: f32 = t584 + t585;
+        let t587: f32 = t508 * t508;
+        let t588: f32 = t562 * t562;
+        let t589: f32 = t587 + t588;
+        let t590: f32 = t589 * 0.3;
+        let t591: f32 = t581 + t586;
+        let t592: f32 = t591 - t590;
+        let t593: f32 = t483 * t592;
+        let t594: f32 = t559 * 0.2;
+        let t595: f32 = t530 * 0.3;
+        let t596: f32 = t561 * 0.295;
+        let t597: f32 = t563 * 0.292;
+        let t598: f32 = t594 + t596;
+        let t599: f32 = t595 + t597;
+        let t600: f32 = t598 - t599;
+        let t601: f32 = t535 * t600;
+        let t602: f32 = t593 + t601;
+        let t603: f32 = t579 - t602;
+        let t604: f32 = t537 * 0.003;
+        let t605: f32 = t603 - t604;
+        let t606: f32 = t424 * t605;
+        let t607: f32 = t456 * t477;
+        let t608: f32 = t460 * t607;
+        let t609: f32 = t534 * t608;
+        let t610: f32 = t481 * t592;
+        let t611: f32 = t600 * t607;
+        let t612: f32 = t610 - t611;
+        let t613: f32 = t456 * t494;
+        let t614: f32 = t576 * t613;
+        let t615: f32 = t494 * t557;
+        let t616: f32 = t477 * t567;
+        let t617: f32 = t615 + t616;
+        let t618: f32 = t614 - t617;
+        let t619: f32 = t612 - t618;
+        let t620: f32 = t609 * 0.003;
+        let t621: f32 = t619 - t620;
+        let t622: f32 = t438 * t621;
+        let t623: f32 = t9 * 0.004904;
+        let t624: f32 = t13 * 0.291506;
+        let t625: f32 = t623 + t624;
+        let t626: f32 = zc + t625;
+        let t627: f32 = t626 * 0.9401728;
+        let t628: f32 = -t627;
+        let t629: f32 = t626 * 0.34069794;
+        let t630: f32 = t629 * t629;
+        let t631: f32 = t628 * t628;
+        let t632: f32 = t24 * 0.004904;
+        let t633: f32 = t25 * 0.291506;
+        let t634: f32 = t632 - t633;
+        let t635: f32 = xc + t634;
+        let t636: f32 = t635 + 0.155718;
+        let t637: f32 = t34 * 0.004904;
+        let t638: f32 = t37 * 0.291506;
+        let t639: f32 = t637 + t638;
+        let t640: f32 = yc + t639;
+        let t641: f32 = t640 - 0.429711;
+        let t642: f32 = t636 * 0.34069794;
+        let t643: f32 = t641 * 0.9401728;
+        let t644: f32 = t642 - t643;
+        let t645: f32 = t644 * t644;
+        let t646: f32 = t630 + t631;
+        let t647: f32 = t645 + t646;
+        let t648: f32 = sqrt(t647);
+        let t649: f32 = 1.0 / t648;
+        let t650: f32 = t628 * t649;
+        let t651: f32 = t636 * t636;
+        let t652: f32 = t641 * t641;
+        let t653: f32 = t626 * t626;
+        let t654: f32 = t651 + t652;
+        let t655: f32 = t653 + t654;
+        let t656: f32 = sqrt(t655);
+        let t657: f32 = 1.0 / t656;
+        let t658: f32 = t636 * 0.9401728;
+        let t659: f32 = t641 * 0.34069794;
+        let t660: f32 = t658 + t659;
+        let t661: f32 = t649 * t660;
+        let t662: f32 = t657 * t657;
+        let t663: f32 = wy * t625;
+        let t664: f32 = wz * t639;
+        let t665: f32 = t663 - t664;
+        let t666: f32 = vx + t665;
+        let t667: f32 = t629 * t649;
+        let t668: f32 = t666 * t667;
+        let t669: f32 = wz * t634;
+        let t670: f32 = wx * t625;
+        let t671: f32 = t669 - t670;
+        let t672: f32 = vy + t671;
+        let t673: f32 = t650 * t672;
+        let t674: f32 = wx * t639;
+        let t675: f32 = wy * t634;
+        let t676: f32 = t674 - t675;
+        let t677: f32 = vz + t676;
+        let t678: f32 = t644 * t649;
+        let t679: f32 = t677 * t678;
+        let t680: f32 = t668 + t673;
+        let t681: f32 = t680 - t679;
+        let t682: f32 = t626 * t657;
+        let t683: f32 = t650 * t682;
+        let t684: f32 = t641 * t657;
+        let t685: f32 = t678 * t684;
+        let t686: f32 = t683 + t685;
+        let t687: f32 = t666 * t686;
+        let t688: f32 = t636 * t657;
+        let t689: f32 = t678 * t688;
+        let t690: f32 = t667 * t682;
+        let t691: f32 = t689 + t690;
+        let t692: f32 = t672 * t691;
+        let t693: f32 = t667 * t684;
+        let t694: f32 = t650 * t688;
+        let t695: f32 = t693 - t694;
+        let t696: f32 = t677 * t695;
+        let t697: f32 = t687 + t696;
+        let t698: f32 = t697 - t692;
+        let t699: f32 = t661 * t662;
+        let t700: f32 = t681 * t699;
+        let t701: f32 = t698 * t700;
+        let t702: f32 = t666 * t688;
+        let t703: f32 = t672 * t684;
+        let t704: f32 = t677 * t682;
+        let t705: f32 = t702 + t703;
+        let t706: f32 = t704 + t705;
+        let t707: f32 = t657 * t706;
+        let t708: f32 = t707 * 2.0;
+        let t709: f32 = t657 * t681;
+        let t710: f32 = t708 * t709;
+        let t711: f32 = t701 + t710;
+        let t712: f32 = t661 * t711;
+        let t713: f32 = t649 * t649;
+        let t714: f32 = t655 * t657;
+        let t715: f32 = t713 * t714;
+        let t716: f32 = t681 * t715;
+        let t717: f32 = t698 * t716;
+        let t718: f32 = wy * t676;
+        let t719: f32 = wz * t671;
+        let t720: f32 = t718 - t719;
+        let t721: f32 = t667 * t720;
+        let t722: f32 = wz * t665;
+        let t723: f32 = wx * t676;
+        let t724: f32 = t722 - t723;
+        let t725: f32 = t650 * t724;
+        let t726: f32 = wx * t671;
+        let t727: f32 = wy * t665;
+        let t728: f32 = t726 - t727;
+        let t729: f32 = t678 * t728;
+        let t730: f32 = t721 + t725;
+        let t731: f32 = t730 - t729;
+        let t732: f32 = t661 * t731;
+        let t733: f32 = t717 - t732;
+        let t734: f32 = t657 * t733;
+        let t735: f32 = t712 + t734;
+        let t736: f32 = t650 * t657;
+        let t737: f32 = t661 * t736;
+        let t738: f32 = t735 * t737;
+        let t739: f32 = t695 * 9.81;
+        let t740: f32 = -t739;
+        let t741: f32 = t695 * t728;
+        let t742: f32 = t686 * t720;
+        let t743: f32 = t691 * t724;
+        let t744: f32 = t742 - t743;
+        let t745: f32 = t741 + t744;
+        let t746: f32 = t681 * t681;
+        let t747: f32 = t657 * t661;
+        let t748: f32 = t746 * t747;
+        let t749: f32 = t698 * t708;
+        let t750: f32 = t745 + t748;
+        let t751: f32 = t750 - t749;
+        let t752: f32 = t657 * t751;
+        let t753: f32 = t681 * t747;
+        let t754: f32 = t709 * t753;
+        let t755: f32 = t752 - t754;
+        let t756: f32 = t755 * 0.3;
+        let t757: f32 = t740 + t756;
+        let t758: f32 = t757 - t745;
+        let t759: f32 = t691 * t758;
+        let t760: f32 = t678 * 9.81;
+        let t761: f32 = t657 * t731;
+        let t762: f32 = t711 - t761;
+        let t763: f32 = t657 * t698;
+        let t764: f32 = t753 * t763;
+        let t765: f32 = t762 - t764;
+        let t766: f32 = t765 * 0.3;
+        let t767: f32 = t731 + t766;
+        let t768: f32 = t767 - t760;
+        let t769: f32 = t650 * t768;
+        let t770: f32 = t759 + t769;
+        let t771: f32 = t740 * 0.2;
+        let t772: f32 = t745 * 0.3;
+        let t773: f32 = t752 * 0.295;
+        let t774: f32 = t754 * 0.292;
+        let t775: f32 = t771 + t772;
+        let t776: f32 = t774 + t775;
+        let t777: f32 = t773 - t776;
+        let t778: f32 = t657 * t691;
+        let t779: f32 = t777 * t778;
+        let t780: f32 = t770 - t779;
+        let t781: f32 = t682 * 9.81;
+        let t782: f32 = -t781;
+        let t783: f32 = t688 * t720;
+        let t784: f32 = t684 * t724;
+        let t785: f32 = t682 * t728;
+        let t786: f32 = t783 + t784;
+        let t787: f32 = t785 + t786;
+        let t788: f32 = t709 * t709;
+        let t789: f32 = t763 * t763;
+        let t790: f32 = t788 + t789;
+        let t791: f32 = t790 * 0.3;
+        let t792: f32 = t787 + t791;
+        let t793: f32 = t782 - t792;
+        let t794: f32 = t684 * t793;
+        let t795: f32 = t760 * 0.2;
+        let t796: f32 = t731 * 0.3;
+        let t797: f32 = t762 * 0.295;
+        let t798: f32 = t764 * 0.292;
+        let t799: f32 = t795 + t796;
+        let t800: f32 = t797 + t799;
+        let t801: f32 = t800 - t798;
+        let t802: f32 = t736 * t801;
+        let t803: f32 = t794 + t802;
+        let t804: f32 = t780 - t803;
+        let t805: f32 = t738 * 0.003;
+        let t806: f32 = t804 - t805;
+        let t807: f32 = t625 * t806;
+        let t808: f32 = t657 * t678;
+        let t809: f32 = t661 * t808;
+        let t810: f32 = t735 * t809;
+        let t811: f32 = t682 * t793;
+        let t812: f32 = t801 * t808;
+        let t813: f32 = t811 - t812;
+        let t814: f32 = t657 * t695;
+        let t815: f32 = t777 * t814;
+        let t816: f32 = t695 * t758;
+        let t817: f32 = t678 * t768;
+        let t818: f32 = t816 + t817;
+        let t819: f32 = t815 - t818;
+        let t820: f32 = t813 - t819;
+        let t821: f32 = t810 * 0.003;
+        let t822: f32 = t820 - t821;
+        let t823: f32 = t639 * t822;
+        let t824: f32 = t623 - t624;
+        let t825: f32 = zc + t824;
+        let t826: f32 = t825 * 0.9401728;
+        let t827: f32 = t825 * 0.34069794;
+        let t828: f32 = t827 * t827;
+        let t829: f32 = t826 * t826;
+        let t830: f32 = t632 + t633;
+        let t831: f32 = xc + t830;
+        let t832: f32 = t831 + 0.155718;
+        let t833: f32 = t637 - t638;
+        let t834: f32 = yc + t833;
+        let t835: f32 = t834 + 0.429711;
+        let t836: f32 = t832 * 0.34069794;
+        let t837: f32 = t835 * 0.9401728;
+        let t838: f32 = t836 + t837;
+        let t839: f32 = t838 * t838;
+        let t840: f32 = t828 + t829;
+        let t841: f32 = t839 + t840;
+        let t842: f32 = sqrt(t841);
+        let t843: f32 = 1.0 / t842;
+        let t844: f32 = t826 * t843;
+        let t845: f32 = t832 * t832;
+        let t846: f32 = t835 * t835;
+        let t847: f32 = t825 * t825;
+        let t848: f32 = t845 + t846;
+        let t849: f32 = t847 + t848;
+        let t850: f32 = sqrt(t849);
+        let t851: f32 = 1.0 / t850;
+        let t852: f32 = t832 * 0.9401728;
+        let t853: f32 = t835 * 0.34069794;
+        let t854: f32 = t852 - t853;
+        let t855: f32 = t843 * t854;
+        let t856: f32 = t851 * t851;
+        let t857: f32 = wy * t824;
+        let t858: f32 = wz * t833;
+        let t859: f32 = t857 - t858;
+        let t860: f32 = vx + t859;
+        let t861: f32 = t827 * t843;
+        let t862: f32 = t860 * t861;
+        let t863: f32 = wz * t830;
+        let t864: f32 = wx * t824;
+        let t865: f32 = t863 - t864;
+        let t866: f32 = vy + t865;
+        let t867: f32 = t844 * t866;
+        let t868: f32 = wx * t833;
+        let t869: f32 = wy * t830;
+        let t870: f32 = t868 - t869;
+        let t871: f32 = vz + t870;
+        let t872: f32 = t838 * t843;
+        let t873: f32 = t871 * t872;
+        let t874: f32 = t862 + t867;
+        let t875: f32 = t874 - t873;
+        let t876: f32 = t825 * t851;
+        let t877: f32 = t844 * t876;
+        let t878: f32 = t835 * t851;
+        let t879: f32 = t872 * t878;
+        let t880: f32 = t877 + t879;
+        let t881: f32 = t860 * t880;
+        let t882: f32 = t832 * t851;
+        let t883: f32 = t872 * t882;
+        let t884: f32 = t861 * t876;
+        let t885: f32 = t883 + t884;
+        let t886: f32 = t866 * t885;
+        let t887: f32 = t861 * t878;
+        let t888: f32 = t844 * t882;
+        let t889: f32 = t887 - t888;
+        let t890: f32 = t871 * t889;
+        let t891: f32 = t881 + t890;
+        let t892: f32 = t891 - t886;
+        let t893: f32 = t855 * t856;
+        let t894: f32 = t875 * t893;
+        let t895: f32 = t892 * t894;
+        let t896: f32 = t860 * t882;
+        let t897: f32 = t866 * t878;
+        let t898: f32 = t871 * t876;
+        let t899: f32 = t896 + t897;
+        let t900: f32 = t898 + t899;
+        let t901: f32 = t851 * t900;
+        let t902: f32 = t901 * 2.0;
+        let t903: f32 = t851 * t875;
+        let t904: f32 = t902 * t903;
+        let t905: f32 = t895 - t904;
+        let t906: f32 = t855 * t905;
+        let t907: f32 = t843 * t843;
+        let t908: f32 = t849 * t851;
+        let t909: f32 = t907 * t908;
+        let t910: f32 = t875 * t909;
+        let t911: f32 = t892 * t910;
+        let t912: f32 = wy * t870;
+        let t913: f32 = wz * t865;
+        let t914: f32 = t912 - t913;
+        let t915: f32 = t861 * t914;
+        let t916: f32 = wz * t859;
+        let t917: f32 = wx * t870;
+        let t918: f32 = t916 - t917;
+        let t919: f32 = t844 * t918;
+        let t920: f32 = wx * t865;
+        let t921: f32 = wy * t859;
+        let t922: f32 = t920 - t921;
+        let t923: f32 = t872 * t922;
+        let t924: f32 = t915 + t919;
+        let t925: f32 = t924 - t923;
+        let t926: f32 = t855 * t925;
+        let t927: f32 = t911 + t926;
+        let t928: f32 = t851 * t927;
+        let t929: f32 = t906 + t928;
+        let t930: f32 = t844 * t851;
+        let t931: f32 = t855 * t930;
+        let t932: f32 = t929 * t931;
+        let t933: f32 = t876 * 9.81;
+        let t934: f32 = -t933;
+        let t935: f32 = t882 * t914;
+        let t936: f32 = t878 * t918;
+        let t937: f32 = t876 * t922;
+        let t938: f32 = t935 + t936;
+        let t939: f32 = t937 + t938;
+        let t940: f32 = t903 * t903;
+        let t941: f32 = t851 * t892;
+        let t942: f32 = t941 * t941;
+        let t943: f32 = t940 + t942;
+        let t944: f32 = t943 * 0.3;
+        let t945: f32 = t939 + t944;
+        let t946: f32 = t934 - t945;
+        let t947: f32 = t878 * t946;
+        let t948: f32 = t872 * 9.81;
+        let t949: f32 = t851 * t925;
+        let t950: f32 = t905 + t949;
+        let t951: f32 = t851 * t855;
+        let t952: f32 = t875 * t951;
+        let t953: f32 = t941 * t952;
+        let t954: f32 = t948 * 0.2;
+        let t955: f32 = t925 * 0.3;
+        let t956: f32 = t950 * 0.295;
+        let t957: f32 = t953 * 0.292;
+        let t958: f32 = t954 + t955;
+        let t959: f32 = t957 + t958;
+        let t960: f32 = t956 - t959;
+        let t961: f32 = t930 * t960;
+        let t962: f32 = t947 - t961;
+        let t963: f32 = t889 * 9.81;
+        let t964: f32 = -t963;
+        let t965: f32 = t889 * t922;
+        let t966: f32 = t880 * t914;
+        let t967: f32 = t885 * t918;
+        let t968: f32 = t966 - t967;
+        let t969: f32 = t965 + t968;
+        let t970: f32 = t875 * t875;
+        let t971: f32 = t951 * t970;
+        let t972: f32 = t892 * t902;
+        let t973: f32 = t971 + t972;
+        let t974: f32 = t969 - t973;
+        let t975: f32 = t851 * t974;
+        let t976: f32 = t903 * t952;
+        let t977: f32 = t964 * 0.2;
+        let t978: f32 = t969 * 0.3;
+        let t979: f32 = t975 * 0.295;
+        let t980: f32 = t976 * 0.292;
+        let t981: f32 = t977 + t978;
+        let t982: f32 = t979 + t980;
+        let t983: f32 = t981 - t982;
+        let t984: f32 = t851 * t885;
+        let t985: f32 = t983 * t984;
+        let t986: f32 = t975 + t976;
+        let t987: f32 = t986 * 0.3;
+        let t988: f32 = t964 + t987;
+        let t989: f32 = t969 - t988;
+        let t990: f32 = t885 * t989;
+        let t991: f32 = t950 - t953;
+        let t992: f32 = t991 * 0.3;
+        let t993: f32 = t948 + t992;
+        let t994: f32 = t993 - t925;
+        let t995: f32 = t844 * t994;
+        let t996: f32 = t990 + t995;
+        let t997: f32 = t985 - t996;
+        let t998: f32 = t962 - t997;
+        let t999: f32 = t932 * 0.003;
+        let t1000: f32 = t998 - t999;
+        let t1001: f32 = t824 * t1000;
+        let t1002: f32 = t851 * t872;
         (
             t0,
             t1,
             t2,
             t3,
-            t4,
             t5,
+            t6,
             t9,
+            t13,
             t16,
-            t19,
-            t24,
-            t30,
-            t32,
-            t33,
-            t35,
+            t28,
+            t34,
             t37,
-            t38,
-            t41,
-            t53,
+            t40,
+            t49,
             t58,
-            t67,
-            t76,
-            t86,
-            t105,
-            t107,
-            t154,
-            t157,
-            t171,
-            t177,
-            t186,
+            t68,
+            t87,
+            t89,
+            t136,
+            t139,
+            t153,
+            t159,
+            t168,
+            t191,
+            t197,
+            t202,
+            t206,
+            t208,
             t209,
-            t215,
-            t220,
+            t212,
+            t222,
             t224,
+            t225,
             t226,
-            t227,
-            t230,
-            t240,
-            t242,
-            t243,
-            t244,
-            t251,
+            t233,
+            t236,
+            t245,
             t254,
-            t263,
-            t272,
-            t282,
-            t301,
-            t303,
+            t264,
+            t283,
+            t285,
+            t332,
+            t335,
+            t340,
             t350,
-            t353,
-            t358,
-            t368,
-            t382,
+            t364,
+            t384,
+            t389,
+            t398,
             t402,
-            t407,
-            t416,
+            t404,
+            t405,
+            t408,
+            t418,
             t420,
+            t421,
             t422,
             t423,
-            t426,
+            t424,
+            t431,
+            t432,
+            t433,
+            t434,
             t436,
+            t437,
             t438,
-            t439,
-            t440,
-            t441,
-            t442,
-            t449,
-            t450,
-            t451,
-            t452,
-            t454,
-            t455,
+            t447,
             t456,
-            t465,
-            t474,
-            t484,
-            t503,
-            t505,
-            t552,
-            t555,
-            t564,
-            t575,
-            t585,
-            t594,
-            t610,
-            t618,
+            t466,
+            t485,
+            t487,
+            t534,
+            t537,
+            t546,
+            t557,
+            t567,
+            t576,
+            t592,
+            t600,
+            t603,
+            t605,
+            t606,
+            t609,
+            t619,
             t621,
-            t623,
-            t624,
-            t627,
-            t637,
+            t622,
+            t625,
+            t634,
             t639,
-            t640,
-            t643,
-            t652,
+            t648,
             t657,
-            t666,
-            t675,
-            t685,
-            t704,
-            t706,
-            t753,
-            t756,
-            t765,
-            t776,
-            t786,
-            t795,
-            t811,
-            t819,
+            t667,
+            t686,
+            t688,
+            t735,
+            t738,
+            t747,
+            t758,
+            t768,
+            t777,
+            t793,
+            t801,
+            t804,
+            t806,
+            t807,
+            t810,
+            t820,
             t822,
+            t823,
             t824,
-            t825,
-            t828,
-            t838,
-            t840,
-            t841,
+            t830,
+            t833,
             t842,
-            t848,
             t851,
-            t860,
-            t862,
-            t869,
-            t873,
-            t879,
-            t890,
-            t894,
-            t898,
-            t900,
-            t903,
-            t907,
-            t943,
-            t947,
-            t950,
-            t964,
-            t966,
-            t968,
-            t969,
-            t971,
-            t978,
-            t980,
-            t982,
-            t987,
-            t993,
+            t855,
+            t861,
+            t872,
+            t876,
+            t880,
+            t882,
+            t889,
+            t929,
+            t932,
+            t946,
+            t951,
+            t960,
+            t983,
+            t989,
             t994,
+            t998,
+            t1000,
             t1001,
             t1002,
         )
     };
     let (
-        t1261,
-        t1383,
-        t1413,
-        t1439,
-        t1460,
-        t1478,
-        t1479,
-        t1480,
-        t1481,
-        t1482,
-        t1483,
-        t1484,
+        t1248,
+        t1369,
+        t1398,
+        t1424,
+        t1445,
+        t1463,
+        t1464,
+        t1465,
+        t1466,
+        t1467,
+        t1468,
+        t1469,
     ) = {
-        let t1003: f32 = t1001 * t1002;
-        let t1004: f32 = t993 + t994;
-        let t1005: f32 = t1004 * 0.3;
-        let t1006: f32 = t982 + t1005;
-        let t1007: f32 = t987 - t1006;
-        let t1008: f32 = t903 * t1007;
-        let t1009: f32 = t968 - t971;
-        let t1010: f32 = t1009 * 0.3;
-        let t1011: f32 = t966 + t1010;
-        let t1012: f32 = t1011 - t943;
-        let t1013: f32 = t862 * t1012;
-        let t1014: f32 = t1008 + t1013;
-        let t1015: f32 = t1003 - t1014;
-        let t1016: f32 = t980 - t1015;
-        let t1017: f32 = t950 * 0.003;
-        let t1018: f32 = t1016 - t1017;
-        let t1019: f32 = t842 * t1018;
-        let t1020: f32 = t869 * t890;
-        let t1021: f32 = t873 * t1020;
-        let t1022: f32 = t947 * t1021;
-        let t1023: f32 = t907 * t1007;
-        let t1024: f32 = t890 * t1012;
-        let t1025: f32 = t1023 + t1024;
-        let t1026: f32 = t869 * t907;
-        let t1027: f32 = t1001 * t1026;
-        let t1028: f32 = t1025 - t1027;
-        let t1029: f32 = t894 * t964;
-        let t1030: f32 = t978 * t1020;
+        let t1003: f32 = t855 * t1002;
+        let t1004: f32 = t929 * t1003;
+        let t1005: f32 = t889 * t989;
+        let t1006: f32 = t872 * t994;
+        let t1007: f32 = t1005 + t1006;
+        let t1008: f32 = t851 * t889;
+        let t1009: f32 = t983 * t1008;
+        let t1010: f32 = t1007 - t1009;
+        let t1011: f32 = t876 * t946;
+        let t1012: f32 = t960 * t1002;
+        let t1013: f32 = t1011 + t1012;
+        let t1014: f32 = t1010 - t1013;
+        let t1015: f32 = t1004 * 0.003;
+        let t1016: f32 = t1014 - t1015;
+        let t1017: f32 = t833 * t1016;
+        let t1018: f32 = t422 + t423;
+        let t1019: f32 = zc - t1018;
+        let t1020: f32 = t1019 * 0.76513904;
+        let t1021: f32 = t1019 * 0.64386505;
+        let t1022: f32 = t1021 * t1021;
+        let t1023: f32 = t1020 * t1020;
+        let t1024: f32 = t431 - t432;
+        let t1025: f32 = t434 - t1024;
+        let t1026: f32 = t436 + t437;
+        let t1027: f32 = yc + 0.349711;
+        let t1028: f32 = t1027 - t1026;
+        let t1029: f32 = t1025 * 0.64386505;
+        let t1030: f32 = t1028 * 0.76513904;
         let t1031: f32 = t1029 + t1030;
-        let t1032: f32 = t1028 - t1031;
-        let t1033: f32 = t1022 * 0.003;
-        let t1034: f32 = t1032 - t1033;
-        let t1035: f32 = t851 * t1034;
-        let t1036: f32 = t440 + t441;
-        let t1037: f32 = zc - t1036;
-        let t1038: f32 = t1037 * 0.76513904;
-        let t1039: f32 = t1037 * 0.64386505;
-        let t1040: f32 = t1039 * t1039;
-        let t1041: f32 = t1038 * t1038;
-        let t1042: f32 = t449 - t450;
-        let t1043: f32 = t452 - t1042;
-        let t1044: f32 = t454 + t455;
-        let t1045: f32 = yc + 0.349711;
-        let t1046: f32 = t1045 - t1044;
-        let t1047: f32 = t1043 * 0.64386505;
-        let t1048: f32 = t1046 * 0.76513904;
-        let t1049: f32 = t1047 + t1048;
-        let t1050: f32 = t1049 * t1049;
-        let t1051: f32 = t1040 + t1041;
-        let t1052: f32 = t1050 + t1051;
-        let t1053: f32 = sqrt(t1052);
-        let t1054: f32 = 1.0 / t1053;
-        let t1055: f32 = t1038 * t1054;
-        let t1056: f32 = t1043 * t1043;
-        let t1057: f32 = t1046 * t1046;
-        let t1058: f32 = t1037 * t1037;
-        let t1059: f32 = t1056 + t1057;
-        let t1060: f32 = t1058 + t1059;
-        let t1061: f32 = sqrt(t1060);
-        let t1062: f32 = 1.0 / t1061;
-        let t1063: f32 = t1043 * 0.76513904;
-        let t1064: f32 = t1046 * 0.64386505;
-        let t1065: f32 = t1063 - t1064;
-        let t1066: f32 = t1054 * t1065;
-        let t1067: f32 = t1062 * t1062;
-        let t1068: f32 = wy * t1036;
-        let t1069: f32 = wz * t1044;
-        let t1070: f32 = t1068 - t1069;
-        let t1071: f32 = vx - t1070;
-        let t1072: f32 = t1039 * t1054;
-        let t1073: f32 = t1071 * t1072;
-        let t1074: f32 = wz * t1042;
-        let t1075: f32 = wx * t1036;
-        let t1076: f32 = t1074 - t1075;
-        let t1077: f32 = vy - t1076;
-        let t1078: f32 = t1055 * t1077;
-        let t1079: f32 = wx * t1044;
-        let t1080: f32 = wy * t1042;
-        let t1081: f32 = t1079 - t1080;
-        let t1082: f32 = vz - t1081;
-        let t1083: f32 = t1049 * t1054;
-        let t1084: f32 = t1082 * t1083;
-        let t1085: f32 = t1073 + t1078;
-        let t1086: f32 = t1085 - t1084;
-        let t1087: f32 = t1037 * t1062;
-        let t1088: f32 = t1055 * t1087;
-        let t1089: f32 = t1046 * t1062;
-        let t1090: f32 = t1083 * t1089;
-        let t1091: f32 = t1088 + t1090;
-        let t1092: f32 = t1071 * t1091;
-        let t1093: f32 = t1043 * t1062;
-        let t1094: f32 = t1083 * t1093;
-        let t1095: f32 = t1072 * t1087;
-        let t1096: f32 = t1094 + t1095;
-        let t1097: f32 = t1077 * t1096;
-        let t1098: f32 = t1072 * t1089;
-        let t1099: f32 = t1055 * t1093;
-        let t1100: f32 = t1098 - t1099;
-        let t1101: f32 = t1082 * t1100;
-        let t1102: f32 = t1092 + t1101;
-        let t1103: f32 = t1102 - t1097;
-        let t1104: f32 = t1066 * t1067;
-        let t1105: f32 = t1086 * t1104;
-        let t1106: f32 = t1103 * t1105;
-        let t1107: f32 = t1071 * t1093;
-        let t1108: f32 = t1077 * t1089;
-        let t1109: f32 = t1082 * t1087;
-        let t1110: f32 = t1107 + t1108;
-        let t1111: f32 = t1109 + t1110;
-        let t1112: f32 = t1062 * t1111;
-        let t1113: f32 = t1112 * 2.0;
-        let t1114: f32 = t1062 * t1086;
-        let t1115: f32 = t1113 * t1114;
-        let t1116: f32 = t1106 - t1115;
-        let t1117: f32 = t1066 * t1116;
-        let t1118: f32 = t1054 * t1054;
-        let t1119: f32 = t1060 * t1062;
-        let t1120: f32 = t1118 * t1119;
-        let t1121: f32 = t1086 * t1120;
-        let t1122: f32 = t1103 * t1121;
-        let t1123: f32 = wy * t1081;
-        let t1124: f32 = wz * t1076;
-        let t1125: f32 = t1123 - t1124;
-        let t1126: f32 = t1072 * t1125;
-        let t1127: f32 = wz * t1070;
-        let t1128: f32 = wx * t1081;
-        let t1129: f32 = t1127 - t1128;
-        let t1130: f32 = t1055 * t1129;
-        let t1131: f32 = wx * t1076;
-        let t1132: f32 = wy * t1070;
-        let t1133: f32 = t1131 - t1132;
-        let t1134: f32 = t1083 * t1133;
-        let t1135: f32 = t1126 + t1130;
-        let t1136: f32 = t1135 - t1134;
-        let t1137: f32 = t1066 * t1136;
-        let t1138: f32 = t1122 - t1137;
-        let t1139: f32 = t1062 * t1138;
-        let t1140: f32 = t1117 + t1139;
-        let t1141: f32 = t1055 * t1062;
-        let t1142: f32 = t1066 * t1141;
-        let t1143: f32 = t1140 * t1142;
-        let t1144: f32 = t1087 * 9.81;
-        let t1145: f32 = -t1144;
-        let t1146: f32 = t1093 * t1125;
-        let t1147: f32 = t1089 * t1129;
-        let t1148: f32 = t1087 * t1133;
-        let t1149: f32 = t1146 + t1147;
-        let t1150: f32 = t1148 + t1149;
-        let t1151: f32 = t1114 * t1114;
-        let t1152: f32 = t1062 * t1103;
-        let t1153: f32 = t1152 * t1152;
-        let t1154: f32 = t1151 + t1153;
-        let t1155: f32 = t1154 * 0.3;
-        let t1156: f32 = t1145 + t1150;
-        let t1157: f32 = t1156 - t1155;
-        let t1158: f32 = t1089 * t1157;
-        let t1159: f32 = t1083 * 9.81;
-        let t1160: f32 = t1062 * t1136;
-        let t1161: f32 = t1116 - t1160;
-        let t1162: f32 = t1062 * t1066;
-        let t1163: f32 = t1086 * t1162;
-        let t1164: f32 = t1152 * t1163;
-        let t1165: f32 = t1159 * 0.2;
-        let t1166: f32 = t1136 * 0.3;
-        let t1167: f32 = t1161 * 0.295;
-        let t1168: f32 = t1164 * 0.292;
-        let t1169: f32 = t1166 + t1167;
-        let t1170: f32 = t1165 + t1168;
-        let t1171: f32 = t1169 - t1170;
-        let t1172: f32 = t1141 * t1171;
-        let t1173: f32 = t1158 - t1172;
-        let t1174: f32 = t1100 * 9.81;
-        let t1175: f32 = -t1174;
-        let t1176: f32 = t1100 * t1133;
-        let t1177: f32 = t1091 * t1125;
-        let t1178: f32 = t1096 * t1129;
-        let t1179: f32 = t1177 - t1178;
-        let t1180: f32 = t1176 + t1179;
-        let t1181: f32 = t1086 * t1086;
-        let t1182: f32 = t1162 * t1181;
-        let t1183: f32 = t1103 * t1113;
-        let t1184: f32 = t1182 + t1183;
-        let t1185: f32 = t1180 + t1184;
-        let t1186: f32 = t1062 * t1185;
-        let t1187: f32 = t1114 * t1163;
-        let t1188: f32 = t1175 * 0.2;
-        let t1189: f32 = t1180 * 0.3;
-        let t1190: f32 = t1186 * 0.295;
-        let t1191: f32 = t1187 * 0.292;
-        let t1192: f32 = t1188 + t1190;
-        let t1193: f32 = t1189 + t1191;
-        let t1194: f32 = t1192 - t1193;
-        let t1195: f32 = t1062 * t1096;
-        let t1196: f32 = t1194 * t1195;
-        let t1197: f32 = t1186 - t1187;
-        let t1198: f32 = t1197 * 0.3;
-        let t1199: f32 = t1175 + t1180;
-        let t1200: f32 = t1198 - t1199;
-        let t1201: f32 = t1096 * t1200;
-        let t1202: f32 = t1161 - t1164;
-        let t1203: f32 = t1202 * 0.3;
-        let t1204: f32 = t1136 + t1159;
-        let t1205: f32 = t1203 + t1204;
-        let t1206: f32 = t1055 * t1205;
-        let t1207: f32 = t1201 + t1206;
-        let t1208: f32 = t1196 - t1207;
-        let t1209: f32 = t1173 - t1208;
-        let t1210: f32 = t1143 * 0.003;
-        let t1211: f32 = t1209 - t1210;
-        let t1212: f32 = t1036 * t1211;
-        let t1213: f32 = t1062 * t1083;
-        let t1214: f32 = t1066 * t1213;
-        let t1215: f32 = t1140 * t1214;
-        let t1216: f32 = t1100 * t1200;
-        let t1217: f32 = t1083 * t1205;
-        let t1218: f32 = t1216 + t1217;
-        let t1219: f32 = t1062 * t1100;
-        let t1220: f32 = t1194 * t1219;
-        let t1221: f32 = t1218 - t1220;
-        let t1222: f32 = t1087 * t1157;
-        let t1223: f32 = t1171 * t1213;
-        let t1224: f32 = t1222 + t1223;
-        let t1225: f32 = t1221 - t1224;
-        let t1226: f32 = t1215 * 0.003;
-        let t1227: f32 = t1225 - t1226;
-        let t1228: f32 = t1044 * t1227;
-        let t1229: f32 = wz * t3;
-        let t1230: f32 = t1 * t1229;
-        let t1231: f32 = wx * t0;
-        let t1232: f32 = wy * t2;
-        let t1233: f32 = t1 * t1232;
-        let t1234: f32 = t1231 - t1233;
-        let t1235: f32 = t1230 + t1234;
-        let t1236: f32 = t1235 * 0.7;
-        let t1237: f32 = t32 * t1236;
-        let t1238: f32 = t33 * t1235;
-        let t1239: f32 = t1237 - t1238;
-        let t1240: f32 = t5 * t1239;
-        let t1241: f32 = t35 * t1235;
-        let t1242: f32 = t19 * t1236;
-        let t1243: f32 = t1241 - t1242;
-        let t1244: f32 = t4 * t1243;
-        let t1245: f32 = t2 * 3.5316;
-        let t1246: f32 = t1240 + t1245;
-        let t1247: f32 = t1244 + t1246;
-        let t1248: f32 = t1 * t1247;
-        let t1249: f32 = t227 + t439;
-        let t1250: f32 = t624 + t640;
-        let t1251: f32 = t1019 + t1035;
-        let t1252: f32 = t1249 + t1250;
-        let t1253: f32 = t1251 + t1252;
-        let t1254: f32 = t38 + t243;
-        let t1255: f32 = t423 + t825;
-        let t1256: f32 = t841 + t1212;
-        let t1257: f32 = t1228 + t1248;
-        let t1258: f32 = t1254 + t1255;
-        let t1259: f32 = t1256 + t1257;
-        let t1260: f32 = t1258 + t1259;
-        let t1261: f32 = t1253 - t1260;
-        let t1262: f32 = t16 * t1239;
-        let t1263: f32 = t24 * t1243;
-        let t1264: f32 = t1 * t2;
-        let t1265: f32 = t37 * t1264;
-        let t1266: f32 = t86 * t177;
-        let t1267: f32 = t154 * t1266;
-        let t1268: f32 = t107 * t171;
-        let t1269: f32 = t76 * t86;
-        let t1270: f32 = t186 * t1269;
-        let t1271: f32 = t1268 + t1270;
-        let t1272: f32 = t76 * t105;
-        let t1273: f32 = t209 * t1272;
-        let t1274: f32 = t105 * t215;
-        let t1275: f32 = t86 * t220;
-        let t1276: f32 = t1274 - t1275;
-        let t1277: f32 = t1273 - t1276;
-        let t1278: f32 = t1271 - t1277;
+        let t1032: f32 = t1031 * t1031;
+        let t1033: f32 = t1022 + t1023;
+        let t1034: f32 = t1032 + t1033;
+        let t1035: f32 = sqrt(t1034);
+        let t1036: f32 = 1.0 / t1035;
+        let t1037: f32 = t1020 * t1036;
+        let t1038: f32 = t1025 * t1025;
+        let t1039: f32 = t1028 * t1028;
+        let t1040: f32 = t1019 * t1019;
+        let t1041: f32 = t1038 + t1039;
+        let t1042: f32 = t1040 + t1041;
+        let t1043: f32 = sqrt(t1042);
+        let t1044: f32 = 1.0 / t1043;
+        let t1045: f32 = t1025 * 0.76513904;
+        let t1046: f32 = t1028 * 0.64386505;
+        let t1047: f32 = t1045 - t1046;
+        let t1048: f32 = t1036 * t1047;
+        let t1049: f32 = t1044 * t1044;
+        let t1050: f32 = wy * t1018;
+        let t1051: f32 = wz * t1026;
+        let t1052: f32 = t1050 - t1051;
+        let t1053: f32 = vx - t1052;
+        let t1054: f32 = t1021 * t1036;
+        let t1055: f32 = t1053 * t1054;
+        let t1056: f32 = wz * t1024;
+        let t1057: f32 = wx * t1018;
+        let t1058: f32 = t1056 - t1057;
+        let t1059: f32 = vy - t1058;
+        let t1060: f32 = t1037 * t1059;
+        let t1061: f32 = wx * t1026;
+        let t1062: f32 = wy * t1024;
+        let t1063: f32 = t1061 - t1062;
+        let t1064: f32 = vz - t1063;
+        let t1065: f32 = t1031 * t1036;
+        let t1066: f32 = t1064 * t1065;
+        let t1067: f32 = t1055 + t1060;
+        let t1068: f32 = t1067 - t1066;
+        let t1069: f32 = t1019 * t1044;
+        let t1070: f32 = t1037 * t1069;
+        let t1071: f32 = t1028 * t1044;
+        let t1072: f32 = t1065 * t1071;
+        let t1073: f32 = t1070 + t1072;
+        let t1074: f32 = t1053 * t1073;
+        let t1075: f32 = t1025 * t1044;
+        let t1076: f32 = t1065 * t1075;
+        let t1077: f32 = t1054 * t1069;
+        let t1078: f32 = t1076 + t1077;
+        let t1079: f32 = t1059 * t1078;
+        let t1080: f32 = t1054 * t1071;
+        let t1081: f32 = t1037 * t1075;
+        let t1082: f32 = t1080 - t1081;
+        let t1083: f32 = t1064 * t1082;
+        let t1084: f32 = t1074 + t1083;
+        let t1085: f32 = t1084 - t1079;
+        let t1086: f32 = t1048 * t1049;
+        let t1087: f32 = t1068 * t1086;
+        let t1088: f32 = t1085 * t1087;
+        let t1089: f32 = t1053 * t1075;
+        let t1090: f32 = t1059 * t1071;
+        let t1091: f32 = t1064 * t1069;
+        let t1092: f32 = t1089 + t1090;
+        let t1093: f32 = t1091 + t1092;
+        let t1094: f32 = t1044 * t1093;
+        let t1095: f32 = t1094 * 2.0;
+        let t1096: f32 = t1044 * t1068;
+        let t1097: f32 = t1095 * t1096;
+        let t1098: f32 = t1088 - t1097;
+        let t1099: f32 = t1048 * t1098;
+        let t1100: f32 = t1036 * t1036;
+        let t1101: f32 = t1042 * t1044;
+        let t1102: f32 = t1100 * t1101;
+        let t1103: f32 = t1068 * t1102;
+        let t1104: f32 = t1085 * t1103;
+        let t1105: f32 = wy * t1063;
+        let t1106: f32 = wz * t1058;
+        let t1107: f32 = t1105 - t1106;
+        let t1108: f32 = t1054 * t1107;
+        let t1109: f32 = wz * t1052;
+        let t1110: f32 = wx * t1063;
+        let t1111: f32 = t1109 - t1110;
+        let t1112: f32 = t1037 * t1111;
+        let t1113: f32 = wx * t1058;
+        let t1114: f32 = wy * t1052;
+        let t1115: f32 = t1113 - t1114;
+        let t1116: f32 = t1065 * t1115;
+        let t1117: f32 = t1108 + t1112;
+        let t1118: f32 = t1117 - t1116;
+        let t1119: f32 = t1048 * t1118;
+        let t1120: f32 = t1104 - t1119;
+        let t1121: f32 = t1044 * t1120;
+        let t1122: f32 = t1099 + t1121;
+        let t1123: f32 = t1037 * t1044;
+        let t1124: f32 = t1048 * t1123;
+        let t1125: f32 = t1122 * t1124;
+        let t1126: f32 = t1069 * 9.81;
+        let t1127: f32 = -t1126;
+        let t1128: f32 = t1075 * t1107;
+        let t1129: f32 = t1071 * t1111;
+        let t1130: f32 = t1069 * t1115;
+        let t1131: f32 = t1128 + t1129;
+        let t1132: f32 = t1130 + t1131;
+        let t1133: f32 = t1096 * t1096;
+        let t1134: f32 = t1044 * t1085;
+        let t1135: f32 = t1134 * t1134;
+        let t1136: f32 = t1133 + t1135;
+        let t1137: f32 = t1136 * 0.3;
+        let t1138: f32 = t1127 + t1132;
+        let t1139: f32 = t1138 - t1137;
+        let t1140: f32 = t1071 * t1139;
+        let t1141: f32 = t1065 * 9.81;
+        let t1142: f32 = t1044 * t1118;
+        let t1143: f32 = t1098 - t1142;
+        let t1144: f32 = t1044 * t1048;
+        let t1145: f32 = t1068 * t1144;
+        let t1146: f32 = t1134 * t1145;
+        let t1147: f32 = t1141 * 0.2;
+        let t1148: f32 = t1118 * 0.3;
+        let t1149: f32 = t1143 * 0.295;
+        let t1150: f32 = t1146 * 0.292;
+        let t1151: f32 = t1148 + t1149;
+        let t1152: f32 = t1147 + t1150;
+        let t1153: f32 = t1151 - t1152;
+        let t1154: f32 = t1123 * t1153;
+        let t1155: f32 = t1140 - t1154;
+        let t1156: f32 = t1082 * 9.81;
+        let t1157: f32 = -t1156;
+        let t1158: f32 = t1082 * t1115;
+        let t1159: f32 = t1073 * t1107;
+        let t1160: f32 = t1078 * t1111;
+        let t1161: f32 = t1159 - t1160;
+        let t1162: f32 = t1158 + t1161;
+        let t1163: f32 = t1068 * t1068;
+        let t1164: f32 = t1144 * t1163;
+        let t1165: f32 = t1085 * t1095;
+        let t1166: f32 = t1164 + t1165;
+        let t1167: f32 = t1162 + t1166;
+        let t1168: f32 = t1044 * t1167;
+        let t1169: f32 = t1096 * t1145;
+        let t1170: f32 = t1157 * 0.2;
+        let t1171: f32 = t1162 * 0.3;
+        let t1172: f32 = t1168 * 0.295;
+        let t1173: f32 = t1169 * 0.292;
+        let t1174: f32 = t1170 + t1172;
+        let t1175: f32 = t1171 + t1173;
+        let t1176: f32 = t1174 - t1175;
+        let t1177: f32 = t1044 * t1078;
+        let t1178: f32 = t1176 * t1177;
+        let t1179: f32 = t1168 - t1169;
+        let t1180: f32 = t1179 * 0.3;
+        let t1181: f32 = t1157 + t1162;
+        let t1182: f32 = t1180 - t1181;
+        let t1183: f32 = t1078 * t1182;
+        let t1184: f32 = t1143 - t1146;
+        let t1185: f32 = t1184 * 0.3;
+        let t1186: f32 = t1118 + t1141;
+        let t1187: f32 = t1185 + t1186;
+        let t1188: f32 = t1037 * t1187;
+        let t1189: f32 = t1183 + t1188;
+        let t1190: f32 = t1178 - t1189;
+        let t1191: f32 = t1155 - t1190;
+        let t1192: f32 = t1125 * 0.003;
+        let t1193: f32 = t1191 - t1192;
+        let t1194: f32 = t1018 * t1193;
+        let t1195: f32 = t1044 * t1065;
+        let t1196: f32 = t1048 * t1195;
+        let t1197: f32 = t1122 * t1196;
+        let t1198: f32 = t1082 * t1182;
+        let t1199: f32 = t1065 * t1187;
+        let t1200: f32 = t1198 + t1199;
+        let t1201: f32 = t1044 * t1082;
+        let t1202: f32 = t1176 * t1201;
+        let t1203: f32 = t1200 - t1202;
+        let t1204: f32 = t1069 * t1139;
+        let t1205: f32 = t1153 * t1195;
+        let t1206: f32 = t1204 + t1205;
+        let t1207: f32 = t1203 - t1206;
+        let t1208: f32 = t1197 * 0.003;
+        let t1209: f32 = t1207 - t1208;
+        let t1210: f32 = t1026 * t1209;
+        let t1211: f32 = wx * t5;
+        let t1212: f32 = wy * t0;
+        let t1213: f32 = wz * t1;
+        let t1214: f32 = t1212 - t1213;
+        let t1215: f32 = t6 * t1214;
+        let t1216: f32 = t1211 - t1215;
+        let t1217: f32 = wx * t2;
+        let t1218: f32 = t6 * t1217;
+        let t1219: f32 = wy * t37;
+        let t1220: f32 = wz * t13;
+        let t1221: f32 = t1219 + t1220;
+        let t1222: f32 = t1218 - t1221;
+        let t1223: f32 = t3 * t1222;
+        let t1224: f32 = wx * t6;
+        let t1225: f32 = t3 * t1224;
+        let t1226: f32 = wy * t34;
+        let t1227: f32 = wz * t9;
+        let t1228: f32 = t1225 + t1226;
+        let t1229: f32 = t1227 + t1228;
+        let t1230: f32 = t2 * t1229;
+        let t1231: f32 = t1223 - t1230;
+        let t1232: f32 = t1231 * 0.2892;
+        let t1233: f32 = t1216 * t1232;
+        let t1234: f32 = t0 * 3.5316;
+        let t1235: f32 = t1233 + t1234;
+        let t1236: f32 = t6 * t1235;
+        let t1237: f32 = t209 + t421;
+        let t1238: f32 = t606 + t622;
+        let t1239: f32 = t1001 + t1017;
+        let t1240: f32 = t1237 + t1238;
+        let t1241: f32 = t1239 + t1240;
+        let t1242: f32 = t225 + t405;
+        let t1243: f32 = t807 + t823;
+        let t1244: f32 = t1194 + t1210;
+        let t1245: f32 = t1242 + t1243;
+        let t1246: f32 = t1236 + t1244;
+        let t1247: f32 = t1245 + t1246;
+        let t1248: f32 = t1241 - t1247;
+        let t1249: f32 = t68 * t159;
+        let t1250: f32 = t136 * t1249;
+        let t1251: f32 = t89 * t153;
+        let t1252: f32 = t58 * t68;
+        let t1253: f32 = t168 * t1252;
+        let t1254: f32 = t1251 + t1253;
+        let t1255: f32 = t58 * t87;
+        let t1256: f32 = t191 * t1255;
+        let t1257: f32 = t87 * t197;
+        let t1258: f32 = t68 * t202;
+        let t1259: f32 = t1257 - t1258;
+        let t1260: f32 = t1256 - t1259;
+        let t1261: f32 = t1254 - t1260;
+        let t1262: f32 = t1250 * 0.003;
+        let t1263: f32 = t1261 + t1262;
+        let t1264: f32 = t16 * t1263;
+        let t1265: f32 = t28 * t224;
+        let t1266: f32 = t264 * t340;
+        let t1267: f32 = t332 * t1266;
+        let t1268: f32 = t254 * t264;
+        let t1269: f32 = t350 * t1268;
+        let t1270: f32 = t285 * t364;
+        let t1271: f32 = t1269 - t1270;
+        let t1272: f32 = t283 * t384;
+        let t1273: f32 = t264 * t389;
+        let t1274: f32 = t1272 - t1273;
+        let t1275: f32 = t254 * t283;
+        let t1276: f32 = t398 * t1275;
+        let t1277: f32 = t1274 - t1276;
+        let t1278: f32 = t1271 + t1277;
         let t1279: f32 = t1267 * 0.003;
         let t1280: f32 = t1278 + t1279;
-        let t1281: f32 = t41 * t1280;
-        let t1282: f32 = t53 * t242;
-        let t1283: f32 = t282 * t358;
-        let t1284: f32 = t350 * t1283;
-        let t1285: f32 = t272 * t282;
-        let t1286: f32 = t368 * t1285;
-        let t1287: f32 = t303 * t382;
-        let t1288: f32 = t1286 - t1287;
-        let t1289: f32 = t301 * t402;
-        let t1290: f32 = t282 * t407;
-        let t1291: f32 = t1289 - t1290;
-        let t1292: f32 = t272 * t301;
-        let t1293: f32 = t416 * t1292;
-        let t1294: f32 = t1291 - t1293;
-        let t1295: f32 = t1288 + t1294;
+        let t1281: f32 = t226 * t1280;
+        let t1282: f32 = t233 * t420;
+        let t1283: f32 = t466 * t546;
+        let t1284: f32 = t534 * t1283;
+        let t1285: f32 = t487 * t592;
+        let t1286: f32 = t456 * t466;
+        let t1287: f32 = t600 * t1286;
+        let t1288: f32 = t1285 + t1287;
+        let t1289: f32 = t456 * t485;
+        let t1290: f32 = t576 * t1289;
+        let t1291: f32 = t485 * t557;
+        let t1292: f32 = t466 * t567;
+        let t1293: f32 = t1291 - t1292;
+        let t1294: f32 = t1290 - t1293;
+        let t1295: f32 = t1288 - t1294;
         let t1296: f32 = t1284 * 0.003;
         let t1297: f32 = t1295 + t1296;
-        let t1298: f32 = t244 * t1297;
-        let t1299: f32 = t251 * t438;
-        let t1300: f32 = t484 * t564;
-        let t1301: f32 = t552 * t1300;
-        let t1302: f32 = t505 * t610;
-        let t1303: f32 = t474 * t484;
-        let t1304: f32 = t618 * t1303;
+        let t1298: f32 = t424 * t1297;
+        let t1299: f32 = t433 * t621;
+        let t1300: f32 = t667 * t747;
+        let t1301: f32 = t735 * t1300;
+        let t1302: f32 = t688 * t793;
+        let t1303: f32 = t657 * t667;
+        let t1304: f32 = t801 * t1303;
         let t1305: f32 = t1302 + t1304;
-        let t1306: f32 = t474 * t503;
-        let t1307: f32 = t594 * t1306;
-        let t1308: f32 = t503 * t575;
-        let t1309: f32 = t484 * t585;
+        let t1306: f32 = t657 * t686;
+        let t1307: f32 = t777 * t1306;
+        let t1308: f32 = t686 * t758;
+        let t1309: f32 = t667 * t768;
         let t1310: f32 = t1308 - t1309;
         let t1311: f32 = t1307 - t1310;
         let t1312: f32 = t1305 - t1311;
         let t1313: f32 = t1301 * 0.003;
         let t1314: f32 = t1312 + t1313;
-        let t1315: f32 = t442 * t1314;
-        let t1316: f32 = t451 * t639;
-        let t1317: f32 = t685 * t765;
-        let t1318: f32 = t753 * t1317;
-        let t1319: f32 = t706 * t811;
-        let t1320: f32 = t675 * t685;
-        let t1321: f32 = t819 * t1320;
-        let t1322: f32 = t1319 + t1321;
-        let t1323: f32 = t675 * t704;
-        let t1324: f32 = t795 * t1323;
-        let t1325: f32 = t704 * t776;
-        let t1326: f32 = t685 * t786;
-        let t1327: f32 = t1325 - t1326;
-        let t1328: f32 = t1324 - t1327;
-        let t1329: f32 = t1322 - t1328;
+        let t1315: f32 = t625 * t1314;
+        let t1316: f32 = t634 * t822;
+        let t1317: f32 = t861 * t951;
+        let t1318: f32 = t929 * t1317;
+        let t1319: f32 = t851 * t861;
+        let t1320: f32 = t960 * t1319;
+        let t1321: f32 = t882 * t946;
+        let t1322: f32 = t1320 - t1321;
+        let t1323: f32 = t880 * t989;
+        let t1324: f32 = t861 * t994;
+        let t1325: f32 = t1323 - t1324;
+        let t1326: f32 = t851 * t880;
+        let t1327: f32 = t983 * t1326;
+        let t1328: f32 = t1325 - t1327;
+        let t1329: f32 = t1322 + t1328;
         let t1330: f32 = t1318 * 0.003;
         let t1331: f32 = t1329 + t1330;
-        let t1332: f32 = t643 * t1331;
-        let t1333: f32 = t652 * t840;
-        let t1334: f32 = t879 * t969;
-        let t1335: f32 = t947 * t1334;
-        let t1336: f32 = t869 * t879;
-        let t1337: f32 = t978 * t1336;
-        let t1338: f32 = t900 * t964;
+        let t1332: f32 = t824 * t1331;
+        let t1333: f32 = t830 * t1016;
+        let t1334: f32 = t1054 * t1144;
+        let t1335: f32 = t1122 * t1334;
+        let t1336: f32 = t1044 * t1054;
+        let t1337: f32 = t1153 * t1336;
+        let t1338: f32 = t1075 * t1139;
         let t1339: f32 = t1337 - t1338;
-        let t1340: f32 = t898 * t1007;
-        let t1341: f32 = t879 * t1012;
+        let t1340: f32 = t1073 * t1182;
+        let t1341: f32 = t1054 * t1187;
         let t1342: f32 = t1340 - t1341;
-        let t1343: f32 = t869 * t898;
-        let t1344: f32 = t1001 * t1343;
+        let t1343: f32 = t1044 * t1073;
+        let t1344: f32 = t1176 * t1343;
         let t1345: f32 = t1342 - t1344;
         let t1346: f32 = t1339 + t1345;
         let t1347: f32 = t1335 * 0.003;
         let t1348: f32 = t1346 + t1347;
-        let t1349: f32 = t842 * t1348;
-        let t1350: f32 = t848 * t1034;
-        let t1351: f32 = t1072 * t1162;
-        let t1352: f32 = t1140 * t1351;
-        let t1353: f32 = t1062 * t1072;
-        let t1354: f32 = t1171 * t1353;
-        let t1355: f32 = t1093 * t1157;
-        let t1356: f32 = t1354 - t1355;
-        let t1357: f32 = t1091 * t1200;
-        let t1358: f32 = t1072 * t1205;
-        let t1359: f32 = t1357 - t1358;
-        let t1360: f32 = t1062 * t1091;
-        let t1361: f32 = t1194 * t1360;
-        let t1362: f32 = t1359 - t1361;
-        let t1363: f32 = t1356 + t1362;
-        let t1364: f32 = t1352 * 0.003;
-        let t1365: f32 = t1363 + t1364;
-        let t1366: f32 = t1036 * t1365;
-        let t1367: f32 = t1042 * t1227;
-        let t1368: f32 = t0 * 3.5316;
-        let t1369: f32 = t1263 + t1265;
-        let t1370: f32 = t1282 + t1298;
-        let t1371: f32 = t1315 + t1333;
-        let t1372: f32 = t1349 + t1367;
-        let t1373: f32 = t1369 + t1370;
-        let t1374: f32 = t1371 + t1372;
-        let t1375: f32 = t1373 + t1374;
-        let t1376: f32 = t1262 + t1368;
-        let t1377: f32 = t1281 + t1299;
-        let t1378: f32 = t1316 + t1332;
-        let t1379: f32 = t1350 + t1366;
-        let t1380: f32 = t1376 + t1377;
-        let t1381: f32 = t1378 + t1379;
-        let t1382: f32 = t1380 + t1381;
-        let t1383: f32 = t1375 - t1382;
-        let t1384: f32 = t9 * t1239;
-        let t1385: f32 = t30 * t1243;
-        let t1386: f32 = t1 * t3;
-        let t1387: f32 = t37 * t1386;
-        let t1388: f32 = t58 * t1280;
-        let t1389: f32 = t53 * t226;
-        let t1390: f32 = t254 * t1297;
-        let t1391: f32 = t251 * t422;
-        let t1392: f32 = t456 * t1314;
-        let t1393: f32 = t451 * t623;
-        let t1394: f32 = t657 * t1331;
-        let t1395: f32 = t652 * t824;
-        let t1396: f32 = t851 * t1348;
-        let t1397: f32 = t848 * t1018;
-        let t1398: f32 = t1044 * t1365;
-        let t1399: f32 = t1042 * t1211;
-        let t1400: f32 = t1385 + t1388;
-        let t1401: f32 = t1391 + t1394;
-        let t1402: f32 = t1395 + t1398;
-        let t1403: f32 = t1400 + t1401;
-        let t1404: f32 = t1399 + t1402;
-        let t1405: f32 = t1403 + t1404;
-        let t1406: f32 = t1384 + t1387;
-        let t1407: f32 = t1389 + t1390;
-        let t1408: f32 = t1392 + t1393;
-        let t1409: f32 = t1396 + t1397;
-        let t1410: f32 = t1406 + t1407;
-        let t1411: f32 = t1408 + t1409;
-        let t1412: f32 = t1410 + t1411;
-        let t1413: f32 = t1405 - t1412;
-        let t1414: f32 = wx * t2;
-        let t1415: f32 = t1 * t1414;
-        let t1416: f32 = wy * t0;
-        let t1417: f32 = t1415 + t1416;
-        let t1418: f32 = t1417 * 0.36;
-        let t1419: f32 = wy * t1418;
-        let t1420: f32 = wz * t0;
-        let t1421: f32 = wx * t3;
-        let t1422: f32 = t1 * t1421;
-        let t1423: f32 = t1420 - t1422;
-        let t1424: f32 = t1423 * 0.36;
-        let t1425: f32 = wz * t1424;
-        let t1426: f32 = t1284 + t1335;
-        let t1427: f32 = t1352 + t1426;
-        let t1428: f32 = t1267 + t1301;
-        let t1429: f32 = t1318 + t1428;
-        let t1430: f32 = t1427 - t1429;
-        let t1431: f32 = t1430 * 0.003;
-        let t1432: f32 = t1295 + t1346;
-        let t1433: f32 = t1363 + t1431;
-        let t1434: f32 = t1432 + t1433;
-        let t1435: f32 = t1419 + t1425;
-        let t1436: f32 = t1278 + t1312;
-        let t1437: f32 = t1435 + t1436;
-        let t1438: f32 = t1329 + t1437;
-        let t1439: f32 = t1434 - t1438;
-        let t1440: f32 = wx * t1418;
-        let t1441: f32 = wy * t3;
-        let t1442: f32 = wz * t2;
-        let t1443: f32 = t1441 + t1442;
-        let t1444: f32 = t1443 * 0.36;
-        let t1445: f32 = wz * t1;
-        let t1446: f32 = t1444 * t1445;
-        let t1447: f32 = t353 + t950;
-        let t1448: f32 = t1143 + t1447;
-        let t1449: f32 = t157 + t555;
-        let t1450: f32 = t756 + t1449;
-        let t1451: f32 = t1448 - t1450;
-        let t1452: f32 = t1451 * 0.003;
-        let t1453: f32 = t1440 + t1446;
-        let t1454: f32 = t420 + t621;
-        let t1455: f32 = t822 + t1452;
-        let t1456: f32 = t1453 + t1454;
-        let t1457: f32 = t1455 + t1456;
-        let t1458: f32 = t224 + t1016;
-        let t1459: f32 = t1209 + t1458;
-        let t1460: f32 = t1457 - t1459;
-        let t1461: f32 = wx * t1424;
-        let t1462: f32 = wy * t1;
-        let t1463: f32 = t1444 * t1462;
-        let t1464: f32 = t426 + t627;
-        let t1465: f32 = t828 + t1464;
-        let t1466: f32 = t230 + t1022;
-        let t1467: f32 = t1215 + t1466;
-        let t1468: f32 = t1465 - t1467;
-        let t1469: f32 = t1468 * 0.003;
-        let t1470: f32 = t436 + t1461;
-        let t1471: f32 = t1032 + t1225;
-        let t1472: f32 = t1469 + 117.72;
-        let t1473: f32 = t1470 + t1471;
-        let t1474: f32 = t1472 + t1473;
-        let t1475: f32 = t240 + t1463;
-        let t1476: f32 = t637 + t838;
-        let t1477: f32 = t1475 + t1476;
-        let t1478: f32 = t1474 - t1477;
-        let t1479: f32 = t67 * t76;
-        let t1480: f32 = t263 * t272;
-        let t1481: f32 = t465 * t474;
-        let t1482: f32 = t666 * t675;
-        let t1483: f32 = t860 * t869;
-        let t1484: f32 = t1053 * t1062;
+        let t1349: f32 = t1018 * t1348;
+        let t1350: f32 = t1024 * t1209;
+        let t1351: f32 = t34 * t1222;
+        let t1352: f32 = t37 * t1229;
+        let t1353: f32 = t1351 + t1352;
+        let t1354: f32 = t1353 * 0.2892;
+        let t1355: f32 = t1216 * t1354;
+        let t1356: f32 = t5 * 3.5316;
+        let t1357: f32 = t1265 + t1281;
+        let t1358: f32 = t1298 + t1316;
+        let t1359: f32 = t1332 + t1350;
+        let t1360: f32 = t1357 + t1358;
+        let t1361: f32 = t1359 + t1360;
+        let t1362: f32 = t1264 + t1356;
+        let t1363: f32 = t1282 + t1299;
+        let t1364: f32 = t1315 + t1333;
+        let t1365: f32 = t1349 + t1355;
+        let t1366: f32 = t1362 + t1363;
+        let t1367: f32 = t1364 + t1365;
+        let t1368: f32 = t1366 + t1367;
+        let t1369: f32 = t1361 - t1368;
+        let t1370: f32 = t40 * t1263;
+        let t1371: f32 = t28 * t208;
+        let t1372: f32 = t236 * t1280;
+        let t1373: f32 = t233 * t404;
+        let t1374: f32 = t438 * t1297;
+        let t1375: f32 = t433 * t605;
+        let t1376: f32 = t639 * t1314;
+        let t1377: f32 = t634 * t806;
+        let t1378: f32 = t833 * t1331;
+        let t1379: f32 = t830 * t1000;
+        let t1380: f32 = t1026 * t1348;
+        let t1381: f32 = t1024 * t1193;
+        let t1382: f32 = t9 * t1222;
+        let t1383: f32 = t13 * t1229;
+        let t1384: f32 = t1382 + t1383;
+        let t1385: f32 = t1384 * 0.2892;
+        let t1386: f32 = t1216 * t1385;
+        let t1387: f32 = t1370 + t1373;
+        let t1388: f32 = t1376 + t1377;
+        let t1389: f32 = t1380 + t1381;
+        let t1390: f32 = t1387 + t1388;
+        let t1391: f32 = t1389 + t1390;
+        let t1392: f32 = t1371 + t1372;
+        let t1393: f32 = t1374 + t1375;
+        let t1394: f32 = t1378 + t1379;
+        let t1395: f32 = t1392 + t1393;
+        let t1396: f32 = t1386 + t1394;
+        let t1397: f32 = t1395 + t1396;
+        let t1398: f32 = t1391 - t1397;
+        let t1399: f32 = wx * t0;
+        let t1400: f32 = t6 * t1399;
+        let t1401: f32 = wy * t5;
+        let t1402: f32 = t1400 + t1401;
+        let t1403: f32 = t1402 * 0.36;
+        let t1404: f32 = wy * t1403;
+        let t1405: f32 = wz * t5;
+        let t1406: f32 = wx * t1;
+        let t1407: f32 = t6 * t1406;
+        let t1408: f32 = t1405 - t1407;
+        let t1409: f32 = t1408 * 0.36;
+        let t1410: f32 = wz * t1409;
+        let t1411: f32 = t1267 + t1318;
+        let t1412: f32 = t1335 + t1411;
+        let t1413: f32 = t1250 + t1284;
+        let t1414: f32 = t1301 + t1413;
+        let t1415: f32 = t1412 - t1414;
+        let t1416: f32 = t1415 * 0.003;
+        let t1417: f32 = t1278 + t1329;
+        let t1418: f32 = t1346 + t1416;
+        let t1419: f32 = t1417 + t1418;
+        let t1420: f32 = t1404 + t1410;
+        let t1421: f32 = t1261 + t1295;
+        let t1422: f32 = t1420 + t1421;
+        let t1423: f32 = t1312 + t1422;
+        let t1424: f32 = t1419 - t1423;
+        let t1425: f32 = wx * t1403;
+        let t1426: f32 = wy * t1;
+        let t1427: f32 = wz * t0;
+        let t1428: f32 = t1426 + t1427;
+        let t1429: f32 = t1428 * 0.36;
+        let t1430: f32 = wz * t6;
+        let t1431: f32 = t1429 * t1430;
+        let t1432: f32 = t335 + t932;
+        let t1433: f32 = t1125 + t1432;
+        let t1434: f32 = t139 + t537;
+        let t1435: f32 = t738 + t1434;
+        let t1436: f32 = t1433 - t1435;
+        let t1437: f32 = t1436 * 0.003;
+        let t1438: f32 = t1425 + t1431;
+        let t1439: f32 = t402 + t603;
+        let t1440: f32 = t804 + t1437;
+        let t1441: f32 = t1438 + t1439;
+        let t1442: f32 = t1440 + t1441;
+        let t1443: f32 = t206 + t998;
+        let t1444: f32 = t1191 + t1443;
+        let t1445: f32 = t1442 - t1444;
+        let t1446: f32 = wx * t1409;
+        let t1447: f32 = wy * t6;
+        let t1448: f32 = t1429 * t1447;
+        let t1449: f32 = t408 + t609;
+        let t1450: f32 = t810 + t1449;
+        let t1451: f32 = t212 + t1004;
+        let t1452: f32 = t1197 + t1451;
+        let t1453: f32 = t1450 - t1452;
+        let t1454: f32 = t1453 * 0.003;
+        let t1455: f32 = t418 + t1446;
+        let t1456: f32 = t1014 + t1207;
+        let t1457: f32 = t1454 + 117.72;
+        let t1458: f32 = t1455 + t1456;
+        let t1459: f32 = t1457 + t1458;
+        let t1460: f32 = t222 + t1448;
+        let t1461: f32 = t619 + t820;
+        let t1462: f32 = t1460 + t1461;
+        let t1463: f32 = t1459 - t1462;
+        let t1464: f32 = t49 * t58;
+        let t1465: f32 = t245 * t254;
+        let t1466: f32 = t447 * t456;
+        let t1467: f32 = t648 * t657;
+        let t1468: f32 = t842 * t851;
+        let t1469: f32 = t1035 * t1044;
         (
-            t1261,
-            t1383,
-            t1413,
-            t1439,
-            t1460,
-            t1478,
-            t1479,
-            t1480,
-            t1481,
-            t1482,
-            t1483,
-            t1484,
+            t1248,
+            t1369,
+            t1398,
+            t1424,
+            t1445,
+            t1463,
+            t1464,
+            t1465,
+            t1466,
+            t1467,
+            t1468,
+            t1469,
         )
     };
     (
-        [t1261, t1383, t1413, t1439, t1460, t1478],
-        [t1479, t1480, t1481, t1482, t1483, t1484],
+        [t1248, t1369, t1398, t1424, t1445, t1463],
+        [t1464, t1465, t1466, t1467, t1468, t1469],
     )
 }
 /// Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
@@ -8749,7 +8703,7 @@ pub fn task_bias(pose: &[f32; 6], twist: &[f32; 6]) -> ([f32; 6], [f32; 6]) {
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 1930 mul, 29 div, 1386 add, 36 neg, 3 sin_cos, 12 sqrt (chapter convention: 1959m + 1386a).
+/// Operations: 1923 mul, 29 div, 1380 add, 35 neg, 3 sin_cos, 12 sqrt (chapter convention: 1952m + 1380a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn forward_dynamics(
@@ -8985,29 +8939,26 @@ pub fn forward_dynamics(
         t908,
         t909,
         t910,
-        t911,
         t912,
-        t914,
-        t915,
-        t919,
-        t940,
-        t943,
-        t944,
+        t913,
+        t917,
+        t938,
+        t941,
+        t942,
+        t945,
+        t946,
         t947,
-        t948,
-        t949,
-        t953,
-        t974,
-        t977,
-        t978,
+        t951,
+        t972,
+        t975,
+        t976,
+        t979,
+        t980,
         t981,
-        t982,
-        t983,
-        t986,
-        t987,
-        t990,
-        t991,
-        t995,
+        t984,
+        t985,
+        t988,
+        t989,
         t1002,
     ) = {
         let (t0, t1): (f32, f32) = sin_cos(beta);
@@ -9916,100 +9867,100 @@ pub fn forward_dynamics(
         let t906: f32 = t903 + t904;
         let t907: f32 = t905 + t906;
         let t908: f32 = t902 - t907;
-        let t909: f32 = t21 * 0.4108;
-        let t910: f32 = t21 * t909;
-        let t911: f32 = t24 * 0.4108;
-        let t912: f32 = t24 * t911;
-        let t913: f32 = t3 * t3;
-        let t914: f32 = t676 * t913;
-        let t915: f32 = t44 * t701;
-        let t916: f32 = t915 * 0.3;
-        let t917: f32 = t701 - t916;
-        let t918: f32 = t701 * t917;
-        let t919: f32 = t44 * t83;
-        let t920: f32 = t919 * 0.3;
-        let t921: f32 = t83 - t920;
-        let t922: f32 = t83 * t921;
-        let t923: f32 = t80 * t80;
-        let t924: f32 = t701 * 0.3;
-        let t925: f32 = t915 * 0.295;
-        let t926: f32 = t924 - t925;
-        let t927: f32 = t701 * t926;
-        let t928: f32 = t44 * t67;
-        let t929: f32 = t83 * t928;
-        let t930: f32 = t83 * 0.3;
-        let t931: f32 = t919 * 0.295;
-        let t932: f32 = t929 * 0.003;
-        let t933: f32 = t931 + t932;
-        let t934: f32 = t930 - t933;
-        let t935: f32 = t83 * t934;
-        let t936: f32 = t927 + t935;
-        let t937: f32 = t44 * t936;
-        let t938: f32 = t918 + t922;
-        let t939: f32 = t923 + t938;
-        let t940: f32 = t939 - t937;
-        let t941: f32 = t17 * t940;
-        let t942: f32 = t34 * t725;
-        let t943: f32 = t941 - t942;
-        let t944: f32 = t17 * t943;
-        let t945: f32 = t17 * t725;
-        let t946: f32 = t34 * t133;
-        let t947: f32 = t945 - t946;
-        let t948: f32 = t34 * t947;
-        let t949: f32 = t151 * t733;
-        let t950: f32 = t949 * 0.3;
-        let t951: f32 = t733 - t950;
-        let t952: f32 = t733 * t951;
-        let t953: f32 = t151 * t189;
-        let t954: f32 = t953 * 0.3;
-        let t955: f32 = t189 - t954;
-        let t956: f32 = t189 * t955;
-        let t957: f32 = t186 * t186;
-        let t958: f32 = t733 * 0.3;
-        let t959: f32 = t949 * 0.295;
-        let t960: f32 = t958 - t959;
-        let t961: f32 = t733 * t960;
-        let t962: f32 = t151 * t173;
-        let t963: f32 = t189 * t962;
-        let t964: f32 = t189 * 0.3;
-        let t965: f32 = t953 * 0.295;
-        let t966: f32 = t963 * 0.003;
-        let t967: f32 = t965 + t966;
-        let t968: f32 = t964 - t967;
-        let t969: f32 = t189 * t968;
-        let t970: f32 = t961 + t969;
-        let t971: f32 = t151 * t970;
-        let t972: f32 = t952 + t956;
-        let t973: f32 = t957 + t972;
-        let t974: f32 = t973 - t971;
-        let t975: f32 = t137 * t974;
-        let t976: f32 = t141 * t757;
-        let t977: f32 = t975 - t976;
-        let t978: f32 = t137 * t977;
-        let t979: f32 = t137 * t757;
-        let t980: f32 = t141 * t239;
-        let t981: f32 = t979 - t980;
-        let t982: f32 = t141 * t981;
-        let t983: f32 = t263 * t765;
-        let t984: f32 = t983 * 0.3;
-        let t985: f32 = t765 - t984;
-        let t986: f32 = t765 * t985;
-        let t987: f32 = t263 * t301;
-        let t988: f32 = t987 * 0.3;
-        let t989: f32 = t301 - t988;
-        let t990: f32 = t301 * t989;
-        let t991: f32 = t298 * t298;
-        let t992: f32 = t765 * 0.3;
-        let t993: f32 = t983 * 0.295;
-        let t994: f32 = t992 - t993;
-        let t995: f32 = t765 * t994;
-        let t996: f32 = t263 * t285;
-        let t997: f32 = t301 * t996;
-        let t998: f32 = t301 * 0.3;
-        let t999: f32 = t987 * 0.295;
-        let t1000: f32 = t997 * 0.003;
-        let t1001: f32 = t999 + t1000;
-        let t1002: f32 = t998 - t1001;
+        let t909: f32 = t21 * t21;
+        let t910: f32 = t24 * t24;
+        let t911: f32 = t3 * t3;
+        let t912: f32 = t676 * t911;
+        let t913: f32 = t44 * t701;
+        let t914: f32 = t913 * 0.3;
+        let t915: f32 = t701 - t914;
+        let t916: f32 = t701 * t915;
+        let t917: f32 = t44 * t83;
+        let t918: f32 = t917 * 0.3;
+        let t919: f32 = t83 - t918;
+        let t920: f32 = t83 * t919;
+        let t921: f32 = t80 * t80;
+        let t922: f32 = t701 * 0.3;
+        let t923: f32 = t913 * 0.295;
+        let t924: f32 = t922 - t923;
+        let t925: f32 = t701 * t924;
+        let t926: f32 = t44 * t67;
+        let t927: f32 = t83 * t926;
+        let t928: f32 = t83 * 0.3;
+        let t929: f32 = t917 * 0.295;
+        let t930: f32 = t927 * 0.003;
+        let t931: f32 = t929 + t930;
+        let t932: f32 = t928 - t931;
+        let t933: f32 = t83 * t932;
+        let t934: f32 = t925 + t933;
+        let t935: f32 = t44 * t934;
+        let t936: f32 = t916 + t920;
+        let t937: f32 = t921 + t936;
+        let t938: f32 = t937 - t935;
+        let t939: f32 = t17 * t938;
+        let t940: f32 = t34 * t725;
+        let t941: f32 = t939 - t940;
+        let t942: f32 = t17 * t941;
+        let t943: f32 = t17 * t725;
+        let t944: f32 = t34 * t133;
+        let t945: f32 = t943 - t944;
+        let t946: f32 = t34 * t945;
+        let t947: f32 = t151 * t733;
+        let t948: f32 = t947 * 0.3;
+        let t949: f32 = t733 - t948;
+        let t950: f32 = t733 * t949;
+        let t951: f32 = t151 * t189;
+        let t952: f32 = t951 * 0.3;
+        let t953: f32 = t189 - t952;
+        let t954: f32 = t189 * t953;
+        let t955: f32 = t186 * t186;
+        let t956: f32 = t733 * 0.3;
+        let t957: f32 = t947 * 0.295;
+        let t958: f32 = t956 - t957;
+        let t959: f32 = t733 * t958;
+        let t960: f32 = t151 * t173;
+        let t961: f32 = t189 * t960;
+        let t962: f32 = t189 * 0.3;
+        let t963: f32 = t951 * 0.295;
+        let t964: f32 = t961 * 0.003;
+        let t965: f32 = t963 + t964;
+        let t966: f32 = t962 - t965;
+        let t967: f32 = t189 * t966;
+        let t968: f32 = t959 + t967;
+        let t969: f32 = t151 * t968;
+        let t970: f32 = t950 + t954;
+        let t971: f32 = t955 + t970;
+        let t972: f32 = t971 - t969;
+        let t973: f32 = t137 * t972;
+        let t974: f32 = t141 * t757;
+        let t975: f32 = t973 - t974;
+        let t976: f32 = t137 * t975;
+        let t977: f32 = t137 * t757;
+        let t978: f32 = t141 * t239;
+        let t979: f32 = t977 - t978;
+        let t980: f32 = t141 * t979;
+        let t981: f32 = t263 * t765;
+        let t982: f32 = t981 * 0.3;
+        let t983: f32 = t765 - t982;
+        let t984: f32 = t765 * t983;
+        let t985: f32 = t263 * t301;
+        let t986: f32 = t985 * 0.3;
+        let t987: f32 = t301 - t986;
+        let t988: f32 = t301 * t987;
+        let t989: f32 = t298 * t298;
+        let t990: f32 = t765 * 0.3;
+        let t991: f32 = t981 * 0.295;
+        let t992: f32 = t990 - t991;
+        let t993: f32 = t765 * t992;
+        let t994: f32 = t263 * t285;
+        let t995: f32 = t301 * t994;
+        let t996: f32 = t301 * 0.3;
+        let t997: f32 = t985 * 0.295;
+        let t998: f32 = t995 * 0.003;
+        let t999: f32 = t997 + t998;
+        let t1000: f32 = t996 - t999;
+        let t1001: f32 = t301 * t1000;
+        let t1002: f32 = t993 + t1001;
         (
             t0,
             t1,
@@ -10235,2852 +10186,2815 @@ pub fn forward_dynamics(
             t908,
             t909,
             t910,
-            t911,
             t912,
-            t914,
-            t915,
-            t919,
-            t940,
-            t943,
-            t944,
+            t913,
+            t917,
+            t938,
+            t941,
+            t942,
+            t945,
+            t946,
             t947,
-            t948,
-            t949,
-            t953,
-            t974,
-            t977,
-            t978,
+            t951,
+            t972,
+            t975,
+            t976,
+            t979,
+            t980,
             t981,
-            t982,
-            t983,
-            t986,
-            t987,
-            t990,
-            t991,
-            t995,
+            t984,
+            t985,
+            t988,
+            t989,
             t1002,
         )
     };
     let (
-        t1008,
-        t1017,
-        t1021,
-        t1042,
-        t1051,
-        t1055,
-        t1076,
-        t1085,
-        t1089,
-        t1110,
-        t1137,
-        t1138,
+        t1006,
+        t1015,
+        t1019,
+        t1040,
+        t1049,
+        t1053,
+        t1074,
+        t1083,
+        t1087,
+        t1108,
+        t1136,
+        t1149,
         t1150,
-        t1151,
-        t1153,
-        t1263,
-        t1311,
-        t1316,
-        t1324,
-        t1326,
-        t1329,
-        t1335,
+        t1152,
+        t1261,
+        t1310,
+        t1315,
+        t1323,
+        t1325,
+        t1328,
+        t1334,
+        t1345,
         t1346,
-        t1347,
+        t1354,
         t1355,
-        t1356,
+        t1367,
         t1368,
-        t1369,
-        t1373,
-        t1392,
+        t1372,
+        t1391,
+        t1402,
         t1403,
-        t1404,
+        t1412,
         t1413,
-        t1414,
+        t1429,
         t1430,
-        t1431,
+        t1442,
         t1443,
-        t1444,
-        t1449,
-        t1471,
-        t1488,
-        t1492,
-        t1493,
+        t1448,
+        t1470,
+        t1476,
+        t1482,
+        t1489,
+        t1497,
         t1498,
-        t1499,
+        t1502,
         t1503,
-        t1504,
+        t1509,
         t1510,
-        t1511,
-        t1523,
-        t1527,
-        t1534,
-        t1535,
-        t1539,
-        t1540,
-        t1544,
-        t1575,
+        t1514,
+        t1515,
+        t1520,
+        t1521,
+        t1525,
+        t1526,
+        t1530,
+        t1561,
+        t1565,
+        t1570,
+        t1574,
+        t1577,
         t1579,
-        t1584,
-        t1588,
-        t1591,
-        t1593,
-        t1594,
-        t1613,
-        t1616,
-        t1619,
-        t1621,
-        t1624,
+        t1580,
+        t1599,
+        t1602,
+        t1605,
+        t1607,
+        t1610,
+        t1615,
+        t1626,
         t1629,
-        t1640,
-        t1643,
-        t1647,
-        t1648,
-        t1656,
-        t1659,
-        t1660,
-        t1694,
+        t1633,
+        t1634,
+        t1642,
+        t1645,
+        t1646,
+        t1680,
+        t1684,
+        t1689,
+        t1693,
+        t1696,
         t1698,
-        t1703,
-        t1707,
-        t1710,
-        t1712,
-        t1713,
-        t1732,
-        t1735,
-        t1739,
-        t1744,
-        t1752,
-        t1759,
-        t1760,
-        t1763,
-        t1767,
-        t1768,
-        t1776,
-        t1779,
-        t1780,
-        t1783,
-        t1814,
+        t1699,
+        t1718,
+        t1721,
+        t1725,
+        t1730,
+        t1738,
+        t1745,
+        t1746,
+        t1749,
+        t1753,
+        t1754,
+        t1762,
+        t1765,
+        t1766,
+        t1769,
+        t1800,
+        t1804,
+        t1809,
+        t1813,
+        t1816,
         t1818,
-        t1823,
-        t1827,
-        t1830,
+        t1819,
         t1832,
-        t1833,
-        t1846,
-        t1854,
-        t1861,
-        t1862,
-        t1865,
+        t1840,
+        t1847,
+        t1848,
+        t1851,
+        t1856,
+        t1867,
         t1870,
-        t1881,
-        t1884,
-        t1888,
+        t1874,
+        t1875,
+        t1883,
+        t1886,
+        t1887,
         t1889,
-        t1897,
-        t1900,
-        t1901,
-        t1903,
-        t1934,
+        t1920,
+        t1924,
+        t1929,
+        t1933,
+        t1936,
         t1938,
-        t1943,
-        t1947,
-        t1950,
-        t1952,
-        t1953,
-        t1972,
-        t1975,
-        t1977,
-        t1978,
+        t1939,
+        t1958,
+        t1961,
+        t1965,
+        t1976,
         t1979,
-        t1990,
+        t1982,
+        t1984,
+        t1987,
+        t1991,
+        t1992,
         t1993,
-        t1996,
-        t1998,
+        t2000,
         t2001,
         t2002,
     ) = {
-        let t1003: f32 = t301 * t1002;
-        let t1004: f32 = t995 + t1003;
-        let t1005: f32 = t263 * t1004;
-        let t1006: f32 = t986 + t990;
-        let t1007: f32 = t991 + t1006;
-        let t1008: f32 = t1007 - t1005;
-        let t1009: f32 = t245 * t1008;
-        let t1010: f32 = t253 * t789;
-        let t1011: f32 = t1009 - t1010;
-        let t1012: f32 = t245 * t1011;
-        let t1013: f32 = t245 * t789;
-        let t1014: f32 = t253 * t351;
-        let t1015: f32 = t1013 - t1014;
-        let t1016: f32 = t253 * t1015;
-        let t1017: f32 = t375 * t797;
-        let t1018: f32 = t1017 * 0.3;
-        let t1019: f32 = t797 - t1018;
-        let t1020: f32 = t797 * t1019;
-        let t1021: f32 = t375 * t413;
-        let t1022: f32 = t1021 * 0.3;
-        let t1023: f32 = t413 - t1022;
-        let t1024: f32 = t413 * t1023;
-        let t1025: f32 = t410 * t410;
-        let t1026: f32 = t797 * 0.3;
-        let t1027: f32 = t1017 * 0.295;
-        let t1028: f32 = t1026 - t1027;
-        let t1029: f32 = t797 * t1028;
-        let t1030: f32 = t375 * t397;
-        let t1031: f32 = t413 * t1030;
-        let t1032: f32 = t413 * 0.3;
-        let t1033: f32 = t1021 * 0.295;
-        let t1034: f32 = t1031 * 0.003;
-        let t1035: f32 = t1033 + t1034;
-        let t1036: f32 = t1032 - t1035;
-        let t1037: f32 = t413 * t1036;
-        let t1038: f32 = t1029 + t1037;
-        let t1039: f32 = t375 * t1038;
-        let t1040: f32 = t1020 + t1024;
-        let t1041: f32 = t1025 + t1040;
-        let t1042: f32 = t1041 - t1039;
-        let t1043: f32 = t357 * t1042;
-        let t1044: f32 = t365 * t821;
-        let t1045: f32 = t1043 - t1044;
-        let t1046: f32 = t357 * t1045;
-        let t1047: f32 = t357 * t821;
-        let t1048: f32 = t365 * t463;
-        let t1049: f32 = t1047 - t1048;
-        let t1050: f32 = t365 * t1049;
-        let t1051: f32 = t481 * t829;
-        let t1052: f32 = t1051 * 0.3;
-        let t1053: f32 = t829 - t1052;
-        let t1054: f32 = t829 * t1053;
-        let t1055: f32 = t481 * t518;
-        let t1056: f32 = t1055 * 0.3;
-        let t1057: f32 = t518 - t1056;
-        let t1058: f32 = t518 * t1057;
-        let t1059: f32 = t515 * t515;
-        let t1060: f32 = t829 * 0.3;
-        let t1061: f32 = t1051 * 0.295;
-        let t1062: f32 = t1060 - t1061;
-        let t1063: f32 = t829 * t1062;
-        let t1064: f32 = t481 * t502;
-        let t1065: f32 = t518 * t1064;
-        let t1066: f32 = t518 * 0.3;
-        let t1067: f32 = t1055 * 0.295;
-        let t1068: f32 = t1065 * 0.003;
-        let t1069: f32 = t1067 + t1068;
-        let t1070: f32 = t1066 - t1069;
-        let t1071: f32 = t518 * t1070;
-        let t1072: f32 = t1063 + t1071;
-        let t1073: f32 = t481 * t1072;
-        let t1074: f32 = t1054 + t1058;
-        let t1075: f32 = t1059 + t1074;
-        let t1076: f32 = t1075 - t1073;
-        let t1077: f32 = t467 * t1076;
-        let t1078: f32 = t471 * t853;
-        let t1079: f32 = t1077 - t1078;
-        let t1080: f32 = t467 * t1079;
-        let t1081: f32 = t467 * t853;
-        let t1082: f32 = t471 * t568;
-        let t1083: f32 = t1081 - t1082;
-        let t1084: f32 = t471 * t1083;
-        let t1085: f32 = t585 * t861;
-        let t1086: f32 = t1085 * 0.3;
-        let t1087: f32 = t861 - t1086;
-        let t1088: f32 = t861 * t1087;
-        let t1089: f32 = t585 * t622;
-        let t1090: f32 = t1089 * 0.3;
-        let t1091: f32 = t622 - t1090;
-        let t1092: f32 = t622 * t1091;
-        let t1093: f32 = t619 * t619;
-        let t1094: f32 = t861 * 0.3;
-        let t1095: f32 = t1085 * 0.295;
-        let t1096: f32 = t1094 - t1095;
-        let t1097: f32 = t861 * t1096;
-        let t1098: f32 = t585 * t606;
-        let t1099: f32 = t622 * t1098;
-        let t1100: f32 = t622 * 0.3;
-        let t1101: f32 = t1089 * 0.295;
-        let t1102: f32 = t1099 * 0.003;
-        let t1103: f32 = t1101 + t1102;
-        let t1104: f32 = t1100 - t1103;
-        let t1105: f32 = t622 * t1104;
-        let t1106: f32 = t1097 + t1105;
-        let t1107: f32 = t585 * t1106;
-        let t1108: f32 = t1088 + t1092;
-        let t1109: f32 = t1093 + t1108;
-        let t1110: f32 = t1109 - t1107;
-        let t1111: f32 = t572 * t1110;
-        let t1112: f32 = t576 * t885;
-        let t1113: f32 = t1111 - t1112;
-        let t1114: f32 = t572 * t1113;
-        let t1115: f32 = t572 * t885;
-        let t1116: f32 = t576 * t672;
-        let t1117: f32 = t1115 - t1116;
-        let t1118: f32 = t576 * t1117;
-        let t1119: f32 = t914 * 0.7;
-        let t1120: f32 = t910 + t912;
-        let t1121: f32 = t944 + t978;
-        let t1122: f32 = t1012 + t1046;
-        let t1123: f32 = t1080 + t1114;
+        let t1003: f32 = t263 * t1002;
+        let t1004: f32 = t984 + t988;
+        let t1005: f32 = t989 + t1004;
+        let t1006: f32 = t1005 - t1003;
+        let t1007: f32 = t245 * t1006;
+        let t1008: f32 = t253 * t789;
+        let t1009: f32 = t1007 - t1008;
+        let t1010: f32 = t245 * t1009;
+        let t1011: f32 = t245 * t789;
+        let t1012: f32 = t253 * t351;
+        let t1013: f32 = t1011 - t1012;
+        let t1014: f32 = t253 * t1013;
+        let t1015: f32 = t375 * t797;
+        let t1016: f32 = t1015 * 0.3;
+        let t1017: f32 = t797 - t1016;
+        let t1018: f32 = t797 * t1017;
+        let t1019: f32 = t375 * t413;
+        let t1020: f32 = t1019 * 0.3;
+        let t1021: f32 = t413 - t1020;
+        let t1022: f32 = t413 * t1021;
+        let t1023: f32 = t410 * t410;
+        let t1024: f32 = t797 * 0.3;
+        let t1025: f32 = t1015 * 0.295;
+        let t1026: f32 = t1024 - t1025;
+        let t1027: f32 = t797 * t1026;
+        let t1028: f32 = t375 * t397;
+        let t1029: f32 = t413 * t1028;
+        let t1030: f32 = t413 * 0.3;
+        let t1031: f32 = t1019 * 0.295;
+        let t1032: f32 = t1029 * 0.003;
+        let t1033: f32 = t1031 + t1032;
+        let t1034: f32 = t1030 - t1033;
+        let t1035: f32 = t413 * t1034;
+        let t1036: f32 = t1027 + t1035;
+        let t1037: f32 = t375 * t1036;
+        let t1038: f32 = t1018 + t1022;
+        let t1039: f32 = t1023 + t1038;
+        let t1040: f32 = t1039 - t1037;
+        let t1041: f32 = t357 * t1040;
+        let t1042: f32 = t365 * t821;
+        let t1043: f32 = t1041 - t1042;
+        let t1044: f32 = t357 * t1043;
+        let t1045: f32 = t357 * t821;
+        let t1046: f32 = t365 * t463;
+        let t1047: f32 = t1045 - t1046;
+        let t1048: f32 = t365 * t1047;
+        let t1049: f32 = t481 * t829;
+        let t1050: f32 = t1049 * 0.3;
+        let t1051: f32 = t829 - t1050;
+        let t1052: f32 = t829 * t1051;
+        let t1053: f32 = t481 * t518;
+        let t1054: f32 = t1053 * 0.3;
+        let t1055: f32 = t518 - t1054;
+        let t1056: f32 = t518 * t1055;
+        let t1057: f32 = t515 * t515;
+        let t1058: f32 = t829 * 0.3;
+        let t1059: f32 = t1049 * 0.295;
+        let t1060: f32 = t1058 - t1059;
+        let t1061: f32 = t829 * t1060;
+        let t1062: f32 = t481 * t502;
+        let t1063: f32 = t518 * t1062;
+        let t1064: f32 = t518 * 0.3;
+        let t1065: f32 = t1053 * 0.295;
+        let t1066: f32 = t1063 * 0.003;
+        let t1067: f32 = t1065 + t1066;
+        let t1068: f32 = t1064 - t1067;
+        let t1069: f32 = t518 * t1068;
+        let t1070: f32 = t1061 + t1069;
+        let t1071: f32 = t481 * t1070;
+        let t1072: f32 = t1052 + t1056;
+        let t1073: f32 = t1057 + t1072;
+        let t1074: f32 = t1073 - t1071;
+        let t1075: f32 = t467 * t1074;
+        let t1076: f32 = t471 * t853;
+        let t1077: f32 = t1075 - t1076;
+        let t1078: f32 = t467 * t1077;
+        let t1079: f32 = t467 * t853;
+        let t1080: f32 = t471 * t568;
+        let t1081: f32 = t1079 - t1080;
+        let t1082: f32 = t471 * t1081;
+        let t1083: f32 = t585 * t861;
+        let t1084: f32 = t1083 * 0.3;
+        let t1085: f32 = t861 - t1084;
+        let t1086: f32 = t861 * t1085;
+        let t1087: f32 = t585 * t622;
+        let t1088: f32 = t1087 * 0.3;
+        let t1089: f32 = t622 - t1088;
+        let t1090: f32 = t622 * t1089;
+        let t1091: f32 = t619 * t619;
+        let t1092: f32 = t861 * 0.3;
+        let t1093: f32 = t1083 * 0.295;
+        let t1094: f32 = t1092 - t1093;
+        let t1095: f32 = t861 * t1094;
+        let t1096: f32 = t585 * t606;
+        let t1097: f32 = t622 * t1096;
+        let t1098: f32 = t622 * 0.3;
+        let t1099: f32 = t1087 * 0.295;
+        let t1100: f32 = t1097 * 0.003;
+        let t1101: f32 = t1099 + t1100;
+        let t1102: f32 = t1098 - t1101;
+        let t1103: f32 = t622 * t1102;
+        let t1104: f32 = t1095 + t1103;
+        let t1105: f32 = t585 * t1104;
+        let t1106: f32 = t1086 + t1090;
+        let t1107: f32 = t1091 + t1106;
+        let t1108: f32 = t1107 - t1105;
+        let t1109: f32 = t572 * t1108;
+        let t1110: f32 = t576 * t885;
+        let t1111: f32 = t1109 - t1110;
+        let t1112: f32 = t572 * t1111;
+        let t1113: f32 = t572 * t885;
+        let t1114: f32 = t576 * t672;
+        let t1115: f32 = t1113 - t1114;
+        let t1116: f32 = t576 * t1115;
+        let t1117: f32 = t909 + t910;
+        let t1118: f32 = t1117 * 0.4108;
+        let t1119: f32 = t912 * 0.7;
+        let t1120: f32 = t1118 + t1119;
+        let t1121: f32 = t942 + t976;
+        let t1122: f32 = t1010 + t1044;
+        let t1123: f32 = t1078 + t1112;
         let t1124: f32 = t1120 + t1121;
         let t1125: f32 = t1122 + t1123;
         let t1126: f32 = t1124 + t1125;
-        let t1127: f32 = t1119 + t1126;
-        let t1128: f32 = t948 + t982;
-        let t1129: f32 = t1016 + t1050;
-        let t1130: f32 = t1084 + t1118;
-        let t1131: f32 = t1128 + t1129;
-        let t1132: f32 = t1130 + t1131;
-        let t1133: f32 = t1127 - t1132;
-        let t1134: f32 = t908 * t908;
-        let t1135: f32 = t696 * t1134;
-        let t1136: f32 = t1133 - t1135;
-        let t1137: f32 = 1.0 / t1136;
-        let t1138: f32 = t1 * t4;
-        let t1139: f32 = t1138 * 0.36;
-        let t1140: f32 = t943 + t1139;
-        let t1141: f32 = t977 + t1045;
-        let t1142: f32 = t1140 + t1141;
-        let t1143: f32 = t1079 + t1142;
-        let t1144: f32 = t1011 + t1113;
-        let t1145: f32 = t1143 - t1144;
-        let t1146: f32 = t727 + t759;
-        let t1147: f32 = t823 + t855;
-        let t1148: f32 = t1146 + t1147;
-        let t1149: f32 = t791 + t887;
-        let t1150: f32 = t1148 - t1149;
-        let t1151: f32 = t696 * t908;
-        let t1152: f32 = t1150 * t1151;
-        let t1153: f32 = t1145 - t1152;
-        let t1154: f32 = t940 + t974;
-        let t1155: f32 = t1008 + t1042;
-        let t1156: f32 = t1076 + t1110;
-        let t1157: f32 = t1154 + t1155;
-        let t1158: f32 = t1156 + 12.0;
-        let t1159: f32 = t1157 + t1158;
-        let t1160: f32 = t1150 * t1150;
-        let t1161: f32 = t696 * t1160;
-        let t1162: f32 = t1153 * t1153;
-        let t1163: f32 = t1137 * t1162;
-        let t1164: f32 = t10 * 0.4108;
-        let t1165: f32 = t10 * t1164;
-        let t1166: f32 = t14 * 0.4108;
-        let t1167: f32 = t14 * t1166;
-        let t1168: f32 = t4 * t4;
-        let t1169: f32 = t676 * t1168;
-        let t1170: f32 = t27 * t940;
-        let t1171: f32 = t34 * t712;
-        let t1172: f32 = t1170 - t1171;
-        let t1173: f32 = t27 * t1172;
-        let t1174: f32 = t27 * t712;
-        let t1175: f32 = t34 * t96;
-        let t1176: f32 = t1174 - t1175;
-        let t1177: f32 = t34 * t1176;
-        let t1178: f32 = t138 * t974;
-        let t1179: f32 = t141 * t744;
-        let t1180: f32 = t1178 - t1179;
-        let t1181: f32 = t138 * t1180;
-        let t1182: f32 = t138 * t744;
-        let t1183: f32 = t141 * t202;
-        let t1184: f32 = t1182 - t1183;
-        let t1185: f32 = t141 * t1184;
-        let t1186: f32 = t248 * t1008;
-        let t1187: f32 = t253 * t776;
-        let t1188: f32 = t1186 - t1187;
-        let t1189: f32 = t248 * t1188;
-        let t1190: f32 = t248 * t776;
-        let t1191: f32 = t253 * t314;
-        let t1192: f32 = t1190 - t1191;
-        let t1193: f32 = t253 * t1192;
-        let t1194: f32 = t360 * t1042;
-        let t1195: f32 = t365 * t808;
-        let t1196: f32 = t1194 - t1195;
-        let t1197: f32 = t360 * t1196;
-        let t1198: f32 = t360 * t808;
-        let t1199: f32 = t365 * t426;
-        let t1200: f32 = t1198 - t1199;
-        let t1201: f32 = t365 * t1200;
-        let t1202: f32 = t468 * t1076;
-        let t1203: f32 = t471 * t840;
-        let t1204: f32 = t1202 - t1203;
-        let t1205: f32 = t468 * t1204;
-        let t1206: f32 = t468 * t840;
-        let t1207: f32 = t471 * t531;
-        let t1208: f32 = t1206 - t1207;
-        let t1209: f32 = t471 * t1208;
-        let t1210: f32 = t573 * t1110;
-        let t1211: f32 = t576 * t872;
-        let t1212: f32 = t1210 - t1211;
-        let t1213: f32 = t573 * t1212;
-        let t1214: f32 = t573 * t872;
-        let t1215: f32 = t576 * t635;
-        let t1216: f32 = t1214 - t1215;
-        let t1217: f32 = t576 * t1216;
-        let t1218: f32 = t1169 * 0.7;
-        let t1219: f32 = t1165 + t1167;
-        let t1220: f32 = t1173 + t1181;
-        let t1221: f32 = t1189 + t1197;
-        let t1222: f32 = t1205 + t1213;
-        let t1223: f32 = t1219 + t1220;
-        let t1224: f32 = t1221 + t1222;
-        let t1225: f32 = t1223 + t1224;
-        let t1226: f32 = t1218 + t1225;
-        let t1227: f32 = t1177 + t1185;
-        let t1228: f32 = t1193 + t1201;
-        let t1229: f32 = t1209 + t1217;
-        let t1230: f32 = t1227 + t1228;
-        let t1231: f32 = t1229 + t1230;
-        let t1232: f32 = t1226 - t1231;
-        let t1233: f32 = t27 * t727;
-        let t1234: f32 = t34 * t126;
-        let t1235: f32 = t138 * t759;
-        let t1236: f32 = t141 * t232;
-        let t1237: f32 = t248 * t791;
-        let t1238: f32 = t253 * t344;
-        let t1239: f32 = t360 * t823;
-        let t1240: f32 = t365 * t456;
-        let t1241: f32 = t468 * t855;
-        let t1242: f32 = t471 * t561;
-        let t1243: f32 = t573 * t887;
-        let t1244: f32 = t576 * t665;
-        let t1245: f32 = t6 * t10;
-        let t1246: f32 = t5 * t14;
-        let t1247: f32 = t8 * 0.7;
-        let t1248: f32 = t1245 - t1246;
-        let t1249: f32 = t1248 * 0.4108;
-        let t1250: f32 = t1247 + t1249;
-        let t1251: f32 = t1 * t1250;
-        let t1252: f32 = t1233 + t1235;
-        let t1253: f32 = t1237 + t1239;
-        let t1254: f32 = t1241 + t1243;
-        let t1255: f32 = t1252 + t1253;
-        let t1256: f32 = t1251 + t1254;
-        let t1257: f32 = t1255 + t1256;
-        let t1258: f32 = t1234 + t1236;
-        let t1259: f32 = t1238 + t1240;
-        let t1260: f32 = t1242 + t1244;
-        let t1261: f32 = t1258 + t1259;
-        let t1262: f32 = t1260 + t1261;
-        let t1263: f32 = t1257 - t1262;
-        let t1264: f32 = t1263 * t1263;
-        let t1265: f32 = t696 * t1264;
-        let t1266: f32 = t10 * t909;
-        let t1267: f32 = t14 * t911;
-        let t1268: f32 = t3 * t4;
-        let t1269: f32 = t676 * t1268;
-        let t1270: f32 = t27 * t943;
-        let t1271: f32 = t34 * t124;
-        let t1272: f32 = t713 - t1271;
-        let t1273: f32 = t34 * t1272;
-        let t1274: f32 = t138 * t977;
-        let t1275: f32 = t141 * t230;
-        let t1276: f32 = t745 - t1275;
-        let t1277: f32 = t141 * t1276;
-        let t1278: f32 = t248 * t1011;
-        let t1279: f32 = t253 * t342;
-        let t1280: f32 = t777 - t1279;
-        let t1281: f32 = t253 * t1280;
-        let t1282: f32 = t360 * t1045;
-        let t1283: f32 = t365 * t454;
-        let t1284: f32 = t809 - t1283;
-        let t1285: f32 = t365 * t1284;
-        let t1286: f32 = t468 * t1079;
-        let t1287: f32 = t471 * t559;
-        let t1288: f32 = t841 - t1287;
-        let t1289: f32 = t471 * t1288;
-        let t1290: f32 = t573 * t1113;
-        let t1291: f32 = t576 * t663;
-        let t1292: f32 = t873 - t1291;
-        let t1293: f32 = t576 * t1292;
-        let t1294: f32 = t1269 * 0.7;
-        let t1295: f32 = t1266 + t1267;
-        let t1296: f32 = t1273 + t1277;
-        let t1297: f32 = t1281 + t1285;
-        let t1298: f32 = t1289 + t1293;
-        let t1299: f32 = t1295 + t1296;
-        let t1300: f32 = t1297 + t1298;
-        let t1301: f32 = t1299 + t1300;
-        let t1302: f32 = t1270 + t1274;
-        let t1303: f32 = t1278 + t1282;
-        let t1304: f32 = t1286 + t1290;
-        let t1305: f32 = t1302 + t1303;
-        let t1306: f32 = t1294 + t1304;
-        let t1307: f32 = t1305 + t1306;
-        let t1308: f32 = t1301 - t1307;
-        let t1309: f32 = t1151 * t1263;
-        let t1310: f32 = t1308 + t1309;
-        let t1311: f32 = -t1310;
-        let t1312: f32 = t1311 * t1311;
-        let t1313: f32 = t1137 * t1312;
-        let t1314: f32 = t1265 + t1313;
-        let t1315: f32 = t1232 - t1314;
-        let t1316: f32 = 1.0 / t1315;
-        let t1317: f32 = t697 * 0.36;
-        let t1318: f32 = t1188 + t1317;
-        let t1319: f32 = t1212 + t1318;
-        let t1320: f32 = t1172 + t1180;
-        let t1321: f32 = t1196 + t1204;
-        let t1322: f32 = t1320 + t1321;
-        let t1323: f32 = t1319 - t1322;
-        let t1324: f32 = t696 * t1263;
-        let t1325: f32 = t1150 * t1324;
-        let t1326: f32 = t1137 * t1311;
-        let t1327: f32 = t1153 * t1326;
-        let t1328: f32 = t1323 + t1325;
-        let t1329: f32 = t1327 + t1328;
-        let t1330: f32 = t1329 * t1329;
-        let t1331: f32 = t1316 * t1330;
-        let t1332: f32 = t1161 + t1163;
-        let t1333: f32 = t1331 + t1332;
-        let t1334: f32 = t1159 - t1333;
-        let t1335: f32 = 1.0 / t1334;
-        let t1336: f32 = t712 + t744;
-        let t1337: f32 = t776 + t808;
-        let t1338: f32 = t840 + t872;
-        let t1339: f32 = t1336 + t1337;
-        let t1340: f32 = t1338 + t1339;
-        let t1341: f32 = t126 + t1139;
-        let t1342: f32 = t232 + t456;
-        let t1343: f32 = t1341 + t1342;
-        let t1344: f32 = t561 + t1343;
-        let t1345: f32 = t344 + t665;
-        let t1346: f32 = t1344 - t1345;
-        let t1347: f32 = t696 * t1150;
-        let t1348: f32 = t1346 * t1347;
-        let t1349: f32 = t1272 + t1276;
-        let t1350: f32 = t1284 + t1288;
-        let t1351: f32 = t1349 + t1350;
-        let t1352: f32 = t1280 + t1292;
-        let t1353: f32 = t1351 - t1352;
-        let t1354: f32 = t1151 * t1346;
-        let t1355: f32 = t1353 - t1354;
-        let t1356: f32 = t1137 * t1153;
-        let t1357: f32 = t1355 * t1356;
-        let t1358: f32 = t0 * 0.36;
-        let t1359: f32 = t1192 + t1358;
-        let t1360: f32 = t1216 + t1359;
-        let t1361: f32 = t1176 + t1184;
-        let t1362: f32 = t1200 + t1208;
-        let t1363: f32 = t1361 + t1362;
-        let t1364: f32 = t1360 - t1363;
-        let t1365: f32 = t1324 * t1346;
-        let t1366: f32 = t1326 * t1355;
-        let t1367: f32 = t1364 + t1365;
-        let t1368: f32 = t1366 + t1367;
-        let t1369: f32 = t1316 * t1329;
-        let t1370: f32 = t1368 * t1369;
-        let t1371: f32 = t1348 + t1357;
-        let t1372: f32 = t1370 + t1371;
-        let t1373: f32 = t1340 - t1372;
-        let t1374: f32 = t96 + t202;
-        let t1375: f32 = t314 + t426;
-        let t1376: f32 = t531 + t635;
-        let t1377: f32 = t1374 + t1375;
-        let t1378: f32 = t1376 + 12.0;
-        let t1379: f32 = t1377 + t1378;
-        let t1380: f32 = t1346 * t1346;
-        let t1381: f32 = t696 * t1380;
-        let t1382: f32 = t1355 * t1355;
-        let t1383: f32 = t1137 * t1382;
-        let t1384: f32 = t1368 * t1368;
-        let t1385: f32 = t1316 * t1384;
-        let t1386: f32 = t1373 * t1373;
-        let t1387: f32 = t1335 * t1386;
-        let t1388: f32 = t1381 + t1383;
-        let t1389: f32 = t1385 + t1387;
-        let t1390: f32 = t1388 + t1389;
-        let t1391: f32 = t1379 - t1390;
-        let t1392: f32 = 1.0 / t1391;
-        let t1393: f32 = t124 + t230;
-        let t1394: f32 = t342 + t454;
-        let t1395: f32 = t559 + t663;
-        let t1396: f32 = t1393 + t1394;
-        let t1397: f32 = t1395 + t1396;
-        let t1398: f32 = t135 + t1317;
-        let t1399: f32 = t241 + t465;
-        let t1400: f32 = t1398 + t1399;
-        let t1401: f32 = t570 + t1400;
-        let t1402: f32 = t353 + t674;
-        let t1403: f32 = t1401 - t1402;
-        let t1404: f32 = t696 * t1346;
-        let t1405: f32 = t1403 * t1404;
-        let t1406: f32 = t1015 + t1358;
-        let t1407: f32 = t1117 + t1406;
-        let t1408: f32 = t947 + t981;
-        let t1409: f32 = t1049 + t1083;
-        let t1410: f32 = t1408 + t1409;
-        let t1411: f32 = t1407 - t1410;
-        let t1412: f32 = t1151 * t1403;
-        let t1413: f32 = t1411 + t1412;
-        let t1414: f32 = t1137 * t1355;
-        let t1415: f32 = t1413 * t1414;
-        let t1416: f32 = t726 - t1271;
-        let t1417: f32 = t758 - t1275;
-        let t1418: f32 = t790 - t1279;
-        let t1419: f32 = t822 - t1283;
-        let t1420: f32 = t854 - t1287;
-        let t1421: f32 = t886 - t1291;
-        let t1422: f32 = t1416 + t1417;
-        let t1423: f32 = t1419 + t1420;
-        let t1424: f32 = t1422 + t1423;
-        let t1425: f32 = t1418 + t1421;
-        let t1426: f32 = t1424 - t1425;
-        let t1427: f32 = t1324 * t1403;
-        let t1428: f32 = t1326 * t1413;
-        let t1429: f32 = t1426 + t1428;
-        let t1430: f32 = t1429 - t1427;
-        let t1431: f32 = t1316 * t1368;
-        let t1432: f32 = t1430 * t1431;
-        let t1433: f32 = t725 + t757;
-        let t1434: f32 = t789 + t821;
-        let t1435: f32 = t853 + t885;
-        let t1436: f32 = t1433 + t1434;
-        let t1437: f32 = t1435 + t1436;
-        let t1438: f32 = t1347 * t1403;
-        let t1439: f32 = t1356 * t1413;
-        let t1440: f32 = t1369 * t1430;
-        let t1441: f32 = t1437 + t1439;
-        let t1442: f32 = t1440 + t1441;
-        let t1443: f32 = t1442 - t1438;
-        let t1444: f32 = t1335 * t1373;
-        let t1445: f32 = t1443 * t1444;
-        let t1446: f32 = t1397 + t1415;
-        let t1447: f32 = t1432 + t1446;
-        let t1448: f32 = t1405 + t1445;
-        let t1449: f32 = t1447 - t1448;
-        let t1450: f32 = t133 + t239;
-        let t1451: f32 = t351 + t463;
-        let t1452: f32 = t568 + t672;
-        let t1453: f32 = t1450 + t1451;
-        let t1454: f32 = t1452 + 12.0;
-        let t1455: f32 = t1453 + t1454;
-        let t1456: f32 = t1403 * t1403;
-        let t1457: f32 = t696 * t1456;
-        let t1458: f32 = t1413 * t1413;
-        let t1459: f32 = t1137 * t1458;
-        let t1460: f32 = t1430 * t1430;
-        let t1461: f32 = t1316 * t1460;
-        let t1462: f32 = t1443 * t1443;
-        let t1463: f32 = t1335 * t1462;
-        let t1464: f32 = t1449 * t1449;
-        let t1465: f32 = t1392 * t1464;
-        let t1466: f32 = t1457 + t1459;
-        let t1467: f32 = t1461 + t1463;
-        let t1468: f32 = t1466 + t1467;
-        let t1469: f32 = t1465 + t1468;
-        let t1470: f32 = t1455 - t1469;
-        let t1471: f32 = 1.0 / t1470;
-        let t1472: f32 = wz * t10;
-        let t1473: f32 = wx * t1;
-        let t1474: f32 = t6 * t1473;
-        let t1475: f32 = wy * t21;
-        let t1476: f32 = t1474 + t1475;
-        let t1477: f32 = t1472 + t1476;
-        let t1478: f32 = wx * t5;
-        let t1479: f32 = t1 * t1478;
-        let t1480: f32 = wy * t24;
-        let t1481: f32 = t1479 - t1480;
-        let t1482: f32 = wz * t14;
-        let t1483: f32 = t1481 - t1482;
-        let t1484: f32 = t1483 * 0.4108;
-        let t1485: f32 = t1477 * t1484;
-        let t1486: f32 = t1477 * 0.4108;
-        let t1487: f32 = t1483 * t1486;
-        let t1488: f32 = t1485 - t1487;
-        let t1489: f32 = t0 * t1488;
-        let t1490: f32 = t17 * t29;
-        let t1491: f32 = t27 * t39;
-        let t1492: f32 = t1490 - t1491;
-        let t1493: f32 = g1 * t44;
+        let t1127: f32 = t946 + t980;
+        let t1128: f32 = t1014 + t1048;
+        let t1129: f32 = t1082 + t1116;
+        let t1130: f32 = t1127 + t1128;
+        let t1131: f32 = t1129 + t1130;
+        let t1132: f32 = t1126 - t1131;
+        let t1133: f32 = t908 * t908;
+        let t1134: f32 = t696 * t1133;
+        let t1135: f32 = t1132 - t1134;
+        let t1136: f32 = 1.0 / t1135;
+        let t1137: f32 = t1 * t4;
+        let t1138: f32 = t1137 * 0.36;
+        let t1139: f32 = t941 + t1138;
+        let t1140: f32 = t975 + t1043;
+        let t1141: f32 = t1139 + t1140;
+        let t1142: f32 = t1077 + t1141;
+        let t1143: f32 = t1009 + t1111;
+        let t1144: f32 = t1142 - t1143;
+        let t1145: f32 = t727 + t759;
+        let t1146: f32 = t823 + t855;
+        let t1147: f32 = t1145 + t1146;
+        let t1148: f32 = t791 + t887;
+        let t1149: f32 = t1147 - t1148;
+        let t1150: f32 = t696 * t908;
+        let t1151: f32 = t1149 * t1150;
+        let t1152: f32 = t1144 - t1151;
+        let t1153: f32 = t938 + t972;
+        let t1154: f32 = t1006 + t1040;
+        let t1155: f32 = t1074 + t1108;
+        let t1156: f32 = t1153 + t1154;
+        let t1157: f32 = t1155 + 12.0;
+        let t1158: f32 = t1156 + t1157;
+        let t1159: f32 = t1149 * t1149;
+        let t1160: f32 = t696 * t1159;
+        let t1161: f32 = t1152 * t1152;
+        let t1162: f32 = t1136 * t1161;
+        let t1163: f32 = t10 * t10;
+        let t1164: f32 = t14 * t14;
+        let t1165: f32 = t4 * t4;
+        let t1166: f32 = t676 * t1165;
+        let t1167: f32 = t27 * t938;
+        let t1168: f32 = t34 * t712;
+        let t1169: f32 = t1167 - t1168;
+        let t1170: f32 = t27 * t1169;
+        let t1171: f32 = t27 * t712;
+        let t1172: f32 = t34 * t96;
+        let t1173: f32 = t1171 - t1172;
+        let t1174: f32 = t34 * t1173;
+        let t1175: f32 = t138 * t972;
+        let t1176: f32 = t141 * t744;
+        let t1177: f32 = t1175 - t1176;
+        let t1178: f32 = t138 * t1177;
+        let t1179: f32 = t138 * t744;
+        let t1180: f32 = t141 * t202;
+        let t1181: f32 = t1179 - t1180;
+        let t1182: f32 = t141 * t1181;
+        let t1183: f32 = t248 * t1006;
+        let t1184: f32 = t253 * t776;
+        let t1185: f32 = t1183 - t1184;
+        let t1186: f32 = t248 * t1185;
+        let t1187: f32 = t248 * t776;
+        let t1188: f32 = t253 * t314;
+        let t1189: f32 = t1187 - t1188;
+        let t1190: f32 = t253 * t1189;
+        let t1191: f32 = t360 * t1040;
+        let t1192: f32 = t365 * t808;
+        let t1193: f32 = t1191 - t1192;
+        let t1194: f32 = t360 * t1193;
+        let t1195: f32 = t360 * t808;
+        let t1196: f32 = t365 * t426;
+        let t1197: f32 = t1195 - t1196;
+        let t1198: f32 = t365 * t1197;
+        let t1199: f32 = t468 * t1074;
+        let t1200: f32 = t471 * t840;
+        let t1201: f32 = t1199 - t1200;
+        let t1202: f32 = t468 * t1201;
+        let t1203: f32 = t468 * t840;
+        let t1204: f32 = t471 * t531;
+        let t1205: f32 = t1203 - t1204;
+        let t1206: f32 = t471 * t1205;
+        let t1207: f32 = t573 * t1108;
+        let t1208: f32 = t576 * t872;
+        let t1209: f32 = t1207 - t1208;
+        let t1210: f32 = t573 * t1209;
+        let t1211: f32 = t573 * t872;
+        let t1212: f32 = t576 * t635;
+        let t1213: f32 = t1211 - t1212;
+        let t1214: f32 = t576 * t1213;
+        let t1215: f32 = t1163 + t1164;
+        let t1216: f32 = t1215 * 0.4108;
+        let t1217: f32 = t1166 * 0.7;
+        let t1218: f32 = t1216 + t1217;
+        let t1219: f32 = t1170 + t1178;
+        let t1220: f32 = t1186 + t1194;
+        let t1221: f32 = t1202 + t1210;
+        let t1222: f32 = t1218 + t1219;
+        let t1223: f32 = t1220 + t1221;
+        let t1224: f32 = t1222 + t1223;
+        let t1225: f32 = t1174 + t1182;
+        let t1226: f32 = t1190 + t1198;
+        let t1227: f32 = t1206 + t1214;
+        let t1228: f32 = t1225 + t1226;
+        let t1229: f32 = t1227 + t1228;
+        let t1230: f32 = t1224 - t1229;
+        let t1231: f32 = t27 * t727;
+        let t1232: f32 = t34 * t126;
+        let t1233: f32 = t138 * t759;
+        let t1234: f32 = t141 * t232;
+        let t1235: f32 = t248 * t791;
+        let t1236: f32 = t253 * t344;
+        let t1237: f32 = t360 * t823;
+        let t1238: f32 = t365 * t456;
+        let t1239: f32 = t468 * t855;
+        let t1240: f32 = t471 * t561;
+        let t1241: f32 = t573 * t887;
+        let t1242: f32 = t576 * t665;
+        let t1243: f32 = t6 * t10;
+        let t1244: f32 = t5 * t14;
+        let t1245: f32 = t8 * 0.7;
+        let t1246: f32 = t1243 - t1244;
+        let t1247: f32 = t1246 * 0.4108;
+        let t1248: f32 = t1245 + t1247;
+        let t1249: f32 = t1 * t1248;
+        let t1250: f32 = t1231 + t1233;
+        let t1251: f32 = t1235 + t1237;
+        let t1252: f32 = t1239 + t1241;
+        let t1253: f32 = t1250 + t1251;
+        let t1254: f32 = t1249 + t1252;
+        let t1255: f32 = t1253 + t1254;
+        let t1256: f32 = t1232 + t1234;
+        let t1257: f32 = t1236 + t1238;
+        let t1258: f32 = t1240 + t1242;
+        let t1259: f32 = t1256 + t1257;
+        let t1260: f32 = t1258 + t1259;
+        let t1261: f32 = t1255 - t1260;
+        let t1262: f32 = t1261 * t1261;
+        let t1263: f32 = t696 * t1262;
+        let t1264: f32 = t10 * t21;
+        let t1265: f32 = t14 * t24;
+        let t1266: f32 = t3 * t4;
+        let t1267: f32 = t676 * t1266;
+        let t1268: f32 = t27 * t941;
+        let t1269: f32 = t34 * t124;
+        let t1270: f32 = t713 - t1269;
+        let t1271: f32 = t34 * t1270;
+        let t1272: f32 = t138 * t975;
+        let t1273: f32 = t141 * t230;
+        let t1274: f32 = t745 - t1273;
+        let t1275: f32 = t141 * t1274;
+        let t1276: f32 = t248 * t1009;
+        let t1277: f32 = t253 * t342;
+        let t1278: f32 = t777 - t1277;
+        let t1279: f32 = t253 * t1278;
+        let t1280: f32 = t360 * t1043;
+        let t1281: f32 = t365 * t454;
+        let t1282: f32 = t809 - t1281;
+        let t1283: f32 = t365 * t1282;
+        let t1284: f32 = t468 * t1077;
+        let t1285: f32 = t471 * t559;
+        let t1286: f32 = t841 - t1285;
+        let t1287: f32 = t471 * t1286;
+        let t1288: f32 = t573 * t1111;
+        let t1289: f32 = t576 * t663;
+        let t1290: f32 = t873 - t1289;
+        let t1291: f32 = t576 * t1290;
+        let t1292: f32 = t1264 + t1265;
+        let t1293: f32 = t1292 * 0.4108;
+        let t1294: f32 = t1267 * 0.7;
+        let t1295: f32 = t1271 + t1293;
+        let t1296: f32 = t1275 + t1279;
+        let t1297: f32 = t1283 + t1287;
+        let t1298: f32 = t1295 + t1296;
+        let t1299: f32 = t1291 + t1297;
+        let t1300: f32 = t1298 + t1299;
+        let t1301: f32 = t1268 + t1294;
+        let t1302: f32 = t1272 + t1276;
+        let t1303: f32 = t1280 + t1284;
+        let t1304: f32 = t1301 + t1302;
+        let t1305: f32 = t1288 + t1303;
+        let t1306: f32 = t1304 + t1305;
+        let t1307: f32 = t1300 - t1306;
+        let t1308: f32 = t1150 * t1261;
+        let t1309: f32 = t1307 + t1308;
+        let t1310: f32 = -t1309;
+        let t1311: f32 = t1310 * t1310;
+        let t1312: f32 = t1136 * t1311;
+        let t1313: f32 = t1263 + t1312;
+        let t1314: f32 = t1230 - t1313;
+        let t1315: f32 = 1.0 / t1314;
+        let t1316: f32 = t697 * 0.36;
+        let t1317: f32 = t1185 + t1316;
+        let t1318: f32 = t1209 + t1317;
+        let t1319: f32 = t1169 + t1177;
+        let t1320: f32 = t1193 + t1201;
+        let t1321: f32 = t1319 + t1320;
+        let t1322: f32 = t1318 - t1321;
+        let t1323: f32 = t696 * t1261;
+        let t1324: f32 = t1149 * t1323;
+        let t1325: f32 = t1136 * t1310;
+        let t1326: f32 = t1152 * t1325;
+        let t1327: f32 = t1322 + t1324;
+        let t1328: f32 = t1326 + t1327;
+        let t1329: f32 = t1328 * t1328;
+        let t1330: f32 = t1315 * t1329;
+        let t1331: f32 = t1160 + t1162;
+        let t1332: f32 = t1330 + t1331;
+        let t1333: f32 = t1158 - t1332;
+        let t1334: f32 = 1.0 / t1333;
+        let t1335: f32 = t712 + t744;
+        let t1336: f32 = t776 + t808;
+        let t1337: f32 = t840 + t872;
+        let t1338: f32 = t1335 + t1336;
+        let t1339: f32 = t1337 + t1338;
+        let t1340: f32 = t126 + t1138;
+        let t1341: f32 = t232 + t456;
+        let t1342: f32 = t1340 + t1341;
+        let t1343: f32 = t561 + t1342;
+        let t1344: f32 = t344 + t665;
+        let t1345: f32 = t1343 - t1344;
+        let t1346: f32 = t696 * t1149;
+        let t1347: f32 = t1345 * t1346;
+        let t1348: f32 = t1270 + t1274;
+        let t1349: f32 = t1282 + t1286;
+        let t1350: f32 = t1348 + t1349;
+        let t1351: f32 = t1278 + t1290;
+        let t1352: f32 = t1350 - t1351;
+        let t1353: f32 = t1150 * t1345;
+        let t1354: f32 = t1352 - t1353;
+        let t1355: f32 = t1136 * t1152;
+        let t1356: f32 = t1354 * t1355;
+        let t1357: f32 = t0 * 0.36;
+        let t1358: f32 = t1189 + t1357;
+        let t1359: f32 = t1213 + t1358;
+        let t1360: f32 = t1173 + t1181;
+        let t1361: f32 = t1197 + t1205;
+        let t1362: f32 = t1360 + t1361;
+        let t1363: f32 = t1359 - t1362;
+        let t1364: f32 = t1323 * t1345;
+        let t1365: f32 = t1325 * t1354;
+        let t1366: f32 = t1363 + t1364;
+        let t1367: f32 = t1365 + t1366;
+        let t1368: f32 = t1315 * t1328;
+        let t1369: f32 = t1367 * t1368;
+        let t1370: f32 = t1347 + t1356;
+        let t1371: f32 = t1369 + t1370;
+        let t1372: f32 = t1339 - t1371;
+        let t1373: f32 = t96 + t202;
+        let t1374: f32 = t314 + t426;
+        let t1375: f32 = t531 + t635;
+        let t1376: f32 = t1373 + t1374;
+        let t1377: f32 = t1375 + 12.0;
+        let t1378: f32 = t1376 + t1377;
+        let t1379: f32 = t1345 * t1345;
+        let t1380: f32 = t696 * t1379;
+        let t1381: f32 = t1354 * t1354;
+        let t1382: f32 = t1136 * t1381;
+        let t1383: f32 = t1367 * t1367;
+        let t1384: f32 = t1315 * t1383;
+        let t1385: f32 = t1372 * t1372;
+        let t1386: f32 = t1334 * t1385;
+        let t1387: f32 = t1380 + t1382;
+        let t1388: f32 = t1384 + t1386;
+        let t1389: f32 = t1387 + t1388;
+        let t1390: f32 = t1378 - t1389;
+        let t1391: f32 = 1.0 / t1390;
+        let t1392: f32 = t124 + t230;
+        let t1393: f32 = t342 + t454;
+        let t1394: f32 = t559 + t663;
+        let t1395: f32 = t1392 + t1393;
+        let t1396: f32 = t1394 + t1395;
+        let t1397: f32 = t135 + t1316;
+        let t1398: f32 = t241 + t465;
+        let t1399: f32 = t1397 + t1398;
+        let t1400: f32 = t570 + t1399;
+        let t1401: f32 = t353 + t674;
+        let t1402: f32 = t1400 - t1401;
+        let t1403: f32 = t696 * t1345;
+        let t1404: f32 = t1402 * t1403;
+        let t1405: f32 = t1013 + t1357;
+        let t1406: f32 = t1115 + t1405;
+        let t1407: f32 = t945 + t979;
+        let t1408: f32 = t1047 + t1081;
+        let t1409: f32 = t1407 + t1408;
+        let t1410: f32 = t1406 - t1409;
+        let t1411: f32 = t1150 * t1402;
+        let t1412: f32 = t1410 + t1411;
+        let t1413: f32 = t1136 * t1354;
+        let t1414: f32 = t1412 * t1413;
+        let t1415: f32 = t726 - t1269;
+        let t1416: f32 = t758 - t1273;
+        let t1417: f32 = t790 - t1277;
+        let t1418: f32 = t822 - t1281;
+        let t1419: f32 = t854 - t1285;
+        let t1420: f32 = t886 - t1289;
+        let t1421: f32 = t1415 + t1416;
+        let t1422: f32 = t1418 + t1419;
+        let t1423: f32 = t1421 + t1422;
+        let t1424: f32 = t1417 + t1420;
+        let t1425: f32 = t1423 - t1424;
+        let t1426: f32 = t1323 * t1402;
+        let t1427: f32 = t1325 * t1412;
+        let t1428: f32 = t1425 + t1427;
+        let t1429: f32 = t1428 - t1426;
+        let t1430: f32 = t1315 * t1367;
+        let t1431: f32 = t1429 * t1430;
+        let t1432: f32 = t725 + t757;
+        let t1433: f32 = t789 + t821;
+        let t1434: f32 = t853 + t885;
+        let t1435: f32 = t1432 + t1433;
+        let t1436: f32 = t1434 + t1435;
+        let t1437: f32 = t1346 * t1402;
+        let t1438: f32 = t1355 * t1412;
+        let t1439: f32 = t1368 * t1429;
+        let t1440: f32 = t1436 + t1438;
+        let t1441: f32 = t1439 + t1440;
+        let t1442: f32 = t1441 - t1437;
+        let t1443: f32 = t1334 * t1372;
+        let t1444: f32 = t1442 * t1443;
+        let t1445: f32 = t1396 + t1414;
+        let t1446: f32 = t1431 + t1445;
+        let t1447: f32 = t1404 + t1444;
+        let t1448: f32 = t1446 - t1447;
+        let t1449: f32 = t133 + t239;
+        let t1450: f32 = t351 + t463;
+        let t1451: f32 = t568 + t672;
+        let t1452: f32 = t1449 + t1450;
+        let t1453: f32 = t1451 + 12.0;
+        let t1454: f32 = t1452 + t1453;
+        let t1455: f32 = t1402 * t1402;
+        let t1456: f32 = t696 * t1455;
+        let t1457: f32 = t1412 * t1412;
+        let t1458: f32 = t1136 * t1457;
+        let t1459: f32 = t1429 * t1429;
+        let t1460: f32 = t1315 * t1459;
+        let t1461: f32 = t1442 * t1442;
+        let t1462: f32 = t1334 * t1461;
+        let t1463: f32 = t1448 * t1448;
+        let t1464: f32 = t1391 * t1463;
+        let t1465: f32 = t1456 + t1458;
+        let t1466: f32 = t1460 + t1462;
+        let t1467: f32 = t1465 + t1466;
+        let t1468: f32 = t1464 + t1467;
+        let t1469: f32 = t1454 - t1468;
+        let t1470: f32 = 1.0 / t1469;
+        let t1471: f32 = wx * t0;
+        let t1472: f32 = wy * t3;
+        let t1473: f32 = wz * t4;
+        let t1474: f32 = t1472 - t1473;
+        let t1475: f32 = t1 * t1474;
+        let t1476: f32 = t1471 - t1475;
+        let t1477: f32 = wx * t5;
+        let t1478: f32 = t1 * t1477;
+        let t1479: f32 = wy * t24;
+        let t1480: f32 = wz * t14;
+        let t1481: f32 = t1479 + t1480;
+        let t1482: f32 = t1478 - t1481;
+        let t1483: f32 = t6 * t1482;
+        let t1484: f32 = wx * t1;
+        let t1485: f32 = t6 * t1484;
+        let t1486: f32 = wy * t21;
+        let t1487: f32 = wz * t10;
+        let t1488: f32 = t1485 + t1486;
+        let t1489: f32 = t1487 + t1488;
+        let t1490: f32 = t5 * t1489;
+        let t1491: f32 = t1483 - t1490;
+        let t1492: f32 = t1491 * 0.2892;
+        let t1493: f32 = t1 * t1476;
         let t1494: f32 = t1492 * t1493;
-        let t1495: f32 = t1489 - t1494;
-        let t1496: f32 = t245 * t250;
-        let t1497: f32 = t248 * t258;
-        let t1498: f32 = t1496 - t1497;
-        let t1499: f32 = g3 * t263;
-        let t1500: f32 = t1498 * t1499;
-        let t1501: f32 = t137 * t140;
-        let t1502: f32 = t138 * t146;
-        let t1503: f32 = t1501 - t1502;
-        let t1504: f32 = g2 * t151;
-        let t1505: f32 = t1503 * t1504;
-        let t1506: f32 = t1500 - t1505;
-        let t1507: f32 = t1495 + t1506;
-        let t1508: f32 = t572 * t575;
-        let t1509: f32 = t573 * t580;
-        let t1510: f32 = t1508 - t1509;
-        let t1511: f32 = g6 * t585;
-        let t1512: f32 = t1510 * t1511;
-        let t1513: f32 = wz * t4;
-        let t1514: f32 = t1 * t1513;
-        let t1515: f32 = wx * t0;
-        let t1516: f32 = wy * t3;
-        let t1517: f32 = t1 * t1516;
-        let t1518: f32 = t1515 - t1517;
-        let t1519: f32 = t1514 + t1518;
-        let t1520: f32 = t1519 * 0.7;
-        let t1521: f32 = t1483 * t1520;
-        let t1522: f32 = t1484 * t1519;
-        let t1523: f32 = t1521 - t1522;
-        let t1524: f32 = t6 * t1523;
-        let t1525: f32 = t1486 * t1519;
-        let t1526: f32 = t1477 * t1520;
-        let t1527: f32 = t1525 - t1526;
-        let t1528: f32 = t5 * t1527;
-        let t1529: f32 = t1524 + t1528;
-        let t1530: f32 = t1 * t1529;
-        let t1531: f32 = t1512 + t1530;
-        let t1532: f32 = t357 * t362;
-        let t1533: f32 = t360 * t370;
-        let t1534: f32 = t1532 - t1533;
-        let t1535: f32 = g4 * t375;
-        let t1536: f32 = t1534 * t1535;
-        let t1537: f32 = t467 * t470;
-        let t1538: f32 = t468 * t476;
-        let t1539: f32 = t1537 - t1538;
-        let t1540: f32 = g5 * t481;
-        let t1541: f32 = t1539 * t1540;
-        let t1542: f32 = t1536 + t1541;
-        let t1543: f32 = t1531 - t1542;
-        let t1544: f32 = t1507 + t1543;
-        let t1545: f32 = t82 * 9.81;
-        let t1546: f32 = -t1545;
-        let t1547: f32 = wy * t17;
-        let t1548: f32 = wz * t27;
-        let t1549: f32 = t1547 - t1548;
-        let t1550: f32 = vx + t1549;
-        let t1551: f32 = t83 * t1550;
-        let t1552: f32 = wz * t34;
-        let t1553: f32 = wx * t17;
-        let t1554: f32 = t1552 - t1553;
-        let t1555: f32 = vy + t1554;
-        let t1556: f32 = t61 * t1555;
-        let t1557: f32 = wx * t27;
-        let t1558: f32 = wy * t34;
-        let t1559: f32 = t1557 - t1558;
-        let t1560: f32 = vz + t1559;
-        let t1561: f32 = t79 * t1560;
-        let t1562: f32 = t1551 + t1556;
-        let t1563: f32 = t1561 + t1562;
-        let t1564: f32 = t44 * t1563;
-        let t1565: f32 = t1564 * t1564;
-        let t1566: f32 = t701 * t1550;
-        let t1567: f32 = t85 * t1555;
-        let t1568: f32 = t113 * t1560;
-        let t1569: f32 = t1566 + t1567;
-        let t1570: f32 = t1568 + t1569;
-        let t1571: f32 = t44 * t1570;
-        let t1572: f32 = t1571 * t1571;
-        let t1573: f32 = t1565 + t1572;
-        let t1574: f32 = t1573 * 0.3;
-        let t1575: f32 = t1546 - t1574;
-        let t1576: f32 = t82 * t1575;
-        let t1577: f32 = wy * t1559;
-        let t1578: f32 = wz * t1554;
-        let t1579: f32 = t1577 - t1578;
-        let t1580: f32 = t725 * t1579;
-        let t1581: f32 = t1576 - t1580;
-        let t1582: f32 = wz * t1549;
-        let t1583: f32 = wx * t1559;
-        let t1584: f32 = t1582 - t1583;
-        let t1585: f32 = t124 * t1584;
-        let t1586: f32 = wx * t1554;
-        let t1587: f32 = wy * t1549;
-        let t1588: f32 = t1586 - t1587;
-        let t1589: f32 = t133 * t1588;
-        let t1590: f32 = t1585 + t1589;
-        let t1591: f32 = t1581 - t1590;
-        let t1592: f32 = t79 * 9.81;
-        let t1593: f32 = -t1592;
-        let t1594: f32 = t44 * t66;
-        let t1595: f32 = t1563 * t1594;
-        let t1596: f32 = t1571 * t1595;
-        let t1597: f32 = t80 * t1550;
-        let t1598: f32 = t45 * t1555;
-        let t1599: f32 = t82 * t1560;
-        let t1600: f32 = t1597 + t1598;
-        let t1601: f32 = t1599 + t1600;
-        let t1602: f32 = t44 * t1601;
-        let t1603: f32 = t1602 * 2.0;
-        let t1604: f32 = t1570 * t1594;
-        let t1605: f32 = t1603 + t1604;
-        let t1606: f32 = t1564 * t1605;
-        let t1607: f32 = t60 * t60;
-        let t1608: f32 = t42 * t44;
-        let t1609: f32 = t1607 * t1608;
-        let t1610: f32 = t1570 * t1609;
-        let t1611: f32 = t66 * t1605;
+        let t1495: f32 = t17 * t29;
+        let t1496: f32 = t27 * t39;
+        let t1497: f32 = t1495 - t1496;
+        let t1498: f32 = g1 * t44;
+        let t1499: f32 = t1497 * t1498;
+        let t1500: f32 = t137 * t140;
+        let t1501: f32 = t138 * t146;
+        let t1502: f32 = t1500 - t1501;
+        let t1503: f32 = g2 * t151;
+        let t1504: f32 = t1502 * t1503;
+        let t1505: f32 = t1499 + t1504;
+        let t1506: f32 = t1494 - t1505;
+        let t1507: f32 = t245 * t250;
+        let t1508: f32 = t248 * t258;
+        let t1509: f32 = t1507 - t1508;
+        let t1510: f32 = g3 * t263;
+        let t1511: f32 = t1509 * t1510;
+        let t1512: f32 = t357 * t362;
+        let t1513: f32 = t360 * t370;
+        let t1514: f32 = t1512 - t1513;
+        let t1515: f32 = g4 * t375;
+        let t1516: f32 = t1514 * t1515;
+        let t1517: f32 = t1511 - t1516;
+        let t1518: f32 = t572 * t575;
+        let t1519: f32 = t573 * t580;
+        let t1520: f32 = t1518 - t1519;
+        let t1521: f32 = g6 * t585;
+        let t1522: f32 = t1520 * t1521;
+        let t1523: f32 = t467 * t470;
+        let t1524: f32 = t468 * t476;
+        let t1525: f32 = t1523 - t1524;
+        let t1526: f32 = g5 * t481;
+        let t1527: f32 = t1525 * t1526;
+        let t1528: f32 = t1522 - t1527;
+        let t1529: f32 = t1517 + t1528;
+        let t1530: f32 = t1506 + t1529;
+        let t1531: f32 = t82 * 9.81;
+        let t1532: f32 = -t1531;
+        let t1533: f32 = wy * t17;
+        let t1534: f32 = wz * t27;
+        let t1535: f32 = t1533 - t1534;
+        let t1536: f32 = vx + t1535;
+        let t1537: f32 = t83 * t1536;
+        let t1538: f32 = wz * t34;
+        let t1539: f32 = wx * t17;
+        let t1540: f32 = t1538 - t1539;
+        let t1541: f32 = vy + t1540;
+        let t1542: f32 = t61 * t1541;
+        let t1543: f32 = wx * t27;
+        let t1544: f32 = wy * t34;
+        let t1545: f32 = t1543 - t1544;
+        let t1546: f32 = vz + t1545;
+        let t1547: f32 = t79 * t1546;
+        let t1548: f32 = t1537 + t1542;
+        let t1549: f32 = t1547 + t1548;
+        let t1550: f32 = t44 * t1549;
+        let t1551: f32 = t1550 * t1550;
+        let t1552: f32 = t701 * t1536;
+        let t1553: f32 = t85 * t1541;
+        let t1554: f32 = t113 * t1546;
+        let t1555: f32 = t1552 + t1553;
+        let t1556: f32 = t1554 + t1555;
+        let t1557: f32 = t44 * t1556;
+        let t1558: f32 = t1557 * t1557;
+        let t1559: f32 = t1551 + t1558;
+        let t1560: f32 = t1559 * 0.3;
+        let t1561: f32 = t1532 - t1560;
+        let t1562: f32 = t82 * t1561;
+        let t1563: f32 = wy * t1545;
+        let t1564: f32 = wz * t1540;
+        let t1565: f32 = t1563 - t1564;
+        let t1566: f32 = t725 * t1565;
+        let t1567: f32 = t1562 - t1566;
+        let t1568: f32 = wz * t1535;
+        let t1569: f32 = wx * t1545;
+        let t1570: f32 = t1568 - t1569;
+        let t1571: f32 = t124 * t1570;
+        let t1572: f32 = wx * t1540;
+        let t1573: f32 = wy * t1535;
+        let t1574: f32 = t1572 - t1573;
+        let t1575: f32 = t133 * t1574;
+        let t1576: f32 = t1571 + t1575;
+        let t1577: f32 = t1567 - t1576;
+        let t1578: f32 = t79 * 9.81;
+        let t1579: f32 = -t1578;
+        let t1580: f32 = t44 * t66;
+        let t1581: f32 = t1549 * t1580;
+        let t1582: f32 = t1557 * t1581;
+        let t1583: f32 = t80 * t1536;
+        let t1584: f32 = t45 * t1541;
+        let t1585: f32 = t82 * t1546;
+        let t1586: f32 = t1583 + t1584;
+        let t1587: f32 = t1585 + t1586;
+        let t1588: f32 = t44 * t1587;
+        let t1589: f32 = t1588 * 2.0;
+        let t1590: f32 = t1556 * t1580;
+        let t1591: f32 = t1589 + t1590;
+        let t1592: f32 = t1550 * t1591;
+        let t1593: f32 = t60 * t60;
+        let t1594: f32 = t42 * t44;
+        let t1595: f32 = t1593 * t1594;
+        let t1596: f32 = t1556 * t1595;
+        let t1597: f32 = t66 * t1591;
+        let t1598: f32 = t1596 + t1597;
+        let t1599: f32 = t1550 * t1598;
+        let t1600: f32 = t66 * t1599;
+        let t1601: f32 = t1579 * 0.2;
+        let t1602: f32 = t1582 * 0.292;
+        let t1603: f32 = t1592 * 0.295;
+        let t1604: f32 = t1600 * 0.003;
+        let t1605: f32 = t1601 + t1603;
+        let t1606: f32 = t1604 + t1605;
+        let t1607: f32 = t1606 - t1602;
+        let t1608: f32 = t44 * t1607;
+        let t1609: f32 = t1582 - t1592;
+        let t1610: f32 = t1609 * 0.3;
+        let t1611: f32 = t1579 + t1608;
         let t1612: f32 = t1610 + t1611;
-        let t1613: f32 = t1564 * t1612;
-        let t1614: f32 = t66 * t1613;
-        let t1615: f32 = t1593 * 0.2;
-        let t1616: f32 = t1596 * 0.292;
-        let t1617: f32 = t1606 * 0.295;
-        let t1618: f32 = t1614 * 0.003;
-        let t1619: f32 = t1615 + t1617;
-        let t1620: f32 = t1618 + t1619;
-        let t1621: f32 = t1620 - t1616;
-        let t1622: f32 = t44 * t1621;
-        let t1623: f32 = t1596 - t1606;
-        let t1624: f32 = t1623 * 0.3;
-        let t1625: f32 = t1593 + t1622;
-        let t1626: f32 = t1624 + t1625;
-        let t1627: f32 = t79 * t1626;
-        let t1628: f32 = t113 * 9.81;
-        let t1629: f32 = -t1628;
-        let t1630: f32 = t1564 * t1595;
-        let t1631: f32 = t1563 * t1563;
-        let t1632: f32 = t1594 * t1631;
-        let t1633: f32 = t1570 * t1603;
-        let t1634: f32 = t1632 - t1633;
-        let t1635: f32 = t44 * t1634;
-        let t1636: f32 = t1629 * 0.2;
-        let t1637: f32 = t1630 * 0.292;
-        let t1638: f32 = t1635 * 0.295;
-        let t1639: f32 = t1636 + t1637;
-        let t1640: f32 = t1639 - t1638;
-        let t1641: f32 = t44 * t1640;
-        let t1642: f32 = t1635 - t1630;
-        let t1643: f32 = t1642 * 0.3;
-        let t1644: f32 = t1629 + t1641;
+        let t1613: f32 = t79 * t1612;
+        let t1614: f32 = t113 * 9.81;
+        let t1615: f32 = -t1614;
+        let t1616: f32 = t1550 * t1581;
+        let t1617: f32 = t1549 * t1549;
+        let t1618: f32 = t1580 * t1617;
+        let t1619: f32 = t1556 * t1589;
+        let t1620: f32 = t1618 - t1619;
+        let t1621: f32 = t44 * t1620;
+        let t1622: f32 = t1615 * 0.2;
+        let t1623: f32 = t1616 * 0.292;
+        let t1624: f32 = t1621 * 0.295;
+        let t1625: f32 = t1622 + t1623;
+        let t1626: f32 = t1625 - t1624;
+        let t1627: f32 = t44 * t1626;
+        let t1628: f32 = t1621 - t1616;
+        let t1629: f32 = t1628 * 0.3;
+        let t1630: f32 = t1615 + t1627;
+        let t1631: f32 = t1629 + t1630;
+        let t1632: f32 = t113 * t1631;
+        let t1633: f32 = t1613 + t1632;
+        let t1634: f32 = t1577 + t1633;
+        let t1635: f32 = t27 * t1634;
+        let t1636: f32 = t45 * t1561;
+        let t1637: f32 = t712 * t1565;
+        let t1638: f32 = t1636 - t1637;
+        let t1639: f32 = t96 * t1570;
+        let t1640: f32 = t124 * t1574;
+        let t1641: f32 = t1639 + t1640;
+        let t1642: f32 = t1638 - t1641;
+        let t1643: f32 = t61 * t1612;
+        let t1644: f32 = t85 * t1631;
         let t1645: f32 = t1643 + t1644;
-        let t1646: f32 = t113 * t1645;
-        let t1647: f32 = t1627 + t1646;
-        let t1648: f32 = t1591 + t1647;
-        let t1649: f32 = t27 * t1648;
-        let t1650: f32 = t45 * t1575;
-        let t1651: f32 = t712 * t1579;
-        let t1652: f32 = t1650 - t1651;
-        let t1653: f32 = t96 * t1584;
-        let t1654: f32 = t124 * t1588;
-        let t1655: f32 = t1653 + t1654;
-        let t1656: f32 = t1652 - t1655;
-        let t1657: f32 = t61 * t1626;
-        let t1658: f32 = t85 * t1645;
-        let t1659: f32 = t1657 + t1658;
-        let t1660: f32 = t1656 + t1659;
-        let t1661: f32 = t17 * t1660;
-        let t1662: f32 = t1649 - t1661;
-        let t1663: f32 = t1544 + t1662;
-        let t1664: f32 = t621 * 9.81;
-        let t1665: f32 = -t1664;
-        let t1666: f32 = wy * t572;
-        let t1667: f32 = wz * t573;
-        let t1668: f32 = t1666 - t1667;
-        let t1669: f32 = vx - t1668;
-        let t1670: f32 = t622 * t1669;
-        let t1671: f32 = wz * t576;
-        let t1672: f32 = wx * t572;
-        let t1673: f32 = t1671 - t1672;
-        let t1674: f32 = vy - t1673;
-        let t1675: f32 = t600 * t1674;
-        let t1676: f32 = wx * t573;
-        let t1677: f32 = wy * t576;
-        let t1678: f32 = t1676 - t1677;
-        let t1679: f32 = vz - t1678;
-        let t1680: f32 = t618 * t1679;
-        let t1681: f32 = t1670 + t1675;
-        let t1682: f32 = t1681 - t1680;
-        let t1683: f32 = t585 * t1682;
-        let t1684: f32 = t1683 * t1683;
-        let t1685: f32 = t861 * t1669;
-        let t1686: f32 = t624 * t1674;
-        let t1687: f32 = t652 * t1679;
-        let t1688: f32 = t1685 + t1687;
-        let t1689: f32 = t1688 - t1686;
-        let t1690: f32 = t585 * t1689;
-        let t1691: f32 = t1690 * t1690;
-        let t1692: f32 = t1684 + t1691;
-        let t1693: f32 = t1692 * 0.3;
-        let t1694: f32 = t1665 - t1693;
-        let t1695: f32 = t586 * t1694;
-        let t1696: f32 = wy * t1678;
-        let t1697: f32 = wz * t1673;
-        let t1698: f32 = t1696 - t1697;
-        let t1699: f32 = t872 * t1698;
-        let t1700: f32 = t1695 + t1699;
-        let t1701: f32 = wz * t1668;
-        let t1702: f32 = wx * t1678;
-        let t1703: f32 = t1701 - t1702;
-        let t1704: f32 = t635 * t1703;
-        let t1705: f32 = wx * t1673;
-        let t1706: f32 = wy * t1668;
-        let t1707: f32 = t1705 - t1706;
-        let t1708: f32 = t663 * t1707;
-        let t1709: f32 = t1704 + t1708;
-        let t1710: f32 = t1700 + t1709;
-        let t1711: f32 = t652 * 9.81;
-        let t1712: f32 = -t1711;
-        let t1713: f32 = t585 * t605;
-        let t1714: f32 = t1682 * t1713;
-        let t1715: f32 = t1683 * t1714;
-        let t1716: f32 = t1682 * t1682;
-        let t1717: f32 = t1713 * t1716;
-        let t1718: f32 = t619 * t1669;
-        let t1719: f32 = t586 * t1674;
-        let t1720: f32 = t621 * t1679;
-        let t1721: f32 = t1718 + t1719;
-        let t1722: f32 = t1720 + t1721;
-        let t1723: f32 = t585 * t1722;
-        let t1724: f32 = t1723 * 2.0;
-        let t1725: f32 = t1689 * t1724;
-        let t1726: f32 = t1717 + t1725;
-        let t1727: f32 = t585 * t1726;
-        let t1728: f32 = t1712 * 0.2;
-        let t1729: f32 = t1715 * 0.292;
-        let t1730: f32 = t1727 * 0.295;
-        let t1731: f32 = t1728 + t1730;
-        let t1732: f32 = t1731 - t1729;
-        let t1733: f32 = t585 * t1732;
-        let t1734: f32 = t1715 - t1727;
-        let t1735: f32 = t1734 * 0.3;
-        let t1736: f32 = t1712 + t1733;
-        let t1737: f32 = t1735 + t1736;
-        let t1738: f32 = t624 * t1737;
-        let t1739: f32 = t618 * 9.81;
-        let t1740: f32 = t1690 * t1714;
-        let t1741: f32 = t1689 * t1713;
-        let t1742: f32 = t1724 - t1741;
-        let t1743: f32 = t1683 * t1742;
-        let t1744: f32 = t585 * t585;
-        let t1745: f32 = t599 * t599;
-        let t1746: f32 = t583 * t1744;
-        let t1747: f32 = t1745 * t1746;
-        let t1748: f32 = t1682 * t1747;
-        let t1749: f32 = t1689 * t1748;
-        let t1750: f32 = -t1743;
-        let t1751: f32 = t605 * t1750;
-        let t1752: f32 = t1749 + t1751;
-        let t1753: f32 = t605 * t1752;
-        let t1754: f32 = t1739 * 0.2;
-        let t1755: f32 = t1740 * 0.292;
-        let t1756: f32 = t1743 * 0.295;
-        let t1757: f32 = t1753 * 0.003;
-        let t1758: f32 = t1754 + t1755;
-        let t1759: f32 = t1756 + t1758;
-        let t1760: f32 = t1759 - t1757;
-        let t1761: f32 = t585 * t1760;
-        let t1762: f32 = t1740 + t1743;
-        let t1763: f32 = t1762 * 0.3;
-        let t1764: f32 = t1739 + t1761;
-        let t1765: f32 = t1764 - t1763;
-        let t1766: f32 = t600 * t1765;
-        let t1767: f32 = t1738 - t1766;
-        let t1768: f32 = t1767 - t1710;
-        let t1769: f32 = t572 * t1768;
-        let t1770: f32 = t621 * t1694;
-        let t1771: f32 = t885 * t1698;
-        let t1772: f32 = t1770 + t1771;
-        let t1773: f32 = t663 * t1703;
-        let t1774: f32 = t672 * t1707;
-        let t1775: f32 = t1773 + t1774;
-        let t1776: f32 = t1772 + t1775;
-        let t1777: f32 = t652 * t1737;
-        let t1778: f32 = t618 * t1765;
+        let t1646: f32 = t1642 + t1645;
+        let t1647: f32 = t17 * t1646;
+        let t1648: f32 = t1635 - t1647;
+        let t1649: f32 = t1530 + t1648;
+        let t1650: f32 = t621 * 9.81;
+        let t1651: f32 = -t1650;
+        let t1652: f32 = wy * t572;
+        let t1653: f32 = wz * t573;
+        let t1654: f32 = t1652 - t1653;
+        let t1655: f32 = vx - t1654;
+        let t1656: f32 = t622 * t1655;
+        let t1657: f32 = wz * t576;
+        let t1658: f32 = wx * t572;
+        let t1659: f32 = t1657 - t1658;
+        let t1660: f32 = vy - t1659;
+        let t1661: f32 = t600 * t1660;
+        let t1662: f32 = wx * t573;
+        let t1663: f32 = wy * t576;
+        let t1664: f32 = t1662 - t1663;
+        let t1665: f32 = vz - t1664;
+        let t1666: f32 = t618 * t1665;
+        let t1667: f32 = t1656 + t1661;
+        let t1668: f32 = t1667 - t1666;
+        let t1669: f32 = t585 * t1668;
+        let t1670: f32 = t1669 * t1669;
+        let t1671: f32 = t861 * t1655;
+        let t1672: f32 = t624 * t1660;
+        let t1673: f32 = t652 * t1665;
+        let t1674: f32 = t1671 + t1673;
+        let t1675: f32 = t1674 - t1672;
+        let t1676: f32 = t585 * t1675;
+        let t1677: f32 = t1676 * t1676;
+        let t1678: f32 = t1670 + t1677;
+        let t1679: f32 = t1678 * 0.3;
+        let t1680: f32 = t1651 - t1679;
+        let t1681: f32 = t586 * t1680;
+        let t1682: f32 = wy * t1664;
+        let t1683: f32 = wz * t1659;
+        let t1684: f32 = t1682 - t1683;
+        let t1685: f32 = t872 * t1684;
+        let t1686: f32 = t1681 + t1685;
+        let t1687: f32 = wz * t1654;
+        let t1688: f32 = wx * t1664;
+        let t1689: f32 = t1687 - t1688;
+        let t1690: f32 = t635 * t1689;
+        let t1691: f32 = wx * t1659;
+        let t1692: f32 = wy * t1654;
+        let t1693: f32 = t1691 - t1692;
+        let t1694: f32 = t663 * t1693;
+        let t1695: f32 = t1690 + t1694;
+        let t1696: f32 = t1686 + t1695;
+        let t1697: f32 = t652 * 9.81;
+        let t1698: f32 = -t1697;
+        let t1699: f32 = t585 * t605;
+        let t1700: f32 = t1668 * t1699;
+        let t1701: f32 = t1669 * t1700;
+        let t1702: f32 = t1668 * t1668;
+        let t1703: f32 = t1699 * t1702;
+        let t1704: f32 = t619 * t1655;
+        let t1705: f32 = t586 * t1660;
+        let t1706: f32 = t621 * t1665;
+        let t1707: f32 = t1704 + t1705;
+        let t1708: f32 = t1706 + t1707;
+        let t1709: f32 = t585 * t1708;
+        let t1710: f32 = t1709 * 2.0;
+        let t1711: f32 = t1675 * t1710;
+        let t1712: f32 = t1703 + t1711;
+        let t1713: f32 = t585 * t1712;
+        let t1714: f32 = t1698 * 0.2;
+        let t1715: f32 = t1701 * 0.292;
+        let t1716: f32 = t1713 * 0.295;
+        let t1717: f32 = t1714 + t1716;
+        let t1718: f32 = t1717 - t1715;
+        let t1719: f32 = t585 * t1718;
+        let t1720: f32 = t1701 - t1713;
+        let t1721: f32 = t1720 * 0.3;
+        let t1722: f32 = t1698 + t1719;
+        let t1723: f32 = t1721 + t1722;
+        let t1724: f32 = t624 * t1723;
+        let t1725: f32 = t618 * 9.81;
+        let t1726: f32 = t1676 * t1700;
+        let t1727: f32 = t1675 * t1699;
+        let t1728: f32 = t1710 - t1727;
+        let t1729: f32 = t1669 * t1728;
+        let t1730: f32 = t585 * t585;
+        let t1731: f32 = t599 * t599;
+        let t1732: f32 = t583 * t1730;
+        let t1733: f32 = t1731 * t1732;
+        let t1734: f32 = t1668 * t1733;
+        let t1735: f32 = t1675 * t1734;
+        let t1736: f32 = -t1729;
+        let t1737: f32 = t605 * t1736;
+        let t1738: f32 = t1735 + t1737;
+        let t1739: f32 = t605 * t1738;
+        let t1740: f32 = t1725 * 0.2;
+        let t1741: f32 = t1726 * 0.292;
+        let t1742: f32 = t1729 * 0.295;
+        let t1743: f32 = t1739 * 0.003;
+        let t1744: f32 = t1740 + t1741;
+        let t1745: f32 = t1742 + t1744;
+        let t1746: f32 = t1745 - t1743;
+        let t1747: f32 = t585 * t1746;
+        let t1748: f32 = t1726 + t1729;
+        let t1749: f32 = t1748 * 0.3;
+        let t1750: f32 = t1725 + t1747;
+        let t1751: f32 = t1750 - t1749;
+        let t1752: f32 = t600 * t1751;
+        let t1753: f32 = t1724 - t1752;
+        let t1754: f32 = t1753 - t1696;
+        let t1755: f32 = t572 * t1754;
+        let t1756: f32 = t621 * t1680;
+        let t1757: f32 = t885 * t1684;
+        let t1758: f32 = t1756 + t1757;
+        let t1759: f32 = t663 * t1689;
+        let t1760: f32 = t672 * t1693;
+        let t1761: f32 = t1759 + t1760;
+        let t1762: f32 = t1758 + t1761;
+        let t1763: f32 = t652 * t1723;
+        let t1764: f32 = t618 * t1751;
+        let t1765: f32 = t1763 - t1764;
+        let t1766: f32 = t1762 + t1765;
+        let t1767: f32 = t573 * t1766;
+        let t1768: f32 = t1755 + t1767;
+        let t1769: f32 = t1649 - t1768;
+        let t1770: f32 = t188 * 9.81;
+        let t1771: f32 = -t1770;
+        let t1772: f32 = wy * t137;
+        let t1773: f32 = wz * t138;
+        let t1774: f32 = t1772 - t1773;
+        let t1775: f32 = vx + t1774;
+        let t1776: f32 = t189 * t1775;
+        let t1777: f32 = wz * t141;
+        let t1778: f32 = wx * t137;
         let t1779: f32 = t1777 - t1778;
-        let t1780: f32 = t1776 + t1779;
-        let t1781: f32 = t573 * t1780;
-        let t1782: f32 = t1769 + t1781;
-        let t1783: f32 = t1663 - t1782;
-        let t1784: f32 = t188 * 9.81;
-        let t1785: f32 = -t1784;
-        let t1786: f32 = wy * t137;
-        let t1787: f32 = wz * t138;
-        let t1788: f32 = t1786 - t1787;
-        let t1789: f32 = vx + t1788;
-        let t1790: f32 = t189 * t1789;
-        let t1791: f32 = wz * t141;
-        let t1792: f32 = wx * t137;
-        let t1793: f32 = t1791 - t1792;
-        let t1794: f32 = vy + t1793;
-        let t1795: f32 = t167 * t1794;
-        let t1796: f32 = wx * t138;
-        let t1797: f32 = wy * t141;
-        let t1798: f32 = t1796 - t1797;
-        let t1799: f32 = vz + t1798;
-        let t1800: f32 = t185 * t1799;
-        let t1801: f32 = t1790 + t1795;
-        let t1802: f32 = t1800 + t1801;
-        let t1803: f32 = t151 * t1802;
-        let t1804: f32 = t1803 * t1803;
-        let t1805: f32 = t733 * t1789;
-        let t1806: f32 = t191 * t1794;
-        let t1807: f32 = t219 * t1799;
-        let t1808: f32 = t1805 + t1806;
-        let t1809: f32 = t1807 + t1808;
-        let t1810: f32 = t151 * t1809;
-        let t1811: f32 = t1810 * t1810;
-        let t1812: f32 = t1804 + t1811;
-        let t1813: f32 = t1812 * 0.3;
-        let t1814: f32 = t1785 - t1813;
-        let t1815: f32 = t188 * t1814;
-        let t1816: f32 = wy * t1798;
-        let t1817: f32 = wz * t1793;
-        let t1818: f32 = t1816 - t1817;
-        let t1819: f32 = t757 * t1818;
-        let t1820: f32 = t1815 - t1819;
-        let t1821: f32 = wz * t1788;
-        let t1822: f32 = wx * t1798;
-        let t1823: f32 = t1821 - t1822;
-        let t1824: f32 = t230 * t1823;
-        let t1825: f32 = wx * t1793;
-        let t1826: f32 = wy * t1788;
-        let t1827: f32 = t1825 - t1826;
-        let t1828: f32 = t239 * t1827;
-        let t1829: f32 = t1824 + t1828;
-        let t1830: f32 = t1820 - t1829;
-        let t1831: f32 = t185 * 9.81;
-        let t1832: f32 = -t1831;
-        let t1833: f32 = t151 * t172;
-        let t1834: f32 = t1802 * t1833;
-        let t1835: f32 = t1810 * t1834;
-        let t1836: f32 = t186 * t1789;
-        let t1837: f32 = t152 * t1794;
-        let t1838: f32 = t188 * t1799;
-        let t1839: f32 = t1836 + t1837;
-        let t1840: f32 = t1838 + t1839;
-        let t1841: f32 = t151 * t1840;
-        let t1842: f32 = t1841 * 2.0;
-        let t1843: f32 = t1809 * t1833;
-        let t1844: f32 = t1842 - t1843;
-        let t1845: f32 = t1803 * t1844;
-        let t1846: f32 = t151 * t151;
-        let t1847: f32 = t166 * t166;
-        let t1848: f32 = t149 * t1846;
-        let t1849: f32 = t1847 * t1848;
-        let t1850: f32 = t1802 * t1849;
-        let t1851: f32 = t1809 * t1850;
-        let t1852: f32 = -t1845;
-        let t1853: f32 = t172 * t1852;
-        let t1854: f32 = t1851 + t1853;
-        let t1855: f32 = t172 * t1854;
-        let t1856: f32 = t1832 * 0.2;
-        let t1857: f32 = t1835 * 0.292;
-        let t1858: f32 = t1845 * 0.295;
-        let t1859: f32 = t1855 * 0.003;
-        let t1860: f32 = t1856 + t1857;
-        let t1861: f32 = t1858 + t1860;
-        let t1862: f32 = t1861 - t1859;
-        let t1863: f32 = t151 * t1862;
-        let t1864: f32 = t1835 + t1845;
-        let t1865: f32 = t1864 * 0.3;
-        let t1866: f32 = t1832 + t1863;
-        let t1867: f32 = t1866 - t1865;
-        let t1868: f32 = t185 * t1867;
-        let t1869: f32 = t219 * 9.81;
-        let t1870: f32 = -t1869;
-        let t1871: f32 = t1803 * t1834;
-        let t1872: f32 = t1802 * t1802;
-        let t1873: f32 = t1833 * t1872;
-        let t1874: f32 = t1809 * t1842;
-        let t1875: f32 = t1873 + t1874;
-        let t1876: f32 = t151 * t1875;
-        let t1877: f32 = t1870 * 0.2;
-        let t1878: f32 = t1871 * 0.292;
-        let t1879: f32 = t1876 * 0.295;
-        let t1880: f32 = t1877 + t1879;
-        let t1881: f32 = t1880 - t1878;
-        let t1882: f32 = t151 * t1881;
-        let t1883: f32 = t1871 - t1876;
-        let t1884: f32 = t1883 * 0.3;
-        let t1885: f32 = t1870 + t1882;
+        let t1780: f32 = vy + t1779;
+        let t1781: f32 = t167 * t1780;
+        let t1782: f32 = wx * t138;
+        let t1783: f32 = wy * t141;
+        let t1784: f32 = t1782 - t1783;
+        let t1785: f32 = vz + t1784;
+        let t1786: f32 = t185 * t1785;
+        let t1787: f32 = t1776 + t1781;
+        let t1788: f32 = t1786 + t1787;
+        let t1789: f32 = t151 * t1788;
+        let t1790: f32 = t1789 * t1789;
+        let t1791: f32 = t733 * t1775;
+        let t1792: f32 = t191 * t1780;
+        let t1793: f32 = t219 * t1785;
+        let t1794: f32 = t1791 + t1792;
+        let t1795: f32 = t1793 + t1794;
+        let t1796: f32 = t151 * t1795;
+        let t1797: f32 = t1796 * t1796;
+        let t1798: f32 = t1790 + t1797;
+        let t1799: f32 = t1798 * 0.3;
+        let t1800: f32 = t1771 - t1799;
+        let t1801: f32 = t188 * t1800;
+        let t1802: f32 = wy * t1784;
+        let t1803: f32 = wz * t1779;
+        let t1804: f32 = t1802 - t1803;
+        let t1805: f32 = t757 * t1804;
+        let t1806: f32 = t1801 - t1805;
+        let t1807: f32 = wz * t1774;
+        let t1808: f32 = wx * t1784;
+        let t1809: f32 = t1807 - t1808;
+        let t1810: f32 = t230 * t1809;
+        let t1811: f32 = wx * t1779;
+        let t1812: f32 = wy * t1774;
+        let t1813: f32 = t1811 - t1812;
+        let t1814: f32 = t239 * t1813;
+        let t1815: f32 = t1810 + t1814;
+        let t1816: f32 = t1806 - t1815;
+        let t1817: f32 = t185 * 9.81;
+        let t1818: f32 = -t1817;
+        let t1819: f32 = t151 * t172;
+        let t1820: f32 = t1788 * t1819;
+        let t1821: f32 = t1796 * t1820;
+        let t1822: f32 = t186 * t1775;
+        let t1823: f32 = t152 * t1780;
+        let t1824: f32 = t188 * t1785;
+        let t1825: f32 = t1822 + t1823;
+        let t1826: f32 = t1824 + t1825;
+        let t1827: f32 = t151 * t1826;
+        let t1828: f32 = t1827 * 2.0;
+        let t1829: f32 = t1795 * t1819;
+        let t1830: f32 = t1828 - t1829;
+        let t1831: f32 = t1789 * t1830;
+        let t1832: f32 = t151 * t151;
+        let t1833: f32 = t166 * t166;
+        let t1834: f32 = t149 * t1832;
+        let t1835: f32 = t1833 * t1834;
+        let t1836: f32 = t1788 * t1835;
+        let t1837: f32 = t1795 * t1836;
+        let t1838: f32 = -t1831;
+        let t1839: f32 = t172 * t1838;
+        let t1840: f32 = t1837 + t1839;
+        let t1841: f32 = t172 * t1840;
+        let t1842: f32 = t1818 * 0.2;
+        let t1843: f32 = t1821 * 0.292;
+        let t1844: f32 = t1831 * 0.295;
+        let t1845: f32 = t1841 * 0.003;
+        let t1846: f32 = t1842 + t1843;
+        let t1847: f32 = t1844 + t1846;
+        let t1848: f32 = t1847 - t1845;
+        let t1849: f32 = t151 * t1848;
+        let t1850: f32 = t1821 + t1831;
+        let t1851: f32 = t1850 * 0.3;
+        let t1852: f32 = t1818 + t1849;
+        let t1853: f32 = t1852 - t1851;
+        let t1854: f32 = t185 * t1853;
+        let t1855: f32 = t219 * 9.81;
+        let t1856: f32 = -t1855;
+        let t1857: f32 = t1789 * t1820;
+        let t1858: f32 = t1788 * t1788;
+        let t1859: f32 = t1819 * t1858;
+        let t1860: f32 = t1795 * t1828;
+        let t1861: f32 = t1859 + t1860;
+        let t1862: f32 = t151 * t1861;
+        let t1863: f32 = t1856 * 0.2;
+        let t1864: f32 = t1857 * 0.292;
+        let t1865: f32 = t1862 * 0.295;
+        let t1866: f32 = t1863 + t1865;
+        let t1867: f32 = t1866 - t1864;
+        let t1868: f32 = t151 * t1867;
+        let t1869: f32 = t1857 - t1862;
+        let t1870: f32 = t1869 * 0.3;
+        let t1871: f32 = t1856 + t1868;
+        let t1872: f32 = t1870 + t1871;
+        let t1873: f32 = t219 * t1872;
+        let t1874: f32 = t1854 + t1873;
+        let t1875: f32 = t1816 + t1874;
+        let t1876: f32 = t138 * t1875;
+        let t1877: f32 = t152 * t1800;
+        let t1878: f32 = t744 * t1804;
+        let t1879: f32 = t1877 - t1878;
+        let t1880: f32 = t202 * t1809;
+        let t1881: f32 = t230 * t1813;
+        let t1882: f32 = t1880 + t1881;
+        let t1883: f32 = t1879 - t1882;
+        let t1884: f32 = t167 * t1853;
+        let t1885: f32 = t191 * t1872;
         let t1886: f32 = t1884 + t1885;
-        let t1887: f32 = t219 * t1886;
-        let t1888: f32 = t1868 + t1887;
-        let t1889: f32 = t1830 + t1888;
-        let t1890: f32 = t138 * t1889;
-        let t1891: f32 = t152 * t1814;
-        let t1892: f32 = t744 * t1818;
-        let t1893: f32 = t1891 - t1892;
-        let t1894: f32 = t202 * t1823;
-        let t1895: f32 = t230 * t1827;
-        let t1896: f32 = t1894 + t1895;
-        let t1897: f32 = t1893 - t1896;
-        let t1898: f32 = t167 * t1867;
-        let t1899: f32 = t191 * t1886;
-        let t1900: f32 = t1898 + t1899;
-        let t1901: f32 = t1897 + t1900;
-        let t1902: f32 = t137 * t1901;
-        let t1903: f32 = t1890 - t1902;
-        let t1904: f32 = t300 * 9.81;
-        let t1905: f32 = -t1904;
-        let t1906: f32 = wy * t245;
-        let t1907: f32 = wz * t248;
-        let t1908: f32 = t1906 - t1907;
-        let t1909: f32 = vx - t1908;
-        let t1910: f32 = t301 * t1909;
-        let t1911: f32 = wz * t253;
-        let t1912: f32 = wx * t245;
-        let t1913: f32 = t1911 - t1912;
-        let t1914: f32 = vy - t1913;
-        let t1915: f32 = t279 * t1914;
-        let t1916: f32 = wx * t248;
-        let t1917: f32 = wy * t253;
-        let t1918: f32 = t1916 - t1917;
-        let t1919: f32 = vz - t1918;
-        let t1920: f32 = t297 * t1919;
-        let t1921: f32 = t1910 + t1915;
-        let t1922: f32 = t1921 - t1920;
-        let t1923: f32 = t263 * t1922;
-        let t1924: f32 = t1923 * t1923;
-        let t1925: f32 = t765 * t1909;
-        let t1926: f32 = t303 * t1914;
-        let t1927: f32 = t331 * t1919;
-        let t1928: f32 = t1925 + t1927;
-        let t1929: f32 = t1928 - t1926;
-        let t1930: f32 = t263 * t1929;
-        let t1931: f32 = t1930 * t1930;
-        let t1932: f32 = t1924 + t1931;
-        let t1933: f32 = t1932 * 0.3;
-        let t1934: f32 = t1905 - t1933;
-        let t1935: f32 = t264 * t1934;
-        let t1936: f32 = wy * t1918;
-        let t1937: f32 = wz * t1913;
-        let t1938: f32 = t1936 - t1937;
-        let t1939: f32 = t776 * t1938;
-        let t1940: f32 = t1935 + t1939;
-        let t1941: f32 = wz * t1908;
-        let t1942: f32 = wx * t1918;
-        let t1943: f32 = t1941 - t1942;
-        let t1944: f32 = t314 * t1943;
-        let t1945: f32 = wx * t1913;
-        let t1946: f32 = wy * t1908;
-        let t1947: f32 = t1945 - t1946;
-        let t1948: f32 = t342 * t1947;
-        let t1949: f32 = t1944 + t1948;
-        let t1950: f32 = t1940 + t1949;
-        let t1951: f32 = t331 * 9.81;
-        let t1952: f32 = -t1951;
-        let t1953: f32 = t263 * t284;
-        let t1954: f32 = t1922 * t1953;
-        let t1955: f32 = t1923 * t1954;
-        let t1956: f32 = t1922 * t1922;
-        let t1957: f32 = t1953 * t1956;
-        let t1958: f32 = t298 * t1909;
-        let t1959: f32 = t264 * t1914;
-        let t1960: f32 = t300 * t1919;
-        let t1961: f32 = t1958 + t1959;
-        let t1962: f32 = t1960 + t1961;
-        let t1963: f32 = t263 * t1962;
-        let t1964: f32 = t1963 * 2.0;
-        let t1965: f32 = t1929 * t1964;
-        let t1966: f32 = t1957 - t1965;
-        let t1967: f32 = t263 * t1966;
-        let t1968: f32 = t1952 * 0.2;
-        let t1969: f32 = t1955 * 0.292;
-        let t1970: f32 = t1967 * 0.295;
-        let t1971: f32 = t1968 + t1969;
-        let t1972: f32 = t1971 - t1970;
-        let t1973: f32 = t263 * t1972;
-        let t1974: f32 = t1967 - t1955;
-        let t1975: f32 = t1974 * 0.3;
-        let t1976: f32 = t1952 + t1973;
-        let t1977: f32 = t1975 + t1976;
-        let t1978: f32 = t303 * t1977;
-        let t1979: f32 = t297 * 9.81;
-        let t1980: f32 = t1930 * t1954;
-        let t1981: f32 = t1929 * t1953;
-        let t1982: f32 = t1964 + t1981;
-        let t1983: f32 = t1923 * t1982;
-        let t1984: f32 = t278 * t278;
-        let t1985: f32 = t261 * t263;
-        let t1986: f32 = t1984 * t1985;
-        let t1987: f32 = t1929 * t1986;
-        let t1988: f32 = t284 * t1982;
+        let t1887: f32 = t1883 + t1886;
+        let t1888: f32 = t137 * t1887;
+        let t1889: f32 = t1876 - t1888;
+        let t1890: f32 = t300 * 9.81;
+        let t1891: f32 = -t1890;
+        let t1892: f32 = wy * t245;
+        let t1893: f32 = wz * t248;
+        let t1894: f32 = t1892 - t1893;
+        let t1895: f32 = vx - t1894;
+        let t1896: f32 = t301 * t1895;
+        let t1897: f32 = wz * t253;
+        let t1898: f32 = wx * t245;
+        let t1899: f32 = t1897 - t1898;
+        let t1900: f32 = vy - t1899;
+        let t1901: f32 = t279 * t1900;
+        let t1902: f32 = wx * t248;
+        let t1903: f32 = wy * t253;
+        let t1904: f32 = t1902 - t1903;
+        let t1905: f32 = vz - t1904;
+        let t1906: f32 = t297 * t1905;
+        let t1907: f32 = t1896 + t1901;
+        let t1908: f32 = t1907 - t1906;
+        let t1909: f32 = t263 * t1908;
+        let t1910: f32 = t1909 * t1909;
+        let t1911: f32 = t765 * t1895;
+        let t1912: f32 = t303 * t1900;
+        let t1913: f32 = t331 * t1905;
+        let t1914: f32 = t1911 + t1913;
+        let t1915: f32 = t1914 - t1912;
+        let t1916: f32 = t263 * t1915;
+        let t1917: f32 = t1916 * t1916;
+        let t1918: f32 = t1910 + t1917;
+        let t1919: f32 = t1918 * 0.3;
+        let t1920: f32 = t1891 - t1919;
+        let t1921: f32 = t264 * t1920;
+        let t1922: f32 = wy * t1904;
+        let t1923: f32 = wz * t1899;
+        let t1924: f32 = t1922 - t1923;
+        let t1925: f32 = t776 * t1924;
+        let t1926: f32 = t1921 + t1925;
+        let t1927: f32 = wz * t1894;
+        let t1928: f32 = wx * t1904;
+        let t1929: f32 = t1927 - t1928;
+        let t1930: f32 = t314 * t1929;
+        let t1931: f32 = wx * t1899;
+        let t1932: f32 = wy * t1894;
+        let t1933: f32 = t1931 - t1932;
+        let t1934: f32 = t342 * t1933;
+        let t1935: f32 = t1930 + t1934;
+        let t1936: f32 = t1926 + t1935;
+        let t1937: f32 = t331 * 9.81;
+        let t1938: f32 = -t1937;
+        let t1939: f32 = t263 * t284;
+        let t1940: f32 = t1908 * t1939;
+        let t1941: f32 = t1909 * t1940;
+        let t1942: f32 = t1908 * t1908;
+        let t1943: f32 = t1939 * t1942;
+        let t1944: f32 = t298 * t1895;
+        let t1945: f32 = t264 * t1900;
+        let t1946: f32 = t300 * t1905;
+        let t1947: f32 = t1944 + t1945;
+        let t1948: f32 = t1946 + t1947;
+        let t1949: f32 = t263 * t1948;
+        let t1950: f32 = t1949 * 2.0;
+        let t1951: f32 = t1915 * t1950;
+        let t1952: f32 = t1943 - t1951;
+        let t1953: f32 = t263 * t1952;
+        let t1954: f32 = t1938 * 0.2;
+        let t1955: f32 = t1941 * 0.292;
+        let t1956: f32 = t1953 * 0.295;
+        let t1957: f32 = t1954 + t1955;
+        let t1958: f32 = t1957 - t1956;
+        let t1959: f32 = t263 * t1958;
+        let t1960: f32 = t1953 - t1941;
+        let t1961: f32 = t1960 * 0.3;
+        let t1962: f32 = t1938 + t1959;
+        let t1963: f32 = t1961 + t1962;
+        let t1964: f32 = t303 * t1963;
+        let t1965: f32 = t297 * 9.81;
+        let t1966: f32 = t1916 * t1940;
+        let t1967: f32 = t1915 * t1939;
+        let t1968: f32 = t1950 + t1967;
+        let t1969: f32 = t1909 * t1968;
+        let t1970: f32 = t278 * t278;
+        let t1971: f32 = t261 * t263;
+        let t1972: f32 = t1970 * t1971;
+        let t1973: f32 = t1915 * t1972;
+        let t1974: f32 = t284 * t1968;
+        let t1975: f32 = t1973 + t1974;
+        let t1976: f32 = t1909 * t1975;
+        let t1977: f32 = t284 * t1976;
+        let t1978: f32 = t1965 * 0.2;
+        let t1979: f32 = t1966 * 0.292;
+        let t1980: f32 = t1969 * 0.295;
+        let t1981: f32 = t1977 * 0.003;
+        let t1982: f32 = t1978 + t1980;
+        let t1983: f32 = t1981 + t1982;
+        let t1984: f32 = t1983 - t1979;
+        let t1985: f32 = t263 * t1984;
+        let t1986: f32 = t1966 - t1969;
+        let t1987: f32 = t1986 * 0.3;
+        let t1988: f32 = t1965 + t1985;
         let t1989: f32 = t1987 + t1988;
-        let t1990: f32 = t1923 * t1989;
-        let t1991: f32 = t284 * t1990;
-        let t1992: f32 = t1979 * 0.2;
-        let t1993: f32 = t1980 * 0.292;
-        let t1994: f32 = t1983 * 0.295;
-        let t1995: f32 = t1991 * 0.003;
-        let t1996: f32 = t1992 + t1994;
-        let t1997: f32 = t1995 + t1996;
-        let t1998: f32 = t1997 - t1993;
-        let t1999: f32 = t263 * t1998;
-        let t2000: f32 = t1980 - t1983;
-        let t2001: f32 = t2000 * 0.3;
-        let t2002: f32 = t1979 + t1999;
+        let t1990: f32 = t279 * t1989;
+        let t1991: f32 = t1964 - t1990;
+        let t1992: f32 = t1991 - t1936;
+        let t1993: f32 = t245 * t1992;
+        let t1994: f32 = t300 * t1920;
+        let t1995: f32 = t789 * t1924;
+        let t1996: f32 = t1994 + t1995;
+        let t1997: f32 = t342 * t1929;
+        let t1998: f32 = t351 * t1933;
+        let t1999: f32 = t1997 + t1998;
+        let t2000: f32 = t1996 + t1999;
+        let t2001: f32 = t331 * t1963;
+        let t2002: f32 = t297 * t1989;
         (
-            t1008,
-            t1017,
-            t1021,
-            t1042,
-            t1051,
-            t1055,
-            t1076,
-            t1085,
-            t1089,
-            t1110,
-            t1137,
-            t1138,
+            t1006,
+            t1015,
+            t1019,
+            t1040,
+            t1049,
+            t1053,
+            t1074,
+            t1083,
+            t1087,
+            t1108,
+            t1136,
+            t1149,
             t1150,
-            t1151,
-            t1153,
-            t1263,
-            t1311,
-            t1316,
-            t1324,
-            t1326,
-            t1329,
-            t1335,
+            t1152,
+            t1261,
+            t1310,
+            t1315,
+            t1323,
+            t1325,
+            t1328,
+            t1334,
+            t1345,
             t1346,
-            t1347,
+            t1354,
             t1355,
-            t1356,
+            t1367,
             t1368,
-            t1369,
-            t1373,
-            t1392,
+            t1372,
+            t1391,
+            t1402,
             t1403,
-            t1404,
+            t1412,
             t1413,
-            t1414,
+            t1429,
             t1430,
-            t1431,
+            t1442,
             t1443,
-            t1444,
-            t1449,
-            t1471,
-            t1488,
-            t1492,
-            t1493,
+            t1448,
+            t1470,
+            t1476,
+            t1482,
+            t1489,
+            t1497,
             t1498,
-            t1499,
+            t1502,
             t1503,
-            t1504,
+            t1509,
             t1510,
-            t1511,
-            t1523,
-            t1527,
-            t1534,
-            t1535,
-            t1539,
-            t1540,
-            t1544,
-            t1575,
+            t1514,
+            t1515,
+            t1520,
+            t1521,
+            t1525,
+            t1526,
+            t1530,
+            t1561,
+            t1565,
+            t1570,
+            t1574,
+            t1577,
             t1579,
-            t1584,
-            t1588,
-            t1591,
-            t1593,
-            t1594,
-            t1613,
-            t1616,
-            t1619,
-            t1621,
-            t1624,
+            t1580,
+            t1599,
+            t1602,
+            t1605,
+            t1607,
+            t1610,
+            t1615,
+            t1626,
             t1629,
-            t1640,
-            t1643,
-            t1647,
-            t1648,
-            t1656,
-            t1659,
-            t1660,
-            t1694,
+            t1633,
+            t1634,
+            t1642,
+            t1645,
+            t1646,
+            t1680,
+            t1684,
+            t1689,
+            t1693,
+            t1696,
             t1698,
-            t1703,
-            t1707,
-            t1710,
-            t1712,
-            t1713,
-            t1732,
-            t1735,
-            t1739,
-            t1744,
-            t1752,
-            t1759,
-            t1760,
-            t1763,
-            t1767,
-            t1768,
-            t1776,
-            t1779,
-            t1780,
-            t1783,
-            t1814,
+            t1699,
+            t1718,
+            t1721,
+            t1725,
+            t1730,
+            t1738,
+            t1745,
+            t1746,
+            t1749,
+            t1753,
+            t1754,
+            t1762,
+            t1765,
+            t1766,
+            t1769,
+            t1800,
+            t1804,
+            t1809,
+            t1813,
+            t1816,
             t1818,
-            t1823,
-            t1827,
-            t1830,
+            t1819,
             t1832,
-            t1833,
-            t1846,
-            t1854,
-            t1861,
-            t1862,
-            t1865,
+            t1840,
+            t1847,
+            t1848,
+            t1851,
+            t1856,
+            t1867,
             t1870,
-            t1881,
-            t1884,
-            t1888,
+            t1874,
+            t1875,
+            t1883,
+            t1886,
+            t1887,
             t1889,
-            t1897,
-            t1900,
-            t1901,
-            t1903,
-            t1934,
+            t1920,
+            t1924,
+            t1929,
+            t1933,
+            t1936,
             t1938,
-            t1943,
-            t1947,
-            t1950,
-            t1952,
-            t1953,
-            t1972,
-            t1975,
-            t1977,
-            t1978,
+            t1939,
+            t1958,
+            t1961,
+            t1965,
+            t1976,
             t1979,
-            t1990,
+            t1982,
+            t1984,
+            t1987,
+            t1991,
+            t1992,
             t1993,
-            t1996,
-            t1998,
+            t2000,
             t2001,
             t2002,
         )
     };
     let (
-        t2219,
-        t2268,
-        t2274,
+        t2205,
+        t2259,
+        t2263,
+        t2269,
+        t2273,
         t2278,
-        t2284,
-        t2288,
-        t2296,
-        t2440,
-        t2446,
+        t2282,
+        t2426,
+        t2430,
+        t2441,
+        t2445,
         t2450,
-        t2456,
-        t2460,
-        t2468,
-        t2501,
-        t2624,
-        t2641,
-        t2646,
-        t2682,
-        t2683,
-        t2747,
-        t2770,
-        t2792,
+        t2454,
+        t2487,
+        t2610,
+        t2627,
+        t2632,
+        t2668,
+        t2669,
         t2814,
-        t2821,
         t2828,
-        t2835,
         t2842,
-        t2849,
         t2856,
-        t2863,
         t2870,
-        t2877,
         t2884,
-        t2891,
-        t2898,
-        t2961,
-        t2963,
-        t2964,
-        t2965,
-        t2966,
-        t2967,
-        t2988,
-        t2990,
-        t2992,
-        t3001,
+        t2947,
+        t2949,
+        t2950,
+        t2951,
+        t2952,
+        t2953,
+        t2974,
+        t2997,
         t3002,
     ) = {
-        let t2003: f32 = t2001 + t2002;
-        let t2004: f32 = t279 * t2003;
-        let t2005: f32 = t1978 - t2004;
-        let t2006: f32 = t2005 - t1950;
-        let t2007: f32 = t245 * t2006;
-        let t2008: f32 = t300 * t1934;
-        let t2009: f32 = t789 * t1938;
-        let t2010: f32 = t2008 + t2009;
-        let t2011: f32 = t342 * t1943;
-        let t2012: f32 = t351 * t1947;
-        let t2013: f32 = t2011 + t2012;
-        let t2014: f32 = t2010 + t2013;
-        let t2015: f32 = t331 * t1977;
-        let t2016: f32 = t297 * t2003;
-        let t2017: f32 = t2015 - t2016;
-        let t2018: f32 = t2014 + t2017;
-        let t2019: f32 = t248 * t2018;
-        let t2020: f32 = t2007 + t2019;
-        let t2021: f32 = t1903 - t2020;
-        let t2022: f32 = wx * t360;
-        let t2023: f32 = wy * t365;
-        let t2024: f32 = t2022 - t2023;
-        let t2025: f32 = wy * t2024;
-        let t2026: f32 = wz * t365;
-        let t2027: f32 = wx * t357;
-        let t2028: f32 = t2026 - t2027;
-        let t2029: f32 = wz * t2028;
-        let t2030: f32 = t2025 - t2029;
-        let t2031: f32 = t808 * t2030;
-        let t2032: f32 = t412 * 9.81;
-        let t2033: f32 = -t2032;
-        let t2034: f32 = wy * t357;
-        let t2035: f32 = wz * t360;
-        let t2036: f32 = t2034 - t2035;
-        let t2037: f32 = vx + t2036;
-        let t2038: f32 = t413 * t2037;
-        let t2039: f32 = vy + t2028;
-        let t2040: f32 = t391 * t2039;
-        let t2041: f32 = vz + t2024;
-        let t2042: f32 = t409 * t2041;
-        let t2043: f32 = t2038 + t2040;
-        let t2044: f32 = t2043 - t2042;
-        let t2045: f32 = t375 * t2044;
-        let t2046: f32 = t2045 * t2045;
-        let t2047: f32 = t797 * t2037;
-        let t2048: f32 = t415 * t2039;
-        let t2049: f32 = t443 * t2041;
-        let t2050: f32 = t2047 + t2049;
-        let t2051: f32 = t2050 - t2048;
-        let t2052: f32 = t375 * t2051;
-        let t2053: f32 = t2052 * t2052;
-        let t2054: f32 = t2046 + t2053;
-        let t2055: f32 = t2054 * 0.3;
-        let t2056: f32 = t2033 - t2055;
-        let t2057: f32 = t376 * t2056;
-        let t2058: f32 = t2031 - t2057;
-        let t2059: f32 = wz * t2036;
-        let t2060: f32 = wx * t2024;
-        let t2061: f32 = t2059 - t2060;
-        let t2062: f32 = t426 * t2061;
-        let t2063: f32 = wx * t2028;
-        let t2064: f32 = wy * t2036;
-        let t2065: f32 = t2063 - t2064;
-        let t2066: f32 = t454 * t2065;
-        let t2067: f32 = t2062 + t2066;
-        let t2068: f32 = t2058 + t2067;
-        let t2069: f32 = t443 * 9.81;
-        let t2070: f32 = -t2069;
-        let t2071: f32 = t375 * t396;
-        let t2072: f32 = t2044 * t2071;
-        let t2073: f32 = t2045 * t2072;
-        let t2074: f32 = t2044 * t2044;
-        let t2075: f32 = t2071 * t2074;
-        let t2076: f32 = t410 * t2037;
-        let t2077: f32 = t376 * t2039;
-        let t2078: f32 = t412 * t2041;
-        let t2079: f32 = t2076 + t2077;
-        let t2080: f32 = t2078 + t2079;
-        let t2081: f32 = t375 * t2080;
-        let t2082: f32 = t2081 * 2.0;
-        let t2083: f32 = t2051 * t2082;
-        let t2084: f32 = t2075 - t2083;
-        let t2085: f32 = t375 * t2084;
-        let t2086: f32 = t2070 * 0.2;
-        let t2087: f32 = t2073 * 0.292;
-        let t2088: f32 = t2085 * 0.295;
-        let t2089: f32 = t2086 + t2087;
-        let t2090: f32 = t2089 - t2088;
-        let t2091: f32 = t375 * t2090;
-        let t2092: f32 = t2085 - t2073;
-        let t2093: f32 = t2092 * 0.3;
-        let t2094: f32 = t2070 + t2091;
-        let t2095: f32 = t2093 + t2094;
-        let t2096: f32 = t415 * t2095;
-        let t2097: f32 = t409 * 9.81;
-        let t2098: f32 = t2052 * t2072;
-        let t2099: f32 = t2051 * t2071;
-        let t2100: f32 = t2082 + t2099;
-        let t2101: f32 = t2045 * t2100;
-        let t2102: f32 = t390 * t390;
-        let t2103: f32 = t373 * t375;
-        let t2104: f32 = t2102 * t2103;
-        let t2105: f32 = t2051 * t2104;
-        let t2106: f32 = t396 * t2100;
+        let t2003: f32 = t2001 - t2002;
+        let t2004: f32 = t2000 + t2003;
+        let t2005: f32 = t248 * t2004;
+        let t2006: f32 = t1993 + t2005;
+        let t2007: f32 = t1889 - t2006;
+        let t2008: f32 = wx * t360;
+        let t2009: f32 = wy * t365;
+        let t2010: f32 = t2008 - t2009;
+        let t2011: f32 = wy * t2010;
+        let t2012: f32 = wz * t365;
+        let t2013: f32 = wx * t357;
+        let t2014: f32 = t2012 - t2013;
+        let t2015: f32 = wz * t2014;
+        let t2016: f32 = t2011 - t2015;
+        let t2017: f32 = t808 * t2016;
+        let t2018: f32 = t412 * 9.81;
+        let t2019: f32 = -t2018;
+        let t2020: f32 = wy * t357;
+        let t2021: f32 = wz * t360;
+        let t2022: f32 = t2020 - t2021;
+        let t2023: f32 = vx + t2022;
+        let t2024: f32 = t413 * t2023;
+        let t2025: f32 = vy + t2014;
+        let t2026: f32 = t391 * t2025;
+        let t2027: f32 = vz + t2010;
+        let t2028: f32 = t409 * t2027;
+        let t2029: f32 = t2024 + t2026;
+        let t2030: f32 = t2029 - t2028;
+        let t2031: f32 = t375 * t2030;
+        let t2032: f32 = t2031 * t2031;
+        let t2033: f32 = t797 * t2023;
+        let t2034: f32 = t415 * t2025;
+        let t2035: f32 = t443 * t2027;
+        let t2036: f32 = t2033 + t2035;
+        let t2037: f32 = t2036 - t2034;
+        let t2038: f32 = t375 * t2037;
+        let t2039: f32 = t2038 * t2038;
+        let t2040: f32 = t2032 + t2039;
+        let t2041: f32 = t2040 * 0.3;
+        let t2042: f32 = t2019 - t2041;
+        let t2043: f32 = t376 * t2042;
+        let t2044: f32 = t2017 - t2043;
+        let t2045: f32 = wz * t2022;
+        let t2046: f32 = wx * t2010;
+        let t2047: f32 = t2045 - t2046;
+        let t2048: f32 = t426 * t2047;
+        let t2049: f32 = wx * t2014;
+        let t2050: f32 = wy * t2022;
+        let t2051: f32 = t2049 - t2050;
+        let t2052: f32 = t454 * t2051;
+        let t2053: f32 = t2048 + t2052;
+        let t2054: f32 = t2044 + t2053;
+        let t2055: f32 = t443 * 9.81;
+        let t2056: f32 = -t2055;
+        let t2057: f32 = t375 * t396;
+        let t2058: f32 = t2030 * t2057;
+        let t2059: f32 = t2031 * t2058;
+        let t2060: f32 = t2030 * t2030;
+        let t2061: f32 = t2057 * t2060;
+        let t2062: f32 = t410 * t2023;
+        let t2063: f32 = t376 * t2025;
+        let t2064: f32 = t412 * t2027;
+        let t2065: f32 = t2062 + t2063;
+        let t2066: f32 = t2064 + t2065;
+        let t2067: f32 = t375 * t2066;
+        let t2068: f32 = t2067 * 2.0;
+        let t2069: f32 = t2037 * t2068;
+        let t2070: f32 = t2061 - t2069;
+        let t2071: f32 = t375 * t2070;
+        let t2072: f32 = t2056 * 0.2;
+        let t2073: f32 = t2059 * 0.292;
+        let t2074: f32 = t2071 * 0.295;
+        let t2075: f32 = t2072 + t2073;
+        let t2076: f32 = t2075 - t2074;
+        let t2077: f32 = t375 * t2076;
+        let t2078: f32 = t2071 - t2059;
+        let t2079: f32 = t2078 * 0.3;
+        let t2080: f32 = t2056 + t2077;
+        let t2081: f32 = t2079 + t2080;
+        let t2082: f32 = t415 * t2081;
+        let t2083: f32 = t409 * 9.81;
+        let t2084: f32 = t2038 * t2058;
+        let t2085: f32 = t2037 * t2057;
+        let t2086: f32 = t2068 + t2085;
+        let t2087: f32 = t2031 * t2086;
+        let t2088: f32 = t390 * t390;
+        let t2089: f32 = t373 * t375;
+        let t2090: f32 = t2088 * t2089;
+        let t2091: f32 = t2037 * t2090;
+        let t2092: f32 = t396 * t2086;
+        let t2093: f32 = t2091 + t2092;
+        let t2094: f32 = t2031 * t2093;
+        let t2095: f32 = t396 * t2094;
+        let t2096: f32 = t2083 * 0.2;
+        let t2097: f32 = t2084 * 0.292;
+        let t2098: f32 = t2087 * 0.295;
+        let t2099: f32 = t2095 * 0.003;
+        let t2100: f32 = t2096 + t2098;
+        let t2101: f32 = t2099 + t2100;
+        let t2102: f32 = t2101 - t2097;
+        let t2103: f32 = t375 * t2102;
+        let t2104: f32 = t2084 - t2087;
+        let t2105: f32 = t2104 * 0.3;
+        let t2106: f32 = t2083 + t2103;
         let t2107: f32 = t2105 + t2106;
-        let t2108: f32 = t2045 * t2107;
-        let t2109: f32 = t396 * t2108;
-        let t2110: f32 = t2097 * 0.2;
-        let t2111: f32 = t2098 * 0.292;
-        let t2112: f32 = t2101 * 0.295;
-        let t2113: f32 = t2109 * 0.003;
-        let t2114: f32 = t2110 + t2112;
-        let t2115: f32 = t2113 + t2114;
-        let t2116: f32 = t2115 - t2111;
-        let t2117: f32 = t375 * t2116;
-        let t2118: f32 = t2098 - t2101;
-        let t2119: f32 = t2118 * 0.3;
-        let t2120: f32 = t2097 + t2117;
-        let t2121: f32 = t2119 + t2120;
-        let t2122: f32 = t391 * t2121;
-        let t2123: f32 = t2096 - t2122;
-        let t2124: f32 = t2068 + t2123;
-        let t2125: f32 = t357 * t2124;
-        let t2126: f32 = t412 * t2056;
-        let t2127: f32 = t821 * t2030;
-        let t2128: f32 = t2126 - t2127;
-        let t2129: f32 = t454 * t2061;
-        let t2130: f32 = t463 * t2065;
-        let t2131: f32 = t2129 + t2130;
-        let t2132: f32 = t2128 - t2131;
-        let t2133: f32 = t443 * t2095;
-        let t2134: f32 = t409 * t2121;
-        let t2135: f32 = t2133 - t2134;
-        let t2136: f32 = t2132 + t2135;
-        let t2137: f32 = t360 * t2136;
-        let t2138: f32 = t2125 + t2137;
-        let t2139: f32 = wx * t468;
-        let t2140: f32 = wy * t471;
-        let t2141: f32 = t2139 - t2140;
-        let t2142: f32 = wy * t2141;
-        let t2143: f32 = wz * t471;
-        let t2144: f32 = wx * t467;
-        let t2145: f32 = t2143 - t2144;
-        let t2146: f32 = wz * t2145;
-        let t2147: f32 = t2142 - t2146;
-        let t2148: f32 = t840 * t2147;
-        let t2149: f32 = t517 * 9.81;
-        let t2150: f32 = -t2149;
-        let t2151: f32 = wy * t467;
-        let t2152: f32 = wz * t468;
-        let t2153: f32 = t2151 - t2152;
-        let t2154: f32 = vx + t2153;
-        let t2155: f32 = t518 * t2154;
-        let t2156: f32 = vy + t2145;
-        let t2157: f32 = t496 * t2156;
-        let t2158: f32 = vz + t2141;
-        let t2159: f32 = t514 * t2158;
-        let t2160: f32 = t2155 + t2157;
-        let t2161: f32 = t2160 - t2159;
-        let t2162: f32 = t481 * t2161;
-        let t2163: f32 = t2162 * t2162;
-        let t2164: f32 = t829 * t2154;
-        let t2165: f32 = t520 * t2156;
-        let t2166: f32 = t548 * t2158;
-        let t2167: f32 = t2164 + t2166;
-        let t2168: f32 = t2167 - t2165;
-        let t2169: f32 = t481 * t2168;
-        let t2170: f32 = t2169 * t2169;
-        let t2171: f32 = t2163 + t2170;
-        let t2172: f32 = t2171 * 0.3;
-        let t2173: f32 = t2150 - t2172;
-        let t2174: f32 = t482 * t2173;
-        let t2175: f32 = t2148 - t2174;
-        let t2176: f32 = wz * t2153;
-        let t2177: f32 = wx * t2141;
-        let t2178: f32 = t2176 - t2177;
-        let t2179: f32 = t531 * t2178;
-        let t2180: f32 = wx * t2145;
-        let t2181: f32 = wy * t2153;
-        let t2182: f32 = t2180 - t2181;
-        let t2183: f32 = t559 * t2182;
-        let t2184: f32 = t2179 + t2183;
-        let t2185: f32 = t2175 + t2184;
-        let t2186: f32 = t548 * 9.81;
-        let t2187: f32 = -t2186;
-        let t2188: f32 = t481 * t501;
-        let t2189: f32 = t2161 * t2188;
-        let t2190: f32 = t2162 * t2189;
-        let t2191: f32 = t2161 * t2161;
-        let t2192: f32 = t2188 * t2191;
-        let t2193: f32 = t515 * t2154;
-        let t2194: f32 = t482 * t2156;
-        let t2195: f32 = t517 * t2158;
-        let t2196: f32 = t2193 + t2194;
-        let t2197: f32 = t2195 + t2196;
-        let t2198: f32 = t481 * t2197;
-        let t2199: f32 = t2198 * 2.0;
-        let t2200: f32 = t2168 * t2199;
-        let t2201: f32 = t2192 + t2200;
-        let t2202: f32 = t481 * t2201;
-        let t2203: f32 = t2187 * 0.2;
-        let t2204: f32 = t2190 * 0.292;
-        let t2205: f32 = t2202 * 0.295;
-        let t2206: f32 = t2203 + t2205;
-        let t2207: f32 = t2206 - t2204;
-        let t2208: f32 = t481 * t2207;
-        let t2209: f32 = t2190 - t2202;
-        let t2210: f32 = t2209 * 0.3;
-        let t2211: f32 = t2187 + t2208;
-        let t2212: f32 = t2210 + t2211;
-        let t2213: f32 = t520 * t2212;
-        let t2214: f32 = t514 * 9.81;
-        let t2215: f32 = t2169 * t2189;
-        let t2216: f32 = t2168 * t2188;
-        let t2217: f32 = t2199 - t2216;
-        let t2218: f32 = t2162 * t2217;
-        let t2219: f32 = t481 * t481;
-        let t2220: f32 = t495 * t495;
-        let t2221: f32 = t479 * t2219;
-        let t2222: f32 = t2220 * t2221;
-        let t2223: f32 = t2161 * t2222;
-        let t2224: f32 = t2168 * t2223;
-        let t2225: f32 = -t2218;
-        let t2226: f32 = t501 * t2225;
-        let t2227: f32 = t2224 + t2226;
-        let t2228: f32 = t501 * t2227;
-        let t2229: f32 = t2214 * 0.2;
-        let t2230: f32 = t2215 * 0.292;
-        let t2231: f32 = t2218 * 0.295;
-        let t2232: f32 = t2228 * 0.003;
-        let t2233: f32 = t2229 + t2230;
-        let t2234: f32 = t2231 + t2233;
-        let t2235: f32 = t2234 - t2232;
-        let t2236: f32 = t481 * t2235;
-        let t2237: f32 = t2215 + t2218;
-        let t2238: f32 = t2237 * 0.3;
-        let t2239: f32 = t2214 + t2236;
-        let t2240: f32 = t2239 - t2238;
-        let t2241: f32 = t496 * t2240;
-        let t2242: f32 = t2213 - t2241;
-        let t2243: f32 = t2185 + t2242;
-        let t2244: f32 = t467 * t2243;
-        let t2245: f32 = t517 * t2173;
-        let t2246: f32 = t853 * t2147;
-        let t2247: f32 = t2245 - t2246;
-        let t2248: f32 = t559 * t2178;
-        let t2249: f32 = t568 * t2182;
-        let t2250: f32 = t2248 + t2249;
-        let t2251: f32 = t2247 - t2250;
-        let t2252: f32 = t548 * t2212;
-        let t2253: f32 = t514 * t2240;
-        let t2254: f32 = t2252 - t2253;
-        let t2255: f32 = t2251 + t2254;
-        let t2256: f32 = t468 * t2255;
-        let t2257: f32 = t2244 + t2256;
-        let t2258: f32 = t2138 + t2257;
-        let t2259: f32 = t2021 + t2258;
-        let t2260: f32 = t1783 + t2259;
-        let t2261: f32 = t697 * 3.5316;
-        let t2262: f32 = t2260 + t2261;
-        let t2263: f32 = t696 * t1403;
-        let t2264: f32 = t2262 * t2263;
-        let t2265: f32 = t1151 * t2262;
-        let t2266: f32 = t17 * t36;
-        let t2267: f32 = t34 * t39;
-        let t2268: f32 = t2266 - t2267;
-        let t2269: f32 = t1493 * t2268;
-        let t2270: f32 = t697 * t1488;
-        let t2271: f32 = t2269 - t2270;
-        let t2272: f32 = t137 * t143;
-        let t2273: f32 = t141 * t146;
-        let t2274: f32 = t2272 - t2273;
-        let t2275: f32 = t1504 * t2274;
-        let t2276: f32 = t245 * t255;
-        let t2277: f32 = t253 * t258;
+        let t2108: f32 = t391 * t2107;
+        let t2109: f32 = t2082 - t2108;
+        let t2110: f32 = t2054 + t2109;
+        let t2111: f32 = t357 * t2110;
+        let t2112: f32 = t412 * t2042;
+        let t2113: f32 = t821 * t2016;
+        let t2114: f32 = t2112 - t2113;
+        let t2115: f32 = t454 * t2047;
+        let t2116: f32 = t463 * t2051;
+        let t2117: f32 = t2115 + t2116;
+        let t2118: f32 = t2114 - t2117;
+        let t2119: f32 = t443 * t2081;
+        let t2120: f32 = t409 * t2107;
+        let t2121: f32 = t2119 - t2120;
+        let t2122: f32 = t2118 + t2121;
+        let t2123: f32 = t360 * t2122;
+        let t2124: f32 = t2111 + t2123;
+        let t2125: f32 = wx * t468;
+        let t2126: f32 = wy * t471;
+        let t2127: f32 = t2125 - t2126;
+        let t2128: f32 = wy * t2127;
+        let t2129: f32 = wz * t471;
+        let t2130: f32 = wx * t467;
+        let t2131: f32 = t2129 - t2130;
+        let t2132: f32 = wz * t2131;
+        let t2133: f32 = t2128 - t2132;
+        let t2134: f32 = t840 * t2133;
+        let t2135: f32 = t517 * 9.81;
+        let t2136: f32 = -t2135;
+        let t2137: f32 = wy * t467;
+        let t2138: f32 = wz * t468;
+        let t2139: f32 = t2137 - t2138;
+        let t2140: f32 = vx + t2139;
+        let t2141: f32 = t518 * t2140;
+        let t2142: f32 = vy + t2131;
+        let t2143: f32 = t496 * t2142;
+        let t2144: f32 = vz + t2127;
+        let t2145: f32 = t514 * t2144;
+        let t2146: f32 = t2141 + t2143;
+        let t2147: f32 = t2146 - t2145;
+        let t2148: f32 = t481 * t2147;
+        let t2149: f32 = t2148 * t2148;
+        let t2150: f32 = t829 * t2140;
+        let t2151: f32 = t520 * t2142;
+        let t2152: f32 = t548 * t2144;
+        let t2153: f32 = t2150 + t2152;
+        let t2154: f32 = t2153 - t2151;
+        let t2155: f32 = t481 * t2154;
+        let t2156: f32 = t2155 * t2155;
+        let t2157: f32 = t2149 + t2156;
+        let t2158: f32 = t2157 * 0.3;
+        let t2159: f32 = t2136 - t2158;
+        let t2160: f32 = t482 * t2159;
+        let t2161: f32 = t2134 - t2160;
+        let t2162: f32 = wz * t2139;
+        let t2163: f32 = wx * t2127;
+        let t2164: f32 = t2162 - t2163;
+        let t2165: f32 = t531 * t2164;
+        let t2166: f32 = wx * t2131;
+        let t2167: f32 = wy * t2139;
+        let t2168: f32 = t2166 - t2167;
+        let t2169: f32 = t559 * t2168;
+        let t2170: f32 = t2165 + t2169;
+        let t2171: f32 = t2161 + t2170;
+        let t2172: f32 = t548 * 9.81;
+        let t2173: f32 = -t2172;
+        let t2174: f32 = t481 * t501;
+        let t2175: f32 = t2147 * t2174;
+        let t2176: f32 = t2148 * t2175;
+        let t2177: f32 = t2147 * t2147;
+        let t2178: f32 = t2174 * t2177;
+        let t2179: f32 = t515 * t2140;
+        let t2180: f32 = t482 * t2142;
+        let t2181: f32 = t517 * t2144;
+        let t2182: f32 = t2179 + t2180;
+        let t2183: f32 = t2181 + t2182;
+        let t2184: f32 = t481 * t2183;
+        let t2185: f32 = t2184 * 2.0;
+        let t2186: f32 = t2154 * t2185;
+        let t2187: f32 = t2178 + t2186;
+        let t2188: f32 = t481 * t2187;
+        let t2189: f32 = t2173 * 0.2;
+        let t2190: f32 = t2176 * 0.292;
+        let t2191: f32 = t2188 * 0.295;
+        let t2192: f32 = t2189 + t2191;
+        let t2193: f32 = t2192 - t2190;
+        let t2194: f32 = t481 * t2193;
+        let t2195: f32 = t2176 - t2188;
+        let t2196: f32 = t2195 * 0.3;
+        let t2197: f32 = t2173 + t2194;
+        let t2198: f32 = t2196 + t2197;
+        let t2199: f32 = t520 * t2198;
+        let t2200: f32 = t514 * 9.81;
+        let t2201: f32 = t2155 * t2175;
+        let t2202: f32 = t2154 * t2174;
+        let t2203: f32 = t2185 - t2202;
+        let t2204: f32 = t2148 * t2203;
+        let t2205: f32 = t481 * t481;
+        let t2206: f32 = t495 * t495;
+        let t2207: f32 = t479 * t2205;
+        let t2208: f32 = t2206 * t2207;
+        let t2209: f32 = t2147 * t2208;
+        let t2210: f32 = t2154 * t2209;
+        let t2211: f32 = -t2204;
+        let t2212: f32 = t501 * t2211;
+        let t2213: f32 = t2210 + t2212;
+        let t2214: f32 = t501 * t2213;
+        let t2215: f32 = t2200 * 0.2;
+        let t2216: f32 = t2201 * 0.292;
+        let t2217: f32 = t2204 * 0.295;
+        let t2218: f32 = t2214 * 0.003;
+        let t2219: f32 = t2215 + t2216;
+        let t2220: f32 = t2217 + t2219;
+        let t2221: f32 = t2220 - t2218;
+        let t2222: f32 = t481 * t2221;
+        let t2223: f32 = t2201 + t2204;
+        let t2224: f32 = t2223 * 0.3;
+        let t2225: f32 = t2200 + t2222;
+        let t2226: f32 = t2225 - t2224;
+        let t2227: f32 = t496 * t2226;
+        let t2228: f32 = t2199 - t2227;
+        let t2229: f32 = t2171 + t2228;
+        let t2230: f32 = t467 * t2229;
+        let t2231: f32 = t517 * t2159;
+        let t2232: f32 = t853 * t2133;
+        let t2233: f32 = t2231 - t2232;
+        let t2234: f32 = t559 * t2164;
+        let t2235: f32 = t568 * t2168;
+        let t2236: f32 = t2234 + t2235;
+        let t2237: f32 = t2233 - t2236;
+        let t2238: f32 = t548 * t2198;
+        let t2239: f32 = t514 * t2226;
+        let t2240: f32 = t2238 - t2239;
+        let t2241: f32 = t2237 + t2240;
+        let t2242: f32 = t468 * t2241;
+        let t2243: f32 = t2230 + t2242;
+        let t2244: f32 = t2124 + t2243;
+        let t2245: f32 = t2007 + t2244;
+        let t2246: f32 = t1769 + t2245;
+        let t2247: f32 = t697 * 3.5316;
+        let t2248: f32 = t2246 + t2247;
+        let t2249: f32 = t696 * t1402;
+        let t2250: f32 = t2248 * t2249;
+        let t2251: f32 = t1150 * t2248;
+        let t2252: f32 = t21 * t1482;
+        let t2253: f32 = t24 * t1489;
+        let t2254: f32 = t2252 + t2253;
+        let t2255: f32 = t2254 * 0.2892;
+        let t2256: f32 = t1476 * t2255;
+        let t2257: f32 = t17 * t36;
+        let t2258: f32 = t34 * t39;
+        let t2259: f32 = t2257 - t2258;
+        let t2260: f32 = t1498 * t2259;
+        let t2261: f32 = t137 * t143;
+        let t2262: f32 = t141 * t146;
+        let t2263: f32 = t2261 - t2262;
+        let t2264: f32 = t1503 * t2263;
+        let t2265: f32 = t2260 + t2264;
+        let t2266: f32 = t2256 + t2265;
+        let t2267: f32 = t357 * t367;
+        let t2268: f32 = t365 * t370;
+        let t2269: f32 = t2267 - t2268;
+        let t2270: f32 = t1515 * t2269;
+        let t2271: f32 = t245 * t255;
+        let t2272: f32 = t253 * t258;
+        let t2273: f32 = t2271 - t2272;
+        let t2274: f32 = t1510 * t2273;
+        let t2275: f32 = t2270 - t2274;
+        let t2276: f32 = t467 * t473;
+        let t2277: f32 = t471 * t476;
         let t2278: f32 = t2276 - t2277;
-        let t2279: f32 = t1499 * t2278;
-        let t2280: f32 = t2275 - t2279;
-        let t2281: f32 = t2271 + t2280;
-        let t2282: f32 = t357 * t367;
-        let t2283: f32 = t365 * t370;
-        let t2284: f32 = t2282 - t2283;
-        let t2285: f32 = t1535 * t2284;
-        let t2286: f32 = t467 * t473;
-        let t2287: f32 = t471 * t476;
-        let t2288: f32 = t2286 - t2287;
-        let t2289: f32 = t1540 * t2288;
-        let t2290: f32 = t2285 + t2289;
-        let t2291: f32 = t21 * t1523;
-        let t2292: f32 = t24 * t1527;
-        let t2293: f32 = t2291 - t2292;
-        let t2294: f32 = t572 * t577;
-        let t2295: f32 = t576 * t580;
-        let t2296: f32 = t2294 - t2295;
-        let t2297: f32 = t1511 * t2296;
-        let t2298: f32 = t2293 - t2297;
-        let t2299: f32 = t2290 + t2298;
-        let t2300: f32 = t2281 + t2299;
-        let t2301: f32 = t2265 + t2300;
-        let t2302: f32 = t701 * t1640;
-        let t2303: f32 = t83 * t1621;
-        let t2304: f32 = t2302 + t2303;
-        let t2305: f32 = t44 * t2304;
-        let t2306: f32 = t1629 + t1643;
-        let t2307: f32 = t701 * t2306;
-        let t2308: f32 = t1593 + t1624;
-        let t2309: f32 = t83 * t2308;
-        let t2310: f32 = t2307 + t2309;
-        let t2311: f32 = t80 * t1575;
-        let t2312: f32 = t940 * t1579;
-        let t2313: f32 = t2311 - t2312;
-        let t2314: f32 = t2310 + t2313;
-        let t2315: f32 = t712 * t1584;
-        let t2316: f32 = t725 * t1588;
-        let t2317: f32 = t2315 + t2316;
-        let t2318: f32 = t2314 - t2317;
-        let t2319: f32 = t2305 + t2318;
-        let t2320: f32 = t17 * t2319;
-        let t2321: f32 = t34 * t1648;
-        let t2322: f32 = t2320 - t2321;
-        let t2323: f32 = t733 * t1881;
-        let t2324: f32 = t189 * t1862;
-        let t2325: f32 = t2323 + t2324;
-        let t2326: f32 = t151 * t2325;
-        let t2327: f32 = t1870 + t1884;
-        let t2328: f32 = t733 * t2327;
-        let t2329: f32 = t1832 - t1865;
-        let t2330: f32 = t189 * t2329;
-        let t2331: f32 = t2328 + t2330;
-        let t2332: f32 = t186 * t1814;
-        let t2333: f32 = t974 * t1818;
-        let t2334: f32 = t2332 - t2333;
-        let t2335: f32 = t2331 + t2334;
-        let t2336: f32 = t744 * t1823;
-        let t2337: f32 = t757 * t1827;
-        let t2338: f32 = t2336 + t2337;
-        let t2339: f32 = t2335 - t2338;
-        let t2340: f32 = t2326 + t2339;
-        let t2341: f32 = t137 * t2340;
-        let t2342: f32 = t141 * t1889;
-        let t2343: f32 = t2341 - t2342;
-        let t2344: f32 = t2322 + t2343;
-        let t2345: f32 = t2301 + t2344;
-        let t2346: f32 = t253 * t2018;
-        let t2347: f32 = t765 * t1972;
-        let t2348: f32 = t301 * t1998;
-        let t2349: f32 = t2347 + t2348;
-        let t2350: f32 = t263 * t2349;
-        let t2351: f32 = t776 * t1943;
-        let t2352: f32 = t789 * t1947;
-        let t2353: f32 = t2351 + t2352;
-        let t2354: f32 = t1952 + t1975;
-        let t2355: f32 = t765 * t2354;
-        let t2356: f32 = t1979 + t2001;
-        let t2357: f32 = t301 * t2356;
-        let t2358: f32 = t2355 + t2357;
-        let t2359: f32 = t298 * t1934;
-        let t2360: f32 = t1008 * t1938;
-        let t2361: f32 = t2359 + t2360;
-        let t2362: f32 = t2358 + t2361;
-        let t2363: f32 = t2353 + t2362;
-        let t2364: f32 = t2350 + t2363;
-        let t2365: f32 = t245 * t2364;
-        let t2366: f32 = t2346 - t2365;
-        let t2367: f32 = t797 * t2090;
-        let t2368: f32 = t413 * t2116;
-        let t2369: f32 = t2367 + t2368;
-        let t2370: f32 = t375 * t2369;
-        let t2371: f32 = t2070 + t2093;
-        let t2372: f32 = t797 * t2371;
-        let t2373: f32 = t2097 + t2119;
-        let t2374: f32 = t413 * t2373;
-        let t2375: f32 = t2372 + t2374;
-        let t2376: f32 = t410 * t2056;
-        let t2377: f32 = t1042 * t2030;
-        let t2378: f32 = t2376 - t2377;
-        let t2379: f32 = t2375 + t2378;
-        let t2380: f32 = t808 * t2061;
-        let t2381: f32 = t821 * t2065;
-        let t2382: f32 = t2380 + t2381;
-        let t2383: f32 = t2379 - t2382;
-        let t2384: f32 = t2370 + t2383;
-        let t2385: f32 = t357 * t2384;
-        let t2386: f32 = t365 * t2136;
-        let t2387: f32 = t2385 - t2386;
-        let t2388: f32 = t2366 + t2387;
-        let t2389: f32 = t829 * t2207;
-        let t2390: f32 = t518 * t2235;
-        let t2391: f32 = t2389 + t2390;
-        let t2392: f32 = t481 * t2391;
-        let t2393: f32 = t2187 + t2210;
-        let t2394: f32 = t829 * t2393;
-        let t2395: f32 = t2214 - t2238;
-        let t2396: f32 = t518 * t2395;
-        let t2397: f32 = t2394 + t2396;
-        let t2398: f32 = t515 * t2173;
-        let t2399: f32 = t1076 * t2147;
-        let t2400: f32 = t2398 - t2399;
-        let t2401: f32 = t2397 + t2400;
-        let t2402: f32 = t840 * t2178;
-        let t2403: f32 = t853 * t2182;
-        let t2404: f32 = t2402 + t2403;
-        let t2405: f32 = t2401 - t2404;
-        let t2406: f32 = t2392 + t2405;
-        let t2407: f32 = t467 * t2406;
-        let t2408: f32 = t471 * t2255;
-        let t2409: f32 = t2407 - t2408;
-        let t2410: f32 = t576 * t1780;
-        let t2411: f32 = t861 * t1732;
-        let t2412: f32 = t622 * t1760;
-        let t2413: f32 = t2411 + t2412;
-        let t2414: f32 = t585 * t2413;
-        let t2415: f32 = t872 * t1703;
-        let t2416: f32 = t885 * t1707;
-        let t2417: f32 = t2415 + t2416;
-        let t2418: f32 = t1712 + t1735;
-        let t2419: f32 = t861 * t2418;
-        let t2420: f32 = t1739 - t1763;
-        let t2421: f32 = t622 * t2420;
-        let t2422: f32 = t2419 + t2421;
-        let t2423: f32 = t619 * t1694;
-        let t2424: f32 = t1110 * t1698;
-        let t2425: f32 = t2423 + t2424;
-        let t2426: f32 = t2422 + t2425;
-        let t2427: f32 = t2417 + t2426;
-        let t2428: f32 = t2414 + t2427;
-        let t2429: f32 = t572 * t2428;
-        let t2430: f32 = t2410 - t2429;
-        let t2431: f32 = t2409 + t2430;
-        let t2432: f32 = t2388 + t2431;
-        let t2433: f32 = t2345 + t2432;
-        let t2434: f32 = t0 * 3.5316;
+        let t2279: f32 = t1526 * t2278;
+        let t2280: f32 = t572 * t577;
+        let t2281: f32 = t576 * t580;
+        let t2282: f32 = t2280 - t2281;
+        let t2283: f32 = t1521 * t2282;
+        let t2284: f32 = t2279 - t2283;
+        let t2285: f32 = t2275 + t2284;
+        let t2286: f32 = t2266 + t2285;
+        let t2287: f32 = t2251 + t2286;
+        let t2288: f32 = t701 * t1626;
+        let t2289: f32 = t83 * t1607;
+        let t2290: f32 = t2288 + t2289;
+        let t2291: f32 = t44 * t2290;
+        let t2292: f32 = t1615 + t1629;
+        let t2293: f32 = t701 * t2292;
+        let t2294: f32 = t1579 + t1610;
+        let t2295: f32 = t83 * t2294;
+        let t2296: f32 = t2293 + t2295;
+        let t2297: f32 = t80 * t1561;
+        let t2298: f32 = t938 * t1565;
+        let t2299: f32 = t2297 - t2298;
+        let t2300: f32 = t2296 + t2299;
+        let t2301: f32 = t712 * t1570;
+        let t2302: f32 = t725 * t1574;
+        let t2303: f32 = t2301 + t2302;
+        let t2304: f32 = t2300 - t2303;
+        let t2305: f32 = t2291 + t2304;
+        let t2306: f32 = t17 * t2305;
+        let t2307: f32 = t34 * t1634;
+        let t2308: f32 = t2306 - t2307;
+        let t2309: f32 = t733 * t1867;
+        let t2310: f32 = t189 * t1848;
+        let t2311: f32 = t2309 + t2310;
+        let t2312: f32 = t151 * t2311;
+        let t2313: f32 = t1856 + t1870;
+        let t2314: f32 = t733 * t2313;
+        let t2315: f32 = t1818 - t1851;
+        let t2316: f32 = t189 * t2315;
+        let t2317: f32 = t2314 + t2316;
+        let t2318: f32 = t186 * t1800;
+        let t2319: f32 = t972 * t1804;
+        let t2320: f32 = t2318 - t2319;
+        let t2321: f32 = t2317 + t2320;
+        let t2322: f32 = t744 * t1809;
+        let t2323: f32 = t757 * t1813;
+        let t2324: f32 = t2322 + t2323;
+        let t2325: f32 = t2321 - t2324;
+        let t2326: f32 = t2312 + t2325;
+        let t2327: f32 = t137 * t2326;
+        let t2328: f32 = t141 * t1875;
+        let t2329: f32 = t2327 - t2328;
+        let t2330: f32 = t2308 + t2329;
+        let t2331: f32 = t2287 + t2330;
+        let t2332: f32 = t253 * t2004;
+        let t2333: f32 = t765 * t1958;
+        let t2334: f32 = t301 * t1984;
+        let t2335: f32 = t2333 + t2334;
+        let t2336: f32 = t263 * t2335;
+        let t2337: f32 = t776 * t1929;
+        let t2338: f32 = t789 * t1933;
+        let t2339: f32 = t2337 + t2338;
+        let t2340: f32 = t1938 + t1961;
+        let t2341: f32 = t765 * t2340;
+        let t2342: f32 = t1965 + t1987;
+        let t2343: f32 = t301 * t2342;
+        let t2344: f32 = t2341 + t2343;
+        let t2345: f32 = t298 * t1920;
+        let t2346: f32 = t1006 * t1924;
+        let t2347: f32 = t2345 + t2346;
+        let t2348: f32 = t2344 + t2347;
+        let t2349: f32 = t2339 + t2348;
+        let t2350: f32 = t2336 + t2349;
+        let t2351: f32 = t245 * t2350;
+        let t2352: f32 = t2332 - t2351;
+        let t2353: f32 = t797 * t2076;
+        let t2354: f32 = t413 * t2102;
+        let t2355: f32 = t2353 + t2354;
+        let t2356: f32 = t375 * t2355;
+        let t2357: f32 = t2056 + t2079;
+        let t2358: f32 = t797 * t2357;
+        let t2359: f32 = t2083 + t2105;
+        let t2360: f32 = t413 * t2359;
+        let t2361: f32 = t2358 + t2360;
+        let t2362: f32 = t410 * t2042;
+        let t2363: f32 = t1040 * t2016;
+        let t2364: f32 = t2362 - t2363;
+        let t2365: f32 = t2361 + t2364;
+        let t2366: f32 = t808 * t2047;
+        let t2367: f32 = t821 * t2051;
+        let t2368: f32 = t2366 + t2367;
+        let t2369: f32 = t2365 - t2368;
+        let t2370: f32 = t2356 + t2369;
+        let t2371: f32 = t357 * t2370;
+        let t2372: f32 = t365 * t2122;
+        let t2373: f32 = t2371 - t2372;
+        let t2374: f32 = t2352 + t2373;
+        let t2375: f32 = t829 * t2193;
+        let t2376: f32 = t518 * t2221;
+        let t2377: f32 = t2375 + t2376;
+        let t2378: f32 = t481 * t2377;
+        let t2379: f32 = t2173 + t2196;
+        let t2380: f32 = t829 * t2379;
+        let t2381: f32 = t2200 - t2224;
+        let t2382: f32 = t518 * t2381;
+        let t2383: f32 = t2380 + t2382;
+        let t2384: f32 = t515 * t2159;
+        let t2385: f32 = t1074 * t2133;
+        let t2386: f32 = t2384 - t2385;
+        let t2387: f32 = t2383 + t2386;
+        let t2388: f32 = t840 * t2164;
+        let t2389: f32 = t853 * t2168;
+        let t2390: f32 = t2388 + t2389;
+        let t2391: f32 = t2387 - t2390;
+        let t2392: f32 = t2378 + t2391;
+        let t2393: f32 = t467 * t2392;
+        let t2394: f32 = t471 * t2241;
+        let t2395: f32 = t2393 - t2394;
+        let t2396: f32 = t576 * t1766;
+        let t2397: f32 = t861 * t1718;
+        let t2398: f32 = t622 * t1746;
+        let t2399: f32 = t2397 + t2398;
+        let t2400: f32 = t585 * t2399;
+        let t2401: f32 = t872 * t1689;
+        let t2402: f32 = t885 * t1693;
+        let t2403: f32 = t2401 + t2402;
+        let t2404: f32 = t1698 + t1721;
+        let t2405: f32 = t861 * t2404;
+        let t2406: f32 = t1725 - t1749;
+        let t2407: f32 = t622 * t2406;
+        let t2408: f32 = t2405 + t2407;
+        let t2409: f32 = t619 * t1680;
+        let t2410: f32 = t1108 * t1684;
+        let t2411: f32 = t2409 + t2410;
+        let t2412: f32 = t2408 + t2411;
+        let t2413: f32 = t2403 + t2412;
+        let t2414: f32 = t2400 + t2413;
+        let t2415: f32 = t572 * t2414;
+        let t2416: f32 = t2396 - t2415;
+        let t2417: f32 = t2395 + t2416;
+        let t2418: f32 = t2374 + t2417;
+        let t2419: f32 = t2331 + t2418;
+        let t2420: f32 = t0 * 3.5316;
+        let t2421: f32 = t2419 + t2420;
+        let t2422: f32 = t1136 * t1412;
+        let t2423: f32 = t2421 * t2422;
+        let t2424: f32 = t27 * t36;
+        let t2425: f32 = t29 * t34;
+        let t2426: f32 = t2424 - t2425;
+        let t2427: f32 = t1498 * t2426;
+        let t2428: f32 = t138 * t143;
+        let t2429: f32 = t140 * t141;
+        let t2430: f32 = t2428 - t2429;
+        let t2431: f32 = t1503 * t2430;
+        let t2432: f32 = t2427 + t2431;
+        let t2433: f32 = t10 * t1482;
+        let t2434: f32 = t14 * t1489;
         let t2435: f32 = t2433 + t2434;
-        let t2436: f32 = t1137 * t1413;
-        let t2437: f32 = t2435 * t2436;
-        let t2438: f32 = t27 * t36;
-        let t2439: f32 = t29 * t34;
-        let t2440: f32 = t2438 - t2439;
-        let t2441: f32 = t1493 * t2440;
-        let t2442: f32 = t1138 * t1488;
-        let t2443: f32 = t2441 - t2442;
-        let t2444: f32 = t138 * t143;
-        let t2445: f32 = t140 * t141;
-        let t2446: f32 = t2444 - t2445;
-        let t2447: f32 = t1504 * t2446;
-        let t2448: f32 = t248 * t255;
-        let t2449: f32 = t250 * t253;
+        let t2436: f32 = t2435 * 0.2892;
+        let t2437: f32 = t1476 * t2436;
+        let t2438: f32 = t2432 - t2437;
+        let t2439: f32 = t360 * t367;
+        let t2440: f32 = t362 * t365;
+        let t2441: f32 = t2439 - t2440;
+        let t2442: f32 = t1515 * t2441;
+        let t2443: f32 = t248 * t255;
+        let t2444: f32 = t250 * t253;
+        let t2445: f32 = t2443 - t2444;
+        let t2446: f32 = t1510 * t2445;
+        let t2447: f32 = t2442 - t2446;
+        let t2448: f32 = t468 * t473;
+        let t2449: f32 = t470 * t471;
         let t2450: f32 = t2448 - t2449;
-        let t2451: f32 = t1499 * t2450;
-        let t2452: f32 = t2447 - t2451;
-        let t2453: f32 = t2443 + t2452;
-        let t2454: f32 = t360 * t367;
-        let t2455: f32 = t362 * t365;
-        let t2456: f32 = t2454 - t2455;
-        let t2457: f32 = t1535 * t2456;
-        let t2458: f32 = t468 * t473;
-        let t2459: f32 = t470 * t471;
-        let t2460: f32 = t2458 - t2459;
-        let t2461: f32 = t1540 * t2460;
-        let t2462: f32 = t2457 + t2461;
-        let t2463: f32 = t14 * t1527;
-        let t2464: f32 = t10 * t1523;
+        let t2451: f32 = t1526 * t2450;
+        let t2452: f32 = t573 * t577;
+        let t2453: f32 = t575 * t576;
+        let t2454: f32 = t2452 - t2453;
+        let t2455: f32 = t1521 * t2454;
+        let t2456: f32 = t2451 - t2455;
+        let t2457: f32 = t2447 + t2456;
+        let t2458: f32 = t2438 + t2457;
+        let t2459: f32 = t27 * t2305;
+        let t2460: f32 = t34 * t1646;
+        let t2461: f32 = t2459 - t2460;
+        let t2462: f32 = t2458 + t2461;
+        let t2463: f32 = t138 * t2326;
+        let t2464: f32 = t141 * t1887;
         let t2465: f32 = t2463 - t2464;
-        let t2466: f32 = t573 * t577;
-        let t2467: f32 = t575 * t576;
-        let t2468: f32 = t2466 - t2467;
-        let t2469: f32 = t1511 * t2468;
-        let t2470: f32 = t2465 - t2469;
-        let t2471: f32 = t2462 + t2470;
-        let t2472: f32 = t2453 + t2471;
-        let t2473: f32 = t27 * t2319;
-        let t2474: f32 = t34 * t1660;
-        let t2475: f32 = t2473 - t2474;
-        let t2476: f32 = t2472 + t2475;
-        let t2477: f32 = t138 * t2340;
-        let t2478: f32 = t141 * t1901;
-        let t2479: f32 = t2477 - t2478;
-        let t2480: f32 = t248 * t2364;
-        let t2481: f32 = t253 * t2006;
-        let t2482: f32 = t2480 + t2481;
-        let t2483: f32 = t2479 - t2482;
-        let t2484: f32 = t2476 + t2483;
-        let t2485: f32 = t360 * t2384;
-        let t2486: f32 = t365 * t2124;
-        let t2487: f32 = t2485 + t2486;
-        let t2488: f32 = t468 * t2406;
-        let t2489: f32 = t471 * t2243;
-        let t2490: f32 = t2488 + t2489;
-        let t2491: f32 = t2487 + t2490;
-        let t2492: f32 = t573 * t2428;
-        let t2493: f32 = t576 * t1768;
-        let t2494: f32 = t2492 + t2493;
-        let t2495: f32 = t1324 * t2262;
-        let t2496: f32 = t1326 * t2435;
-        let t2497: f32 = t2495 - t2496;
-        let t2498: f32 = t2494 - t2497;
-        let t2499: f32 = t2491 - t2498;
-        let t2500: f32 = t2484 + t2499;
-        let t2501: f32 = t1316 * t1430;
-        let t2502: f32 = t2500 * t2501;
-        let t2503: f32 = t2340 + t2364;
-        let t2504: f32 = t2384 + t2406;
-        let t2505: f32 = t2503 + t2504;
-        let t2506: f32 = wx * t3;
-        let t2507: f32 = t1 * t2506;
-        let t2508: f32 = wy * t0;
-        let t2509: f32 = t2507 + t2508;
-        let t2510: f32 = t2509 * 0.36;
-        let t2511: f32 = wy * t2510;
-        let t2512: f32 = wz * t0;
-        let t2513: f32 = wx * t4;
-        let t2514: f32 = t1 * t2513;
-        let t2515: f32 = t2512 - t2514;
-        let t2516: f32 = t2515 * 0.36;
-        let t2517: f32 = wz * t2516;
-        let t2518: f32 = t2511 + t2517;
-        let t2519: f32 = g1 * t36;
-        let t2520: f32 = t44 * t2519;
-        let t2521: f32 = g2 * t143;
-        let t2522: f32 = t151 * t2521;
-        let t2523: f32 = t2520 + t2522;
-        let t2524: f32 = t2518 + t2523;
-        let t2525: f32 = g3 * t255;
-        let t2526: f32 = t263 * t2525;
-        let t2527: f32 = g4 * t367;
-        let t2528: f32 = t375 * t2527;
+        let t2466: f32 = t248 * t2350;
+        let t2467: f32 = t253 * t1992;
+        let t2468: f32 = t2466 + t2467;
+        let t2469: f32 = t2465 - t2468;
+        let t2470: f32 = t2462 + t2469;
+        let t2471: f32 = t360 * t2370;
+        let t2472: f32 = t365 * t2110;
+        let t2473: f32 = t2471 + t2472;
+        let t2474: f32 = t468 * t2392;
+        let t2475: f32 = t471 * t2229;
+        let t2476: f32 = t2474 + t2475;
+        let t2477: f32 = t2473 + t2476;
+        let t2478: f32 = t1323 * t2248;
+        let t2479: f32 = t1325 * t2421;
+        let t2480: f32 = t2478 - t2479;
+        let t2481: f32 = t573 * t2414;
+        let t2482: f32 = t576 * t1754;
+        let t2483: f32 = t2481 + t2482;
+        let t2484: f32 = t2480 - t2483;
+        let t2485: f32 = t2477 + t2484;
+        let t2486: f32 = t2470 + t2485;
+        let t2487: f32 = t1315 * t1429;
+        let t2488: f32 = t2486 * t2487;
+        let t2489: f32 = t2326 + t2350;
+        let t2490: f32 = t2370 + t2392;
+        let t2491: f32 = t2489 + t2490;
+        let t2492: f32 = wx * t3;
+        let t2493: f32 = t1 * t2492;
+        let t2494: f32 = wy * t0;
+        let t2495: f32 = t2493 + t2494;
+        let t2496: f32 = t2495 * 0.36;
+        let t2497: f32 = wy * t2496;
+        let t2498: f32 = wz * t0;
+        let t2499: f32 = wx * t4;
+        let t2500: f32 = t1 * t2499;
+        let t2501: f32 = t2498 - t2500;
+        let t2502: f32 = t2501 * 0.36;
+        let t2503: f32 = wz * t2502;
+        let t2504: f32 = t2497 + t2503;
+        let t2505: f32 = g1 * t36;
+        let t2506: f32 = t44 * t2505;
+        let t2507: f32 = g2 * t143;
+        let t2508: f32 = t151 * t2507;
+        let t2509: f32 = t2506 + t2508;
+        let t2510: f32 = t2504 + t2509;
+        let t2511: f32 = g3 * t255;
+        let t2512: f32 = t263 * t2511;
+        let t2513: f32 = g4 * t367;
+        let t2514: f32 = t375 * t2513;
+        let t2515: f32 = t2512 + t2514;
+        let t2516: f32 = g5 * t473;
+        let t2517: f32 = t481 * t2516;
+        let t2518: f32 = g6 * t577;
+        let t2519: f32 = t585 * t2518;
+        let t2520: f32 = t2517 + t2519;
+        let t2521: f32 = t2515 + t2520;
+        let t2522: f32 = t2510 + t2521;
+        let t2523: f32 = t2414 + t2522;
+        let t2524: f32 = t1346 * t2248;
+        let t2525: f32 = t1355 * t2421;
+        let t2526: f32 = t2524 - t2525;
+        let t2527: f32 = t1368 * t2486;
+        let t2528: f32 = t2305 + t2527;
         let t2529: f32 = t2526 + t2528;
-        let t2530: f32 = g5 * t473;
-        let t2531: f32 = t481 * t2530;
-        let t2532: f32 = g6 * t577;
-        let t2533: f32 = t585 * t2532;
-        let t2534: f32 = t2531 + t2533;
-        let t2535: f32 = t2529 + t2534;
-        let t2536: f32 = t2524 + t2535;
-        let t2537: f32 = t2428 + t2536;
-        let t2538: f32 = t1347 * t2262;
-        let t2539: f32 = t1356 * t2435;
-        let t2540: f32 = t2538 - t2539;
-        let t2541: f32 = t1369 * t2500;
-        let t2542: f32 = t2319 + t2541;
-        let t2543: f32 = t2540 + t2542;
-        let t2544: f32 = t2537 + t2543;
-        let t2545: f32 = t2505 + t2544;
-        let t2546: f32 = t1335 * t1443;
-        let t2547: f32 = t2545 * t2546;
-        let t2548: f32 = t2005 + t2123;
-        let t2549: f32 = t1767 + t2242;
-        let t2550: f32 = t2548 + t2549;
-        let t2551: f32 = t1710 - t2185;
-        let t2552: f32 = g1 * t29;
-        let t2553: f32 = t44 * t2552;
-        let t2554: f32 = wx * t2510;
-        let t2555: f32 = t2553 - t2554;
-        let t2556: f32 = g2 * t140;
-        let t2557: f32 = t151 * t2556;
-        let t2558: f32 = g3 * t250;
-        let t2559: f32 = t263 * t2558;
-        let t2560: f32 = t2557 + t2559;
-        let t2561: f32 = t2555 + t2560;
-        let t2562: f32 = t2551 + t2561;
-        let t2563: f32 = g4 * t362;
-        let t2564: f32 = t375 * t2563;
-        let t2565: f32 = g5 * t470;
-        let t2566: f32 = t481 * t2565;
-        let t2567: f32 = t2564 + t2566;
-        let t2568: f32 = g6 * t575;
-        let t2569: f32 = t585 * t2568;
-        let t2570: f32 = wy * t4;
-        let t2571: f32 = wz * t3;
-        let t2572: f32 = t2570 + t2571;
-        let t2573: f32 = t2572 * 0.36;
-        let t2574: f32 = wz * t1;
-        let t2575: f32 = t2573 * t2574;
-        let t2576: f32 = t2569 - t2575;
-        let t2577: f32 = t2567 + t2576;
-        let t2578: f32 = t1656 + t1897;
-        let t2579: f32 = t1950 - t2068;
-        let t2580: f32 = t2578 + t2579;
-        let t2581: f32 = t2577 + t2580;
-        let t2582: f32 = t2562 + t2581;
-        let t2583: f32 = t1404 * t2262;
-        let t2584: f32 = t1414 * t2435;
-        let t2585: f32 = t2583 - t2584;
-        let t2586: f32 = t2582 + t2585;
-        let t2587: f32 = t1431 * t2500;
-        let t2588: f32 = t1444 * t2545;
-        let t2589: f32 = t2587 - t2588;
-        let t2590: f32 = t1659 + t1900;
-        let t2591: f32 = t2589 + t2590;
-        let t2592: f32 = t2586 + t2591;
-        let t2593: f32 = t2550 - t2592;
-        let t2594: f32 = -t2593;
-        let t2595: f32 = t1392 * t1449;
-        let t2596: f32 = t2594 * t2595;
-        let t2597: f32 = t1776 + t2251;
-        let t2598: f32 = g1 * t39;
-        let t2599: f32 = t44 * t2598;
-        let t2600: f32 = wx * t2516;
-        let t2601: f32 = t2599 - t2600;
-        let t2602: f32 = g2 * t146;
-        let t2603: f32 = t151 * t2602;
-        let t2604: f32 = g3 * t258;
-        let t2605: f32 = t263 * t2604;
-        let t2606: f32 = t2603 + t2605;
-        let t2607: f32 = t2601 + t2606;
-        let t2608: f32 = t2597 + t2607;
-        let t2609: f32 = g4 * t370;
-        let t2610: f32 = t375 * t2609;
-        let t2611: f32 = g5 * t476;
-        let t2612: f32 = t481 * t2611;
-        let t2613: f32 = t2610 + t2612;
-        let t2614: f32 = g6 * t580;
-        let t2615: f32 = t585 * t2614;
-        let t2616: f32 = wy * t1;
-        let t2617: f32 = t2573 * t2616;
-        let t2618: f32 = t2615 + t2617;
-        let t2619: f32 = t2613 + t2618;
-        let t2620: f32 = t1591 + t1830;
-        let t2621: f32 = t2014 + t2132;
-        let t2622: f32 = t2620 + t2621;
-        let t2623: f32 = t2619 + t2622;
-        let t2624: f32 = t2608 + t2623;
-        let t2625: f32 = t2264 + t2437;
-        let t2626: f32 = t1647 + t1888;
-        let t2627: f32 = t2017 + t2135;
-        let t2628: f32 = t1779 + t2254;
-        let t2629: f32 = t2625 + t2626;
-        let t2630: f32 = t2627 + t2628;
-        let t2631: f32 = t2629 + t2630;
-        let t2632: f32 = t2624 + t2631;
-        let t2633: f32 = t2502 + t2547;
-        let t2634: f32 = t2596 + 117.72;
-        let t2635: f32 = t2633 + t2634;
-        let t2636: f32 = t2632 - t2635;
-        let t2637: f32 = t1449 * t1471;
-        let t2638: f32 = t2636 * t2637;
-        let t2639: f32 = t2593 + t2638;
-        let t2640: f32 = t1392 * t2639;
-        let t2641: f32 = -t2640;
-        let t2642: f32 = t1373 * t2641;
-        let t2643: f32 = t1443 * t1471;
-        let t2644: f32 = t2636 * t2643;
-        let t2645: f32 = t2642 + t2644;
-        let t2646: f32 = t2545 - t2645;
-        let t2647: f32 = t1153 * t1335;
-        let t2648: f32 = t2646 * t2647;
-        let t2649: f32 = t1355 * t2641;
-        let t2650: f32 = t1329 * t1335;
-        let t2651: f32 = t2646 * t2650;
-        let t2652: f32 = t1368 * t2641;
-        let t2653: f32 = t1430 * t1471;
-        let t2654: f32 = t2636 * t2653;
-        let t2655: f32 = t2651 + t2652;
-        let t2656: f32 = t2500 + t2655;
-        let t2657: f32 = t2654 - t2656;
-        let t2658: f32 = t1316 * t2657;
-        let t2659: f32 = -t2658;
-        let t2660: f32 = t1311 * t2659;
-        let t2661: f32 = t1413 * t1471;
-        let t2662: f32 = t2636 * t2661;
-        let t2663: f32 = t2434 + t2662;
-        let t2664: f32 = t2433 + t2663;
-        let t2665: f32 = t2648 + t2649;
-        let t2666: f32 = t2660 + t2665;
-        let t2667: f32 = t2664 - t2666;
-        let t2668: f32 = t908 * t1137;
-        let t2669: f32 = t2667 * t2668;
-        let t2670: f32 = t1150 * t1335;
-        let t2671: f32 = t2646 * t2670;
-        let t2672: f32 = t1346 * t2641;
-        let t2673: f32 = t1263 * t2659;
-        let t2674: f32 = t1403 * t1471;
-        let t2675: f32 = t2636 * t2674;
-        let t2676: f32 = t2261 + t2669;
-        let t2677: f32 = t2671 + t2672;
-        let t2678: f32 = t2673 + t2675;
-        let t2679: f32 = t2676 + t2677;
-        let t2680: f32 = t2260 + t2678;
-        let t2681: f32 = t2679 + t2680;
-        let t2682: f32 = t696 * t2681;
-        let t2683: f32 = t1137 * t2667;
-        let t2684: f32 = t83 * t1594;
-        let t2685: f32 = t1613 * t2684;
-        let t2686: f32 = t1619 - t1616;
-        let t2687: f32 = t919 * t2686;
-        let t2688: f32 = t915 * t1640;
-        let t2689: f32 = t2687 + t2688;
-        let t2690: f32 = t2318 + t2689;
-        let t2691: f32 = t2685 * 0.003;
-        let t2692: f32 = t2690 + t2691;
-        let t2693: f32 = t27 * t2692;
-        let t2694: f32 = t62 * t66;
-        let t2695: f32 = t1613 * t2694;
-        let t2696: f32 = t85 * t2306;
-        let t2697: f32 = t61 * t2308;
-        let t2698: f32 = t2696 + t2697;
-        let t2699: f32 = t62 * t2686;
-        let t2700: f32 = t86 * t1640;
-        let t2701: f32 = t2699 + t2700;
-        let t2702: f32 = t2698 + t2701;
-        let t2703: f32 = t2695 * 0.003;
-        let t2704: f32 = t1656 + t2703;
-        let t2705: f32 = t2702 + t2704;
-        let t2706: f32 = t34 * t2705;
-        let t2707: f32 = t189 * t1833;
-        let t2708: f32 = t1854 * t2707;
-        let t2709: f32 = t953 * t1861;
-        let t2710: f32 = t949 * t1881;
-        let t2711: f32 = t2709 + t2710;
-        let t2712: f32 = t2339 + t2711;
-        let t2713: f32 = t2708 * 0.003;
-        let t2714: f32 = t2712 - t2713;
-        let t2715: f32 = t138 * t2714;
-        let t2716: f32 = t168 * t172;
-        let t2717: f32 = t1854 * t2716;
-        let t2718: f32 = t191 * t2327;
-        let t2719: f32 = t167 * t2329;
+        let t2530: f32 = t2523 + t2529;
+        let t2531: f32 = t2491 + t2530;
+        let t2532: f32 = t1334 * t1442;
+        let t2533: f32 = t2531 * t2532;
+        let t2534: f32 = t1991 + t2109;
+        let t2535: f32 = t1753 + t2228;
+        let t2536: f32 = t2534 + t2535;
+        let t2537: f32 = t1696 - t2171;
+        let t2538: f32 = g1 * t29;
+        let t2539: f32 = t44 * t2538;
+        let t2540: f32 = wx * t2496;
+        let t2541: f32 = t2539 - t2540;
+        let t2542: f32 = g2 * t140;
+        let t2543: f32 = t151 * t2542;
+        let t2544: f32 = g3 * t250;
+        let t2545: f32 = t263 * t2544;
+        let t2546: f32 = t2543 + t2545;
+        let t2547: f32 = t2541 + t2546;
+        let t2548: f32 = t2537 + t2547;
+        let t2549: f32 = g4 * t362;
+        let t2550: f32 = t375 * t2549;
+        let t2551: f32 = g5 * t470;
+        let t2552: f32 = t481 * t2551;
+        let t2553: f32 = t2550 + t2552;
+        let t2554: f32 = g6 * t575;
+        let t2555: f32 = t585 * t2554;
+        let t2556: f32 = wy * t4;
+        let t2557: f32 = wz * t3;
+        let t2558: f32 = t2556 + t2557;
+        let t2559: f32 = t2558 * 0.36;
+        let t2560: f32 = wz * t1;
+        let t2561: f32 = t2559 * t2560;
+        let t2562: f32 = t2555 - t2561;
+        let t2563: f32 = t2553 + t2562;
+        let t2564: f32 = t1642 + t1883;
+        let t2565: f32 = t1936 - t2054;
+        let t2566: f32 = t2564 + t2565;
+        let t2567: f32 = t2563 + t2566;
+        let t2568: f32 = t2548 + t2567;
+        let t2569: f32 = t1403 * t2248;
+        let t2570: f32 = t1413 * t2421;
+        let t2571: f32 = t2569 - t2570;
+        let t2572: f32 = t2568 + t2571;
+        let t2573: f32 = t1430 * t2486;
+        let t2574: f32 = t1443 * t2531;
+        let t2575: f32 = t2573 - t2574;
+        let t2576: f32 = t1645 + t1886;
+        let t2577: f32 = t2575 + t2576;
+        let t2578: f32 = t2572 + t2577;
+        let t2579: f32 = t2536 - t2578;
+        let t2580: f32 = -t2579;
+        let t2581: f32 = t1391 * t1448;
+        let t2582: f32 = t2580 * t2581;
+        let t2583: f32 = t1762 + t2237;
+        let t2584: f32 = g1 * t39;
+        let t2585: f32 = t44 * t2584;
+        let t2586: f32 = wx * t2502;
+        let t2587: f32 = t2585 - t2586;
+        let t2588: f32 = g2 * t146;
+        let t2589: f32 = t151 * t2588;
+        let t2590: f32 = g3 * t258;
+        let t2591: f32 = t263 * t2590;
+        let t2592: f32 = t2589 + t2591;
+        let t2593: f32 = t2587 + t2592;
+        let t2594: f32 = t2583 + t2593;
+        let t2595: f32 = g4 * t370;
+        let t2596: f32 = t375 * t2595;
+        let t2597: f32 = g5 * t476;
+        let t2598: f32 = t481 * t2597;
+        let t2599: f32 = t2596 + t2598;
+        let t2600: f32 = g6 * t580;
+        let t2601: f32 = t585 * t2600;
+        let t2602: f32 = wy * t1;
+        let t2603: f32 = t2559 * t2602;
+        let t2604: f32 = t2601 + t2603;
+        let t2605: f32 = t2599 + t2604;
+        let t2606: f32 = t1577 + t1816;
+        let t2607: f32 = t2000 + t2118;
+        let t2608: f32 = t2606 + t2607;
+        let t2609: f32 = t2605 + t2608;
+        let t2610: f32 = t2594 + t2609;
+        let t2611: f32 = t2250 + t2423;
+        let t2612: f32 = t1633 + t1874;
+        let t2613: f32 = t2003 + t2121;
+        let t2614: f32 = t1765 + t2240;
+        let t2615: f32 = t2611 + t2612;
+        let t2616: f32 = t2613 + t2614;
+        let t2617: f32 = t2615 + t2616;
+        let t2618: f32 = t2610 + t2617;
+        let t2619: f32 = t2488 + t2533;
+        let t2620: f32 = t2582 + 117.72;
+        let t2621: f32 = t2619 + t2620;
+        let t2622: f32 = t2618 - t2621;
+        let t2623: f32 = t1448 * t1470;
+        let t2624: f32 = t2622 * t2623;
+        let t2625: f32 = t2579 + t2624;
+        let t2626: f32 = t1391 * t2625;
+        let t2627: f32 = -t2626;
+        let t2628: f32 = t1372 * t2627;
+        let t2629: f32 = t1442 * t1470;
+        let t2630: f32 = t2622 * t2629;
+        let t2631: f32 = t2628 + t2630;
+        let t2632: f32 = t2531 - t2631;
+        let t2633: f32 = t1152 * t1334;
+        let t2634: f32 = t2632 * t2633;
+        let t2635: f32 = t1354 * t2627;
+        let t2636: f32 = t1328 * t1334;
+        let t2637: f32 = t2632 * t2636;
+        let t2638: f32 = t1367 * t2627;
+        let t2639: f32 = t1429 * t1470;
+        let t2640: f32 = t2622 * t2639;
+        let t2641: f32 = t2637 + t2638;
+        let t2642: f32 = t2486 + t2641;
+        let t2643: f32 = t2642 - t2640;
+        let t2644: f32 = t1310 * t1315;
+        let t2645: f32 = t2643 * t2644;
+        let t2646: f32 = t1412 * t1470;
+        let t2647: f32 = t2622 * t2646;
+        let t2648: f32 = t2420 + t2647;
+        let t2649: f32 = t2419 + t2648;
+        let t2650: f32 = t2634 + t2635;
+        let t2651: f32 = t2645 + t2650;
+        let t2652: f32 = t2649 - t2651;
+        let t2653: f32 = t908 * t1136;
+        let t2654: f32 = t2652 * t2653;
+        let t2655: f32 = t1149 * t1334;
+        let t2656: f32 = t2632 * t2655;
+        let t2657: f32 = t1345 * t2627;
+        let t2658: f32 = t1261 * t1315;
+        let t2659: f32 = t2643 * t2658;
+        let t2660: f32 = t1402 * t1470;
+        let t2661: f32 = t2622 * t2660;
+        let t2662: f32 = t2247 + t2654;
+        let t2663: f32 = t2656 + t2657;
+        let t2664: f32 = t2659 + t2661;
+        let t2665: f32 = t2662 + t2663;
+        let t2666: f32 = t2246 + t2664;
+        let t2667: f32 = t2665 + t2666;
+        let t2668: f32 = t696 * t2667;
+        let t2669: f32 = t1136 * t2652;
+        let t2670: f32 = t83 * t1580;
+        let t2671: f32 = t1599 * t2670;
+        let t2672: f32 = t1605 - t1602;
+        let t2673: f32 = t917 * t2672;
+        let t2674: f32 = t913 * t1626;
+        let t2675: f32 = t2673 + t2674;
+        let t2676: f32 = t2304 + t2675;
+        let t2677: f32 = t2671 * 0.003;
+        let t2678: f32 = t2676 + t2677;
+        let t2679: f32 = t27 * t2678;
+        let t2680: f32 = t62 * t66;
+        let t2681: f32 = t1599 * t2680;
+        let t2682: f32 = t85 * t2292;
+        let t2683: f32 = t61 * t2294;
+        let t2684: f32 = t2682 + t2683;
+        let t2685: f32 = t62 * t2672;
+        let t2686: f32 = t86 * t1626;
+        let t2687: f32 = t2685 + t2686;
+        let t2688: f32 = t2684 + t2687;
+        let t2689: f32 = t2681 * 0.003;
+        let t2690: f32 = t1642 + t2689;
+        let t2691: f32 = t2688 + t2690;
+        let t2692: f32 = t34 * t2691;
+        let t2693: f32 = t189 * t1819;
+        let t2694: f32 = t1840 * t2693;
+        let t2695: f32 = t951 * t1847;
+        let t2696: f32 = t947 * t1867;
+        let t2697: f32 = t2695 + t2696;
+        let t2698: f32 = t2325 + t2697;
+        let t2699: f32 = t2694 * 0.003;
+        let t2700: f32 = t2698 - t2699;
+        let t2701: f32 = t138 * t2700;
+        let t2702: f32 = t168 * t172;
+        let t2703: f32 = t1840 * t2702;
+        let t2704: f32 = t191 * t2313;
+        let t2705: f32 = t167 * t2315;
+        let t2706: f32 = t2704 + t2705;
+        let t2707: f32 = t168 * t1847;
+        let t2708: f32 = t192 * t1867;
+        let t2709: f32 = t2707 + t2708;
+        let t2710: f32 = t2706 + t2709;
+        let t2711: f32 = t2703 * 0.003;
+        let t2712: f32 = t1883 + t2710;
+        let t2713: f32 = t2712 - t2711;
+        let t2714: f32 = t141 * t2713;
+        let t2715: f32 = t301 * t1939;
+        let t2716: f32 = t1976 * t2715;
+        let t2717: f32 = t1982 - t1979;
+        let t2718: f32 = t985 * t2717;
+        let t2719: f32 = t981 * t1958;
         let t2720: f32 = t2718 + t2719;
-        let t2721: f32 = t168 * t1861;
-        let t2722: f32 = t192 * t1881;
+        let t2721: f32 = t2349 + t2720;
+        let t2722: f32 = t2716 * 0.003;
         let t2723: f32 = t2721 + t2722;
-        let t2724: f32 = t2720 + t2723;
-        let t2725: f32 = t2717 * 0.003;
-        let t2726: f32 = t1897 + t2724;
-        let t2727: f32 = t2726 - t2725;
-        let t2728: f32 = t141 * t2727;
-        let t2729: f32 = t301 * t1953;
-        let t2730: f32 = t1990 * t2729;
-        let t2731: f32 = t1996 - t1993;
-        let t2732: f32 = t987 * t2731;
-        let t2733: f32 = t983 * t1972;
-        let t2734: f32 = t2732 + t2733;
-        let t2735: f32 = t2363 + t2734;
-        let t2736: f32 = t2730 * 0.003;
-        let t2737: f32 = t2735 + t2736;
-        let t2738: f32 = t248 * t2737;
-        let t2739: f32 = t280 * t284;
-        let t2740: f32 = t1990 * t2739;
-        let t2741: f32 = t303 * t2354;
-        let t2742: f32 = t279 * t2356;
-        let t2743: f32 = t2741 - t2742;
-        let t2744: f32 = t280 * t2731;
-        let t2745: f32 = t304 * t1972;
-        let t2746: f32 = t2744 - t2745;
-        let t2747: f32 = t2743 - t2746;
-        let t2748: f32 = t2740 * 0.003;
-        let t2749: f32 = t1950 + t2748;
-        let t2750: f32 = t2747 - t2749;
-        let t2751: f32 = t253 * t2750;
-        let t2752: f32 = t413 * t2071;
-        let t2753: f32 = t2108 * t2752;
-        let t2754: f32 = t2114 - t2111;
-        let t2755: f32 = t1021 * t2754;
-        let t2756: f32 = t1017 * t2090;
-        let t2757: f32 = t2755 + t2756;
-        let t2758: f32 = t2383 + t2757;
-        let t2759: f32 = t2753 * 0.003;
-        let t2760: f32 = t2758 + t2759;
-        let t2761: f32 = t360 * t2760;
-        let t2762: f32 = t392 * t396;
-        let t2763: f32 = t2108 * t2762;
-        let t2764: f32 = t415 * t2371;
-        let t2765: f32 = t391 * t2373;
-        let t2766: f32 = t2764 - t2765;
-        let t2767: f32 = t392 * t2754;
-        let t2768: f32 = t416 * t2090;
-        let t2769: f32 = t2767 - t2768;
-        let t2770: f32 = t2766 - t2769;
-        let t2771: f32 = t2763 * 0.003;
-        let t2772: f32 = t2068 + t2770;
-        let t2773: f32 = t2772 - t2771;
-        let t2774: f32 = t365 * t2773;
-        let t2775: f32 = t518 * t2188;
-        let t2776: f32 = t2227 * t2775;
-        let t2777: f32 = t1055 * t2234;
-        let t2778: f32 = t1051 * t2207;
-        let t2779: f32 = t2777 + t2778;
-        let t2780: f32 = t2405 + t2779;
-        let t2781: f32 = t2776 * 0.003;
-        let t2782: f32 = t2780 - t2781;
-        let t2783: f32 = t468 * t2782;
-        let t2784: f32 = t497 * t501;
-        let t2785: f32 = t2227 * t2784;
-        let t2786: f32 = t520 * t2393;
-        let t2787: f32 = t496 * t2395;
-        let t2788: f32 = t2786 - t2787;
-        let t2789: f32 = t497 * t2234;
-        let t2790: f32 = t521 * t2207;
-        let t2791: f32 = t2789 - t2790;
-        let t2792: f32 = t2788 - t2791;
-        let t2793: f32 = t2785 * 0.003;
-        let t2794: f32 = t2185 + t2793;
-        let t2795: f32 = t2792 + t2794;
-        let t2796: f32 = t471 * t2795;
-        let t2797: f32 = t622 * t1713;
-        let t2798: f32 = t1752 * t2797;
-        let t2799: f32 = t1089 * t1759;
-        let t2800: f32 = t1085 * t1732;
-        let t2801: f32 = t2799 + t2800;
-        let t2802: f32 = t2427 + t2801;
-        let t2803: f32 = t2798 * 0.003;
-        let t2804: f32 = t2802 - t2803;
-        let t2805: f32 = t573 * t2804;
-        let t2806: f32 = t601 * t605;
-        let t2807: f32 = t1752 * t2806;
-        let t2808: f32 = t624 * t2418;
-        let t2809: f32 = t600 * t2420;
-        let t2810: f32 = t2808 - t2809;
-        let t2811: f32 = t601 * t1759;
-        let t2812: f32 = t625 * t1732;
-        let t2813: f32 = t2811 - t2812;
-        let t2814: f32 = t2810 - t2813;
+        let t2724: f32 = t248 * t2723;
+        let t2725: f32 = t280 * t284;
+        let t2726: f32 = t1976 * t2725;
+        let t2727: f32 = t303 * t2340;
+        let t2728: f32 = t279 * t2342;
+        let t2729: f32 = t2727 - t2728;
+        let t2730: f32 = t280 * t2717;
+        let t2731: f32 = t304 * t1958;
+        let t2732: f32 = t2730 - t2731;
+        let t2733: f32 = t2729 - t2732;
+        let t2734: f32 = t2726 * 0.003;
+        let t2735: f32 = t1936 + t2734;
+        let t2736: f32 = t2733 - t2735;
+        let t2737: f32 = t253 * t2736;
+        let t2738: f32 = t413 * t2057;
+        let t2739: f32 = t2094 * t2738;
+        let t2740: f32 = t2100 - t2097;
+        let t2741: f32 = t1019 * t2740;
+        let t2742: f32 = t1015 * t2076;
+        let t2743: f32 = t2741 + t2742;
+        let t2744: f32 = t2369 + t2743;
+        let t2745: f32 = t2739 * 0.003;
+        let t2746: f32 = t2744 + t2745;
+        let t2747: f32 = t360 * t2746;
+        let t2748: f32 = t392 * t396;
+        let t2749: f32 = t2094 * t2748;
+        let t2750: f32 = t415 * t2357;
+        let t2751: f32 = t391 * t2359;
+        let t2752: f32 = t2750 - t2751;
+        let t2753: f32 = t392 * t2740;
+        let t2754: f32 = t416 * t2076;
+        let t2755: f32 = t2753 - t2754;
+        let t2756: f32 = t2752 - t2755;
+        let t2757: f32 = t2749 * 0.003;
+        let t2758: f32 = t2054 + t2756;
+        let t2759: f32 = t2758 - t2757;
+        let t2760: f32 = t365 * t2759;
+        let t2761: f32 = t518 * t2174;
+        let t2762: f32 = t2213 * t2761;
+        let t2763: f32 = t1053 * t2220;
+        let t2764: f32 = t1049 * t2193;
+        let t2765: f32 = t2763 + t2764;
+        let t2766: f32 = t2391 + t2765;
+        let t2767: f32 = t2762 * 0.003;
+        let t2768: f32 = t2766 - t2767;
+        let t2769: f32 = t468 * t2768;
+        let t2770: f32 = t497 * t501;
+        let t2771: f32 = t2213 * t2770;
+        let t2772: f32 = t520 * t2379;
+        let t2773: f32 = t496 * t2381;
+        let t2774: f32 = t2772 - t2773;
+        let t2775: f32 = t497 * t2220;
+        let t2776: f32 = t521 * t2193;
+        let t2777: f32 = t2775 - t2776;
+        let t2778: f32 = t2774 - t2777;
+        let t2779: f32 = t2771 * 0.003;
+        let t2780: f32 = t2171 + t2779;
+        let t2781: f32 = t2778 + t2780;
+        let t2782: f32 = t471 * t2781;
+        let t2783: f32 = t622 * t1699;
+        let t2784: f32 = t1738 * t2783;
+        let t2785: f32 = t1087 * t1745;
+        let t2786: f32 = t1083 * t1718;
+        let t2787: f32 = t2785 + t2786;
+        let t2788: f32 = t2413 + t2787;
+        let t2789: f32 = t2784 * 0.003;
+        let t2790: f32 = t2788 - t2789;
+        let t2791: f32 = t573 * t2790;
+        let t2792: f32 = t601 * t605;
+        let t2793: f32 = t1738 * t2792;
+        let t2794: f32 = t624 * t2404;
+        let t2795: f32 = t600 * t2406;
+        let t2796: f32 = t2794 - t2795;
+        let t2797: f32 = t601 * t1745;
+        let t2798: f32 = t625 * t1718;
+        let t2799: f32 = t2797 - t2798;
+        let t2800: f32 = t2796 - t2799;
+        let t2801: f32 = t2793 * 0.003;
+        let t2802: f32 = t2800 + t2801;
+        let t2803: f32 = t2802 - t1696;
+        let t2804: f32 = t576 * t2803;
+        let t2805: f32 = t17 * t2691;
+        let t2806: f32 = t66 * t99;
+        let t2807: f32 = t1599 * t2806;
+        let t2808: f32 = t113 * t2292;
+        let t2809: f32 = t79 * t2294;
+        let t2810: f32 = t2808 + t2809;
+        let t2811: f32 = t99 * t2672;
+        let t2812: f32 = t114 * t1626;
+        let t2813: f32 = t2811 + t2812;
+        let t2814: f32 = t2810 + t2813;
         let t2815: f32 = t2807 * 0.003;
-        let t2816: f32 = t2814 + t2815;
-        let t2817: f32 = t2816 - t1710;
-        let t2818: f32 = t576 * t2817;
-        let t2819: f32 = t17 * t2705;
-        let t2820: f32 = t66 * t99;
-        let t2821: f32 = t1613 * t2820;
-        let t2822: f32 = t113 * t2306;
-        let t2823: f32 = t79 * t2308;
+        let t2816: f32 = t1577 + t2815;
+        let t2817: f32 = t2814 + t2816;
+        let t2818: f32 = t27 * t2817;
+        let t2819: f32 = t137 * t2713;
+        let t2820: f32 = t172 * t205;
+        let t2821: f32 = t1840 * t2820;
+        let t2822: f32 = t219 * t2313;
+        let t2823: f32 = t185 * t2315;
         let t2824: f32 = t2822 + t2823;
-        let t2825: f32 = t99 * t2686;
-        let t2826: f32 = t114 * t1640;
+        let t2825: f32 = t205 * t1847;
+        let t2826: f32 = t220 * t1867;
         let t2827: f32 = t2825 + t2826;
         let t2828: f32 = t2824 + t2827;
         let t2829: f32 = t2821 * 0.003;
-        let t2830: f32 = t1591 + t2829;
-        let t2831: f32 = t2828 + t2830;
-        let t2832: f32 = t27 * t2831;
-        let t2833: f32 = t137 * t2727;
-        let t2834: f32 = t172 * t205;
-        let t2835: f32 = t1854 * t2834;
-        let t2836: f32 = t219 * t2327;
-        let t2837: f32 = t185 * t2329;
-        let t2838: f32 = t2836 + t2837;
-        let t2839: f32 = t205 * t1861;
-        let t2840: f32 = t220 * t1881;
-        let t2841: f32 = t2839 + t2840;
+        let t2830: f32 = t1816 + t2828;
+        let t2831: f32 = t2830 - t2829;
+        let t2832: f32 = t138 * t2831;
+        let t2833: f32 = t245 * t2736;
+        let t2834: f32 = t284 * t317;
+        let t2835: f32 = t1976 * t2834;
+        let t2836: f32 = t331 * t2340;
+        let t2837: f32 = t297 * t2342;
+        let t2838: f32 = t2836 - t2837;
+        let t2839: f32 = t332 * t1958;
+        let t2840: f32 = t317 * t2717;
+        let t2841: f32 = t2839 - t2840;
         let t2842: f32 = t2838 + t2841;
         let t2843: f32 = t2835 * 0.003;
-        let t2844: f32 = t1830 + t2842;
+        let t2844: f32 = t2000 + t2842;
         let t2845: f32 = t2844 - t2843;
-        let t2846: f32 = t138 * t2845;
-        let t2847: f32 = t245 * t2750;
-        let t2848: f32 = t284 * t317;
-        let t2849: f32 = t1990 * t2848;
-        let t2850: f32 = t331 * t2354;
-        let t2851: f32 = t297 * t2356;
+        let t2846: f32 = t248 * t2845;
+        let t2847: f32 = t357 * t2759;
+        let t2848: f32 = t396 * t429;
+        let t2849: f32 = t2094 * t2848;
+        let t2850: f32 = t443 * t2357;
+        let t2851: f32 = t409 * t2359;
         let t2852: f32 = t2850 - t2851;
-        let t2853: f32 = t332 * t1972;
-        let t2854: f32 = t317 * t2731;
+        let t2853: f32 = t444 * t2076;
+        let t2854: f32 = t429 * t2740;
         let t2855: f32 = t2853 - t2854;
         let t2856: f32 = t2852 + t2855;
         let t2857: f32 = t2849 * 0.003;
-        let t2858: f32 = t2014 + t2856;
+        let t2858: f32 = t2118 + t2856;
         let t2859: f32 = t2858 - t2857;
-        let t2860: f32 = t248 * t2859;
-        let t2861: f32 = t357 * t2773;
-        let t2862: f32 = t396 * t429;
-        let t2863: f32 = t2108 * t2862;
-        let t2864: f32 = t443 * t2371;
-        let t2865: f32 = t409 * t2373;
+        let t2860: f32 = t360 * t2859;
+        let t2861: f32 = t467 * t2781;
+        let t2862: f32 = t501 * t534;
+        let t2863: f32 = t2213 * t2862;
+        let t2864: f32 = t548 * t2379;
+        let t2865: f32 = t514 * t2381;
         let t2866: f32 = t2864 - t2865;
-        let t2867: f32 = t444 * t2090;
-        let t2868: f32 = t429 * t2754;
+        let t2867: f32 = t549 * t2193;
+        let t2868: f32 = t534 * t2220;
         let t2869: f32 = t2867 - t2868;
         let t2870: f32 = t2866 + t2869;
         let t2871: f32 = t2863 * 0.003;
-        let t2872: f32 = t2132 + t2870;
-        let t2873: f32 = t2872 - t2871;
-        let t2874: f32 = t360 * t2873;
-        let t2875: f32 = t467 * t2795;
-        let t2876: f32 = t501 * t534;
-        let t2877: f32 = t2227 * t2876;
-        let t2878: f32 = t548 * t2393;
-        let t2879: f32 = t514 * t2395;
+        let t2872: f32 = t2237 + t2871;
+        let t2873: f32 = t2870 + t2872;
+        let t2874: f32 = t468 * t2873;
+        let t2875: f32 = t572 * t2803;
+        let t2876: f32 = t605 * t638;
+        let t2877: f32 = t1738 * t2876;
+        let t2878: f32 = t652 * t2404;
+        let t2879: f32 = t618 * t2406;
         let t2880: f32 = t2878 - t2879;
-        let t2881: f32 = t549 * t2207;
-        let t2882: f32 = t534 * t2234;
+        let t2881: f32 = t653 * t1718;
+        let t2882: f32 = t638 * t1745;
         let t2883: f32 = t2881 - t2882;
         let t2884: f32 = t2880 + t2883;
         let t2885: f32 = t2877 * 0.003;
-        let t2886: f32 = t2251 + t2885;
+        let t2886: f32 = t1762 + t2885;
         let t2887: f32 = t2884 + t2886;
-        let t2888: f32 = t468 * t2887;
-        let t2889: f32 = t572 * t2817;
-        let t2890: f32 = t605 * t638;
-        let t2891: f32 = t1752 * t2890;
-        let t2892: f32 = t652 * t2418;
-        let t2893: f32 = t618 * t2420;
-        let t2894: f32 = t2892 - t2893;
-        let t2895: f32 = t653 * t1732;
-        let t2896: f32 = t638 * t1759;
-        let t2897: f32 = t2895 - t2896;
-        let t2898: f32 = t2894 + t2897;
-        let t2899: f32 = t2891 * 0.003;
-        let t2900: f32 = t1776 + t2899;
-        let t2901: f32 = t2898 + t2900;
-        let t2902: f32 = t573 * t2901;
-        let t2903: f32 = t2261 + t2832;
-        let t2904: f32 = t2846 + t2861;
-        let t2905: f32 = t2874 + t2875;
-        let t2906: f32 = t1544 + t2888;
-        let t2907: f32 = t2903 + t2904;
-        let t2908: f32 = t2905 + t2906;
-        let t2909: f32 = t2907 + t2908;
-        let t2910: f32 = t2819 + t2833;
-        let t2911: f32 = t2847 + t2860;
-        let t2912: f32 = t2889 + t2902;
-        let t2913: f32 = t2910 + t2911;
-        let t2914: f32 = t2912 + t2913;
-        let t2915: f32 = t2909 - t2914;
-        let t2916: f32 = t696 * t2915;
-        let t2917: f32 = t1263 * t2916;
-        let t2918: f32 = t17 * t2692;
-        let t2919: f32 = t34 * t2831;
-        let t2920: f32 = t137 * t2714;
-        let t2921: f32 = t141 * t2845;
-        let t2922: f32 = t245 * t2737;
-        let t2923: f32 = t253 * t2859;
-        let t2924: f32 = t357 * t2760;
-        let t2925: f32 = t365 * t2873;
-        let t2926: f32 = t467 * t2782;
-        let t2927: f32 = t471 * t2887;
-        let t2928: f32 = t572 * t2804;
-        let t2929: f32 = t576 * t2901;
-        let t2930: f32 = t908 * t2916;
-        let t2931: f32 = t2434 + t2918;
-        let t2932: f32 = t2920 + t2923;
-        let t2933: f32 = t2924 + t2926;
-        let t2934: f32 = t2929 + t2930;
-        let t2935: f32 = t2931 + t2932;
-        let t2936: f32 = t2933 + t2934;
-        let t2937: f32 = t2935 + t2936;
-        let t2938: f32 = t2300 + t2937;
-        let t2939: f32 = t2919 + t2921;
-        let t2940: f32 = t2922 + t2925;
-        let t2941: f32 = t2927 + t2928;
-        let t2942: f32 = t2939 + t2940;
-        let t2943: f32 = t2941 + t2942;
-        let t2944: f32 = t2938 - t2943;
-        let t2945: f32 = t1137 * t2944;
-        let t2946: f32 = t1311 * t2945;
-        let t2947: f32 = t2693 + t2715;
-        let t2948: f32 = t2761 + t2774;
-        let t2949: f32 = t2783 + t2796;
-        let t2950: f32 = t2472 + t2917;
-        let t2951: f32 = t2947 + t2948;
-        let t2952: f32 = t2949 + t2950;
-        let t2953: f32 = t2951 + t2952;
-        let t2954: f32 = t2706 + t2728;
-        let t2955: f32 = t2738 + t2751;
-        let t2956: f32 = t2805 + t2818;
-        let t2957: f32 = t2954 + t2955;
-        let t2958: f32 = t2946 + t2956;
-        let t2959: f32 = t2957 + t2958;
-        let t2960: f32 = t2953 - t2959;
-        let t2961: f32 = t1316 * t2960;
-        let t2962: f32 = t1335 * t1369;
-        let t2963: f32 = t2646 * t2962;
-        let t2964: f32 = t1431 * t2641;
-        let t2965: f32 = t1403 * t2916;
-        let t2966: f32 = t1413 * t2945;
-        let t2967: f32 = t1430 * t2961;
-        let t2968: f32 = t1150 * t2916;
-        let t2969: f32 = t1153 * t2945;
-        let t2970: f32 = t1329 * t2961;
-        let t2971: f32 = t2685 + t2730;
-        let t2972: f32 = t2753 + t2971;
-        let t2973: f32 = t2708 + t2776;
-        let t2974: f32 = t2798 + t2973;
-        let t2975: f32 = t2972 - t2974;
-        let t2976: f32 = t2975 * 0.003;
-        let t2977: f32 = t2968 + t2976;
-        let t2978: f32 = t2536 + t2970;
-        let t2979: f32 = t2690 + t2712;
-        let t2980: f32 = t2735 + t2758;
-        let t2981: f32 = t2780 + t2802;
-        let t2982: f32 = t2977 + t2978;
-        let t2983: f32 = t2979 + t2980;
-        let t2984: f32 = t2982 + t2983;
-        let t2985: f32 = t2981 + t2984;
-        let t2986: f32 = t2985 - t2969;
-        let t2987: f32 = t1335 * t2986;
-        let t2988: f32 = t1443 * t2987;
-        let t2989: f32 = t1346 * t2916;
-        let t2990: f32 = t1355 * t2945;
-        let t2991: f32 = t1368 * t2961;
-        let t2992: f32 = t1373 * t2987;
-        let t2993: f32 = t2695 + t2740;
-        let t2994: f32 = t2763 + t2993;
-        let t2995: f32 = t2717 + t2785;
-        let t2996: f32 = t2807 + t2995;
-        let t2997: f32 = t2994 - t2996;
-        let t2998: f32 = t2997 * 0.003;
-        let t2999: f32 = t2989 + t2998;
-        let t3000: f32 = t2582 + t2991;
-        let t3001: f32 = t2702 + t2724;
-        let t3002: f32 = t2999 + t3000;
+        let t2888: f32 = t573 * t2887;
+        let t2889: f32 = t2247 + t2818;
+        let t2890: f32 = t2832 + t2847;
+        let t2891: f32 = t2860 + t2861;
+        let t2892: f32 = t1530 + t2874;
+        let t2893: f32 = t2889 + t2890;
+        let t2894: f32 = t2891 + t2892;
+        let t2895: f32 = t2893 + t2894;
+        let t2896: f32 = t2805 + t2819;
+        let t2897: f32 = t2833 + t2846;
+        let t2898: f32 = t2875 + t2888;
+        let t2899: f32 = t2896 + t2897;
+        let t2900: f32 = t2898 + t2899;
+        let t2901: f32 = t2895 - t2900;
+        let t2902: f32 = t696 * t2901;
+        let t2903: f32 = t1261 * t2902;
+        let t2904: f32 = t17 * t2678;
+        let t2905: f32 = t34 * t2817;
+        let t2906: f32 = t137 * t2700;
+        let t2907: f32 = t141 * t2831;
+        let t2908: f32 = t245 * t2723;
+        let t2909: f32 = t253 * t2845;
+        let t2910: f32 = t357 * t2746;
+        let t2911: f32 = t365 * t2859;
+        let t2912: f32 = t467 * t2768;
+        let t2913: f32 = t471 * t2873;
+        let t2914: f32 = t572 * t2790;
+        let t2915: f32 = t576 * t2887;
+        let t2916: f32 = t908 * t2902;
+        let t2917: f32 = t2420 + t2904;
+        let t2918: f32 = t2906 + t2909;
+        let t2919: f32 = t2910 + t2912;
+        let t2920: f32 = t2915 + t2916;
+        let t2921: f32 = t2917 + t2918;
+        let t2922: f32 = t2919 + t2920;
+        let t2923: f32 = t2921 + t2922;
+        let t2924: f32 = t2286 + t2923;
+        let t2925: f32 = t2905 + t2907;
+        let t2926: f32 = t2908 + t2911;
+        let t2927: f32 = t2913 + t2914;
+        let t2928: f32 = t2925 + t2926;
+        let t2929: f32 = t2927 + t2928;
+        let t2930: f32 = t2924 - t2929;
+        let t2931: f32 = t1136 * t2930;
+        let t2932: f32 = t1310 * t2931;
+        let t2933: f32 = t2679 + t2701;
+        let t2934: f32 = t2747 + t2760;
+        let t2935: f32 = t2769 + t2782;
+        let t2936: f32 = t2458 + t2903;
+        let t2937: f32 = t2933 + t2934;
+        let t2938: f32 = t2935 + t2936;
+        let t2939: f32 = t2937 + t2938;
+        let t2940: f32 = t2692 + t2714;
+        let t2941: f32 = t2724 + t2737;
+        let t2942: f32 = t2791 + t2804;
+        let t2943: f32 = t2940 + t2941;
+        let t2944: f32 = t2932 + t2942;
+        let t2945: f32 = t2943 + t2944;
+        let t2946: f32 = t2939 - t2945;
+        let t2947: f32 = t1315 * t2946;
+        let t2948: f32 = t1334 * t1368;
+        let t2949: f32 = t2632 * t2948;
+        let t2950: f32 = t1430 * t2627;
+        let t2951: f32 = t1402 * t2902;
+        let t2952: f32 = t1412 * t2931;
+        let t2953: f32 = t1429 * t2947;
+        let t2954: f32 = t1149 * t2902;
+        let t2955: f32 = t1152 * t2931;
+        let t2956: f32 = t1328 * t2947;
+        let t2957: f32 = t2671 + t2716;
+        let t2958: f32 = t2739 + t2957;
+        let t2959: f32 = t2694 + t2762;
+        let t2960: f32 = t2784 + t2959;
+        let t2961: f32 = t2958 - t2960;
+        let t2962: f32 = t2961 * 0.003;
+        let t2963: f32 = t2954 + t2962;
+        let t2964: f32 = t2522 + t2956;
+        let t2965: f32 = t2676 + t2698;
+        let t2966: f32 = t2721 + t2744;
+        let t2967: f32 = t2766 + t2788;
+        let t2968: f32 = t2963 + t2964;
+        let t2969: f32 = t2965 + t2966;
+        let t2970: f32 = t2968 + t2969;
+        let t2971: f32 = t2967 + t2970;
+        let t2972: f32 = t2971 - t2955;
+        let t2973: f32 = t1334 * t2972;
+        let t2974: f32 = t1442 * t2973;
+        let t2975: f32 = t1345 * t2902;
+        let t2976: f32 = t1354 * t2931;
+        let t2977: f32 = t1367 * t2947;
+        let t2978: f32 = t1372 * t2973;
+        let t2979: f32 = t2681 + t2726;
+        let t2980: f32 = t2749 + t2979;
+        let t2981: f32 = t2703 + t2771;
+        let t2982: f32 = t2793 + t2981;
+        let t2983: f32 = t2980 - t2982;
+        let t2984: f32 = t2983 * 0.003;
+        let t2985: f32 = t2975 + t2984;
+        let t2986: f32 = t2568 + t2977;
+        let t2987: f32 = t2688 + t2710;
+        let t2988: f32 = t2985 + t2986;
+        let t2989: f32 = t2987 + t2988;
+        let t2990: f32 = t2976 + t2978;
+        let t2991: f32 = t2733 + t2756;
+        let t2992: f32 = t2778 + t2800;
+        let t2993: f32 = t2990 + t2991;
+        let t2994: f32 = t2992 + t2993;
+        let t2995: f32 = t2989 - t2994;
+        let t2996: f32 = t1391 * t2995;
+        let t2997: f32 = t1448 * t2996;
+        let t2998: f32 = t2807 + t2863;
+        let t2999: f32 = t2877 + t2998;
+        let t3000: f32 = t2821 + t2835;
+        let t3001: f32 = t2849 + t3000;
+        let t3002: f32 = t2999 - t3001;
         (
-            t2219,
-            t2268,
-            t2274,
+            t2205,
+            t2259,
+            t2263,
+            t2269,
+            t2273,
             t2278,
-            t2284,
-            t2288,
-            t2296,
-            t2440,
-            t2446,
+            t2282,
+            t2426,
+            t2430,
+            t2441,
+            t2445,
             t2450,
-            t2456,
-            t2460,
-            t2468,
-            t2501,
-            t2624,
-            t2641,
-            t2646,
-            t2682,
-            t2683,
-            t2747,
-            t2770,
-            t2792,
+            t2454,
+            t2487,
+            t2610,
+            t2627,
+            t2632,
+            t2668,
+            t2669,
             t2814,
-            t2821,
             t2828,
-            t2835,
             t2842,
-            t2849,
             t2856,
-            t2863,
             t2870,
-            t2877,
             t2884,
-            t2891,
-            t2898,
-            t2961,
-            t2963,
-            t2964,
-            t2965,
-            t2966,
-            t2967,
-            t2988,
-            t2990,
-            t2992,
-            t3001,
+            t2947,
+            t2949,
+            t2950,
+            t2951,
+            t2952,
+            t2953,
+            t2974,
+            t2997,
             t3002,
         )
     };
     let (
-        t3035,
-        t3036,
-        t3037,
+        t3021,
+        t3022,
+        t3023,
+        t3024,
+        t3025,
+        t3026,
+        t3027,
+        t3028,
+        t3029,
         t3038,
-        t3039,
-        t3040,
-        t3041,
-        t3042,
-        t3043,
-        t3052,
-        t3079,
-        t3126,
-        t3194,
-        t3284,
-        t3398,
+        t3065,
+        t3112,
+        t3180,
+        t3270,
+        t3384,
     ) = {
-        let t3003: f32 = t3001 + t3002;
-        let t3004: f32 = t2990 + t2992;
-        let t3005: f32 = t2747 + t2770;
-        let t3006: f32 = t2792 + t2814;
-        let t3007: f32 = t3004 + t3005;
-        let t3008: f32 = t3006 + t3007;
-        let t3009: f32 = t3003 - t3008;
-        let t3010: f32 = t1392 * t3009;
-        let t3011: f32 = t1449 * t3010;
-        let t3012: f32 = t2821 + t2877;
-        let t3013: f32 = t2891 + t3012;
-        let t3014: f32 = t2835 + t2849;
-        let t3015: f32 = t2863 + t3014;
-        let t3016: f32 = t3013 - t3015;
-        let t3017: f32 = t3016 * 0.003;
-        let t3018: f32 = t2965 + t3017;
-        let t3019: f32 = t2828 + t2966;
-        let t3020: f32 = t2842 + t2856;
-        let t3021: f32 = t2870 + t2884;
-        let t3022: f32 = t2624 + t2898;
-        let t3023: f32 = t3018 + t3019;
-        let t3024: f32 = t3020 + t3021;
-        let t3025: f32 = t3023 + t3024;
-        let t3026: f32 = t3022 + t3025;
-        let t3027: f32 = t2967 + t2988;
-        let t3028: f32 = t3011 + 117.72;
-        let t3029: f32 = t3027 + t3028;
-        let t3030: f32 = t3026 - t3029;
-        let t3031: f32 = t1471 * t2501;
-        let t3032: f32 = t3030 * t3031;
-        let t3033: f32 = t2961 + t2963;
-        let t3034: f32 = t2964 + t3033;
-        let t3035: f32 = t3032 - t3034;
-        let t3036: f32 = t1335 * t2646;
-        let t3037: f32 = t1471 * t3030;
-        let t3038: f32 = t44 * t59;
-        let t3039: f32 = t151 * t165;
-        let t3040: f32 = t263 * t277;
-        let t3041: f32 = t375 * t389;
-        let t3042: f32 = t481 * t494;
-        let t3043: f32 = t585 * t598;
-        let t3044: f32 = t44 * t44;
-        let t3045: f32 = t1492 * t1492;
-        let t3046: f32 = t2268 * t2268;
-        let t3047: f32 = t2440 * t2440;
-        let t3048: f32 = t3045 + t3046;
-        let t3049: f32 = t3047 + t3048;
-        let t3050: f32 = t3044 * t3049;
-        let t3051: f32 = t3050 + 1.0;
-        let t3052: f32 = t3051 / t3051;
-        let t3053: f32 = t2446 * t2446;
-        let t3054: f32 = t1846 * t3053;
-        let t3055: f32 = t1503 * t1503;
-        let t3056: f32 = t1846 * t3055;
-        let t3057: f32 = t2274 * t2274;
-        let t3058: f32 = t1846 * t3057;
-        let t3059: f32 = t3056 + t3058;
-        let t3060: f32 = t3054 + t3059;
-        let t3061: f32 = t3060 + 1.0;
-        let t3062: f32 = t1492 * t1503;
-        let t3063: f32 = t2268 * t2274;
-        let t3064: f32 = t2440 * t2446;
-        let t3065: f32 = t36 * t143;
-        let t3066: f32 = t29 * t140;
-        let t3067: f32 = t39 * t146;
-        let t3068: f32 = t3062 + t3063;
-        let t3069: f32 = t3064 + t3065;
-        let t3070: f32 = t3066 + t3067;
-        let t3071: f32 = t3068 + t3069;
-        let t3072: f32 = t3070 + t3071;
-        let t3073: f32 = t44 * t151;
-        let t3074: f32 = t3072 * t3073;
-        let t3075: f32 = 1.0 / t3051;
-        let t3076: f32 = t3074 * t3075;
-        let t3077: f32 = t3074 * t3076;
-        let t3078: f32 = t3061 - t3077;
-        let t3079: f32 = t3078 / t3061;
-        let t3080: f32 = t263 * t263;
-        let t3081: f32 = t2450 * t2450;
-        let t3082: f32 = t3080 * t3081;
-        let t3083: f32 = t1498 * t1498;
-        let t3084: f32 = t3080 * t3083;
-        let t3085: f32 = t2278 * t2278;
-        let t3086: f32 = t3080 * t3085;
-        let t3087: f32 = t3084 + t3086;
-        let t3088: f32 = t3082 + t3087;
-        let t3089: f32 = t3088 + 1.0;
-        let t3090: f32 = t1492 * t1498;
-        let t3091: f32 = t2268 * t2278;
-        let t3092: f32 = t2440 * t2450;
-        let t3093: f32 = t36 * t255;
-        let t3094: f32 = t29 * t250;
-        let t3095: f32 = t39 * t258;
-        let t3096: f32 = t3090 + t3091;
-        let t3097: f32 = t3092 + t3096;
-        let t3098: f32 = t3093 + t3094;
-        let t3099: f32 = t3095 + t3098;
-        let t3100: f32 = t3097 - t3099;
-        let t3101: f32 = t44 * t263;
-        let t3102: f32 = t3100 * t3101;
-        let t3103: f32 = t3075 * t3102;
+        let t3003: f32 = t3002 * 0.003;
+        let t3004: f32 = t2951 + t3003;
+        let t3005: f32 = t2814 + t2952;
+        let t3006: f32 = t2828 + t2842;
+        let t3007: f32 = t2856 + t2870;
+        let t3008: f32 = t2610 + t2884;
+        let t3009: f32 = t3004 + t3005;
+        let t3010: f32 = t3006 + t3007;
+        let t3011: f32 = t3009 + t3010;
+        let t3012: f32 = t3008 + t3011;
+        let t3013: f32 = t2953 + t2974;
+        let t3014: f32 = t2997 + 117.72;
+        let t3015: f32 = t3013 + t3014;
+        let t3016: f32 = t3012 - t3015;
+        let t3017: f32 = t1470 * t2487;
+        let t3018: f32 = t3016 * t3017;
+        let t3019: f32 = t2947 + t2949;
+        let t3020: f32 = t2950 + t3019;
+        let t3021: f32 = t3018 - t3020;
+        let t3022: f32 = t1334 * t2632;
+        let t3023: f32 = t1470 * t3016;
+        let t3024: f32 = t44 * t59;
+        let t3025: f32 = t151 * t165;
+        let t3026: f32 = t263 * t277;
+        let t3027: f32 = t375 * t389;
+        let t3028: f32 = t481 * t494;
+        let t3029: f32 = t585 * t598;
+        let t3030: f32 = t44 * t44;
+        let t3031: f32 = t1497 * t1497;
+        let t3032: f32 = t2259 * t2259;
+        let t3033: f32 = t2426 * t2426;
+        let t3034: f32 = t3031 + t3032;
+        let t3035: f32 = t3033 + t3034;
+        let t3036: f32 = t3030 * t3035;
+        let t3037: f32 = t3036 + 1.0;
+        let t3038: f32 = t3037 / t3037;
+        let t3039: f32 = t2430 * t2430;
+        let t3040: f32 = t1832 * t3039;
+        let t3041: f32 = t1502 * t1502;
+        let t3042: f32 = t1832 * t3041;
+        let t3043: f32 = t2263 * t2263;
+        let t3044: f32 = t1832 * t3043;
+        let t3045: f32 = t3042 + t3044;
+        let t3046: f32 = t3040 + t3045;
+        let t3047: f32 = t3046 + 1.0;
+        let t3048: f32 = t1497 * t1502;
+        let t3049: f32 = t2259 * t2263;
+        let t3050: f32 = t2426 * t2430;
+        let t3051: f32 = t36 * t143;
+        let t3052: f32 = t29 * t140;
+        let t3053: f32 = t39 * t146;
+        let t3054: f32 = t3048 + t3049;
+        let t3055: f32 = t3050 + t3051;
+        let t3056: f32 = t3052 + t3053;
+        let t3057: f32 = t3054 + t3055;
+        let t3058: f32 = t3056 + t3057;
+        let t3059: f32 = t44 * t151;
+        let t3060: f32 = t3058 * t3059;
+        let t3061: f32 = 1.0 / t3037;
+        let t3062: f32 = t3060 * t3061;
+        let t3063: f32 = t3060 * t3062;
+        let t3064: f32 = t3047 - t3063;
+        let t3065: f32 = t3064 / t3047;
+        let t3066: f32 = t263 * t263;
+        let t3067: f32 = t2445 * t2445;
+        let t3068: f32 = t3066 * t3067;
+        let t3069: f32 = t1509 * t1509;
+        let t3070: f32 = t3066 * t3069;
+        let t3071: f32 = t2273 * t2273;
+        let t3072: f32 = t3066 * t3071;
+        let t3073: f32 = t3070 + t3072;
+        let t3074: f32 = t3068 + t3073;
+        let t3075: f32 = t3074 + 1.0;
+        let t3076: f32 = t1497 * t1509;
+        let t3077: f32 = t2259 * t2273;
+        let t3078: f32 = t2426 * t2445;
+        let t3079: f32 = t36 * t255;
+        let t3080: f32 = t29 * t250;
+        let t3081: f32 = t39 * t258;
+        let t3082: f32 = t3076 + t3077;
+        let t3083: f32 = t3078 + t3082;
+        let t3084: f32 = t3079 + t3080;
+        let t3085: f32 = t3081 + t3084;
+        let t3086: f32 = t3083 - t3085;
+        let t3087: f32 = t44 * t263;
+        let t3088: f32 = t3086 * t3087;
+        let t3089: f32 = t3061 * t3088;
+        let t3090: f32 = t3088 * t3089;
+        let t3091: f32 = t3062 * t3088;
+        let t3092: f32 = t1502 * t1509;
+        let t3093: f32 = t2263 * t2273;
+        let t3094: f32 = t2430 * t2445;
+        let t3095: f32 = t143 * t255;
+        let t3096: f32 = t140 * t250;
+        let t3097: f32 = t146 * t258;
+        let t3098: f32 = t3092 + t3093;
+        let t3099: f32 = t3094 + t3098;
+        let t3100: f32 = t3095 + t3096;
+        let t3101: f32 = t3097 + t3100;
+        let t3102: f32 = t3099 - t3101;
+        let t3103: f32 = t151 * t263;
         let t3104: f32 = t3102 * t3103;
-        let t3105: f32 = t3076 * t3102;
-        let t3106: f32 = t1498 * t1503;
-        let t3107: f32 = t2274 * t2278;
-        let t3108: f32 = t2446 * t2450;
-        let t3109: f32 = t143 * t255;
-        let t3110: f32 = t140 * t250;
-        let t3111: f32 = t146 * t258;
-        let t3112: f32 = t3106 + t3107;
-        let t3113: f32 = t3108 + t3112;
-        let t3114: f32 = t3109 + t3110;
-        let t3115: f32 = t3111 + t3114;
-        let t3116: f32 = t3113 - t3115;
-        let t3117: f32 = t151 * t263;
-        let t3118: f32 = t3116 * t3117;
-        let t3119: f32 = t3105 - t3118;
-        let t3120: f32 = -t3119;
-        let t3121: f32 = 1.0 / t3078;
-        let t3122: f32 = t3120 * t3121;
-        let t3123: f32 = t3120 * t3122;
-        let t3124: f32 = t3104 + t3123;
-        let t3125: f32 = t3089 - t3124;
-        let t3126: f32 = t3125 / t3089;
-        let t3127: f32 = t375 * t375;
-        let t3128: f32 = t2456 * t2456;
-        let t3129: f32 = t3127 * t3128;
-        let t3130: f32 = t1534 * t1534;
-        let t3131: f32 = t3127 * t3130;
-        let t3132: f32 = t2284 * t2284;
-        let t3133: f32 = t3127 * t3132;
-        let t3134: f32 = t3131 + t3133;
-        let t3135: f32 = t3129 + t3134;
-        let t3136: f32 = t3135 + 1.0;
-        let t3137: f32 = t1492 * t1534;
-        let t3138: f32 = t2268 * t2284;
-        let t3139: f32 = t2440 * t2456;
-        let t3140: f32 = t36 * t367;
-        let t3141: f32 = t29 * t362;
-        let t3142: f32 = t39 * t370;
-        let t3143: f32 = t3137 + t3138;
-        let t3144: f32 = t3139 + t3140;
-        let t3145: f32 = t3141 + t3142;
-        let t3146: f32 = t3143 + t3144;
-        let t3147: f32 = t3145 + t3146;
-        let t3148: f32 = t44 * t375;
-        let t3149: f32 = t3147 * t3148;
-        let t3150: f32 = t3075 * t3149;
+        let t3105: f32 = t3091 - t3104;
+        let t3106: f32 = -t3105;
+        let t3107: f32 = 1.0 / t3064;
+        let t3108: f32 = t3106 * t3107;
+        let t3109: f32 = t3106 * t3108;
+        let t3110: f32 = t3090 + t3109;
+        let t3111: f32 = t3075 - t3110;
+        let t3112: f32 = t3111 / t3075;
+        let t3113: f32 = t375 * t375;
+        let t3114: f32 = t2441 * t2441;
+        let t3115: f32 = t3113 * t3114;
+        let t3116: f32 = t1514 * t1514;
+        let t3117: f32 = t3113 * t3116;
+        let t3118: f32 = t2269 * t2269;
+        let t3119: f32 = t3113 * t3118;
+        let t3120: f32 = t3117 + t3119;
+        let t3121: f32 = t3115 + t3120;
+        let t3122: f32 = t3121 + 1.0;
+        let t3123: f32 = t1497 * t1514;
+        let t3124: f32 = t2259 * t2269;
+        let t3125: f32 = t2426 * t2441;
+        let t3126: f32 = t36 * t367;
+        let t3127: f32 = t29 * t362;
+        let t3128: f32 = t39 * t370;
+        let t3129: f32 = t3123 + t3124;
+        let t3130: f32 = t3125 + t3126;
+        let t3131: f32 = t3127 + t3128;
+        let t3132: f32 = t3129 + t3130;
+        let t3133: f32 = t3131 + t3132;
+        let t3134: f32 = t44 * t375;
+        let t3135: f32 = t3133 * t3134;
+        let t3136: f32 = t3061 * t3135;
+        let t3137: f32 = t3135 * t3136;
+        let t3138: f32 = t3062 * t3135;
+        let t3139: f32 = t1502 * t1514;
+        let t3140: f32 = t2263 * t2269;
+        let t3141: f32 = t2430 * t2441;
+        let t3142: f32 = t143 * t367;
+        let t3143: f32 = t140 * t362;
+        let t3144: f32 = t146 * t370;
+        let t3145: f32 = t3139 + t3140;
+        let t3146: f32 = t3141 + t3142;
+        let t3147: f32 = t3143 + t3144;
+        let t3148: f32 = t3145 + t3146;
+        let t3149: f32 = t3147 + t3148;
+        let t3150: f32 = t151 * t375;
         let t3151: f32 = t3149 * t3150;
-        let t3152: f32 = t3076 * t3149;
-        let t3153: f32 = t1503 * t1534;
-        let t3154: f32 = t2274 * t2284;
-        let t3155: f32 = t2446 * t2456;
-        let t3156: f32 = t143 * t367;
-        let t3157: f32 = t140 * t362;
-        let t3158: f32 = t146 * t370;
-        let t3159: f32 = t3153 + t3154;
-        let t3160: f32 = t3155 + t3156;
-        let t3161: f32 = t3157 + t3158;
-        let t3162: f32 = t3159 + t3160;
-        let t3163: f32 = t3161 + t3162;
-        let t3164: f32 = t151 * t375;
-        let t3165: f32 = t3163 * t3164;
-        let t3166: f32 = t3152 - t3165;
-        let t3167: f32 = -t3166;
-        let t3168: f32 = t3121 * t3167;
-        let t3169: f32 = t3167 * t3168;
-        let t3170: f32 = t3103 * t3149;
-        let t3171: f32 = t3122 * t3167;
-        let t3172: f32 = t1498 * t1534;
-        let t3173: f32 = t2278 * t2284;
-        let t3174: f32 = t2450 * t2456;
-        let t3175: f32 = t255 * t367;
-        let t3176: f32 = t250 * t362;
-        let t3177: f32 = t258 * t370;
-        let t3178: f32 = t3172 + t3173;
-        let t3179: f32 = t3174 + t3178;
-        let t3180: f32 = t3175 + t3176;
-        let t3181: f32 = t3177 + t3180;
-        let t3182: f32 = t3179 - t3181;
-        let t3183: f32 = t263 * t375;
-        let t3184: f32 = t3182 * t3183;
-        let t3185: f32 = t3170 + t3171;
-        let t3186: f32 = t3185 - t3184;
-        let t3187: f32 = -t3186;
-        let t3188: f32 = 1.0 / t3125;
-        let t3189: f32 = t3187 * t3188;
-        let t3190: f32 = t3187 * t3189;
-        let t3191: f32 = t3151 + t3169;
-        let t3192: f32 = t3190 + t3191;
-        let t3193: f32 = t3136 - t3192;
-        let t3194: f32 = t3193 / t3136;
-        let t3195: f32 = t2460 * t2460;
-        let t3196: f32 = t2219 * t3195;
-        let t3197: f32 = t1539 * t1539;
-        let t3198: f32 = t2219 * t3197;
-        let t3199: f32 = t2288 * t2288;
-        let t3200: f32 = t2219 * t3199;
-        let t3201: f32 = t3198 + t3200;
-        let t3202: f32 = t3196 + t3201;
-        let t3203: f32 = t3202 + 1.0;
-        let t3204: f32 = t1492 * t1539;
-        let t3205: f32 = t2268 * t2288;
-        let t3206: f32 = t2440 * t2460;
-        let t3207: f32 = t36 * t473;
-        let t3208: f32 = t29 * t470;
-        let t3209: f32 = t39 * t476;
-        let t3210: f32 = t3204 + t3205;
-        let t3211: f32 = t3206 + t3207;
-        let t3212: f32 = t3208 + t3209;
-        let t3213: f32 = t3210 + t3211;
-        let t3214: f32 = t3212 + t3213;
-        let t3215: f32 = t44 * t481;
-        let t3216: f32 = t3214 * t3215;
-        let t3217: f32 = t3075 * t3216;
+        let t3152: f32 = t3138 - t3151;
+        let t3153: f32 = -t3152;
+        let t3154: f32 = t3107 * t3153;
+        let t3155: f32 = t3153 * t3154;
+        let t3156: f32 = t3089 * t3135;
+        let t3157: f32 = t3108 * t3153;
+        let t3158: f32 = t1509 * t1514;
+        let t3159: f32 = t2269 * t2273;
+        let t3160: f32 = t2441 * t2445;
+        let t3161: f32 = t255 * t367;
+        let t3162: f32 = t250 * t362;
+        let t3163: f32 = t258 * t370;
+        let t3164: f32 = t3158 + t3159;
+        let t3165: f32 = t3160 + t3164;
+        let t3166: f32 = t3161 + t3162;
+        let t3167: f32 = t3163 + t3166;
+        let t3168: f32 = t3165 - t3167;
+        let t3169: f32 = t263 * t375;
+        let t3170: f32 = t3168 * t3169;
+        let t3171: f32 = t3156 + t3157;
+        let t3172: f32 = t3171 - t3170;
+        let t3173: f32 = -t3172;
+        let t3174: f32 = 1.0 / t3111;
+        let t3175: f32 = t3173 * t3174;
+        let t3176: f32 = t3173 * t3175;
+        let t3177: f32 = t3137 + t3155;
+        let t3178: f32 = t3176 + t3177;
+        let t3179: f32 = t3122 - t3178;
+        let t3180: f32 = t3179 / t3122;
+        let t3181: f32 = t2450 * t2450;
+        let t3182: f32 = t2205 * t3181;
+        let t3183: f32 = t1525 * t1525;
+        let t3184: f32 = t2205 * t3183;
+        let t3185: f32 = t2278 * t2278;
+        let t3186: f32 = t2205 * t3185;
+        let t3187: f32 = t3184 + t3186;
+        let t3188: f32 = t3182 + t3187;
+        let t3189: f32 = t3188 + 1.0;
+        let t3190: f32 = t1497 * t1525;
+        let t3191: f32 = t2259 * t2278;
+        let t3192: f32 = t2426 * t2450;
+        let t3193: f32 = t36 * t473;
+        let t3194: f32 = t29 * t470;
+        let t3195: f32 = t39 * t476;
+        let t3196: f32 = t3190 + t3191;
+        let t3197: f32 = t3192 + t3193;
+        let t3198: f32 = t3194 + t3195;
+        let t3199: f32 = t3196 + t3197;
+        let t3200: f32 = t3198 + t3199;
+        let t3201: f32 = t44 * t481;
+        let t3202: f32 = t3200 * t3201;
+        let t3203: f32 = t3061 * t3202;
+        let t3204: f32 = t3202 * t3203;
+        let t3205: f32 = t3062 * t3202;
+        let t3206: f32 = t1502 * t1525;
+        let t3207: f32 = t2263 * t2278;
+        let t3208: f32 = t2430 * t2450;
+        let t3209: f32 = t143 * t473;
+        let t3210: f32 = t140 * t470;
+        let t3211: f32 = t146 * t476;
+        let t3212: f32 = t3206 + t3207;
+        let t3213: f32 = t3208 + t3209;
+        let t3214: f32 = t3210 + t3211;
+        let t3215: f32 = t3212 + t3213;
+        let t3216: f32 = t3214 + t3215;
+        let t3217: f32 = t151 * t481;
         let t3218: f32 = t3216 * t3217;
-        let t3219: f32 = t3076 * t3216;
-        let t3220: f32 = t1503 * t1539;
-        let t3221: f32 = t2274 * t2288;
-        let t3222: f32 = t2446 * t2460;
-        let t3223: f32 = t143 * t473;
-        let t3224: f32 = t140 * t470;
-        let t3225: f32 = t146 * t476;
-        let t3226: f32 = t3220 + t3221;
-        let t3227: f32 = t3222 + t3223;
-        let t3228: f32 = t3224 + t3225;
-        let t3229: f32 = t3226 + t3227;
-        let t3230: f32 = t3228 + t3229;
-        let t3231: f32 = t151 * t481;
-        let t3232: f32 = t3230 * t3231;
-        let t3233: f32 = t3219 - t3232;
-        let t3234: f32 = -t3233;
-        let t3235: f32 = t3121 * t3234;
-        let t3236: f32 = t3234 * t3235;
-        let t3237: f32 = t3103 * t3216;
-        let t3238: f32 = t3122 * t3234;
-        let t3239: f32 = t1498 * t1539;
-        let t3240: f32 = t2278 * t2288;
-        let t3241: f32 = t2450 * t2460;
-        let t3242: f32 = t255 * t473;
-        let t3243: f32 = t250 * t470;
-        let t3244: f32 = t258 * t476;
-        let t3245: f32 = t3239 + t3240;
-        let t3246: f32 = t3241 + t3245;
-        let t3247: f32 = t3242 + t3243;
-        let t3248: f32 = t3244 + t3247;
-        let t3249: f32 = t3246 - t3248;
-        let t3250: f32 = t263 * t481;
-        let t3251: f32 = t3249 * t3250;
-        let t3252: f32 = t3237 + t3238;
-        let t3253: f32 = t3252 - t3251;
-        let t3254: f32 = -t3253;
-        let t3255: f32 = t3188 * t3254;
-        let t3256: f32 = t3254 * t3255;
-        let t3257: f32 = t3150 * t3216;
-        let t3258: f32 = t3168 * t3234;
-        let t3259: f32 = t3189 * t3254;
-        let t3260: f32 = t1534 * t1539;
-        let t3261: f32 = t2284 * t2288;
-        let t3262: f32 = t2456 * t2460;
-        let t3263: f32 = t367 * t473;
-        let t3264: f32 = t362 * t470;
-        let t3265: f32 = t370 * t476;
-        let t3266: f32 = t3260 + t3261;
-        let t3267: f32 = t3262 + t3263;
-        let t3268: f32 = t3264 + t3265;
-        let t3269: f32 = t3266 + t3267;
-        let t3270: f32 = t3268 + t3269;
-        let t3271: f32 = t375 * t481;
-        let t3272: f32 = t3270 * t3271;
-        let t3273: f32 = t3257 + t3258;
-        let t3274: f32 = t3259 + t3273;
-        let t3275: f32 = t3274 - t3272;
-        let t3276: f32 = -t3275;
-        let t3277: f32 = 1.0 / t3193;
-        let t3278: f32 = t3276 * t3277;
-        let t3279: f32 = t3276 * t3278;
-        let t3280: f32 = t3218 + t3236;
-        let t3281: f32 = t3256 + t3279;
-        let t3282: f32 = t3280 + t3281;
-        let t3283: f32 = t3203 - t3282;
-        let t3284: f32 = t3283 / t3203;
-        let t3285: f32 = t2468 * t2468;
-        let t3286: f32 = t1744 * t3285;
-        let t3287: f32 = t1510 * t1510;
-        let t3288: f32 = t1744 * t3287;
-        let t3289: f32 = t2296 * t2296;
-        let t3290: f32 = t1744 * t3289;
-        let t3291: f32 = t3288 + t3290;
-        let t3292: f32 = t3286 + t3291;
-        let t3293: f32 = t3292 + 1.0;
-        let t3294: f32 = t1492 * t1510;
-        let t3295: f32 = t2268 * t2296;
-        let t3296: f32 = t2440 * t2468;
-        let t3297: f32 = t36 * t577;
-        let t3298: f32 = t29 * t575;
-        let t3299: f32 = t39 * t580;
-        let t3300: f32 = t3294 + t3295;
-        let t3301: f32 = t3296 + t3300;
-        let t3302: f32 = t3297 + t3298;
-        let t3303: f32 = t3299 + t3302;
-        let t3304: f32 = t3301 - t3303;
-        let t3305: f32 = t44 * t585;
-        let t3306: f32 = t3304 * t3305;
-        let t3307: f32 = t3075 * t3306;
+        let t3219: f32 = t3205 - t3218;
+        let t3220: f32 = -t3219;
+        let t3221: f32 = t3107 * t3220;
+        let t3222: f32 = t3220 * t3221;
+        let t3223: f32 = t3089 * t3202;
+        let t3224: f32 = t3108 * t3220;
+        let t3225: f32 = t1509 * t1525;
+        let t3226: f32 = t2273 * t2278;
+        let t3227: f32 = t2445 * t2450;
+        let t3228: f32 = t255 * t473;
+        let t3229: f32 = t250 * t470;
+        let t3230: f32 = t258 * t476;
+        let t3231: f32 = t3225 + t3226;
+        let t3232: f32 = t3227 + t3231;
+        let t3233: f32 = t3228 + t3229;
+        let t3234: f32 = t3230 + t3233;
+        let t3235: f32 = t3232 - t3234;
+        let t3236: f32 = t263 * t481;
+        let t3237: f32 = t3235 * t3236;
+        let t3238: f32 = t3223 + t3224;
+        let t3239: f32 = t3238 - t3237;
+        let t3240: f32 = -t3239;
+        let t3241: f32 = t3174 * t3240;
+        let t3242: f32 = t3240 * t3241;
+        let t3243: f32 = t3136 * t3202;
+        let t3244: f32 = t3154 * t3220;
+        let t3245: f32 = t3175 * t3240;
+        let t3246: f32 = t1514 * t1525;
+        let t3247: f32 = t2269 * t2278;
+        let t3248: f32 = t2441 * t2450;
+        let t3249: f32 = t367 * t473;
+        let t3250: f32 = t362 * t470;
+        let t3251: f32 = t370 * t476;
+        let t3252: f32 = t3246 + t3247;
+        let t3253: f32 = t3248 + t3249;
+        let t3254: f32 = t3250 + t3251;
+        let t3255: f32 = t3252 + t3253;
+        let t3256: f32 = t3254 + t3255;
+        let t3257: f32 = t375 * t481;
+        let t3258: f32 = t3256 * t3257;
+        let t3259: f32 = t3243 + t3244;
+        let t3260: f32 = t3245 + t3259;
+        let t3261: f32 = t3260 - t3258;
+        let t3262: f32 = -t3261;
+        let t3263: f32 = 1.0 / t3179;
+        let t3264: f32 = t3262 * t3263;
+        let t3265: f32 = t3262 * t3264;
+        let t3266: f32 = t3204 + t3222;
+        let t3267: f32 = t3242 + t3265;
+        let t3268: f32 = t3266 + t3267;
+        let t3269: f32 = t3189 - t3268;
+        let t3270: f32 = t3269 / t3189;
+        let t3271: f32 = t2454 * t2454;
+        let t3272: f32 = t1730 * t3271;
+        let t3273: f32 = t1520 * t1520;
+        let t3274: f32 = t1730 * t3273;
+        let t3275: f32 = t2282 * t2282;
+        let t3276: f32 = t1730 * t3275;
+        let t3277: f32 = t3274 + t3276;
+        let t3278: f32 = t3272 + t3277;
+        let t3279: f32 = t3278 + 1.0;
+        let t3280: f32 = t1497 * t1520;
+        let t3281: f32 = t2259 * t2282;
+        let t3282: f32 = t2426 * t2454;
+        let t3283: f32 = t36 * t577;
+        let t3284: f32 = t29 * t575;
+        let t3285: f32 = t39 * t580;
+        let t3286: f32 = t3280 + t3281;
+        let t3287: f32 = t3282 + t3286;
+        let t3288: f32 = t3283 + t3284;
+        let t3289: f32 = t3285 + t3288;
+        let t3290: f32 = t3287 - t3289;
+        let t3291: f32 = t44 * t585;
+        let t3292: f32 = t3290 * t3291;
+        let t3293: f32 = t3061 * t3292;
+        let t3294: f32 = t3292 * t3293;
+        let t3295: f32 = t3062 * t3292;
+        let t3296: f32 = t1502 * t1520;
+        let t3297: f32 = t2263 * t2282;
+        let t3298: f32 = t2430 * t2454;
+        let t3299: f32 = t143 * t577;
+        let t3300: f32 = t140 * t575;
+        let t3301: f32 = t146 * t580;
+        let t3302: f32 = t3296 + t3297;
+        let t3303: f32 = t3298 + t3302;
+        let t3304: f32 = t3299 + t3300;
+        let t3305: f32 = t3301 + t3304;
+        let t3306: f32 = t3303 - t3305;
+        let t3307: f32 = t151 * t585;
         let t3308: f32 = t3306 * t3307;
-        let t3309: f32 = t3076 * t3306;
-        let t3310: f32 = t1503 * t1510;
-        let t3311: f32 = t2274 * t2296;
-        let t3312: f32 = t2446 * t2468;
-        let t3313: f32 = t143 * t577;
-        let t3314: f32 = t140 * t575;
-        let t3315: f32 = t146 * t580;
-        let t3316: f32 = t3310 + t3311;
-        let t3317: f32 = t3312 + t3316;
-        let t3318: f32 = t3313 + t3314;
-        let t3319: f32 = t3315 + t3318;
-        let t3320: f32 = t3317 - t3319;
-        let t3321: f32 = t151 * t585;
-        let t3322: f32 = t3320 * t3321;
-        let t3323: f32 = t3309 - t3322;
-        let t3324: f32 = -t3323;
-        let t3325: f32 = t3121 * t3324;
-        let t3326: f32 = t3324 * t3325;
-        let t3327: f32 = t3103 * t3306;
-        let t3328: f32 = t3122 * t3324;
-        let t3329: f32 = t1498 * t1510;
-        let t3330: f32 = t2278 * t2296;
-        let t3331: f32 = t2450 * t2468;
-        let t3332: f32 = t255 * t577;
-        let t3333: f32 = t250 * t575;
-        let t3334: f32 = t258 * t580;
-        let t3335: f32 = t3329 + t3330;
-        let t3336: f32 = t3331 + t3332;
-        let t3337: f32 = t3333 + t3334;
-        let t3338: f32 = t3335 + t3336;
-        let t3339: f32 = t3337 + t3338;
-        let t3340: f32 = t263 * t585;
-        let t3341: f32 = t3339 * t3340;
-        let t3342: f32 = t3327 + t3328;
-        let t3343: f32 = t3342 - t3341;
-        let t3344: f32 = -t3343;
-        let t3345: f32 = t3188 * t3344;
-        let t3346: f32 = t3344 * t3345;
-        let t3347: f32 = t3150 * t3306;
-        let t3348: f32 = t3168 * t3324;
-        let t3349: f32 = t3189 * t3344;
-        let t3350: f32 = t1510 * t1534;
-        let t3351: f32 = t2284 * t2296;
-        let t3352: f32 = t2456 * t2468;
-        let t3353: f32 = t367 * t577;
-        let t3354: f32 = t362 * t575;
-        let t3355: f32 = t370 * t580;
-        let t3356: f32 = t3350 + t3351;
-        let t3357: f32 = t3352 + t3356;
-        let t3358: f32 = t3353 + t3354;
-        let t3359: f32 = t3355 + t3358;
-        let t3360: f32 = t3357 - t3359;
-        let t3361: f32 = t375 * t585;
-        let t3362: f32 = t3360 * t3361;
-        let t3363: f32 = t3347 + t3348;
-        let t3364: f32 = t3349 + t3363;
-        let t3365: f32 = t3364 - t3362;
-        let t3366: f32 = -t3365;
-        let t3367: f32 = t3277 * t3366;
-        let t3368: f32 = t3366 * t3367;
-        let t3369: f32 = t3217 * t3306;
-        let t3370: f32 = t3235 * t3324;
-        let t3371: f32 = t3255 * t3344;
-        let t3372: f32 = t3278 * t3366;
-        let t3373: f32 = t1510 * t1539;
-        let t3374: f32 = t2288 * t2296;
-        let t3375: f32 = t2460 * t2468;
-        let t3376: f32 = t473 * t577;
-        let t3377: f32 = t470 * t575;
-        let t3378: f32 = t476 * t580;
-        let t3379: f32 = t3373 + t3374;
-        let t3380: f32 = t3375 + t3379;
-        let t3381: f32 = t3376 + t3377;
+        let t3309: f32 = t3295 - t3308;
+        let t3310: f32 = -t3309;
+        let t3311: f32 = t3107 * t3310;
+        let t3312: f32 = t3310 * t3311;
+        let t3313: f32 = t3089 * t3292;
+        let t3314: f32 = t3108 * t3310;
+        let t3315: f32 = t1509 * t1520;
+        let t3316: f32 = t2273 * t2282;
+        let t3317: f32 = t2445 * t2454;
+        let t3318: f32 = t255 * t577;
+        let t3319: f32 = t250 * t575;
+        let t3320: f32 = t258 * t580;
+        let t3321: f32 = t3315 + t3316;
+        let t3322: f32 = t3317 + t3318;
+        let t3323: f32 = t3319 + t3320;
+        let t3324: f32 = t3321 + t3322;
+        let t3325: f32 = t3323 + t3324;
+        let t3326: f32 = t263 * t585;
+        let t3327: f32 = t3325 * t3326;
+        let t3328: f32 = t3313 + t3314;
+        let t3329: f32 = t3328 - t3327;
+        let t3330: f32 = -t3329;
+        let t3331: f32 = t3174 * t3330;
+        let t3332: f32 = t3330 * t3331;
+        let t3333: f32 = t3136 * t3292;
+        let t3334: f32 = t3154 * t3310;
+        let t3335: f32 = t3175 * t3330;
+        let t3336: f32 = t1514 * t1520;
+        let t3337: f32 = t2269 * t2282;
+        let t3338: f32 = t2441 * t2454;
+        let t3339: f32 = t367 * t577;
+        let t3340: f32 = t362 * t575;
+        let t3341: f32 = t370 * t580;
+        let t3342: f32 = t3336 + t3337;
+        let t3343: f32 = t3338 + t3342;
+        let t3344: f32 = t3339 + t3340;
+        let t3345: f32 = t3341 + t3344;
+        let t3346: f32 = t3343 - t3345;
+        let t3347: f32 = t375 * t585;
+        let t3348: f32 = t3346 * t3347;
+        let t3349: f32 = t3333 + t3334;
+        let t3350: f32 = t3335 + t3349;
+        let t3351: f32 = t3350 - t3348;
+        let t3352: f32 = -t3351;
+        let t3353: f32 = t3263 * t3352;
+        let t3354: f32 = t3352 * t3353;
+        let t3355: f32 = t3203 * t3292;
+        let t3356: f32 = t3221 * t3310;
+        let t3357: f32 = t3241 * t3330;
+        let t3358: f32 = t3264 * t3352;
+        let t3359: f32 = t1520 * t1525;
+        let t3360: f32 = t2278 * t2282;
+        let t3361: f32 = t2450 * t2454;
+        let t3362: f32 = t473 * t577;
+        let t3363: f32 = t470 * t575;
+        let t3364: f32 = t476 * t580;
+        let t3365: f32 = t3359 + t3360;
+        let t3366: f32 = t3361 + t3365;
+        let t3367: f32 = t3362 + t3363;
+        let t3368: f32 = t3364 + t3367;
+        let t3369: f32 = t3366 - t3368;
+        let t3370: f32 = t481 * t585;
+        let t3371: f32 = t3369 * t3370;
+        let t3372: f32 = t3355 + t3356;
+        let t3373: f32 = t3357 + t3358;
+        let t3374: f32 = t3372 + t3373;
+        let t3375: f32 = t3374 - t3371;
+        let t3376: f32 = -t3375;
+        let t3377: f32 = t3376 / t3269;
+        let t3378: f32 = t3376 * t3377;
+        let t3379: f32 = t3294 + t3312;
+        let t3380: f32 = t3332 + t3354;
+        let t3381: f32 = t3379 + t3380;
         let t3382: f32 = t3378 + t3381;
-        let t3383: f32 = t3380 - t3382;
-        let t3384: f32 = t481 * t585;
-        let t3385: f32 = t3383 * t3384;
-        let t3386: f32 = t3369 + t3370;
-        let t3387: f32 = t3371 + t3372;
-        let t3388: f32 = t3386 + t3387;
-        let t3389: f32 = t3388 - t3385;
-        let t3390: f32 = -t3389;
-        let t3391: f32 = t3390 / t3283;
-        let t3392: f32 = t3390 * t3391;
-        let t3393: f32 = t3308 + t3326;
-        let t3394: f32 = t3346 + t3368;
-        let t3395: f32 = t3393 + t3394;
-        let t3396: f32 = t3392 + t3395;
-        let t3397: f32 = t3293 - t3396;
-        let t3398: f32 = t3397 / t3293;
+        let t3383: f32 = t3279 - t3382;
+        let t3384: f32 = t3383 / t3279;
         (
-            t3035,
-            t3036,
-            t3037,
+            t3021,
+            t3022,
+            t3023,
+            t3024,
+            t3025,
+            t3026,
+            t3027,
+            t3028,
+            t3029,
             t3038,
-            t3039,
-            t3040,
-            t3041,
-            t3042,
-            t3043,
-            t3052,
-            t3079,
-            t3126,
-            t3194,
-            t3284,
-            t3398,
+            t3065,
+            t3112,
+            t3180,
+            t3270,
+            t3384,
         )
     };
     (
-        [t2682, t2683, t3035, t3036, t2641, t3037],
+        [t2668, t2669, t3021, t3022, t2627, t3023],
         [
+            t3024,
+            t3025,
+            t3026,
+            t3027,
+            t3028,
+            t3029,
             t3038,
-            t3039,
-            t3040,
-            t3041,
-            t3042,
-            t3043,
-            t3052,
-            t3079,
-            t3126,
-            t3194,
-            t3284,
-            t3398,
+            t3065,
+            t3112,
+            t3180,
+            t3270,
+            t3384,
         ],
     )
 }
@@ -13104,7 +13018,7 @@ pub fn forward_dynamics(
 /// - `gamma`: `Γ` (N), segment order; positive pushes the rod along `+n_i`
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 1206 mul, 24 div, 793 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 1230m + 793a).
+/// Operations: 1200 mul, 24 div, 789 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 1224m + 789a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn inverse_dynamics(
@@ -13136,129 +13050,131 @@ pub fn inverse_dynamics(
         t55,
         t60,
         t61,
-        t87,
-        t88,
-        t107,
-        t119,
-        t121,
-        t128,
-        t141,
-        t144,
-        t147,
-        t185,
-        t238,
-        t243,
-        t259,
+        t69,
+        t70,
+        t92,
+        t109,
+        t111,
+        t118,
+        t131,
+        t134,
+        t137,
+        t175,
+        t228,
+        t233,
+        t249,
+        t285,
+        t287,
+        t289,
+        t294,
         t295,
-        t297,
-        t299,
-        t304,
+        t300,
+        t301,
+        t302,
+        t303,
         t305,
-        t310,
-        t311,
+        t306,
+        t308,
         t312,
-        t313,
-        t315,
-        t316,
-        t318,
-        t322,
+        t321,
+        t330,
         t331,
-        t340,
-        t341,
-        t344,
-        t382,
-        t435,
-        t437,
-        t439,
+        t334,
+        t372,
+        t425,
+        t427,
+        t429,
+        t446,
         t456,
-        t466,
+        t483,
+        t485,
+        t487,
+        t492,
         t493,
-        t495,
-        t497,
+        t494,
+        t499,
+        t500,
+        t501,
         t502,
         t503,
         t504,
+        t505,
+        t506,
+        t507,
+        t508,
         t509,
         t510,
         t511,
         t512,
-        t513,
         t514,
-        t515,
-        t516,
-        t517,
         t518,
-        t519,
-        t520,
-        t521,
-        t522,
-        t524,
-        t528,
+        t527,
+        t536,
         t537,
-        t546,
-        t547,
-        t550,
-        t588,
-        t641,
-        t646,
-        t662,
-        t671,
+        t540,
+        t578,
+        t631,
+        t636,
+        t652,
+        t661,
+        t688,
+        t690,
+        t692,
+        t697,
         t698,
-        t700,
-        t702,
+        t703,
+        t704,
         t707,
-        t708,
-        t713,
-        t714,
+        t710,
+        t712,
+        t715,
         t717,
-        t720,
-        t722,
-        t725,
-        t727,
-        t731,
+        t721,
+        t730,
+        t739,
         t740,
-        t749,
-        t750,
-        t753,
-        t791,
-        t844,
-        t849,
-        t865,
-        t874,
+        t743,
+        t781,
+        t834,
+        t839,
+        t855,
+        t864,
+        t891,
+        t893,
+        t895,
+        t900,
         t901,
-        t903,
-        t905,
-        t910,
+        t906,
+        t907,
+        t908,
+        t909,
         t911,
-        t916,
-        t917,
+        t912,
+        t914,
         t918,
-        t919,
-        t921,
-        t922,
-        t924,
+        t926,
+        t927,
         t928,
+        t933,
+        t935,
         t936,
-        t937,
         t938,
-        t943,
-        t945,
+        t939,
+        t941,
+        t942,
+        t944,
         t946,
         t948,
-        t949,
-        t951,
-        t952,
-        t954,
-        t956,
-        t958,
         t962,
-        t967,
-        t972,
+        t974,
         t977,
-        t984,
-        t987,
+        t986,
+        t989,
+        t993,
+        t994,
         t996,
-        t999,
+        t998,
+        t1001,
         t1002,
     ) = {
         let (t0, t1): (f32, f32) = sin_cos(beta);
@@ -13321,946 +13237,946 @@ pub fn inverse_dynamics(
         let t60: f32 = t59 + 1.0;
         let t61: f32 = 1.0 / t60;
         let t62: f32 = wdx * t0;
-        let t63: f32 = wz * t30;
-        let t64: f32 = wx * t1;
-        let t65: f32 = t3 * t64;
-        let t66: f32 = wy * t17;
-        let t67: f32 = t65 + t66;
-        let t68: f32 = t63 + t67;
-        let t69: f32 = wx * t2;
-        let t70: f32 = t1 * t69;
-        let t71: f32 = wy * t20;
-        let t72: f32 = t70 - t71;
-        let t73: f32 = wz * t34;
-        let t74: f32 = t72 - t73;
-        let t75: f32 = t74 * 0.4108;
-        let t76: f32 = t68 * t75;
-        let t77: f32 = t68 * 0.4108;
-        let t78: f32 = t74 * t77;
-        let t79: f32 = wdy * t12;
-        let t80: f32 = wdz * t13;
-        let t81: f32 = t79 - t80;
-        let t82: f32 = t81 * 0.7;
-        let t83: f32 = t1 * t82;
-        let t84: f32 = t62 * 0.7;
-        let t85: f32 = t78 + t84;
-        let t86: f32 = t76 + t83;
-        let t87: f32 = t85 - t86;
-        let t88: f32 = t0 * t87;
-        let t89: f32 = wdx * t1;
-        let t90: f32 = t3 * t89;
-        let t91: f32 = wdy * t17;
-        let t92: f32 = wdz * t30;
-        let t93: f32 = wz * t13;
-        let t94: f32 = t1 * t93;
-        let t95: f32 = wx * t0;
-        let t96: f32 = wy * t12;
-        let t97: f32 = t1 * t96;
-        let t98: f32 = t95 - t97;
-        let t99: f32 = t94 + t98;
-        let t100: f32 = t99 * 0.7;
-        let t101: f32 = t74 * t100;
-        let t102: f32 = t75 * t99;
-        let t103: f32 = t90 + t91;
-        let t104: f32 = t92 + t103;
-        let t105: f32 = t104 * 0.4108;
-        let t106: f32 = t102 + t105;
-        let t107: f32 = t106 - t101;
-        let t108: f32 = t3 * t107;
-        let t109: f32 = wdx * t2;
-        let t110: f32 = t1 * t109;
-        let t111: f32 = wdy * t20;
-        let t112: f32 = wdz * t34;
-        let t113: f32 = t77 * t99;
-        let t114: f32 = t68 * t100;
-        let t115: f32 = t111 + t112;
-        let t116: f32 = t110 - t115;
-        let t117: f32 = t116 * 0.4108;
-        let t118: f32 = t114 + t117;
-        let t119: f32 = t118 - t113;
-        let t120: f32 = t2 * t119;
-        let t121: f32 = az + 9.81;
-        let t122: f32 = t12 * t121;
-        let t123: f32 = ay * t13;
-        let t124: f32 = t122 + t123;
-        let t125: f32 = t124 * 0.36;
-        let t126: f32 = t108 + t120;
-        let t127: f32 = t126 - t125;
-        let t128: f32 = t1 * t127;
-        let t129: f32 = t10 * 0.9845626;
-        let t130: f32 = t25 * 0.17503293;
-        let t131: f32 = t129 + t130;
-        let t132: f32 = t38 * 0.9845626;
-        let t133: f32 = -t132;
-        let t134: f32 = t133 * t133;
-        let t135: f32 = t38 * 0.17503293;
-        let t136: f32 = -t135;
-        let t137: f32 = t136 * t136;
-        let t138: f32 = t131 * t131;
-        let t139: f32 = t134 + t137;
-        let t140: f32 = t138 + t139;
-        let t141: f32 = sqrt(t140);
-        let t142: f32 = 1.0 / t141;
-        let t143: f32 = t131 * t142;
-        let t144: f32 = t10 * t43;
-        let t145: f32 = t143 * t144;
-        let t146: f32 = t38 * t43;
-        let t147: f32 = t133 * t142;
-        let t148: f32 = t146 * t147;
-        let t149: f32 = t145 - t148;
-        let t150: f32 = t25 * t43;
-        let t151: f32 = t147 * t150;
-        let t152: f32 = t136 * t142;
-        let t153: f32 = t144 * t152;
-        let t154: f32 = t151 - t153;
-        let t155: f32 = t154 * 9.81;
-        let t156: f32 = -t155;
-        let t157: f32 = wdx * t23;
-        let t158: f32 = wz * t8;
-        let t159: f32 = wx * t37;
+        let t63: f32 = wdy * t12;
+        let t64: f32 = wdz * t13;
+        let t65: f32 = t63 - t64;
+        let t66: f32 = t65 * 0.7;
+        let t67: f32 = t1 * t66;
+        let t68: f32 = t62 * 0.7;
+        let t69: f32 = t68 - t67;
+        let t70: f32 = t0 * t69;
+        let t71: f32 = wdx * t1;
+        let t72: f32 = t3 * t71;
+        let t73: f32 = wdy * t17;
+        let t74: f32 = wdz * t30;
+        let t75: f32 = wx * t2;
+        let t76: f32 = t1 * t75;
+        let t77: f32 = wy * t20;
+        let t78: f32 = wz * t34;
+        let t79: f32 = t77 + t78;
+        let t80: f32 = t76 - t79;
+        let t81: f32 = wx * t0;
+        let t82: f32 = wy * t12;
+        let t83: f32 = wz * t13;
+        let t84: f32 = t82 - t83;
+        let t85: f32 = t1 * t84;
+        let t86: f32 = t81 - t85;
+        let t87: f32 = t80 * t86;
+        let t88: f32 = t72 + t73;
+        let t89: f32 = t74 + t88;
+        let t90: f32 = t89 * 0.4108;
+        let t91: f32 = t87 * 0.2892;
+        let t92: f32 = t90 - t91;
+        let t93: f32 = t3 * t92;
+        let t94: f32 = wdx * t2;
+        let t95: f32 = t1 * t94;
+        let t96: f32 = wdy * t20;
+        let t97: f32 = wdz * t34;
+        let t98: f32 = wx * t1;
+        let t99: f32 = t3 * t98;
+        let t100: f32 = wy * t17;
+        let t101: f32 = wz * t30;
+        let t102: f32 = t99 + t100;
+        let t103: f32 = t101 + t102;
+        let t104: f32 = t86 * t103;
+        let t105: f32 = t96 + t97;
+        let t106: f32 = t95 - t105;
+        let t107: f32 = t106 * 0.4108;
+        let t108: f32 = t104 * 0.2892;
+        let t109: f32 = t107 + t108;
+        let t110: f32 = t2 * t109;
+        let t111: f32 = az + 9.81;
+        let t112: f32 = t12 * t111;
+        let t113: f32 = ay * t13;
+        let t114: f32 = t112 + t113;
+        let t115: f32 = t114 * 0.36;
+        let t116: f32 = t93 + t110;
+        let t117: f32 = t116 - t115;
+        let t118: f32 = t1 * t117;
+        let t119: f32 = t10 * 0.9845626;
+        let t120: f32 = t25 * 0.17503293;
+        let t121: f32 = t119 + t120;
+        let t122: f32 = t38 * 0.9845626;
+        let t123: f32 = -t122;
+        let t124: f32 = t123 * t123;
+        let t125: f32 = t38 * 0.17503293;
+        let t126: f32 = -t125;
+        let t127: f32 = t126 * t126;
+        let t128: f32 = t121 * t121;
+        let t129: f32 = t124 + t127;
+        let t130: f32 = t128 + t129;
+        let t131: f32 = sqrt(t130);
+        let t132: f32 = 1.0 / t131;
+        let t133: f32 = t121 * t132;
+        let t134: f32 = t10 * t43;
+        let t135: f32 = t133 * t134;
+        let t136: f32 = t38 * t43;
+        let t137: f32 = t123 * t132;
+        let t138: f32 = t136 * t137;
+        let t139: f32 = t135 - t138;
+        let t140: f32 = t25 * t43;
+        let t141: f32 = t137 * t140;
+        let t142: f32 = t126 * t132;
+        let t143: f32 = t134 * t142;
+        let t144: f32 = t141 - t143;
+        let t145: f32 = t144 * 9.81;
+        let t146: f32 = -t145;
+        let t147: f32 = wdx * t23;
+        let t148: f32 = wz * t8;
+        let t149: f32 = wx * t37;
+        let t150: f32 = t148 - t149;
+        let t151: f32 = wx * t150;
+        let t152: f32 = wdy * t8;
+        let t153: f32 = wy * t37;
+        let t154: f32 = wz * t23;
+        let t155: f32 = t153 - t154;
+        let t156: f32 = wy * t155;
+        let t157: f32 = az + t147;
+        let t158: f32 = t151 + t157;
+        let t159: f32 = t152 + t156;
         let t160: f32 = t158 - t159;
-        let t161: f32 = wx * t160;
-        let t162: f32 = wdy * t8;
-        let t163: f32 = wy * t37;
-        let t164: f32 = wz * t23;
+        let t161: f32 = t144 * t160;
+        let t162: f32 = wdy * t37;
+        let t163: f32 = wx * t23;
+        let t164: f32 = wy * t8;
         let t165: f32 = t163 - t164;
         let t166: f32 = wy * t165;
-        let t167: f32 = az + t157;
-        let t168: f32 = t161 + t167;
-        let t169: f32 = t162 + t166;
-        let t170: f32 = t168 - t169;
-        let t171: f32 = t154 * t170;
-        let t172: f32 = wdy * t37;
-        let t173: f32 = wx * t23;
-        let t174: f32 = wy * t8;
+        let t167: f32 = wdz * t23;
+        let t168: f32 = wz * t150;
+        let t169: f32 = ax + t162;
+        let t170: f32 = t166 + t169;
+        let t171: f32 = t167 + t168;
+        let t172: f32 = t170 - t171;
+        let t173: f32 = t136 * t142;
+        let t174: f32 = t133 * t140;
         let t175: f32 = t173 - t174;
-        let t176: f32 = wy * t175;
-        let t177: f32 = wdz * t23;
-        let t178: f32 = wz * t160;
-        let t179: f32 = ax + t172;
-        let t180: f32 = t176 + t179;
-        let t181: f32 = t177 + t178;
-        let t182: f32 = t180 - t181;
-        let t183: f32 = t146 * t152;
-        let t184: f32 = t143 * t150;
-        let t185: f32 = t183 - t184;
-        let t186: f32 = t182 * t185;
-        let t187: f32 = wdz * t8;
-        let t188: f32 = wz * t165;
-        let t189: f32 = wdx * t37;
-        let t190: f32 = wx * t175;
-        let t191: f32 = ay + t187;
-        let t192: f32 = t188 + t191;
-        let t193: f32 = t189 + t190;
-        let t194: f32 = t192 - t193;
-        let t195: f32 = t149 * t194;
-        let t196: f32 = t186 + t195;
-        let t197: f32 = t171 + t196;
-        let t198: f32 = t10 * 0.17503293;
-        let t199: f32 = t25 * 0.9845626;
-        let t200: f32 = t198 - t199;
-        let t201: f32 = t142 * t200;
-        let t202: f32 = vx + t165;
-        let t203: f32 = t147 * t202;
-        let t204: f32 = vy + t160;
-        let t205: f32 = t152 * t204;
-        let t206: f32 = vz + t175;
-        let t207: f32 = t143 * t206;
-        let t208: f32 = t203 + t205;
-        let t209: f32 = t207 + t208;
-        let t210: f32 = t209 * t209;
-        let t211: f32 = t43 * t201;
-        let t212: f32 = t210 * t211;
-        let t213: f32 = t185 * t202;
-        let t214: f32 = t149 * t204;
-        let t215: f32 = t154 * t206;
-        let t216: f32 = t213 + t214;
-        let t217: f32 = t215 + t216;
-        let t218: f32 = t144 * t202;
-        let t219: f32 = t150 * t204;
-        let t220: f32 = t146 * t206;
-        let t221: f32 = t218 + t219;
-        let t222: f32 = t220 + t221;
-        let t223: f32 = t43 * t222;
-        let t224: f32 = t223 * 2.0;
-        let t225: f32 = t217 * t224;
-        let t226: f32 = t197 + t212;
-        let t227: f32 = t226 - t225;
-        let t228: f32 = t43 * t227;
-        let t229: f32 = t43 * t209;
-        let t230: f32 = t209 * t211;
-        let t231: f32 = t229 * t230;
-        let t232: f32 = t156 * 0.2;
-        let t233: f32 = t197 * 0.3;
-        let t234: f32 = t228 * 0.295;
-        let t235: f32 = t231 * 0.292;
-        let t236: f32 = t232 + t233;
-        let t237: f32 = t235 + t236;
-        let t238: f32 = t234 - t237;
-        let t239: f32 = t43 * t238;
-        let t240: f32 = t156 - t197;
-        let t241: f32 = t228 - t231;
-        let t242: f32 = t241 * 0.3;
-        let t243: f32 = t240 + t242;
-        let t244: f32 = t243 - t239;
-        let t245: f32 = t149 * t244;
-        let t246: f32 = t146 * 9.81;
-        let t247: f32 = -t246;
-        let t248: f32 = t144 * t182;
-        let t249: f32 = t150 * t194;
-        let t250: f32 = t146 * t170;
-        let t251: f32 = t248 + t249;
-        let t252: f32 = t250 + t251;
-        let t253: f32 = t229 * t229;
-        let t254: f32 = t43 * t217;
-        let t255: f32 = t254 * t254;
-        let t256: f32 = t253 + t255;
-        let t257: f32 = t256 * 0.3;
-        let t258: f32 = t252 + t257;
-        let t259: f32 = t247 - t258;
-        let t260: f32 = t150 * t259;
-        let t261: f32 = t143 * 9.81;
-        let t262: f32 = -t261;
-        let t263: f32 = t147 * t182;
-        let t264: f32 = t152 * t194;
-        let t265: f32 = t143 * t170;
-        let t266: f32 = t263 + t264;
-        let t267: f32 = t265 + t266;
-        let t268: f32 = t43 * t267;
-        let t269: f32 = t44 * t201;
-        let t270: f32 = t209 * t269;
-        let t271: f32 = t217 * t270;
-        let t272: f32 = t224 * t229;
-        let t273: f32 = t271 + t272;
-        let t274: f32 = t273 - t268;
-        let t275: f32 = t230 * t254;
-        let t276: f32 = t201 * t273;
-        let t277: f32 = t142 * t142;
-        let t278: f32 = t41 * t43;
-        let t279: f32 = t277 * t278;
-        let t280: f32 = t209 * t279;
-        let t281: f32 = t217 * t280;
-        let t282: f32 = t201 * t267;
-        let t283: f32 = t281 - t282;
-        let t284: f32 = t43 * t283;
-        let t285: f32 = t276 + t284;
-        let t286: f32 = t201 * t285;
-        let t287: f32 = t262 * 0.2;
-        let t288: f32 = t267 * 0.3;
-        let t289: f32 = t274 * 0.295;
-        let t290: f32 = t275 * 0.292;
-        let t291: f32 = t286 * 0.003;
-        let t292: f32 = t287 + t288;
-        let t293: f32 = t289 + t291;
-        let t294: f32 = t292 + t293;
-        let t295: f32 = t294 - t290;
-        let t296: f32 = t43 * t295;
-        let t297: f32 = t262 - t267;
-        let t298: f32 = t274 - t275;
-        let t299: f32 = t298 * 0.3;
-        let t300: f32 = t296 + t297;
-        let t301: f32 = t300 - t299;
-        let t302: f32 = t152 * t301;
-        let t303: f32 = t260 + t302;
-        let t304: f32 = t245 + t303;
-        let t305: f32 = t37 * t304;
-        let t306: f32 = t154 * t244;
-        let t307: f32 = t146 * t259;
-        let t308: f32 = t143 * t301;
-        let t309: f32 = t307 + t308;
-        let t310: f32 = t306 + t309;
-        let t311: f32 = t23 * t310;
-        let t312: f32 = t35 - t36;
-        let t313: f32 = t6 + t7;
-        let t314: f32 = xc + t313;
-        let t315: f32 = t314 - 0.45;
-        let t316: f32 = t21 - t22;
-        let t317: f32 = yc + t316;
-        let t318: f32 = t317 + 0.08;
-        let t319: f32 = t315 * 0.9845626;
-        let t320: f32 = t318 * 0.17503293;
-        let t321: f32 = t319 - t320;
-        let t322: f32 = zc + t312;
-        let t323: f32 = t322 * 0.9845626;
-        let t324: f32 = -t323;
-        let t325: f32 = t324 * t324;
-        let t326: f32 = t322 * 0.17503293;
-        let t327: f32 = t326 * t326;
-        let t328: f32 = t321 * t321;
-        let t329: f32 = t325 + t327;
-        let t330: f32 = t328 + t329;
-        let t331: f32 = sqrt(t330);
-        let t332: f32 = 1.0 / t331;
-        let t333: f32 = t321 * t332;
-        let t334: f32 = t315 * t315;
-        let t335: f32 = t318 * t318;
-        let t336: f32 = t322 * t322;
-        let t337: f32 = t334 + t335;
-        let t338: f32 = t336 + t337;
-        let t339: f32 = sqrt(t338);
-        let t340: f32 = 1.0 / t339;
-        let t341: f32 = t315 * t340;
-        let t342: f32 = t333 * t341;
-        let t343: f32 = t322 * t340;
-        let t344: f32 = t324 * t332;
-        let t345: f32 = t343 * t344;
-        let t346: f32 = t342 - t345;
-        let t347: f32 = t318 * t340;
-        let t348: f32 = t344 * t347;
-        let t349: f32 = t326 * t332;
-        let t350: f32 = t341 * t349;
-        let t351: f32 = t348 - t350;
-        let t352: f32 = t351 * 9.81;
-        let t353: f32 = -t352;
-        let t354: f32 = wdx * t316;
-        let t355: f32 = wz * t313;
-        let t356: f32 = wx * t312;
+        let t176: f32 = t172 * t175;
+        let t177: f32 = wdz * t8;
+        let t178: f32 = wz * t155;
+        let t179: f32 = wdx * t37;
+        let t180: f32 = wx * t165;
+        let t181: f32 = ay + t177;
+        let t182: f32 = t178 + t181;
+        let t183: f32 = t179 + t180;
+        let t184: f32 = t182 - t183;
+        let t185: f32 = t139 * t184;
+        let t186: f32 = t176 + t185;
+        let t187: f32 = t161 + t186;
+        let t188: f32 = t10 * 0.17503293;
+        let t189: f32 = t25 * 0.9845626;
+        let t190: f32 = t188 - t189;
+        let t191: f32 = t132 * t190;
+        let t192: f32 = vx + t155;
+        let t193: f32 = t137 * t192;
+        let t194: f32 = vy + t150;
+        let t195: f32 = t142 * t194;
+        let t196: f32 = vz + t165;
+        let t197: f32 = t133 * t196;
+        let t198: f32 = t193 + t195;
+        let t199: f32 = t197 + t198;
+        let t200: f32 = t199 * t199;
+        let t201: f32 = t43 * t191;
+        let t202: f32 = t200 * t201;
+        let t203: f32 = t175 * t192;
+        let t204: f32 = t139 * t194;
+        let t205: f32 = t144 * t196;
+        let t206: f32 = t203 + t204;
+        let t207: f32 = t205 + t206;
+        let t208: f32 = t134 * t192;
+        let t209: f32 = t140 * t194;
+        let t210: f32 = t136 * t196;
+        let t211: f32 = t208 + t209;
+        let t212: f32 = t210 + t211;
+        let t213: f32 = t43 * t212;
+        let t214: f32 = t213 * 2.0;
+        let t215: f32 = t207 * t214;
+        let t216: f32 = t187 + t202;
+        let t217: f32 = t216 - t215;
+        let t218: f32 = t43 * t217;
+        let t219: f32 = t43 * t199;
+        let t220: f32 = t199 * t201;
+        let t221: f32 = t219 * t220;
+        let t222: f32 = t146 * 0.2;
+        let t223: f32 = t187 * 0.3;
+        let t224: f32 = t218 * 0.295;
+        let t225: f32 = t221 * 0.292;
+        let t226: f32 = t222 + t223;
+        let t227: f32 = t225 + t226;
+        let t228: f32 = t224 - t227;
+        let t229: f32 = t43 * t228;
+        let t230: f32 = t146 - t187;
+        let t231: f32 = t218 - t221;
+        let t232: f32 = t231 * 0.3;
+        let t233: f32 = t230 + t232;
+        let t234: f32 = t233 - t229;
+        let t235: f32 = t139 * t234;
+        let t236: f32 = t136 * 9.81;
+        let t237: f32 = -t236;
+        let t238: f32 = t134 * t172;
+        let t239: f32 = t140 * t184;
+        let t240: f32 = t136 * t160;
+        let t241: f32 = t238 + t239;
+        let t242: f32 = t240 + t241;
+        let t243: f32 = t219 * t219;
+        let t244: f32 = t43 * t207;
+        let t245: f32 = t244 * t244;
+        let t246: f32 = t243 + t245;
+        let t247: f32 = t246 * 0.3;
+        let t248: f32 = t242 + t247;
+        let t249: f32 = t237 - t248;
+        let t250: f32 = t140 * t249;
+        let t251: f32 = t133 * 9.81;
+        let t252: f32 = -t251;
+        let t253: f32 = t137 * t172;
+        let t254: f32 = t142 * t184;
+        let t255: f32 = t133 * t160;
+        let t256: f32 = t253 + t254;
+        let t257: f32 = t255 + t256;
+        let t258: f32 = t43 * t257;
+        let t259: f32 = t44 * t191;
+        let t260: f32 = t199 * t259;
+        let t261: f32 = t207 * t260;
+        let t262: f32 = t214 * t219;
+        let t263: f32 = t261 + t262;
+        let t264: f32 = t263 - t258;
+        let t265: f32 = t220 * t244;
+        let t266: f32 = t191 * t263;
+        let t267: f32 = t132 * t132;
+        let t268: f32 = t41 * t43;
+        let t269: f32 = t267 * t268;
+        let t270: f32 = t199 * t269;
+        let t271: f32 = t207 * t270;
+        let t272: f32 = t191 * t257;
+        let t273: f32 = t271 - t272;
+        let t274: f32 = t43 * t273;
+        let t275: f32 = t266 + t274;
+        let t276: f32 = t191 * t275;
+        let t277: f32 = t252 * 0.2;
+        let t278: f32 = t257 * 0.3;
+        let t279: f32 = t264 * 0.295;
+        let t280: f32 = t265 * 0.292;
+        let t281: f32 = t276 * 0.003;
+        let t282: f32 = t277 + t278;
+        let t283: f32 = t279 + t281;
+        let t284: f32 = t282 + t283;
+        let t285: f32 = t284 - t280;
+        let t286: f32 = t43 * t285;
+        let t287: f32 = t252 - t257;
+        let t288: f32 = t264 - t265;
+        let t289: f32 = t288 * 0.3;
+        let t290: f32 = t286 + t287;
+        let t291: f32 = t290 - t289;
+        let t292: f32 = t142 * t291;
+        let t293: f32 = t250 + t292;
+        let t294: f32 = t235 + t293;
+        let t295: f32 = t37 * t294;
+        let t296: f32 = t144 * t234;
+        let t297: f32 = t136 * t249;
+        let t298: f32 = t133 * t291;
+        let t299: f32 = t297 + t298;
+        let t300: f32 = t296 + t299;
+        let t301: f32 = t23 * t300;
+        let t302: f32 = t35 - t36;
+        let t303: f32 = t6 + t7;
+        let t304: f32 = xc + t303;
+        let t305: f32 = t304 - 0.45;
+        let t306: f32 = t21 - t22;
+        let t307: f32 = yc + t306;
+        let t308: f32 = t307 + 0.08;
+        let t309: f32 = t305 * 0.9845626;
+        let t310: f32 = t308 * 0.17503293;
+        let t311: f32 = t309 - t310;
+        let t312: f32 = zc + t302;
+        let t313: f32 = t312 * 0.9845626;
+        let t314: f32 = -t313;
+        let t315: f32 = t314 * t314;
+        let t316: f32 = t312 * 0.17503293;
+        let t317: f32 = t316 * t316;
+        let t318: f32 = t311 * t311;
+        let t319: f32 = t315 + t317;
+        let t320: f32 = t318 + t319;
+        let t321: f32 = sqrt(t320);
+        let t322: f32 = 1.0 / t321;
+        let t323: f32 = t311 * t322;
+        let t324: f32 = t305 * t305;
+        let t325: f32 = t308 * t308;
+        let t326: f32 = t312 * t312;
+        let t327: f32 = t324 + t325;
+        let t328: f32 = t326 + t327;
+        let t329: f32 = sqrt(t328);
+        let t330: f32 = 1.0 / t329;
+        let t331: f32 = t305 * t330;
+        let t332: f32 = t323 * t331;
+        let t333: f32 = t312 * t330;
+        let t334: f32 = t314 * t322;
+        let t335: f32 = t333 * t334;
+        let t336: f32 = t332 - t335;
+        let t337: f32 = t308 * t330;
+        let t338: f32 = t334 * t337;
+        let t339: f32 = t316 * t322;
+        let t340: f32 = t331 * t339;
+        let t341: f32 = t338 - t340;
+        let t342: f32 = t341 * 9.81;
+        let t343: f32 = -t342;
+        let t344: f32 = wdx * t306;
+        let t345: f32 = wz * t303;
+        let t346: f32 = wx * t302;
+        let t347: f32 = t345 - t346;
+        let t348: f32 = wx * t347;
+        let t349: f32 = wdy * t303;
+        let t350: f32 = wy * t302;
+        let t351: f32 = wz * t306;
+        let t352: f32 = t350 - t351;
+        let t353: f32 = wy * t352;
+        let t354: f32 = az + t344;
+        let t355: f32 = t348 + t354;
+        let t356: f32 = t349 + t353;
         let t357: f32 = t355 - t356;
-        let t358: f32 = wx * t357;
-        let t359: f32 = wdy * t313;
-        let t360: f32 = wy * t312;
-        let t361: f32 = wz * t316;
+        let t358: f32 = t341 * t357;
+        let t359: f32 = wdy * t302;
+        let t360: f32 = wx * t306;
+        let t361: f32 = wy * t303;
         let t362: f32 = t360 - t361;
         let t363: f32 = wy * t362;
-        let t364: f32 = az + t354;
-        let t365: f32 = t358 + t364;
-        let t366: f32 = t359 + t363;
-        let t367: f32 = t365 - t366;
-        let t368: f32 = t351 * t367;
-        let t369: f32 = wdy * t312;
-        let t370: f32 = wx * t316;
-        let t371: f32 = wy * t313;
+        let t364: f32 = wdz * t306;
+        let t365: f32 = wz * t347;
+        let t366: f32 = ax + t359;
+        let t367: f32 = t363 + t366;
+        let t368: f32 = t364 + t365;
+        let t369: f32 = t367 - t368;
+        let t370: f32 = t333 * t339;
+        let t371: f32 = t323 * t337;
         let t372: f32 = t370 - t371;
-        let t373: f32 = wy * t372;
-        let t374: f32 = wdz * t316;
-        let t375: f32 = wz * t357;
-        let t376: f32 = ax + t369;
-        let t377: f32 = t373 + t376;
-        let t378: f32 = t374 + t375;
-        let t379: f32 = t377 - t378;
-        let t380: f32 = t343 * t349;
-        let t381: f32 = t333 * t347;
-        let t382: f32 = t380 - t381;
-        let t383: f32 = t379 * t382;
-        let t384: f32 = wdz * t313;
-        let t385: f32 = wz * t362;
-        let t386: f32 = wdx * t312;
-        let t387: f32 = wx * t372;
-        let t388: f32 = ay + t384;
-        let t389: f32 = t385 + t388;
-        let t390: f32 = t386 + t387;
-        let t391: f32 = t389 - t390;
-        let t392: f32 = t346 * t391;
-        let t393: f32 = t383 + t392;
-        let t394: f32 = t368 + t393;
-        let t395: f32 = t315 * 0.17503293;
-        let t396: f32 = t318 * 0.9845626;
-        let t397: f32 = t395 + t396;
-        let t398: f32 = t332 * t397;
-        let t399: f32 = vx + t362;
-        let t400: f32 = t344 * t399;
-        let t401: f32 = vy + t357;
-        let t402: f32 = t349 * t401;
-        let t403: f32 = vz + t372;
-        let t404: f32 = t333 * t403;
-        let t405: f32 = t400 + t402;
-        let t406: f32 = t404 + t405;
-        let t407: f32 = t406 * t406;
-        let t408: f32 = t340 * t398;
-        let t409: f32 = t407 * t408;
-        let t410: f32 = t382 * t399;
-        let t411: f32 = t346 * t401;
-        let t412: f32 = t351 * t403;
-        let t413: f32 = t410 + t411;
-        let t414: f32 = t412 + t413;
-        let t415: f32 = t341 * t399;
-        let t416: f32 = t347 * t401;
-        let t417: f32 = t343 * t403;
-        let t418: f32 = t415 + t416;
-        let t419: f32 = t417 + t418;
-        let t420: f32 = t340 * t419;
-        let t421: f32 = t420 * 2.0;
-        let t422: f32 = t414 * t421;
-        let t423: f32 = t409 + t422;
-        let t424: f32 = t394 - t423;
-        let t425: f32 = t340 * t424;
-        let t426: f32 = t340 * t406;
-        let t427: f32 = t406 * t408;
-        let t428: f32 = t426 * t427;
-        let t429: f32 = t353 * 0.2;
-        let t430: f32 = t394 * 0.3;
-        let t431: f32 = t425 * 0.295;
-        let t432: f32 = t428 * 0.292;
-        let t433: f32 = t429 + t430;
-        let t434: f32 = t431 + t432;
-        let t435: f32 = t433 - t434;
-        let t436: f32 = t340 * t435;
-        let t437: f32 = t353 - t394;
-        let t438: f32 = t425 + t428;
-        let t439: f32 = t438 * 0.3;
-        let t440: f32 = t436 + t437;
-        let t441: f32 = t439 + t440;
-        let t442: f32 = t346 * t441;
-        let t443: f32 = t343 * 9.81;
-        let t444: f32 = -t443;
-        let t445: f32 = t341 * t379;
-        let t446: f32 = t347 * t391;
-        let t447: f32 = t343 * t367;
-        let t448: f32 = t445 + t446;
-        let t449: f32 = t447 + t448;
-        let t450: f32 = t426 * t426;
-        let t451: f32 = t340 * t414;
-        let t452: f32 = t451 * t451;
-        let t453: f32 = t450 + t452;
-        let t454: f32 = t453 * 0.3;
-        let t455: f32 = t449 + t454;
-        let t456: f32 = t444 - t455;
-        let t457: f32 = t347 * t456;
-        let t458: f32 = t333 * 9.81;
-        let t459: f32 = -t458;
-        let t460: f32 = t344 * t379;
-        let t461: f32 = t349 * t391;
-        let t462: f32 = t333 * t367;
-        let t463: f32 = t460 + t461;
-        let t464: f32 = t462 + t463;
-        let t465: f32 = t340 * t464;
-        let t466: f32 = t340 * t340;
-        let t467: f32 = t398 * t466;
-        let t468: f32 = t406 * t467;
-        let t469: f32 = t414 * t468;
-        let t470: f32 = t421 * t426;
-        let t471: f32 = t469 - t470;
-        let t472: f32 = t465 + t471;
-        let t473: f32 = t427 * t451;
-        let t474: f32 = t398 * t471;
-        let t475: f32 = t332 * t332;
-        let t476: f32 = t338 * t340;
-        let t477: f32 = t475 * t476;
-        let t478: f32 = t406 * t477;
-        let t479: f32 = t414 * t478;
-        let t480: f32 = t398 * t464;
-        let t481: f32 = t479 + t480;
-        let t482: f32 = t340 * t481;
-        let t483: f32 = t474 + t482;
-        let t484: f32 = t398 * t483;
-        let t485: f32 = t459 * 0.2;
-        let t486: f32 = t464 * 0.3;
-        let t487: f32 = t472 * 0.295;
-        let t488: f32 = t473 * 0.292;
-        let t489: f32 = t484 * 0.003;
-        let t490: f32 = t485 + t486;
-        let t491: f32 = t488 + t490;
-        let t492: f32 = t487 + t489;
-        let t493: f32 = t491 - t492;
-        let t494: f32 = t340 * t493;
-        let t495: f32 = t459 - t464;
-        let t496: f32 = t472 - t473;
-        let t497: f32 = t496 * 0.3;
-        let t498: f32 = t494 + t495;
-        let t499: f32 = t497 + t498;
-        let t500: f32 = t349 * t499;
-        let t501: f32 = t457 + t500;
-        let t502: f32 = t442 + t501;
-        let t503: f32 = -t502;
-        let t504: f32 = t312 * t503;
-        let t505: f32 = t351 * t441;
-        let t506: f32 = t343 * t456;
-        let t507: f32 = t333 * t499;
-        let t508: f32 = t506 + t507;
-        let t509: f32 = t505 + t508;
-        let t510: f32 = -t509;
-        let t511: f32 = t316 * t510;
-        let t512: f32 = t30 * 0.254904;
-        let t513: f32 = t34 * 0.141506;
-        let t514: f32 = t512 - t513;
-        let t515: f32 = t4 * 0.254904;
-        let t516: f32 = t5 * 0.141506;
-        let t517: f32 = t515 + t516;
-        let t518: f32 = xc + 0.294282;
-        let t519: f32 = t518 - t517;
-        let t520: f32 = t17 * 0.254904;
-        let t521: f32 = t20 * 0.141506;
-        let t522: f32 = t520 - t521;
-        let t523: f32 = t522 + 0.349711;
-        let t524: f32 = yc - t523;
-        let t525: f32 = t519 * 0.64386505;
-        let t526: f32 = t524 * 0.76513904;
-        let t527: f32 = t525 - t526;
-        let t528: f32 = zc - t514;
-        let t529: f32 = t528 * 0.64386505;
-        let t530: f32 = t529 * t529;
-        let t531: f32 = t528 * 0.76513904;
-        let t532: f32 = -t531;
-        let t533: f32 = t532 * t532;
-        let t534: f32 = t527 * t527;
-        let t535: f32 = t530 + t533;
-        let t536: f32 = t534 + t535;
-        let t537: f32 = sqrt(t536);
-        let t538: f32 = 1.0 / t537;
-        let t539: f32 = t527 * t538;
-        let t540: f32 = t519 * t519;
-        let t541: f32 = t524 * t524;
-        let t542: f32 = t528 * t528;
-        let t543: f32 = t540 + t541;
-        let t544: f32 = t542 + t543;
-        let t545: f32 = sqrt(t544);
-        let t546: f32 = 1.0 / t545;
-        let t547: f32 = t519 * t546;
-        let t548: f32 = t539 * t547;
-        let t549: f32 = t528 * t546;
-        let t550: f32 = t529 * t538;
-        let t551: f32 = t549 * t550;
-        let t552: f32 = t548 + t551;
-        let t553: f32 = t524 * t546;
-        let t554: f32 = t550 * t553;
-        let t555: f32 = t532 * t538;
-        let t556: f32 = t547 * t555;
-        let t557: f32 = t554 - t556;
-        let t558: f32 = t557 * 9.81;
-        let t559: f32 = -t558;
-        let t560: f32 = wdx * t522;
-        let t561: f32 = wz * t517;
-        let t562: f32 = wx * t514;
+        let t373: f32 = t369 * t372;
+        let t374: f32 = wdz * t303;
+        let t375: f32 = wz * t352;
+        let t376: f32 = wdx * t302;
+        let t377: f32 = wx * t362;
+        let t378: f32 = ay + t374;
+        let t379: f32 = t375 + t378;
+        let t380: f32 = t376 + t377;
+        let t381: f32 = t379 - t380;
+        let t382: f32 = t336 * t381;
+        let t383: f32 = t373 + t382;
+        let t384: f32 = t358 + t383;
+        let t385: f32 = t305 * 0.17503293;
+        let t386: f32 = t308 * 0.9845626;
+        let t387: f32 = t385 + t386;
+        let t388: f32 = t322 * t387;
+        let t389: f32 = vx + t352;
+        let t390: f32 = t334 * t389;
+        let t391: f32 = vy + t347;
+        let t392: f32 = t339 * t391;
+        let t393: f32 = vz + t362;
+        let t394: f32 = t323 * t393;
+        let t395: f32 = t390 + t392;
+        let t396: f32 = t394 + t395;
+        let t397: f32 = t396 * t396;
+        let t398: f32 = t330 * t388;
+        let t399: f32 = t397 * t398;
+        let t400: f32 = t372 * t389;
+        let t401: f32 = t336 * t391;
+        let t402: f32 = t341 * t393;
+        let t403: f32 = t400 + t401;
+        let t404: f32 = t402 + t403;
+        let t405: f32 = t331 * t389;
+        let t406: f32 = t337 * t391;
+        let t407: f32 = t333 * t393;
+        let t408: f32 = t405 + t406;
+        let t409: f32 = t407 + t408;
+        let t410: f32 = t330 * t409;
+        let t411: f32 = t410 * 2.0;
+        let t412: f32 = t404 * t411;
+        let t413: f32 = t399 + t412;
+        let t414: f32 = t384 - t413;
+        let t415: f32 = t330 * t414;
+        let t416: f32 = t330 * t396;
+        let t417: f32 = t396 * t398;
+        let t418: f32 = t416 * t417;
+        let t419: f32 = t343 * 0.2;
+        let t420: f32 = t384 * 0.3;
+        let t421: f32 = t415 * 0.295;
+        let t422: f32 = t418 * 0.292;
+        let t423: f32 = t419 + t420;
+        let t424: f32 = t421 + t422;
+        let t425: f32 = t423 - t424;
+        let t426: f32 = t330 * t425;
+        let t427: f32 = t343 - t384;
+        let t428: f32 = t415 + t418;
+        let t429: f32 = t428 * 0.3;
+        let t430: f32 = t426 + t427;
+        let t431: f32 = t429 + t430;
+        let t432: f32 = t336 * t431;
+        let t433: f32 = t333 * 9.81;
+        let t434: f32 = -t433;
+        let t435: f32 = t331 * t369;
+        let t436: f32 = t337 * t381;
+        let t437: f32 = t333 * t357;
+        let t438: f32 = t435 + t436;
+        let t439: f32 = t437 + t438;
+        let t440: f32 = t416 * t416;
+        let t441: f32 = t330 * t404;
+        let t442: f32 = t441 * t441;
+        let t443: f32 = t440 + t442;
+        let t444: f32 = t443 * 0.3;
+        let t445: f32 = t439 + t444;
+        let t446: f32 = t434 - t445;
+        let t447: f32 = t337 * t446;
+        let t448: f32 = t323 * 9.81;
+        let t449: f32 = -t448;
+        let t450: f32 = t334 * t369;
+        let t451: f32 = t339 * t381;
+        let t452: f32 = t323 * t357;
+        let t453: f32 = t450 + t451;
+        let t454: f32 = t452 + t453;
+        let t455: f32 = t330 * t454;
+        let t456: f32 = t330 * t330;
+        let t457: f32 = t388 * t456;
+        let t458: f32 = t396 * t457;
+        let t459: f32 = t404 * t458;
+        let t460: f32 = t411 * t416;
+        let t461: f32 = t459 - t460;
+        let t462: f32 = t455 + t461;
+        let t463: f32 = t417 * t441;
+        let t464: f32 = t388 * t461;
+        let t465: f32 = t322 * t322;
+        let t466: f32 = t328 * t330;
+        let t467: f32 = t465 * t466;
+        let t468: f32 = t396 * t467;
+        let t469: f32 = t404 * t468;
+        let t470: f32 = t388 * t454;
+        let t471: f32 = t469 + t470;
+        let t472: f32 = t330 * t471;
+        let t473: f32 = t464 + t472;
+        let t474: f32 = t388 * t473;
+        let t475: f32 = t449 * 0.2;
+        let t476: f32 = t454 * 0.3;
+        let t477: f32 = t462 * 0.295;
+        let t478: f32 = t463 * 0.292;
+        let t479: f32 = t474 * 0.003;
+        let t480: f32 = t475 + t476;
+        let t481: f32 = t478 + t480;
+        let t482: f32 = t477 + t479;
+        let t483: f32 = t481 - t482;
+        let t484: f32 = t330 * t483;
+        let t485: f32 = t449 - t454;
+        let t486: f32 = t462 - t463;
+        let t487: f32 = t486 * 0.3;
+        let t488: f32 = t484 + t485;
+        let t489: f32 = t487 + t488;
+        let t490: f32 = t339 * t489;
+        let t491: f32 = t447 + t490;
+        let t492: f32 = t432 + t491;
+        let t493: f32 = -t492;
+        let t494: f32 = t302 * t493;
+        let t495: f32 = t341 * t431;
+        let t496: f32 = t333 * t446;
+        let t497: f32 = t323 * t489;
+        let t498: f32 = t496 + t497;
+        let t499: f32 = t495 + t498;
+        let t500: f32 = -t499;
+        let t501: f32 = t306 * t500;
+        let t502: f32 = t30 * 0.254904;
+        let t503: f32 = t34 * 0.141506;
+        let t504: f32 = t502 - t503;
+        let t505: f32 = t4 * 0.254904;
+        let t506: f32 = t5 * 0.141506;
+        let t507: f32 = t505 + t506;
+        let t508: f32 = xc + 0.294282;
+        let t509: f32 = t508 - t507;
+        let t510: f32 = t17 * 0.254904;
+        let t511: f32 = t20 * 0.141506;
+        let t512: f32 = t510 - t511;
+        let t513: f32 = t512 + 0.349711;
+        let t514: f32 = yc - t513;
+        let t515: f32 = t509 * 0.64386505;
+        let t516: f32 = t514 * 0.76513904;
+        let t517: f32 = t515 - t516;
+        let t518: f32 = zc - t504;
+        let t519: f32 = t518 * 0.64386505;
+        let t520: f32 = t519 * t519;
+        let t521: f32 = t518 * 0.76513904;
+        let t522: f32 = -t521;
+        let t523: f32 = t522 * t522;
+        let t524: f32 = t517 * t517;
+        let t525: f32 = t520 + t523;
+        let t526: f32 = t524 + t525;
+        let t527: f32 = sqrt(t526);
+        let t528: f32 = 1.0 / t527;
+        let t529: f32 = t517 * t528;
+        let t530: f32 = t509 * t509;
+        let t531: f32 = t514 * t514;
+        let t532: f32 = t518 * t518;
+        let t533: f32 = t530 + t531;
+        let t534: f32 = t532 + t533;
+        let t535: f32 = sqrt(t534);
+        let t536: f32 = 1.0 / t535;
+        let t537: f32 = t509 * t536;
+        let t538: f32 = t529 * t537;
+        let t539: f32 = t518 * t536;
+        let t540: f32 = t519 * t528;
+        let t541: f32 = t539 * t540;
+        let t542: f32 = t538 + t541;
+        let t543: f32 = t514 * t536;
+        let t544: f32 = t540 * t543;
+        let t545: f32 = t522 * t528;
+        let t546: f32 = t537 * t545;
+        let t547: f32 = t544 - t546;
+        let t548: f32 = t547 * 9.81;
+        let t549: f32 = -t548;
+        let t550: f32 = wdx * t512;
+        let t551: f32 = wz * t507;
+        let t552: f32 = wx * t504;
+        let t553: f32 = t551 - t552;
+        let t554: f32 = wx * t553;
+        let t555: f32 = wdy * t507;
+        let t556: f32 = wy * t504;
+        let t557: f32 = wz * t512;
+        let t558: f32 = t556 - t557;
+        let t559: f32 = wy * t558;
+        let t560: f32 = az + t555;
+        let t561: f32 = t559 + t560;
+        let t562: f32 = t550 + t554;
         let t563: f32 = t561 - t562;
-        let t564: f32 = wx * t563;
-        let t565: f32 = wdy * t517;
-        let t566: f32 = wy * t514;
-        let t567: f32 = wz * t522;
+        let t564: f32 = t547 * t563;
+        let t565: f32 = wdy * t504;
+        let t566: f32 = wx * t512;
+        let t567: f32 = wy * t507;
         let t568: f32 = t566 - t567;
         let t569: f32 = wy * t568;
-        let t570: f32 = az + t565;
-        let t571: f32 = t569 + t570;
-        let t572: f32 = t560 + t564;
-        let t573: f32 = t571 - t572;
-        let t574: f32 = t557 * t573;
-        let t575: f32 = wdy * t514;
-        let t576: f32 = wx * t522;
-        let t577: f32 = wy * t517;
-        let t578: f32 = t576 - t577;
-        let t579: f32 = wy * t578;
-        let t580: f32 = wdz * t522;
-        let t581: f32 = wz * t563;
-        let t582: f32 = ax + t580;
-        let t583: f32 = t581 + t582;
-        let t584: f32 = t575 + t579;
-        let t585: f32 = t583 - t584;
-        let t586: f32 = t549 * t555;
-        let t587: f32 = t539 * t553;
-        let t588: f32 = t586 + t587;
-        let t589: f32 = t585 * t588;
-        let t590: f32 = wdz * t517;
-        let t591: f32 = wz * t568;
-        let t592: f32 = wdx * t514;
-        let t593: f32 = wx * t578;
-        let t594: f32 = ay + t592;
-        let t595: f32 = t593 + t594;
-        let t596: f32 = t590 + t591;
-        let t597: f32 = t595 - t596;
-        let t598: f32 = t552 * t597;
-        let t599: f32 = t589 - t598;
-        let t600: f32 = t574 + t599;
-        let t601: f32 = t519 * 0.76513904;
-        let t602: f32 = t524 * 0.64386505;
-        let t603: f32 = t601 + t602;
-        let t604: f32 = t538 * t603;
-        let t605: f32 = vx - t568;
-        let t606: f32 = t550 * t605;
-        let t607: f32 = vy - t563;
-        let t608: f32 = t555 * t607;
-        let t609: f32 = vz - t578;
-        let t610: f32 = t539 * t609;
-        let t611: f32 = t606 + t608;
-        let t612: f32 = t611 - t610;
-        let t613: f32 = t612 * t612;
-        let t614: f32 = t546 * t604;
-        let t615: f32 = t613 * t614;
-        let t616: f32 = t588 * t605;
-        let t617: f32 = t552 * t607;
-        let t618: f32 = t557 * t609;
-        let t619: f32 = t616 + t618;
-        let t620: f32 = t619 - t617;
-        let t621: f32 = t547 * t605;
-        let t622: f32 = t553 * t607;
-        let t623: f32 = t549 * t609;
-        let t624: f32 = t621 + t622;
-        let t625: f32 = t623 + t624;
-        let t626: f32 = t546 * t625;
-        let t627: f32 = t626 * 2.0;
-        let t628: f32 = t620 * t627;
-        let t629: f32 = t600 + t615;
-        let t630: f32 = t629 - t628;
-        let t631: f32 = t546 * t630;
-        let t632: f32 = t546 * t612;
-        let t633: f32 = t612 * t614;
-        let t634: f32 = t632 * t633;
-        let t635: f32 = t559 * 0.2;
-        let t636: f32 = t600 * 0.3;
-        let t637: f32 = t631 * 0.295;
-        let t638: f32 = t634 * 0.292;
-        let t639: f32 = t635 + t636;
-        let t640: f32 = t638 + t639;
-        let t641: f32 = t637 - t640;
-        let t642: f32 = t546 * t641;
-        let t643: f32 = t559 - t600;
-        let t644: f32 = t631 - t634;
-        let t645: f32 = t644 * 0.3;
-        let t646: f32 = t643 + t645;
-        let t647: f32 = t646 - t642;
-        let t648: f32 = t552 * t647;
-        let t649: f32 = t549 * 9.81;
-        let t650: f32 = -t649;
-        let t651: f32 = t547 * t585;
-        let t652: f32 = t553 * t597;
-        let t653: f32 = t549 * t573;
-        let t654: f32 = t651 + t652;
-        let t655: f32 = t653 + t654;
-        let t656: f32 = t632 * t632;
-        let t657: f32 = t546 * t620;
-        let t658: f32 = t657 * t657;
-        let t659: f32 = t656 + t658;
-        let t660: f32 = t659 * 0.3;
-        let t661: f32 = t655 + t660;
-        let t662: f32 = t650 - t661;
-        let t663: f32 = t553 * t662;
-        let t664: f32 = t539 * 9.81;
-        let t665: f32 = t550 * t585;
-        let t666: f32 = t555 * t597;
-        let t667: f32 = t539 * t573;
-        let t668: f32 = t665 + t666;
-        let t669: f32 = t668 - t667;
-        let t670: f32 = t546 * t669;
-        let t671: f32 = t546 * t546;
-        let t672: f32 = t604 * t671;
-        let t673: f32 = t612 * t672;
-        let t674: f32 = t620 * t673;
-        let t675: f32 = t627 * t632;
-        let t676: f32 = t674 + t675;
-        let t677: f32 = t676 - t670;
-        let t678: f32 = t633 * t657;
-        let t679: f32 = t604 * t676;
-        let t680: f32 = t538 * t538;
-        let t681: f32 = t544 * t546;
-        let t682: f32 = t680 * t681;
-        let t683: f32 = t612 * t682;
-        let t684: f32 = t620 * t683;
-        let t685: f32 = t604 * t669;
-        let t686: f32 = t684 - t685;
-        let t687: f32 = t546 * t686;
-        let t688: f32 = t679 + t687;
-        let t689: f32 = t604 * t688;
-        let t690: f32 = t664 * 0.2;
-        let t691: f32 = t669 * 0.3;
-        let t692: f32 = t677 * 0.295;
-        let t693: f32 = t678 * 0.292;
-        let t694: f32 = t689 * 0.003;
-        let t695: f32 = t690 + t691;
-        let t696: f32 = t692 + t694;
-        let t697: f32 = t695 + t696;
-        let t698: f32 = t697 - t693;
-        let t699: f32 = t546 * t698;
-        let t700: f32 = t664 - t669;
-        let t701: f32 = t677 - t678;
-        let t702: f32 = t701 * 0.3;
-        let t703: f32 = t699 + t700;
-        let t704: f32 = t703 - t702;
-        let t705: f32 = t555 * t704;
-        let t706: f32 = t663 + t705;
-        let t707: f32 = t648 - t706;
-        let t708: f32 = t514 * t707;
-        let t709: f32 = t557 * t647;
-        let t710: f32 = t549 * t662;
-        let t711: f32 = t539 * t704;
-        let t712: f32 = t710 - t711;
-        let t713: f32 = t709 + t712;
-        let t714: f32 = t522 * t713;
-        let t715: f32 = t30 * 0.004904;
-        let t716: f32 = t34 * 0.291506;
-        let t717: f32 = t715 + t716;
-        let t718: f32 = t4 * 0.004904;
-        let t719: f32 = t5 * 0.291506;
+        let t570: f32 = wdz * t512;
+        let t571: f32 = wz * t553;
+        let t572: f32 = ax + t570;
+        let t573: f32 = t571 + t572;
+        let t574: f32 = t565 + t569;
+        let t575: f32 = t573 - t574;
+        let t576: f32 = t539 * t545;
+        let t577: f32 = t529 * t543;
+        let t578: f32 = t576 + t577;
+        let t579: f32 = t575 * t578;
+        let t580: f32 = wdz * t507;
+        let t581: f32 = wz * t558;
+        let t582: f32 = wdx * t504;
+        let t583: f32 = wx * t568;
+        let t584: f32 = ay + t582;
+        let t585: f32 = t583 + t584;
+        let t586: f32 = t580 + t581;
+        let t587: f32 = t585 - t586;
+        let t588: f32 = t542 * t587;
+        let t589: f32 = t579 - t588;
+        let t590: f32 = t564 + t589;
+        let t591: f32 = t509 * 0.76513904;
+        let t592: f32 = t514 * 0.64386505;
+        let t593: f32 = t591 + t592;
+        let t594: f32 = t528 * t593;
+        let t595: f32 = vx - t558;
+        let t596: f32 = t540 * t595;
+        let t597: f32 = vy - t553;
+        let t598: f32 = t545 * t597;
+        let t599: f32 = vz - t568;
+        let t600: f32 = t529 * t599;
+        let t601: f32 = t596 + t598;
+        let t602: f32 = t601 - t600;
+        let t603: f32 = t602 * t602;
+        let t604: f32 = t536 * t594;
+        let t605: f32 = t603 * t604;
+        let t606: f32 = t578 * t595;
+        let t607: f32 = t542 * t597;
+        let t608: f32 = t547 * t599;
+        let t609: f32 = t606 + t608;
+        let t610: f32 = t609 - t607;
+        let t611: f32 = t537 * t595;
+        let t612: f32 = t543 * t597;
+        let t613: f32 = t539 * t599;
+        let t614: f32 = t611 + t612;
+        let t615: f32 = t613 + t614;
+        let t616: f32 = t536 * t615;
+        let t617: f32 = t616 * 2.0;
+        let t618: f32 = t610 * t617;
+        let t619: f32 = t590 + t605;
+        let t620: f32 = t619 - t618;
+        let t621: f32 = t536 * t620;
+        let t622: f32 = t536 * t602;
+        let t623: f32 = t602 * t604;
+        let t624: f32 = t622 * t623;
+        let t625: f32 = t549 * 0.2;
+        let t626: f32 = t590 * 0.3;
+        let t627: f32 = t621 * 0.295;
+        let t628: f32 = t624 * 0.292;
+        let t629: f32 = t625 + t626;
+        let t630: f32 = t628 + t629;
+        let t631: f32 = t627 - t630;
+        let t632: f32 = t536 * t631;
+        let t633: f32 = t549 - t590;
+        let t634: f32 = t621 - t624;
+        let t635: f32 = t634 * 0.3;
+        let t636: f32 = t633 + t635;
+        let t637: f32 = t636 - t632;
+        let t638: f32 = t542 * t637;
+        let t639: f32 = t539 * 9.81;
+        let t640: f32 = -t639;
+        let t641: f32 = t537 * t575;
+        let t642: f32 = t543 * t587;
+        let t643: f32 = t539 * t563;
+        let t644: f32 = t641 + t642;
+        let t645: f32 = t643 + t644;
+        let t646: f32 = t622 * t622;
+        let t647: f32 = t536 * t610;
+        let t648: f32 = t647 * t647;
+        let t649: f32 = t646 + t648;
+        let t650: f32 = t649 * 0.3;
+        let t651: f32 = t645 + t650;
+        let t652: f32 = t640 - t651;
+        let t653: f32 = t543 * t652;
+        let t654: f32 = t529 * 9.81;
+        let t655: f32 = t540 * t575;
+        let t656: f32 = t545 * t587;
+        let t657: f32 = t529 * t563;
+        let t658: f32 = t655 + t656;
+        let t659: f32 = t658 - t657;
+        let t660: f32 = t536 * t659;
+        let t661: f32 = t536 * t536;
+        let t662: f32 = t594 * t661;
+        let t663: f32 = t602 * t662;
+        let t664: f32 = t610 * t663;
+        let t665: f32 = t617 * t622;
+        let t666: f32 = t664 + t665;
+        let t667: f32 = t666 - t660;
+        let t668: f32 = t623 * t647;
+        let t669: f32 = t594 * t666;
+        let t670: f32 = t528 * t528;
+        let t671: f32 = t534 * t536;
+        let t672: f32 = t670 * t671;
+        let t673: f32 = t602 * t672;
+        let t674: f32 = t610 * t673;
+        let t675: f32 = t594 * t659;
+        let t676: f32 = t674 - t675;
+        let t677: f32 = t536 * t676;
+        let t678: f32 = t669 + t677;
+        let t679: f32 = t594 * t678;
+        let t680: f32 = t654 * 0.2;
+        let t681: f32 = t659 * 0.3;
+        let t682: f32 = t667 * 0.295;
+        let t683: f32 = t668 * 0.292;
+        let t684: f32 = t679 * 0.003;
+        let t685: f32 = t680 + t681;
+        let t686: f32 = t682 + t684;
+        let t687: f32 = t685 + t686;
+        let t688: f32 = t687 - t683;
+        let t689: f32 = t536 * t688;
+        let t690: f32 = t654 - t659;
+        let t691: f32 = t667 - t668;
+        let t692: f32 = t691 * 0.3;
+        let t693: f32 = t689 + t690;
+        let t694: f32 = t693 - t692;
+        let t695: f32 = t545 * t694;
+        let t696: f32 = t653 + t695;
+        let t697: f32 = t638 - t696;
+        let t698: f32 = t504 * t697;
+        let t699: f32 = t547 * t637;
+        let t700: f32 = t539 * t652;
+        let t701: f32 = t529 * t694;
+        let t702: f32 = t700 - t701;
+        let t703: f32 = t699 + t702;
+        let t704: f32 = t512 * t703;
+        let t705: f32 = t30 * 0.004904;
+        let t706: f32 = t34 * 0.291506;
+        let t707: f32 = t705 + t706;
+        let t708: f32 = t4 * 0.004904;
+        let t709: f32 = t5 * 0.291506;
+        let t710: f32 = t708 - t709;
+        let t711: f32 = xc + t710;
+        let t712: f32 = t711 + 0.155718;
+        let t713: f32 = t17 * 0.004904;
+        let t714: f32 = t20 * 0.291506;
+        let t715: f32 = t713 + t714;
+        let t716: f32 = yc + t715;
+        let t717: f32 = t716 - 0.429711;
+        let t718: f32 = t712 * 0.34069794;
+        let t719: f32 = t717 * 0.9401728;
         let t720: f32 = t718 - t719;
-        let t721: f32 = xc + t720;
-        let t722: f32 = t721 + 0.155718;
-        let t723: f32 = t17 * 0.004904;
-        let t724: f32 = t20 * 0.291506;
-        let t725: f32 = t723 + t724;
-        let t726: f32 = yc + t725;
-        let t727: f32 = t726 - 0.429711;
-        let t728: f32 = t722 * 0.34069794;
-        let t729: f32 = t727 * 0.9401728;
-        let t730: f32 = t728 - t729;
-        let t731: f32 = zc + t717;
-        let t732: f32 = t731 * 0.34069794;
-        let t733: f32 = t732 * t732;
-        let t734: f32 = t731 * 0.9401728;
-        let t735: f32 = -t734;
-        let t736: f32 = t735 * t735;
-        let t737: f32 = t730 * t730;
-        let t738: f32 = t733 + t736;
-        let t739: f32 = t737 + t738;
-        let t740: f32 = sqrt(t739);
-        let t741: f32 = 1.0 / t740;
-        let t742: f32 = t730 * t741;
-        let t743: f32 = t722 * t722;
-        let t744: f32 = t727 * t727;
-        let t745: f32 = t731 * t731;
-        let t746: f32 = t743 + t744;
-        let t747: f32 = t745 + t746;
-        let t748: f32 = sqrt(t747);
-        let t749: f32 = 1.0 / t748;
-        let t750: f32 = t722 * t749;
-        let t751: f32 = t742 * t750;
-        let t752: f32 = t731 * t749;
-        let t753: f32 = t732 * t741;
-        let t754: f32 = t752 * t753;
-        let t755: f32 = t751 + t754;
-        let t756: f32 = t727 * t749;
-        let t757: f32 = t753 * t756;
-        let t758: f32 = t735 * t741;
-        let t759: f32 = t750 * t758;
-        let t760: f32 = t757 - t759;
-        let t761: f32 = t760 * 9.81;
-        let t762: f32 = -t761;
-        let t763: f32 = wdx * t725;
-        let t764: f32 = wz * t720;
-        let t765: f32 = wx * t717;
+        let t721: f32 = zc + t707;
+        let t722: f32 = t721 * 0.34069794;
+        let t723: f32 = t722 * t722;
+        let t724: f32 = t721 * 0.9401728;
+        let t725: f32 = -t724;
+        let t726: f32 = t725 * t725;
+        let t727: f32 = t720 * t720;
+        let t728: f32 = t723 + t726;
+        let t729: f32 = t727 + t728;
+        let t730: f32 = sqrt(t729);
+        let t731: f32 = 1.0 / t730;
+        let t732: f32 = t720 * t731;
+        let t733: f32 = t712 * t712;
+        let t734: f32 = t717 * t717;
+        let t735: f32 = t721 * t721;
+        let t736: f32 = t733 + t734;
+        let t737: f32 = t735 + t736;
+        let t738: f32 = sqrt(t737);
+        let t739: f32 = 1.0 / t738;
+        let t740: f32 = t712 * t739;
+        let t741: f32 = t732 * t740;
+        let t742: f32 = t721 * t739;
+        let t743: f32 = t722 * t731;
+        let t744: f32 = t742 * t743;
+        let t745: f32 = t741 + t744;
+        let t746: f32 = t717 * t739;
+        let t747: f32 = t743 * t746;
+        let t748: f32 = t725 * t731;
+        let t749: f32 = t740 * t748;
+        let t750: f32 = t747 - t749;
+        let t751: f32 = t750 * 9.81;
+        let t752: f32 = -t751;
+        let t753: f32 = wdx * t715;
+        let t754: f32 = wz * t710;
+        let t755: f32 = wx * t707;
+        let t756: f32 = t754 - t755;
+        let t757: f32 = wx * t756;
+        let t758: f32 = wdy * t710;
+        let t759: f32 = wy * t707;
+        let t760: f32 = wz * t715;
+        let t761: f32 = t759 - t760;
+        let t762: f32 = wy * t761;
+        let t763: f32 = az + t753;
+        let t764: f32 = t757 + t763;
+        let t765: f32 = t758 + t762;
         let t766: f32 = t764 - t765;
-        let t767: f32 = wx * t766;
-        let t768: f32 = wdy * t720;
-        let t769: f32 = wy * t717;
-        let t770: f32 = wz * t725;
+        let t767: f32 = t750 * t766;
+        let t768: f32 = wdy * t707;
+        let t769: f32 = wx * t715;
+        let t770: f32 = wy * t710;
         let t771: f32 = t769 - t770;
         let t772: f32 = wy * t771;
-        let t773: f32 = az + t763;
-        let t774: f32 = t767 + t773;
-        let t775: f32 = t768 + t772;
-        let t776: f32 = t774 - t775;
-        let t777: f32 = t760 * t776;
-        let t778: f32 = wdy * t717;
-        let t779: f32 = wx * t725;
-        let t780: f32 = wy * t720;
-        let t781: f32 = t779 - t780;
-        let t782: f32 = wy * t781;
-        let t783: f32 = wdz * t725;
-        let t784: f32 = wz * t766;
-        let t785: f32 = ax + t778;
-        let t786: f32 = t782 + t785;
-        let t787: f32 = t783 + t784;
-        let t788: f32 = t786 - t787;
-        let t789: f32 = t752 * t758;
-        let t790: f32 = t742 * t756;
-        let t791: f32 = t789 + t790;
-        let t792: f32 = t788 * t791;
-        let t793: f32 = wdz * t720;
-        let t794: f32 = wz * t771;
-        let t795: f32 = wdx * t717;
-        let t796: f32 = wx * t781;
-        let t797: f32 = ay + t793;
-        let t798: f32 = t794 + t797;
-        let t799: f32 = t795 + t796;
-        let t800: f32 = t798 - t799;
-        let t801: f32 = t755 * t800;
-        let t802: f32 = t792 - t801;
-        let t803: f32 = t777 + t802;
-        let t804: f32 = t722 * 0.9401728;
-        let t805: f32 = t727 * 0.34069794;
-        let t806: f32 = t804 + t805;
-        let t807: f32 = t741 * t806;
-        let t808: f32 = vx + t771;
-        let t809: f32 = t753 * t808;
-        let t810: f32 = vy + t766;
-        let t811: f32 = t758 * t810;
-        let t812: f32 = vz + t781;
-        let t813: f32 = t742 * t812;
-        let t814: f32 = t809 + t811;
-        let t815: f32 = t814 - t813;
-        let t816: f32 = t815 * t815;
-        let t817: f32 = t749 * t807;
-        let t818: f32 = t816 * t817;
-        let t819: f32 = t791 * t808;
-        let t820: f32 = t755 * t810;
-        let t821: f32 = t760 * t812;
-        let t822: f32 = t819 + t821;
-        let t823: f32 = t822 - t820;
-        let t824: f32 = t750 * t808;
-        let t825: f32 = t756 * t810;
-        let t826: f32 = t752 * t812;
-        let t827: f32 = t824 + t825;
-        let t828: f32 = t826 + t827;
-        let t829: f32 = t749 * t828;
-        let t830: f32 = t829 * 2.0;
-        let t831: f32 = t823 * t830;
-        let t832: f32 = t803 + t818;
-        let t833: f32 = t832 - t831;
-        let t834: f32 = t749 * t833;
-        let t835: f32 = t749 * t815;
-        let t836: f32 = t815 * t817;
-        let t837: f32 = t835 * t836;
-        let t838: f32 = t762 * 0.2;
-        let t839: f32 = t803 * 0.3;
-        let t840: f32 = t834 * 0.295;
-        let t841: f32 = t837 * 0.292;
-        let t842: f32 = t838 + t839;
-        let t843: f32 = t841 + t842;
-        let t844: f32 = t840 - t843;
-        let t845: f32 = t749 * t844;
-        let t846: f32 = t762 - t803;
-        let t847: f32 = t834 - t837;
-        let t848: f32 = t847 * 0.3;
-        let t849: f32 = t846 + t848;
-        let t850: f32 = t849 - t845;
-        let t851: f32 = t755 * t850;
-        let t852: f32 = t752 * 9.81;
-        let t853: f32 = -t852;
-        let t854: f32 = t750 * t788;
-        let t855: f32 = t756 * t800;
-        let t856: f32 = t752 * t776;
-        let t857: f32 = t854 + t855;
-        let t858: f32 = t856 + t857;
-        let t859: f32 = t835 * t835;
-        let t860: f32 = t749 * t823;
-        let t861: f32 = t860 * t860;
-        let t862: f32 = t859 + t861;
-        let t863: f32 = t862 * 0.3;
-        let t864: f32 = t858 + t863;
-        let t865: f32 = t853 - t864;
-        let t866: f32 = t756 * t865;
-        let t867: f32 = t742 * 9.81;
-        let t868: f32 = t753 * t788;
-        let t869: f32 = t758 * t800;
-        let t870: f32 = t742 * t776;
-        let t871: f32 = t868 + t869;
-        let t872: f32 = t871 - t870;
-        let t873: f32 = t749 * t872;
-        let t874: f32 = t749 * t749;
-        let t875: f32 = t807 * t874;
-        let t876: f32 = t815 * t875;
-        let t877: f32 = t823 * t876;
-        let t878: f32 = t830 * t835;
-        let t879: f32 = t877 + t878;
-        let t880: f32 = t879 - t873;
-        let t881: f32 = t836 * t860;
-        let t882: f32 = t807 * t879;
-        let t883: f32 = t741 * t741;
-        let t884: f32 = t747 * t749;
-        let t885: f32 = t883 * t884;
-        let t886: f32 = t815 * t885;
-        let t887: f32 = t823 * t886;
-        let t888: f32 = t807 * t872;
-        let t889: f32 = t887 - t888;
-        let t890: f32 = t749 * t889;
-        let t891: f32 = t882 + t890;
-        let t892: f32 = t807 * t891;
-        let t893: f32 = t867 * 0.2;
-        let t894: f32 = t872 * 0.3;
-        let t895: f32 = t880 * 0.295;
-        let t896: f32 = t881 * 0.292;
-        let t897: f32 = t892 * 0.003;
-        let t898: f32 = t893 + t894;
-        let t899: f32 = t895 + t897;
-        let t900: f32 = t898 + t899;
-        let t901: f32 = t900 - t896;
-        let t902: f32 = t749 * t901;
-        let t903: f32 = t867 - t872;
-        let t904: f32 = t880 - t881;
-        let t905: f32 = t904 * 0.3;
-        let t906: f32 = t902 + t903;
-        let t907: f32 = t906 - t905;
-        let t908: f32 = t758 * t907;
-        let t909: f32 = t866 + t908;
-        let t910: f32 = t851 - t909;
-        let t911: f32 = t717 * t910;
-        let t912: f32 = t760 * t850;
-        let t913: f32 = t752 * t865;
-        let t914: f32 = t742 * t907;
-        let t915: f32 = t913 - t914;
-        let t916: f32 = t912 + t915;
-        let t917: f32 = t725 * t916;
-        let t918: f32 = t715 - t716;
-        let t919: f32 = t718 + t719;
-        let t920: f32 = xc + t919;
-        let t921: f32 = t920 + 0.155718;
-        let t922: f32 = t723 - t724;
-        let t923: f32 = yc + t922;
-        let t924: f32 = t923 + 0.429711;
-        let t925: f32 = t921 * 0.34069794;
-        let t926: f32 = t924 * 0.9401728;
-        let t927: f32 = t925 + t926;
-        let t928: f32 = zc + t918;
-        let t929: f32 = t928 * 0.34069794;
-        let t930: f32 = t929 * t929;
-        let t931: f32 = t928 * 0.9401728;
-        let t932: f32 = t931 * t931;
-        let t933: f32 = t927 * t927;
-        let t934: f32 = t930 + t932;
-        let t935: f32 = t933 + t934;
-        let t936: f32 = sqrt(t935);
-        let t937: f32 = 1.0 / t936;
-        let t938: f32 = t927 * t937;
-        let t939: f32 = t921 * t921;
-        let t940: f32 = t924 * t924;
-        let t941: f32 = t928 * t928;
-        let t942: f32 = t939 + t940;
-        let t943: f32 = t941 + t942;
-        let t944: f32 = sqrt(t943);
-        let t945: f32 = 1.0 / t944;
-        let t946: f32 = t921 * t945;
-        let t947: f32 = t938 * t946;
-        let t948: f32 = t928 * t945;
-        let t949: f32 = t929 * t937;
-        let t950: f32 = t948 * t949;
-        let t951: f32 = t947 + t950;
-        let t952: f32 = t924 * t945;
-        let t953: f32 = t949 * t952;
-        let t954: f32 = t931 * t937;
-        let t955: f32 = t946 * t954;
-        let t956: f32 = t953 - t955;
-        let t957: f32 = t956 * 9.81;
-        let t958: f32 = -t957;
-        let t959: f32 = wdx * t922;
-        let t960: f32 = wz * t919;
-        let t961: f32 = wx * t918;
+        let t773: f32 = wdz * t715;
+        let t774: f32 = wz * t756;
+        let t775: f32 = ax + t768;
+        let t776: f32 = t772 + t775;
+        let t777: f32 = t773 + t774;
+        let t778: f32 = t776 - t777;
+        let t779: f32 = t742 * t748;
+        let t780: f32 = t732 * t746;
+        let t781: f32 = t779 + t780;
+        let t782: f32 = t778 * t781;
+        let t783: f32 = wdz * t710;
+        let t784: f32 = wz * t761;
+        let t785: f32 = wdx * t707;
+        let t786: f32 = wx * t771;
+        let t787: f32 = ay + t783;
+        let t788: f32 = t784 + t787;
+        let t789: f32 = t785 + t786;
+        let t790: f32 = t788 - t789;
+        let t791: f32 = t745 * t790;
+        let t792: f32 = t782 - t791;
+        let t793: f32 = t767 + t792;
+        let t794: f32 = t712 * 0.9401728;
+        let t795: f32 = t717 * 0.34069794;
+        let t796: f32 = t794 + t795;
+        let t797: f32 = t731 * t796;
+        let t798: f32 = vx + t761;
+        let t799: f32 = t743 * t798;
+        let t800: f32 = vy + t756;
+        let t801: f32 = t748 * t800;
+        let t802: f32 = vz + t771;
+        let t803: f32 = t732 * t802;
+        let t804: f32 = t799 + t801;
+        let t805: f32 = t804 - t803;
+        let t806: f32 = t805 * t805;
+        let t807: f32 = t739 * t797;
+        let t808: f32 = t806 * t807;
+        let t809: f32 = t781 * t798;
+        let t810: f32 = t745 * t800;
+        let t811: f32 = t750 * t802;
+        let t812: f32 = t809 + t811;
+        let t813: f32 = t812 - t810;
+        let t814: f32 = t740 * t798;
+        let t815: f32 = t746 * t800;
+        let t816: f32 = t742 * t802;
+        let t817: f32 = t814 + t815;
+        let t818: f32 = t816 + t817;
+        let t819: f32 = t739 * t818;
+        let t820: f32 = t819 * 2.0;
+        let t821: f32 = t813 * t820;
+        let t822: f32 = t793 + t808;
+        let t823: f32 = t822 - t821;
+        let t824: f32 = t739 * t823;
+        let t825: f32 = t739 * t805;
+        let t826: f32 = t805 * t807;
+        let t827: f32 = t825 * t826;
+        let t828: f32 = t752 * 0.2;
+        let t829: f32 = t793 * 0.3;
+        let t830: f32 = t824 * 0.295;
+        let t831: f32 = t827 * 0.292;
+        let t832: f32 = t828 + t829;
+        let t833: f32 = t831 + t832;
+        let t834: f32 = t830 - t833;
+        let t835: f32 = t739 * t834;
+        let t836: f32 = t752 - t793;
+        let t837: f32 = t824 - t827;
+        let t838: f32 = t837 * 0.3;
+        let t839: f32 = t836 + t838;
+        let t840: f32 = t839 - t835;
+        let t841: f32 = t745 * t840;
+        let t842: f32 = t742 * 9.81;
+        let t843: f32 = -t842;
+        let t844: f32 = t740 * t778;
+        let t845: f32 = t746 * t790;
+        let t846: f32 = t742 * t766;
+        let t847: f32 = t844 + t845;
+        let t848: f32 = t846 + t847;
+        let t849: f32 = t825 * t825;
+        let t850: f32 = t739 * t813;
+        let t851: f32 = t850 * t850;
+        let t852: f32 = t849 + t851;
+        let t853: f32 = t852 * 0.3;
+        let t854: f32 = t848 + t853;
+        let t855: f32 = t843 - t854;
+        let t856: f32 = t746 * t855;
+        let t857: f32 = t732 * 9.81;
+        let t858: f32 = t743 * t778;
+        let t859: f32 = t748 * t790;
+        let t860: f32 = t732 * t766;
+        let t861: f32 = t858 + t859;
+        let t862: f32 = t861 - t860;
+        let t863: f32 = t739 * t862;
+        let t864: f32 = t739 * t739;
+        let t865: f32 = t797 * t864;
+        let t866: f32 = t805 * t865;
+        let t867: f32 = t813 * t866;
+        let t868: f32 = t820 * t825;
+        let t869: f32 = t867 + t868;
+        let t870: f32 = t869 - t863;
+        let t871: f32 = t826 * t850;
+        let t872: f32 = t797 * t869;
+        let t873: f32 = t731 * t731;
+        let t874: f32 = t737 * t739;
+        let t875: f32 = t873 * t874;
+        let t876: f32 = t805 * t875;
+        let t877: f32 = t813 * t876;
+        let t878: f32 = t797 * t862;
+        let t879: f32 = t877 - t878;
+        let t880: f32 = t739 * t879;
+        let t881: f32 = t872 + t880;
+        let t882: f32 = t797 * t881;
+        let t883: f32 = t857 * 0.2;
+        let t884: f32 = t862 * 0.3;
+        let t885: f32 = t870 * 0.295;
+        let t886: f32 = t871 * 0.292;
+        let t887: f32 = t882 * 0.003;
+        let t888: f32 = t883 + t884;
+        let t889: f32 = t885 + t887;
+        let t890: f32 = t888 + t889;
+        let t891: f32 = t890 - t886;
+        let t892: f32 = t739 * t891;
+        let t893: f32 = t857 - t862;
+        let t894: f32 = t870 - t871;
+        let t895: f32 = t894 * 0.3;
+        let t896: f32 = t892 + t893;
+        let t897: f32 = t896 - t895;
+        let t898: f32 = t748 * t897;
+        let t899: f32 = t856 + t898;
+        let t900: f32 = t841 - t899;
+        let t901: f32 = t707 * t900;
+        let t902: f32 = t750 * t840;
+        let t903: f32 = t742 * t855;
+        let t904: f32 = t732 * t897;
+        let t905: f32 = t903 - t904;
+        let t906: f32 = t902 + t905;
+        let t907: f32 = t715 * t906;
+        let t908: f32 = t705 - t706;
+        let t909: f32 = t708 + t709;
+        let t910: f32 = xc + t909;
+        let t911: f32 = t910 + 0.155718;
+        let t912: f32 = t713 - t714;
+        let t913: f32 = yc + t912;
+        let t914: f32 = t913 + 0.429711;
+        let t915: f32 = t911 * 0.34069794;
+        let t916: f32 = t914 * 0.9401728;
+        let t917: f32 = t915 + t916;
+        let t918: f32 = zc + t908;
+        let t919: f32 = t918 * 0.34069794;
+        let t920: f32 = t919 * t919;
+        let t921: f32 = t918 * 0.9401728;
+        let t922: f32 = t921 * t921;
+        let t923: f32 = t917 * t917;
+        let t924: f32 = t920 + t922;
+        let t925: f32 = t923 + t924;
+        let t926: f32 = sqrt(t925);
+        let t927: f32 = 1.0 / t926;
+        let t928: f32 = t917 * t927;
+        let t929: f32 = t911 * t911;
+        let t930: f32 = t914 * t914;
+        let t931: f32 = t918 * t918;
+        let t932: f32 = t929 + t930;
+        let t933: f32 = t931 + t932;
+        let t934: f32 = sqrt(t933);
+        let t935: f32 = 1.0 / t934;
+        let t936: f32 = t911 * t935;
+        let t937: f32 = t928 * t936;
+        let t938: f32 = t918 * t935;
+        let t939: f32 = t919 * t927;
+        let t940: f32 = t938 * t939;
+        let t941: f32 = t937 + t940;
+        let t942: f32 = t914 * t935;
+        let t943: f32 = t939 * t942;
+        let t944: f32 = t921 * t927;
+        let t945: f32 = t936 * t944;
+        let t946: f32 = t943 - t945;
+        let t947: f32 = t946 * 9.81;
+        let t948: f32 = -t947;
+        let t949: f32 = wdx * t912;
+        let t950: f32 = wz * t909;
+        let t951: f32 = wx * t908;
+        let t952: f32 = t950 - t951;
+        let t953: f32 = wx * t952;
+        let t954: f32 = wdy * t909;
+        let t955: f32 = wy * t908;
+        let t956: f32 = wz * t912;
+        let t957: f32 = t955 - t956;
+        let t958: f32 = wy * t957;
+        let t959: f32 = az + t949;
+        let t960: f32 = t953 + t959;
+        let t961: f32 = t954 + t958;
         let t962: f32 = t960 - t961;
-        let t963: f32 = wx * t962;
-        let t964: f32 = wdy * t919;
-        let t965: f32 = wy * t918;
-        let t966: f32 = wz * t922;
+        let t963: f32 = t946 * t962;
+        let t964: f32 = wdy * t908;
+        let t965: f32 = wx * t912;
+        let t966: f32 = wy * t909;
         let t967: f32 = t965 - t966;
         let t968: f32 = wy * t967;
-        let t969: f32 = az + t959;
-        let t970: f32 = t963 + t969;
-        let t971: f32 = t964 + t968;
-        let t972: f32 = t970 - t971;
-        let t973: f32 = t956 * t972;
-        let t974: f32 = wdy * t918;
-        let t975: f32 = wx * t922;
-        let t976: f32 = wy * t919;
-        let t977: f32 = t975 - t976;
-        let t978: f32 = wy * t977;
-        let t979: f32 = wdz * t922;
-        let t980: f32 = wz * t962;
-        let t981: f32 = ax + t974;
-        let t982: f32 = t978 + t981;
-        let t983: f32 = t979 + t980;
-        let t984: f32 = t982 - t983;
-        let t985: f32 = t948 * t954;
-        let t986: f32 = t938 * t952;
-        let t987: f32 = t985 + t986;
-        let t988: f32 = t984 * t987;
-        let t989: f32 = wdz * t919;
-        let t990: f32 = wz * t967;
-        let t991: f32 = wdx * t918;
-        let t992: f32 = wx * t977;
-        let t993: f32 = ay + t989;
-        let t994: f32 = t990 + t993;
-        let t995: f32 = t991 + t992;
-        let t996: f32 = t994 - t995;
-        let t997: f32 = t951 * t996;
-        let t998: f32 = t988 - t997;
-        let t999: f32 = t973 + t998;
-        let t1000: f32 = t921 * 0.9401728;
-        let t1001: f32 = t924 * 0.34069794;
-        let t1002: f32 = t1000 - t1001;
+        let t969: f32 = wdz * t912;
+        let t970: f32 = wz * t952;
+        let t971: f32 = ax + t964;
+        let t972: f32 = t968 + t971;
+        let t973: f32 = t969 + t970;
+        let t974: f32 = t972 - t973;
+        let t975: f32 = t938 * t944;
+        let t976: f32 = t928 * t942;
+        let t977: f32 = t975 + t976;
+        let t978: f32 = t974 * t977;
+        let t979: f32 = wdz * t909;
+        let t980: f32 = wz * t957;
+        let t981: f32 = wdx * t908;
+        let t982: f32 = wx * t967;
+        let t983: f32 = ay + t979;
+        let t984: f32 = t980 + t983;
+        let t985: f32 = t981 + t982;
+        let t986: f32 = t984 - t985;
+        let t987: f32 = t941 * t986;
+        let t988: f32 = t978 - t987;
+        let t989: f32 = t963 + t988;
+        let t990: f32 = t911 * 0.9401728;
+        let t991: f32 = t914 * 0.34069794;
+        let t992: f32 = t990 - t991;
+        let t993: f32 = t927 * t992;
+        let t994: f32 = vx + t957;
+        let t995: f32 = t939 * t994;
+        let t996: f32 = vy + t952;
+        let t997: f32 = t944 * t996;
+        let t998: f32 = vz + t967;
+        let t999: f32 = t928 * t998;
+        let t1000: f32 = t995 + t997;
+        let t1001: f32 = t1000 - t999;
+        let t1002: f32 = t1001 * t1001;
         (
             t0,
             t1,
@@ -14282,1384 +14198,1360 @@ pub fn inverse_dynamics(
             t55,
             t60,
             t61,
-            t87,
-            t88,
-            t107,
-            t119,
-            t121,
-            t128,
-            t141,
-            t144,
-            t147,
-            t185,
-            t238,
-            t243,
-            t259,
+            t69,
+            t70,
+            t92,
+            t109,
+            t111,
+            t118,
+            t131,
+            t134,
+            t137,
+            t175,
+            t228,
+            t233,
+            t249,
+            t285,
+            t287,
+            t289,
+            t294,
             t295,
-            t297,
-            t299,
-            t304,
+            t300,
+            t301,
+            t302,
+            t303,
             t305,
-            t310,
-            t311,
+            t306,
+            t308,
             t312,
-            t313,
-            t315,
-            t316,
-            t318,
-            t322,
+            t321,
+            t330,
             t331,
-            t340,
-            t341,
-            t344,
-            t382,
-            t435,
-            t437,
-            t439,
+            t334,
+            t372,
+            t425,
+            t427,
+            t429,
+            t446,
             t456,
-            t466,
+            t483,
+            t485,
+            t487,
+            t492,
             t493,
-            t495,
-            t497,
+            t494,
+            t499,
+            t500,
+            t501,
             t502,
             t503,
             t504,
+            t505,
+            t506,
+            t507,
+            t508,
             t509,
             t510,
             t511,
             t512,
-            t513,
             t514,
-            t515,
-            t516,
-            t517,
             t518,
-            t519,
-            t520,
-            t521,
-            t522,
-            t524,
-            t528,
+            t527,
+            t536,
             t537,
-            t546,
-            t547,
-            t550,
-            t588,
-            t641,
-            t646,
-            t662,
-            t671,
+            t540,
+            t578,
+            t631,
+            t636,
+            t652,
+            t661,
+            t688,
+            t690,
+            t692,
+            t697,
             t698,
-            t700,
-            t702,
+            t703,
+            t704,
             t707,
-            t708,
-            t713,
-            t714,
+            t710,
+            t712,
+            t715,
             t717,
-            t720,
-            t722,
-            t725,
-            t727,
-            t731,
+            t721,
+            t730,
+            t739,
             t740,
-            t749,
-            t750,
-            t753,
-            t791,
-            t844,
-            t849,
-            t865,
-            t874,
+            t743,
+            t781,
+            t834,
+            t839,
+            t855,
+            t864,
+            t891,
+            t893,
+            t895,
+            t900,
             t901,
-            t903,
-            t905,
-            t910,
+            t906,
+            t907,
+            t908,
+            t909,
             t911,
-            t916,
-            t917,
+            t912,
+            t914,
             t918,
-            t919,
-            t921,
-            t922,
-            t924,
+            t926,
+            t927,
             t928,
+            t933,
+            t935,
             t936,
-            t937,
             t938,
-            t943,
-            t945,
+            t939,
+            t941,
+            t942,
+            t944,
             t946,
             t948,
-            t949,
-            t951,
-            t952,
-            t954,
-            t956,
-            t958,
             t962,
-            t967,
-            t972,
+            t974,
             t977,
-            t984,
-            t987,
+            t986,
+            t989,
+            t993,
+            t994,
             t996,
-            t999,
+            t998,
+            t1001,
             t1002,
         )
     };
     let (
-        t1117,
-        t1120,
-        t1124,
-        t1132,
-        t1141,
-        t1323,
-        t1432,
-        t1469,
-        t1497,
-        t1520,
-        t1540,
-        t1548,
+        t1114,
+        t1122,
+        t1131,
+        t1530,
+        t1538,
+        t1561,
         t1571,
-        t1581,
-        t1582,
-        t1583,
-        t1622,
-        t1623,
-        t1648,
-        t1666,
-        t1694,
-        t1696,
-        t1697,
+        t1572,
+        t1573,
+        t1612,
+        t1613,
+        t1638,
+        t1656,
+        t1684,
+        t1686,
+        t1687,
+        t1688,
         t1698,
-        t1708,
-        t1711,
-        t1712,
-        t1715,
-        t1719,
-        t1723,
-        t1789,
-        t1790,
-        t1792,
-        t1794,
-        t1819,
-        t1837,
-        t1857,
-        t1879,
-        t1911,
-        t1915,
-        t1916,
+        t1701,
+        t1702,
+        t1779,
+        t1780,
+        t1782,
+        t1784,
+        t1809,
+        t1827,
+        t1847,
+        t1869,
+        t1901,
+        t1905,
+        t1906,
+        t1907,
         t1917,
-        t1927,
-        t1932,
-        t1933,
-        t1935,
-        t1949,
-        t1950,
-        t1966,
-        t1967,
-        t1985,
-        t1986,
-        t1987,
-        t1988,
-        t1989,
-        t1990,
+        t1922,
+        t1923,
+        t1925,
+        t1939,
+        t1940,
+        t1956,
+        t1957,
+        t1975,
+        t1976,
+        t1996,
+        t1997,
+        t1998,
+        t1999,
+        t2000,
+        t2001,
         t2002,
     ) = {
-        let t1003: f32 = t937 * t1002;
-        let t1004: f32 = vx + t967;
-        let t1005: f32 = t949 * t1004;
-        let t1006: f32 = vy + t962;
-        let t1007: f32 = t954 * t1006;
-        let t1008: f32 = vz + t977;
-        let t1009: f32 = t938 * t1008;
-        let t1010: f32 = t1005 + t1007;
-        let t1011: f32 = t1010 - t1009;
-        let t1012: f32 = t1011 * t1011;
-        let t1013: f32 = t945 * t1003;
-        let t1014: f32 = t1012 * t1013;
-        let t1015: f32 = t987 * t1004;
-        let t1016: f32 = t951 * t1006;
-        let t1017: f32 = t956 * t1008;
-        let t1018: f32 = t1015 + t1017;
-        let t1019: f32 = t1018 - t1016;
-        let t1020: f32 = t946 * t1004;
-        let t1021: f32 = t952 * t1006;
-        let t1022: f32 = t948 * t1008;
-        let t1023: f32 = t1020 + t1021;
-        let t1024: f32 = t1022 + t1023;
-        let t1025: f32 = t945 * t1024;
-        let t1026: f32 = t1025 * 2.0;
-        let t1027: f32 = t1019 * t1026;
-        let t1028: f32 = t1014 + t1027;
-        let t1029: f32 = t999 - t1028;
-        let t1030: f32 = t945 * t1029;
-        let t1031: f32 = t945 * t1011;
-        let t1032: f32 = t1011 * t1013;
-        let t1033: f32 = t1031 * t1032;
-        let t1034: f32 = t958 * 0.2;
-        let t1035: f32 = t999 * 0.3;
-        let t1036: f32 = t1030 * 0.295;
-        let t1037: f32 = t1033 * 0.292;
-        let t1038: f32 = t1034 + t1035;
-        let t1039: f32 = t1036 + t1037;
-        let t1040: f32 = t1038 - t1039;
-        let t1041: f32 = t945 * t1040;
-        let t1042: f32 = t958 - t999;
-        let t1043: f32 = t1030 + t1033;
-        let t1044: f32 = t1043 * 0.3;
-        let t1045: f32 = t1041 + t1042;
-        let t1046: f32 = t1044 + t1045;
-        let t1047: f32 = t951 * t1046;
-        let t1048: f32 = t948 * 9.81;
-        let t1049: f32 = -t1048;
-        let t1050: f32 = t946 * t984;
-        let t1051: f32 = t952 * t996;
-        let t1052: f32 = t948 * t972;
-        let t1053: f32 = t1050 + t1051;
-        let t1054: f32 = t1052 + t1053;
-        let t1055: f32 = t1031 * t1031;
-        let t1056: f32 = t945 * t1019;
-        let t1057: f32 = t1056 * t1056;
-        let t1058: f32 = t1055 + t1057;
-        let t1059: f32 = t1058 * 0.3;
-        let t1060: f32 = t1054 + t1059;
-        let t1061: f32 = t1049 - t1060;
-        let t1062: f32 = t952 * t1061;
-        let t1063: f32 = t938 * 9.81;
-        let t1064: f32 = t949 * t984;
-        let t1065: f32 = t954 * t996;
-        let t1066: f32 = t938 * t972;
-        let t1067: f32 = t1064 + t1065;
-        let t1068: f32 = t1067 - t1066;
-        let t1069: f32 = t945 * t1068;
-        let t1070: f32 = t945 * t945;
-        let t1071: f32 = t1003 * t1070;
-        let t1072: f32 = t1011 * t1071;
-        let t1073: f32 = t1019 * t1072;
-        let t1074: f32 = t1026 * t1031;
-        let t1075: f32 = t1073 - t1074;
-        let t1076: f32 = t1069 + t1075;
-        let t1077: f32 = t1032 * t1056;
-        let t1078: f32 = t1003 * t1075;
-        let t1079: f32 = t937 * t937;
-        let t1080: f32 = t943 * t945;
-        let t1081: f32 = t1079 * t1080;
-        let t1082: f32 = t1011 * t1081;
-        let t1083: f32 = t1019 * t1082;
-        let t1084: f32 = t1003 * t1068;
-        let t1085: f32 = t1083 + t1084;
-        let t1086: f32 = t945 * t1085;
-        let t1087: f32 = t1078 + t1086;
-        let t1088: f32 = t1003 * t1087;
-        let t1089: f32 = t1063 * 0.2;
-        let t1090: f32 = t1068 * 0.3;
-        let t1091: f32 = t1076 * 0.295;
-        let t1092: f32 = t1077 * 0.292;
-        let t1093: f32 = t1088 * 0.003;
-        let t1094: f32 = t1089 + t1090;
-        let t1095: f32 = t1092 + t1094;
-        let t1096: f32 = t1091 + t1093;
-        let t1097: f32 = t1095 - t1096;
-        let t1098: f32 = t945 * t1097;
-        let t1099: f32 = t1063 - t1068;
-        let t1100: f32 = t1076 - t1077;
-        let t1101: f32 = t1100 * 0.3;
-        let t1102: f32 = t1098 + t1099;
-        let t1103: f32 = t1101 + t1102;
-        let t1104: f32 = t954 * t1103;
-        let t1105: f32 = t1062 + t1104;
-        let t1106: f32 = t1047 - t1105;
-        let t1107: f32 = -t1106;
-        let t1108: f32 = t918 * t1107;
-        let t1109: f32 = t938 * t1103;
-        let t1110: f32 = t948 * t1061;
-        let t1111: f32 = t1109 - t1110;
-        let t1112: f32 = t956 * t1046;
-        let t1113: f32 = t1111 - t1112;
-        let t1114: f32 = t922 * t1113;
-        let t1115: f32 = t512 + t513;
-        let t1116: f32 = t515 - t516;
-        let t1117: f32 = t518 - t1116;
-        let t1118: f32 = t520 + t521;
-        let t1119: f32 = yc + 0.349711;
-        let t1120: f32 = t1119 - t1118;
-        let t1121: f32 = t1117 * 0.64386505;
-        let t1122: f32 = t1120 * 0.76513904;
-        let t1123: f32 = t1121 + t1122;
-        let t1124: f32 = zc - t1115;
-        let t1125: f32 = t1124 * 0.64386505;
-        let t1126: f32 = t1125 * t1125;
-        let t1127: f32 = t1124 * 0.76513904;
-        let t1128: f32 = t1127 * t1127;
-        let t1129: f32 = t1123 * t1123;
-        let t1130: f32 = t1126 + t1128;
-        let t1131: f32 = t1129 + t1130;
-        let t1132: f32 = sqrt(t1131);
-        let t1133: f32 = 1.0 / t1132;
-        let t1134: f32 = t1123 * t1133;
-        let t1135: f32 = t1117 * t1117;
-        let t1136: f32 = t1120 * t1120;
-        let t1137: f32 = t1124 * t1124;
-        let t1138: f32 = t1135 + t1136;
-        let t1139: f32 = t1137 + t1138;
-        let t1140: f32 = sqrt(t1139);
-        let t1141: f32 = 1.0 / t1140;
-        let t1142: f32 = t1117 * t1141;
-        let t1143: f32 = t1134 * t1142;
-        let t1144: f32 = t1124 * t1141;
-        let t1145: f32 = t1125 * t1133;
-        let t1146: f32 = t1144 * t1145;
-        let t1147: f32 = t1143 + t1146;
-        let t1148: f32 = t1120 * t1141;
-        let t1149: f32 = t1145 * t1148;
-        let t1150: f32 = t1127 * t1133;
-        let t1151: f32 = t1142 * t1150;
-        let t1152: f32 = t1149 - t1151;
-        let t1153: f32 = t1152 * 9.81;
-        let t1154: f32 = -t1153;
-        let t1155: f32 = wdx * t1118;
-        let t1156: f32 = wz * t1116;
-        let t1157: f32 = wx * t1115;
+        let t1003: f32 = t935 * t993;
+        let t1004: f32 = t1002 * t1003;
+        let t1005: f32 = t977 * t994;
+        let t1006: f32 = t941 * t996;
+        let t1007: f32 = t946 * t998;
+        let t1008: f32 = t1005 + t1007;
+        let t1009: f32 = t1008 - t1006;
+        let t1010: f32 = t936 * t994;
+        let t1011: f32 = t942 * t996;
+        let t1012: f32 = t938 * t998;
+        let t1013: f32 = t1010 + t1011;
+        let t1014: f32 = t1012 + t1013;
+        let t1015: f32 = t935 * t1014;
+        let t1016: f32 = t1015 * 2.0;
+        let t1017: f32 = t1009 * t1016;
+        let t1018: f32 = t1004 + t1017;
+        let t1019: f32 = t989 - t1018;
+        let t1020: f32 = t935 * t1019;
+        let t1021: f32 = t935 * t1001;
+        let t1022: f32 = t1001 * t1003;
+        let t1023: f32 = t1021 * t1022;
+        let t1024: f32 = t948 * 0.2;
+        let t1025: f32 = t989 * 0.3;
+        let t1026: f32 = t1020 * 0.295;
+        let t1027: f32 = t1023 * 0.292;
+        let t1028: f32 = t1024 + t1025;
+        let t1029: f32 = t1026 + t1027;
+        let t1030: f32 = t1028 - t1029;
+        let t1031: f32 = t935 * t1030;
+        let t1032: f32 = t948 - t989;
+        let t1033: f32 = t1020 + t1023;
+        let t1034: f32 = t1033 * 0.3;
+        let t1035: f32 = t1031 + t1032;
+        let t1036: f32 = t1034 + t1035;
+        let t1037: f32 = t941 * t1036;
+        let t1038: f32 = t938 * 9.81;
+        let t1039: f32 = -t1038;
+        let t1040: f32 = t936 * t974;
+        let t1041: f32 = t942 * t986;
+        let t1042: f32 = t938 * t962;
+        let t1043: f32 = t1040 + t1041;
+        let t1044: f32 = t1042 + t1043;
+        let t1045: f32 = t1021 * t1021;
+        let t1046: f32 = t935 * t1009;
+        let t1047: f32 = t1046 * t1046;
+        let t1048: f32 = t1045 + t1047;
+        let t1049: f32 = t1048 * 0.3;
+        let t1050: f32 = t1044 + t1049;
+        let t1051: f32 = t1039 - t1050;
+        let t1052: f32 = t942 * t1051;
+        let t1053: f32 = t928 * 9.81;
+        let t1054: f32 = t939 * t974;
+        let t1055: f32 = t944 * t986;
+        let t1056: f32 = t928 * t962;
+        let t1057: f32 = t1054 + t1055;
+        let t1058: f32 = t1057 - t1056;
+        let t1059: f32 = t935 * t1058;
+        let t1060: f32 = t935 * t935;
+        let t1061: f32 = t993 * t1060;
+        let t1062: f32 = t1001 * t1061;
+        let t1063: f32 = t1009 * t1062;
+        let t1064: f32 = t1016 * t1021;
+        let t1065: f32 = t1063 - t1064;
+        let t1066: f32 = t1059 + t1065;
+        let t1067: f32 = t1022 * t1046;
+        let t1068: f32 = t993 * t1065;
+        let t1069: f32 = t927 * t927;
+        let t1070: f32 = t933 * t935;
+        let t1071: f32 = t1069 * t1070;
+        let t1072: f32 = t1001 * t1071;
+        let t1073: f32 = t1009 * t1072;
+        let t1074: f32 = t993 * t1058;
+        let t1075: f32 = t1073 + t1074;
+        let t1076: f32 = t935 * t1075;
+        let t1077: f32 = t1068 + t1076;
+        let t1078: f32 = t993 * t1077;
+        let t1079: f32 = t1053 * 0.2;
+        let t1080: f32 = t1058 * 0.3;
+        let t1081: f32 = t1066 * 0.295;
+        let t1082: f32 = t1067 * 0.292;
+        let t1083: f32 = t1078 * 0.003;
+        let t1084: f32 = t1079 + t1080;
+        let t1085: f32 = t1082 + t1084;
+        let t1086: f32 = t1081 + t1083;
+        let t1087: f32 = t1085 - t1086;
+        let t1088: f32 = t935 * t1087;
+        let t1089: f32 = t1053 - t1058;
+        let t1090: f32 = t1066 - t1067;
+        let t1091: f32 = t1090 * 0.3;
+        let t1092: f32 = t1088 + t1089;
+        let t1093: f32 = t1091 + t1092;
+        let t1094: f32 = t944 * t1093;
+        let t1095: f32 = t1052 + t1094;
+        let t1096: f32 = t1037 - t1095;
+        let t1097: f32 = -t1096;
+        let t1098: f32 = t908 * t1097;
+        let t1099: f32 = t928 * t1093;
+        let t1100: f32 = t938 * t1051;
+        let t1101: f32 = t1099 - t1100;
+        let t1102: f32 = t946 * t1036;
+        let t1103: f32 = t1101 - t1102;
+        let t1104: f32 = t912 * t1103;
+        let t1105: f32 = t502 + t503;
+        let t1106: f32 = t505 - t506;
+        let t1107: f32 = t508 - t1106;
+        let t1108: f32 = t510 + t511;
+        let t1109: f32 = yc + 0.349711;
+        let t1110: f32 = t1109 - t1108;
+        let t1111: f32 = t1107 * 0.64386505;
+        let t1112: f32 = t1110 * 0.76513904;
+        let t1113: f32 = t1111 + t1112;
+        let t1114: f32 = zc - t1105;
+        let t1115: f32 = t1114 * 0.64386505;
+        let t1116: f32 = t1115 * t1115;
+        let t1117: f32 = t1114 * 0.76513904;
+        let t1118: f32 = t1117 * t1117;
+        let t1119: f32 = t1113 * t1113;
+        let t1120: f32 = t1116 + t1118;
+        let t1121: f32 = t1119 + t1120;
+        let t1122: f32 = sqrt(t1121);
+        let t1123: f32 = 1.0 / t1122;
+        let t1124: f32 = t1113 * t1123;
+        let t1125: f32 = t1107 * t1107;
+        let t1126: f32 = t1110 * t1110;
+        let t1127: f32 = t1114 * t1114;
+        let t1128: f32 = t1125 + t1126;
+        let t1129: f32 = t1127 + t1128;
+        let t1130: f32 = sqrt(t1129);
+        let t1131: f32 = 1.0 / t1130;
+        let t1132: f32 = t1107 * t1131;
+        let t1133: f32 = t1124 * t1132;
+        let t1134: f32 = t1114 * t1131;
+        let t1135: f32 = t1115 * t1123;
+        let t1136: f32 = t1134 * t1135;
+        let t1137: f32 = t1133 + t1136;
+        let t1138: f32 = t1110 * t1131;
+        let t1139: f32 = t1135 * t1138;
+        let t1140: f32 = t1117 * t1123;
+        let t1141: f32 = t1132 * t1140;
+        let t1142: f32 = t1139 - t1141;
+        let t1143: f32 = t1142 * 9.81;
+        let t1144: f32 = -t1143;
+        let t1145: f32 = wdx * t1108;
+        let t1146: f32 = wz * t1106;
+        let t1147: f32 = wx * t1105;
+        let t1148: f32 = t1146 - t1147;
+        let t1149: f32 = wx * t1148;
+        let t1150: f32 = wdy * t1106;
+        let t1151: f32 = wy * t1105;
+        let t1152: f32 = wz * t1108;
+        let t1153: f32 = t1151 - t1152;
+        let t1154: f32 = wy * t1153;
+        let t1155: f32 = az + t1150;
+        let t1156: f32 = t1154 + t1155;
+        let t1157: f32 = t1145 + t1149;
         let t1158: f32 = t1156 - t1157;
-        let t1159: f32 = wx * t1158;
-        let t1160: f32 = wdy * t1116;
-        let t1161: f32 = wy * t1115;
-        let t1162: f32 = wz * t1118;
+        let t1159: f32 = t1142 * t1158;
+        let t1160: f32 = wdy * t1105;
+        let t1161: f32 = wx * t1108;
+        let t1162: f32 = wy * t1106;
         let t1163: f32 = t1161 - t1162;
         let t1164: f32 = wy * t1163;
-        let t1165: f32 = az + t1160;
-        let t1166: f32 = t1164 + t1165;
-        let t1167: f32 = t1155 + t1159;
-        let t1168: f32 = t1166 - t1167;
-        let t1169: f32 = t1152 * t1168;
-        let t1170: f32 = wdy * t1115;
-        let t1171: f32 = wx * t1118;
-        let t1172: f32 = wy * t1116;
-        let t1173: f32 = t1171 - t1172;
-        let t1174: f32 = wy * t1173;
-        let t1175: f32 = wdz * t1118;
-        let t1176: f32 = wz * t1158;
-        let t1177: f32 = ax + t1175;
-        let t1178: f32 = t1176 + t1177;
-        let t1179: f32 = t1170 + t1174;
-        let t1180: f32 = t1178 - t1179;
-        let t1181: f32 = t1144 * t1150;
-        let t1182: f32 = t1134 * t1148;
-        let t1183: f32 = t1181 + t1182;
-        let t1184: f32 = t1180 * t1183;
-        let t1185: f32 = wdz * t1116;
-        let t1186: f32 = wz * t1163;
-        let t1187: f32 = wdx * t1115;
-        let t1188: f32 = wx * t1173;
-        let t1189: f32 = ay + t1187;
-        let t1190: f32 = t1188 + t1189;
-        let t1191: f32 = t1185 + t1186;
-        let t1192: f32 = t1190 - t1191;
-        let t1193: f32 = t1147 * t1192;
-        let t1194: f32 = t1184 - t1193;
-        let t1195: f32 = t1169 + t1194;
-        let t1196: f32 = t1117 * 0.76513904;
-        let t1197: f32 = t1120 * 0.64386505;
-        let t1198: f32 = t1196 - t1197;
-        let t1199: f32 = t1133 * t1198;
-        let t1200: f32 = vx - t1163;
-        let t1201: f32 = t1145 * t1200;
-        let t1202: f32 = vy - t1158;
-        let t1203: f32 = t1150 * t1202;
-        let t1204: f32 = vz - t1173;
-        let t1205: f32 = t1134 * t1204;
-        let t1206: f32 = t1201 + t1203;
-        let t1207: f32 = t1206 - t1205;
-        let t1208: f32 = t1207 * t1207;
-        let t1209: f32 = t1141 * t1199;
-        let t1210: f32 = t1208 * t1209;
-        let t1211: f32 = t1183 * t1200;
-        let t1212: f32 = t1147 * t1202;
-        let t1213: f32 = t1152 * t1204;
-        let t1214: f32 = t1211 + t1213;
-        let t1215: f32 = t1214 - t1212;
-        let t1216: f32 = t1142 * t1200;
-        let t1217: f32 = t1148 * t1202;
-        let t1218: f32 = t1144 * t1204;
-        let t1219: f32 = t1216 + t1217;
-        let t1220: f32 = t1218 + t1219;
-        let t1221: f32 = t1141 * t1220;
-        let t1222: f32 = t1221 * 2.0;
-        let t1223: f32 = t1215 * t1222;
-        let t1224: f32 = t1210 + t1223;
-        let t1225: f32 = t1195 - t1224;
-        let t1226: f32 = t1141 * t1225;
-        let t1227: f32 = t1141 * t1207;
-        let t1228: f32 = t1207 * t1209;
-        let t1229: f32 = t1227 * t1228;
-        let t1230: f32 = t1154 * 0.2;
-        let t1231: f32 = t1195 * 0.3;
-        let t1232: f32 = t1226 * 0.295;
-        let t1233: f32 = t1229 * 0.292;
-        let t1234: f32 = t1230 + t1231;
-        let t1235: f32 = t1232 + t1233;
-        let t1236: f32 = t1234 - t1235;
-        let t1237: f32 = t1141 * t1236;
-        let t1238: f32 = t1154 - t1195;
-        let t1239: f32 = t1226 + t1229;
-        let t1240: f32 = t1239 * 0.3;
-        let t1241: f32 = t1237 + t1238;
-        let t1242: f32 = t1240 + t1241;
-        let t1243: f32 = t1147 * t1242;
-        let t1244: f32 = t1144 * 9.81;
-        let t1245: f32 = -t1244;
-        let t1246: f32 = t1142 * t1180;
-        let t1247: f32 = t1148 * t1192;
-        let t1248: f32 = t1144 * t1168;
-        let t1249: f32 = t1246 + t1247;
-        let t1250: f32 = t1248 + t1249;
-        let t1251: f32 = t1227 * t1227;
-        let t1252: f32 = t1141 * t1215;
-        let t1253: f32 = t1252 * t1252;
-        let t1254: f32 = t1251 + t1253;
-        let t1255: f32 = t1254 * 0.3;
-        let t1256: f32 = t1250 + t1255;
-        let t1257: f32 = t1245 - t1256;
-        let t1258: f32 = t1148 * t1257;
-        let t1259: f32 = t1134 * 9.81;
-        let t1260: f32 = t1145 * t1180;
-        let t1261: f32 = t1150 * t1192;
-        let t1262: f32 = t1134 * t1168;
-        let t1263: f32 = t1260 + t1261;
-        let t1264: f32 = t1263 - t1262;
-        let t1265: f32 = t1141 * t1264;
-        let t1266: f32 = t1141 * t1141;
-        let t1267: f32 = t1199 * t1266;
-        let t1268: f32 = t1207 * t1267;
-        let t1269: f32 = t1215 * t1268;
-        let t1270: f32 = t1222 * t1227;
-        let t1271: f32 = t1269 - t1270;
-        let t1272: f32 = t1265 + t1271;
-        let t1273: f32 = t1228 * t1252;
-        let t1274: f32 = t1199 * t1271;
-        let t1275: f32 = t1133 * t1133;
-        let t1276: f32 = t1139 * t1141;
-        let t1277: f32 = t1275 * t1276;
-        let t1278: f32 = t1207 * t1277;
-        let t1279: f32 = t1215 * t1278;
-        let t1280: f32 = t1199 * t1264;
-        let t1281: f32 = t1279 + t1280;
-        let t1282: f32 = t1141 * t1281;
-        let t1283: f32 = t1274 + t1282;
-        let t1284: f32 = t1199 * t1283;
-        let t1285: f32 = t1259 * 0.2;
-        let t1286: f32 = t1264 * 0.3;
-        let t1287: f32 = t1272 * 0.295;
-        let t1288: f32 = t1273 * 0.292;
-        let t1289: f32 = t1284 * 0.003;
-        let t1290: f32 = t1285 + t1286;
-        let t1291: f32 = t1288 + t1290;
-        let t1292: f32 = t1287 + t1289;
-        let t1293: f32 = t1291 - t1292;
-        let t1294: f32 = t1141 * t1293;
-        let t1295: f32 = t1259 - t1264;
-        let t1296: f32 = t1272 - t1273;
-        let t1297: f32 = t1296 * 0.3;
-        let t1298: f32 = t1294 + t1295;
-        let t1299: f32 = t1297 + t1298;
-        let t1300: f32 = t1150 * t1299;
-        let t1301: f32 = t1258 + t1300;
-        let t1302: f32 = t1243 - t1301;
-        let t1303: f32 = -t1302;
-        let t1304: f32 = t1115 * t1303;
-        let t1305: f32 = t1134 * t1299;
-        let t1306: f32 = t1144 * t1257;
-        let t1307: f32 = t1305 - t1306;
-        let t1308: f32 = t1152 * t1242;
-        let t1309: f32 = t1307 - t1308;
-        let t1310: f32 = t1118 * t1309;
-        let t1311: f32 = t88 + t128;
-        let t1312: f32 = t305 + t511;
-        let t1313: f32 = t708 + t714;
-        let t1314: f32 = t1108 + t1114;
-        let t1315: f32 = t1311 + t1312;
-        let t1316: f32 = t1313 + t1314;
-        let t1317: f32 = t1315 + t1316;
-        let t1318: f32 = t311 + t504;
-        let t1319: f32 = t911 + t917;
-        let t1320: f32 = t1304 + t1310;
-        let t1321: f32 = t1318 + t1319;
-        let t1322: f32 = t1320 + t1321;
-        let t1323: f32 = t1317 - t1322;
-        let t1324: f32 = t47 * t1323;
-        let t1325: f32 = t17 * t107;
-        let t1326: f32 = t20 * t119;
-        let t1327: f32 = t0 * t121;
-        let t1328: f32 = t12 * t87;
-        let t1329: f32 = ax * t13;
-        let t1330: f32 = t1329 * 0.36;
-        let t1331: f32 = t1328 - t1330;
-        let t1332: f32 = t1 * t1331;
-        let t1333: f32 = t185 * t243;
-        let t1334: f32 = t299 - t297;
-        let t1335: f32 = t147 * t1334;
-        let t1336: f32 = t1333 - t1335;
-        let t1337: f32 = t144 * t259;
-        let t1338: f32 = t185 * t238;
-        let t1339: f32 = t147 * t295;
-        let t1340: f32 = t1338 - t1339;
-        let t1341: f32 = t43 * t1340;
-        let t1342: f32 = t1337 - t1341;
-        let t1343: f32 = t1336 + t1342;
-        let t1344: f32 = t37 * t1343;
-        let t1345: f32 = t8 * t310;
-        let t1346: f32 = t437 + t439;
-        let t1347: f32 = -t1346;
-        let t1348: f32 = t382 * t1347;
-        let t1349: f32 = t495 + t497;
-        let t1350: f32 = t344 * t1349;
-        let t1351: f32 = t1348 - t1350;
-        let t1352: f32 = t341 * t456;
-        let t1353: f32 = t382 * t435;
-        let t1354: f32 = t344 * t493;
-        let t1355: f32 = t1353 + t1354;
-        let t1356: f32 = t340 * t1355;
-        let t1357: f32 = t1352 + t1356;
-        let t1358: f32 = t1351 - t1357;
-        let t1359: f32 = t312 * t1358;
-        let t1360: f32 = t313 * t510;
-        let t1361: f32 = t588 * t646;
-        let t1362: f32 = t702 - t700;
-        let t1363: f32 = t550 * t1362;
-        let t1364: f32 = t1361 - t1363;
-        let t1365: f32 = t547 * t662;
-        let t1366: f32 = t588 * t641;
-        let t1367: f32 = t550 * t698;
-        let t1368: f32 = t1366 - t1367;
-        let t1369: f32 = t546 * t1368;
-        let t1370: f32 = t1365 - t1369;
-        let t1371: f32 = t1364 + t1370;
-        let t1372: f32 = t514 * t1371;
-        let t1373: f32 = t517 * t713;
-        let t1374: f32 = t791 * t849;
-        let t1375: f32 = t905 - t903;
-        let t1376: f32 = t753 * t1375;
-        let t1377: f32 = t1374 - t1376;
-        let t1378: f32 = t750 * t865;
-        let t1379: f32 = t791 * t844;
-        let t1380: f32 = t753 * t901;
-        let t1381: f32 = t1379 - t1380;
-        let t1382: f32 = t749 * t1381;
-        let t1383: f32 = t1378 - t1382;
-        let t1384: f32 = t1377 + t1383;
-        let t1385: f32 = t717 * t1384;
-        let t1386: f32 = t720 * t916;
-        let t1387: f32 = t1042 + t1044;
-        let t1388: f32 = -t1387;
-        let t1389: f32 = t987 * t1388;
-        let t1390: f32 = t1099 + t1101;
-        let t1391: f32 = t949 * t1390;
-        let t1392: f32 = t1389 - t1391;
-        let t1393: f32 = t946 * t1061;
-        let t1394: f32 = t987 * t1040;
-        let t1395: f32 = t949 * t1097;
-        let t1396: f32 = t1394 + t1395;
-        let t1397: f32 = t945 * t1396;
-        let t1398: f32 = t1393 + t1397;
-        let t1399: f32 = t1392 - t1398;
-        let t1400: f32 = t918 * t1399;
-        let t1401: f32 = t919 * t1113;
-        let t1402: f32 = t1238 + t1240;
-        let t1403: f32 = -t1402;
-        let t1404: f32 = t1183 * t1403;
-        let t1405: f32 = t1295 + t1297;
-        let t1406: f32 = t1145 * t1405;
-        let t1407: f32 = t1404 - t1406;
-        let t1408: f32 = t1142 * t1257;
-        let t1409: f32 = t1183 * t1236;
-        let t1410: f32 = t1145 * t1293;
-        let t1411: f32 = t1409 + t1410;
-        let t1412: f32 = t1141 * t1411;
-        let t1413: f32 = t1408 + t1412;
-        let t1414: f32 = t1407 - t1413;
-        let t1415: f32 = t1115 * t1414;
-        let t1416: f32 = t1116 * t1309;
-        let t1417: f32 = t1327 * 0.36;
-        let t1418: f32 = t1325 + t1345;
-        let t1419: f32 = t1359 + t1372;
-        let t1420: f32 = t1386 + t1400;
-        let t1421: f32 = t1418 + t1419;
-        let t1422: f32 = t1416 + t1420;
-        let t1423: f32 = t1421 + t1422;
-        let t1424: f32 = t1326 + t1332;
-        let t1425: f32 = t1344 + t1360;
-        let t1426: f32 = t1373 + t1385;
-        let t1427: f32 = t1401 + t1415;
-        let t1428: f32 = t1424 + t1425;
-        let t1429: f32 = t1426 + t1427;
-        let t1430: f32 = t1428 + t1429;
-        let t1431: f32 = t1417 + t1430;
-        let t1432: f32 = t1423 - t1431;
-        let t1433: f32 = t51 * t1432;
-        let t1434: f32 = t30 * t107;
-        let t1435: f32 = t34 * t119;
-        let t1436: f32 = ay * t0;
-        let t1437: f32 = t13 * t87;
-        let t1438: f32 = ax * t12;
-        let t1439: f32 = t1438 * 0.36;
-        let t1440: f32 = t1437 + t1439;
-        let t1441: f32 = t1 * t1440;
-        let t1442: f32 = t23 * t1343;
-        let t1443: f32 = t8 * t304;
-        let t1444: f32 = t316 * t1358;
-        let t1445: f32 = t313 * t503;
-        let t1446: f32 = t522 * t1371;
-        let t1447: f32 = t517 * t707;
-        let t1448: f32 = t725 * t1384;
-        let t1449: f32 = t720 * t910;
-        let t1450: f32 = t922 * t1399;
-        let t1451: f32 = t919 * t1107;
-        let t1452: f32 = t1118 * t1414;
-        let t1453: f32 = t1116 * t1303;
-        let t1454: f32 = t1436 * 0.36;
-        let t1455: f32 = t1434 + t1441;
-        let t1456: f32 = t1442 + t1445;
-        let t1457: f32 = t1448 + t1449;
-        let t1458: f32 = t1452 + t1453;
-        let t1459: f32 = t1455 + t1456;
-        let t1460: f32 = t1457 + t1458;
-        let t1461: f32 = t1459 + t1460;
-        let t1462: f32 = t1454 + t1461;
-        let t1463: f32 = t1435 + t1443;
-        let t1464: f32 = t1444 + t1446;
-        let t1465: f32 = t1447 + t1450;
-        let t1466: f32 = t1463 + t1464;
-        let t1467: f32 = t1451 + t1465;
-        let t1468: f32 = t1466 + t1467;
-        let t1469: f32 = t1462 - t1468;
-        let t1470: f32 = t55 * t1469;
-        let t1471: f32 = wx * t12;
-        let t1472: f32 = t1 * t1471;
-        let t1473: f32 = wy * t0;
-        let t1474: f32 = t1472 + t1473;
-        let t1475: f32 = t1474 * 0.36;
-        let t1476: f32 = wy * t1475;
-        let t1477: f32 = wz * t0;
-        let t1478: f32 = wx * t13;
-        let t1479: f32 = t1 * t1478;
-        let t1480: f32 = t1477 - t1479;
-        let t1481: f32 = t1480 * 0.36;
-        let t1482: f32 = wz * t1481;
-        let t1483: f32 = wdy * t13;
-        let t1484: f32 = wdz * t12;
+        let t1165: f32 = wdz * t1108;
+        let t1166: f32 = wz * t1148;
+        let t1167: f32 = ax + t1165;
+        let t1168: f32 = t1166 + t1167;
+        let t1169: f32 = t1160 + t1164;
+        let t1170: f32 = t1168 - t1169;
+        let t1171: f32 = t1134 * t1140;
+        let t1172: f32 = t1124 * t1138;
+        let t1173: f32 = t1171 + t1172;
+        let t1174: f32 = t1170 * t1173;
+        let t1175: f32 = wdz * t1106;
+        let t1176: f32 = wz * t1153;
+        let t1177: f32 = wdx * t1105;
+        let t1178: f32 = wx * t1163;
+        let t1179: f32 = ay + t1177;
+        let t1180: f32 = t1178 + t1179;
+        let t1181: f32 = t1175 + t1176;
+        let t1182: f32 = t1180 - t1181;
+        let t1183: f32 = t1137 * t1182;
+        let t1184: f32 = t1174 - t1183;
+        let t1185: f32 = t1159 + t1184;
+        let t1186: f32 = t1107 * 0.76513904;
+        let t1187: f32 = t1110 * 0.64386505;
+        let t1188: f32 = t1186 - t1187;
+        let t1189: f32 = t1123 * t1188;
+        let t1190: f32 = vx - t1153;
+        let t1191: f32 = t1135 * t1190;
+        let t1192: f32 = vy - t1148;
+        let t1193: f32 = t1140 * t1192;
+        let t1194: f32 = vz - t1163;
+        let t1195: f32 = t1124 * t1194;
+        let t1196: f32 = t1191 + t1193;
+        let t1197: f32 = t1196 - t1195;
+        let t1198: f32 = t1197 * t1197;
+        let t1199: f32 = t1131 * t1189;
+        let t1200: f32 = t1198 * t1199;
+        let t1201: f32 = t1173 * t1190;
+        let t1202: f32 = t1137 * t1192;
+        let t1203: f32 = t1142 * t1194;
+        let t1204: f32 = t1201 + t1203;
+        let t1205: f32 = t1204 - t1202;
+        let t1206: f32 = t1132 * t1190;
+        let t1207: f32 = t1138 * t1192;
+        let t1208: f32 = t1134 * t1194;
+        let t1209: f32 = t1206 + t1207;
+        let t1210: f32 = t1208 + t1209;
+        let t1211: f32 = t1131 * t1210;
+        let t1212: f32 = t1211 * 2.0;
+        let t1213: f32 = t1205 * t1212;
+        let t1214: f32 = t1200 + t1213;
+        let t1215: f32 = t1185 - t1214;
+        let t1216: f32 = t1131 * t1215;
+        let t1217: f32 = t1131 * t1197;
+        let t1218: f32 = t1197 * t1199;
+        let t1219: f32 = t1217 * t1218;
+        let t1220: f32 = t1144 * 0.2;
+        let t1221: f32 = t1185 * 0.3;
+        let t1222: f32 = t1216 * 0.295;
+        let t1223: f32 = t1219 * 0.292;
+        let t1224: f32 = t1220 + t1221;
+        let t1225: f32 = t1222 + t1223;
+        let t1226: f32 = t1224 - t1225;
+        let t1227: f32 = t1131 * t1226;
+        let t1228: f32 = t1144 - t1185;
+        let t1229: f32 = t1216 + t1219;
+        let t1230: f32 = t1229 * 0.3;
+        let t1231: f32 = t1227 + t1228;
+        let t1232: f32 = t1230 + t1231;
+        let t1233: f32 = t1137 * t1232;
+        let t1234: f32 = t1134 * 9.81;
+        let t1235: f32 = -t1234;
+        let t1236: f32 = t1132 * t1170;
+        let t1237: f32 = t1138 * t1182;
+        let t1238: f32 = t1134 * t1158;
+        let t1239: f32 = t1236 + t1237;
+        let t1240: f32 = t1238 + t1239;
+        let t1241: f32 = t1217 * t1217;
+        let t1242: f32 = t1131 * t1205;
+        let t1243: f32 = t1242 * t1242;
+        let t1244: f32 = t1241 + t1243;
+        let t1245: f32 = t1244 * 0.3;
+        let t1246: f32 = t1240 + t1245;
+        let t1247: f32 = t1235 - t1246;
+        let t1248: f32 = t1138 * t1247;
+        let t1249: f32 = t1124 * 9.81;
+        let t1250: f32 = t1135 * t1170;
+        let t1251: f32 = t1140 * t1182;
+        let t1252: f32 = t1124 * t1158;
+        let t1253: f32 = t1250 + t1251;
+        let t1254: f32 = t1253 - t1252;
+        let t1255: f32 = t1131 * t1254;
+        let t1256: f32 = t1131 * t1131;
+        let t1257: f32 = t1189 * t1256;
+        let t1258: f32 = t1197 * t1257;
+        let t1259: f32 = t1205 * t1258;
+        let t1260: f32 = t1212 * t1217;
+        let t1261: f32 = t1259 - t1260;
+        let t1262: f32 = t1255 + t1261;
+        let t1263: f32 = t1218 * t1242;
+        let t1264: f32 = t1189 * t1261;
+        let t1265: f32 = t1123 * t1123;
+        let t1266: f32 = t1129 * t1131;
+        let t1267: f32 = t1265 * t1266;
+        let t1268: f32 = t1197 * t1267;
+        let t1269: f32 = t1205 * t1268;
+        let t1270: f32 = t1189 * t1254;
+        let t1271: f32 = t1269 + t1270;
+        let t1272: f32 = t1131 * t1271;
+        let t1273: f32 = t1264 + t1272;
+        let t1274: f32 = t1189 * t1273;
+        let t1275: f32 = t1249 * 0.2;
+        let t1276: f32 = t1254 * 0.3;
+        let t1277: f32 = t1262 * 0.295;
+        let t1278: f32 = t1263 * 0.292;
+        let t1279: f32 = t1274 * 0.003;
+        let t1280: f32 = t1275 + t1276;
+        let t1281: f32 = t1278 + t1280;
+        let t1282: f32 = t1277 + t1279;
+        let t1283: f32 = t1281 - t1282;
+        let t1284: f32 = t1131 * t1283;
+        let t1285: f32 = t1249 - t1254;
+        let t1286: f32 = t1262 - t1263;
+        let t1287: f32 = t1286 * 0.3;
+        let t1288: f32 = t1284 + t1285;
+        let t1289: f32 = t1287 + t1288;
+        let t1290: f32 = t1140 * t1289;
+        let t1291: f32 = t1248 + t1290;
+        let t1292: f32 = t1233 - t1291;
+        let t1293: f32 = -t1292;
+        let t1294: f32 = t1105 * t1293;
+        let t1295: f32 = t1124 * t1289;
+        let t1296: f32 = t1134 * t1247;
+        let t1297: f32 = t1295 - t1296;
+        let t1298: f32 = t1142 * t1232;
+        let t1299: f32 = t1297 - t1298;
+        let t1300: f32 = t1108 * t1299;
+        let t1301: f32 = t70 + t118;
+        let t1302: f32 = t295 + t501;
+        let t1303: f32 = t698 + t704;
+        let t1304: f32 = t1098 + t1104;
+        let t1305: f32 = t1301 + t1302;
+        let t1306: f32 = t1303 + t1304;
+        let t1307: f32 = t1305 + t1306;
+        let t1308: f32 = t301 + t494;
+        let t1309: f32 = t901 + t907;
+        let t1310: f32 = t1294 + t1300;
+        let t1311: f32 = t1308 + t1309;
+        let t1312: f32 = t1310 + t1311;
+        let t1313: f32 = t1307 - t1312;
+        let t1314: f32 = t47 * t1313;
+        let t1315: f32 = t0 * t111;
+        let t1316: f32 = t17 * t92;
+        let t1317: f32 = t20 * t109;
+        let t1318: f32 = t12 * t69;
+        let t1319: f32 = ax * t13;
+        let t1320: f32 = t1319 * 0.36;
+        let t1321: f32 = t1318 - t1320;
+        let t1322: f32 = t1 * t1321;
+        let t1323: f32 = t175 * t233;
+        let t1324: f32 = t289 - t287;
+        let t1325: f32 = t137 * t1324;
+        let t1326: f32 = t1323 - t1325;
+        let t1327: f32 = t134 * t249;
+        let t1328: f32 = t175 * t228;
+        let t1329: f32 = t137 * t285;
+        let t1330: f32 = t1328 - t1329;
+        let t1331: f32 = t43 * t1330;
+        let t1332: f32 = t1327 - t1331;
+        let t1333: f32 = t1326 + t1332;
+        let t1334: f32 = t37 * t1333;
+        let t1335: f32 = t8 * t300;
+        let t1336: f32 = t427 + t429;
+        let t1337: f32 = -t1336;
+        let t1338: f32 = t372 * t1337;
+        let t1339: f32 = t485 + t487;
+        let t1340: f32 = t334 * t1339;
+        let t1341: f32 = t1338 - t1340;
+        let t1342: f32 = t331 * t446;
+        let t1343: f32 = t372 * t425;
+        let t1344: f32 = t334 * t483;
+        let t1345: f32 = t1343 + t1344;
+        let t1346: f32 = t330 * t1345;
+        let t1347: f32 = t1342 + t1346;
+        let t1348: f32 = t1341 - t1347;
+        let t1349: f32 = t302 * t1348;
+        let t1350: f32 = t303 * t500;
+        let t1351: f32 = t578 * t636;
+        let t1352: f32 = t692 - t690;
+        let t1353: f32 = t540 * t1352;
+        let t1354: f32 = t1351 - t1353;
+        let t1355: f32 = t537 * t652;
+        let t1356: f32 = t578 * t631;
+        let t1357: f32 = t540 * t688;
+        let t1358: f32 = t1356 - t1357;
+        let t1359: f32 = t536 * t1358;
+        let t1360: f32 = t1355 - t1359;
+        let t1361: f32 = t1354 + t1360;
+        let t1362: f32 = t504 * t1361;
+        let t1363: f32 = t507 * t703;
+        let t1364: f32 = t781 * t839;
+        let t1365: f32 = t895 - t893;
+        let t1366: f32 = t743 * t1365;
+        let t1367: f32 = t1364 - t1366;
+        let t1368: f32 = t740 * t855;
+        let t1369: f32 = t781 * t834;
+        let t1370: f32 = t743 * t891;
+        let t1371: f32 = t1369 - t1370;
+        let t1372: f32 = t739 * t1371;
+        let t1373: f32 = t1368 - t1372;
+        let t1374: f32 = t1367 + t1373;
+        let t1375: f32 = t707 * t1374;
+        let t1376: f32 = t710 * t906;
+        let t1377: f32 = t1032 + t1034;
+        let t1378: f32 = -t1377;
+        let t1379: f32 = t977 * t1378;
+        let t1380: f32 = t1089 + t1091;
+        let t1381: f32 = t939 * t1380;
+        let t1382: f32 = t1379 - t1381;
+        let t1383: f32 = t936 * t1051;
+        let t1384: f32 = t977 * t1030;
+        let t1385: f32 = t939 * t1087;
+        let t1386: f32 = t1384 + t1385;
+        let t1387: f32 = t935 * t1386;
+        let t1388: f32 = t1383 + t1387;
+        let t1389: f32 = t1382 - t1388;
+        let t1390: f32 = t908 * t1389;
+        let t1391: f32 = t909 * t1103;
+        let t1392: f32 = t1228 + t1230;
+        let t1393: f32 = -t1392;
+        let t1394: f32 = t1173 * t1393;
+        let t1395: f32 = t1285 + t1287;
+        let t1396: f32 = t1135 * t1395;
+        let t1397: f32 = t1394 - t1396;
+        let t1398: f32 = t1132 * t1247;
+        let t1399: f32 = t1173 * t1226;
+        let t1400: f32 = t1135 * t1283;
+        let t1401: f32 = t1399 + t1400;
+        let t1402: f32 = t1131 * t1401;
+        let t1403: f32 = t1398 + t1402;
+        let t1404: f32 = t1397 - t1403;
+        let t1405: f32 = t1105 * t1404;
+        let t1406: f32 = t1106 * t1299;
+        let t1407: f32 = t1315 * 0.36;
+        let t1408: f32 = t1316 + t1335;
+        let t1409: f32 = t1349 + t1362;
+        let t1410: f32 = t1376 + t1390;
+        let t1411: f32 = t1408 + t1409;
+        let t1412: f32 = t1406 + t1410;
+        let t1413: f32 = t1411 + t1412;
+        let t1414: f32 = t1317 + t1407;
+        let t1415: f32 = t1322 + t1334;
+        let t1416: f32 = t1350 + t1363;
+        let t1417: f32 = t1375 + t1391;
+        let t1418: f32 = t1414 + t1415;
+        let t1419: f32 = t1416 + t1417;
+        let t1420: f32 = t1418 + t1419;
+        let t1421: f32 = t1405 + t1420;
+        let t1422: f32 = t1413 - t1421;
+        let t1423: f32 = t51 * t1422;
+        let t1424: f32 = ay * t0;
+        let t1425: f32 = t30 * t92;
+        let t1426: f32 = t34 * t109;
+        let t1427: f32 = t13 * t69;
+        let t1428: f32 = ax * t12;
+        let t1429: f32 = t1428 * 0.36;
+        let t1430: f32 = t1427 + t1429;
+        let t1431: f32 = t1 * t1430;
+        let t1432: f32 = t23 * t1333;
+        let t1433: f32 = t8 * t294;
+        let t1434: f32 = t306 * t1348;
+        let t1435: f32 = t303 * t493;
+        let t1436: f32 = t512 * t1361;
+        let t1437: f32 = t507 * t697;
+        let t1438: f32 = t715 * t1374;
+        let t1439: f32 = t710 * t900;
+        let t1440: f32 = t912 * t1389;
+        let t1441: f32 = t909 * t1097;
+        let t1442: f32 = t1108 * t1404;
+        let t1443: f32 = t1106 * t1293;
+        let t1444: f32 = t1424 * 0.36;
+        let t1445: f32 = t1425 + t1444;
+        let t1446: f32 = t1431 + t1432;
+        let t1447: f32 = t1435 + t1438;
+        let t1448: f32 = t1439 + t1442;
+        let t1449: f32 = t1445 + t1446;
+        let t1450: f32 = t1447 + t1448;
+        let t1451: f32 = t1449 + t1450;
+        let t1452: f32 = t1443 + t1451;
+        let t1453: f32 = t1426 + t1433;
+        let t1454: f32 = t1434 + t1436;
+        let t1455: f32 = t1437 + t1440;
+        let t1456: f32 = t1453 + t1454;
+        let t1457: f32 = t1441 + t1455;
+        let t1458: f32 = t1456 + t1457;
+        let t1459: f32 = t1452 - t1458;
+        let t1460: f32 = t55 * t1459;
+        let t1461: f32 = wx * t12;
+        let t1462: f32 = t1 * t1461;
+        let t1463: f32 = wy * t0;
+        let t1464: f32 = t1462 + t1463;
+        let t1465: f32 = t1464 * 0.36;
+        let t1466: f32 = wy * t1465;
+        let t1467: f32 = wz * t0;
+        let t1468: f32 = wx * t13;
+        let t1469: f32 = t1 * t1468;
+        let t1470: f32 = t1467 - t1469;
+        let t1471: f32 = t1470 * 0.36;
+        let t1472: f32 = wz * t1471;
+        let t1473: f32 = wdy * t13;
+        let t1474: f32 = wdz * t12;
+        let t1475: f32 = t1473 + t1474;
+        let t1476: f32 = t1475 * 0.36;
+        let t1477: f32 = t1 * t1476;
+        let t1478: f32 = ax * 12.0;
+        let t1479: f32 = t1477 + t1478;
+        let t1480: f32 = t1348 + t1389;
+        let t1481: f32 = t1479 + t1480;
+        let t1482: f32 = t1404 + t1481;
+        let t1483: f32 = t1466 + t1472;
+        let t1484: f32 = t1333 + t1361;
         let t1485: f32 = t1483 + t1484;
-        let t1486: f32 = t1485 * 0.36;
-        let t1487: f32 = t1 * t1486;
-        let t1488: f32 = ax * 12.0;
-        let t1489: f32 = t1487 + t1488;
-        let t1490: f32 = t1358 + t1399;
-        let t1491: f32 = t1489 + t1490;
-        let t1492: f32 = t1414 + t1491;
-        let t1493: f32 = t1476 + t1482;
-        let t1494: f32 = t1343 + t1371;
-        let t1495: f32 = t1493 + t1494;
-        let t1496: f32 = t1384 + t1495;
-        let t1497: f32 = t1492 - t1496;
-        let t1498: f32 = t10 * t1497;
-        let t1499: f32 = wdz * t0;
-        let t1500: f32 = wx * t1475;
-        let t1501: f32 = wdx * t13;
-        let t1502: f32 = wy * t13;
-        let t1503: f32 = wz * t12;
-        let t1504: f32 = t1502 + t1503;
-        let t1505: f32 = t1504 * 0.36;
-        let t1506: f32 = wz * t1505;
-        let t1507: f32 = t1501 * 0.36;
-        let t1508: f32 = t1507 - t1506;
-        let t1509: f32 = t1 * t1508;
-        let t1510: f32 = ay * 12.0;
-        let t1511: f32 = t1499 * 0.36;
-        let t1512: f32 = t1510 + t1511;
-        let t1513: f32 = t707 + t1500;
-        let t1514: f32 = t910 + t1106;
-        let t1515: f32 = t1512 + t1513;
-        let t1516: f32 = t1302 + t1514;
+        let t1486: f32 = t1374 + t1485;
+        let t1487: f32 = t1482 - t1486;
+        let t1488: f32 = t10 * t1487;
+        let t1489: f32 = wdz * t0;
+        let t1490: f32 = wx * t1465;
+        let t1491: f32 = wdx * t13;
+        let t1492: f32 = wy * t13;
+        let t1493: f32 = wz * t12;
+        let t1494: f32 = t1492 + t1493;
+        let t1495: f32 = t1494 * 0.36;
+        let t1496: f32 = wz * t1495;
+        let t1497: f32 = t1491 * 0.36;
+        let t1498: f32 = t1497 - t1496;
+        let t1499: f32 = t1 * t1498;
+        let t1500: f32 = ay * 12.0;
+        let t1501: f32 = t1489 * 0.36;
+        let t1502: f32 = t1500 + t1501;
+        let t1503: f32 = t697 + t1490;
+        let t1504: f32 = t900 + t1096;
+        let t1505: f32 = t1502 + t1503;
+        let t1506: f32 = t1292 + t1504;
+        let t1507: f32 = t1505 + t1506;
+        let t1508: f32 = t294 + t1499;
+        let t1509: f32 = t492 + t1508;
+        let t1510: f32 = t1507 - t1509;
+        let t1511: f32 = t25 * t1510;
+        let t1512: f32 = wdy * t0;
+        let t1513: f32 = wx * t1471;
+        let t1514: f32 = wdx * t12;
+        let t1515: f32 = wy * t1495;
+        let t1516: f32 = t1514 * 0.36;
         let t1517: f32 = t1515 + t1516;
-        let t1518: f32 = t304 + t1509;
-        let t1519: f32 = t502 + t1518;
-        let t1520: f32 = t1517 - t1519;
-        let t1521: f32 = t25 * t1520;
-        let t1522: f32 = wdy * t0;
-        let t1523: f32 = wx * t1481;
-        let t1524: f32 = wdx * t12;
-        let t1525: f32 = wy * t1505;
-        let t1526: f32 = t1524 * 0.36;
-        let t1527: f32 = t1525 + t1526;
-        let t1528: f32 = t1 * t1527;
-        let t1529: f32 = az * 12.0;
-        let t1530: f32 = t1522 * 0.36;
-        let t1531: f32 = t1523 + t1529;
-        let t1532: f32 = t1113 + t1309;
-        let t1533: f32 = t1531 + t1532;
-        let t1534: f32 = t1533 + 117.72;
-        let t1535: f32 = t1528 + t1530;
-        let t1536: f32 = t310 + t509;
-        let t1537: f32 = t713 + t916;
-        let t1538: f32 = t1535 + t1536;
-        let t1539: f32 = t1537 + t1538;
-        let t1540: f32 = t1534 - t1539;
-        let t1541: f32 = t38 * t1540;
-        let t1542: f32 = t1324 + t1470;
-        let t1543: f32 = t1433 + t1498;
-        let t1544: f32 = t1521 + t1541;
-        let t1545: f32 = t1543 + t1544;
-        let t1546: f32 = t1542 - t1545;
-        let t1547: f32 = t43 * t61;
-        let t1548: f32 = t1546 * t1547;
-        let t1549: f32 = t312 * t318;
-        let t1550: f32 = t316 * t322;
-        let t1551: f32 = t1549 - t1550;
-        let t1552: f32 = t47 * t1551;
-        let t1553: f32 = t312 * t315;
-        let t1554: f32 = t313 * t322;
-        let t1555: f32 = t1553 - t1554;
-        let t1556: f32 = t51 * t1555;
-        let t1557: f32 = t315 * t316;
-        let t1558: f32 = t313 * t318;
-        let t1559: f32 = t1557 - t1558;
-        let t1560: f32 = t55 * t1559;
-        let t1561: f32 = t10 * t315;
-        let t1562: f32 = t25 * t318;
-        let t1563: f32 = t38 * t322;
-        let t1564: f32 = t1552 + t1556;
-        let t1565: f32 = t1560 + t1561;
-        let t1566: f32 = t1562 + t1563;
-        let t1567: f32 = t1564 + t1565;
-        let t1568: f32 = t1566 + t1567;
-        let t1569: f32 = t43 * t340;
-        let t1570: f32 = t1568 * t1569;
-        let t1571: f32 = t61 * t1570;
-        let t1572: f32 = t1570 * t1571;
-        let t1573: f32 = t1559 * t1559;
-        let t1574: f32 = t466 * t1573;
-        let t1575: f32 = t1551 * t1551;
-        let t1576: f32 = t466 * t1575;
-        let t1577: f32 = t1555 * t1555;
-        let t1578: f32 = t466 * t1577;
-        let t1579: f32 = t1576 + t1578;
-        let t1580: f32 = t1574 + t1579;
-        let t1581: f32 = t1580 + 1.0;
-        let t1582: f32 = t1581 - t1572;
-        let t1583: f32 = 1.0 / t1582;
-        let t1584: f32 = t717 * t727;
-        let t1585: f32 = t725 * t731;
-        let t1586: f32 = t1584 - t1585;
-        let t1587: f32 = t47 * t1586;
-        let t1588: f32 = t717 * t722;
-        let t1589: f32 = t720 * t731;
-        let t1590: f32 = t1588 - t1589;
-        let t1591: f32 = t51 * t1590;
-        let t1592: f32 = t722 * t725;
-        let t1593: f32 = t720 * t727;
-        let t1594: f32 = t1592 - t1593;
-        let t1595: f32 = t55 * t1594;
-        let t1596: f32 = t10 * t722;
-        let t1597: f32 = t25 * t727;
-        let t1598: f32 = t38 * t731;
-        let t1599: f32 = t1587 + t1591;
-        let t1600: f32 = t1595 + t1596;
-        let t1601: f32 = t1597 + t1598;
-        let t1602: f32 = t1599 + t1600;
-        let t1603: f32 = t1601 + t1602;
-        let t1604: f32 = t43 * t749;
-        let t1605: f32 = t1603 * t1604;
-        let t1606: f32 = t1571 * t1605;
-        let t1607: f32 = t1551 * t1586;
-        let t1608: f32 = t1555 * t1590;
-        let t1609: f32 = t1559 * t1594;
-        let t1610: f32 = t315 * t722;
-        let t1611: f32 = t318 * t727;
-        let t1612: f32 = t322 * t731;
-        let t1613: f32 = t1607 + t1608;
-        let t1614: f32 = t1609 + t1610;
-        let t1615: f32 = t1611 + t1612;
-        let t1616: f32 = t1613 + t1614;
-        let t1617: f32 = t1615 + t1616;
-        let t1618: f32 = t340 * t749;
-        let t1619: f32 = t1617 * t1618;
-        let t1620: f32 = t1606 - t1619;
-        let t1621: f32 = -t1620;
-        let t1622: f32 = t1583 * t1621;
-        let t1623: f32 = t61 * t1605;
-        let t1624: f32 = t1605 * t1623;
-        let t1625: f32 = t1621 * t1622;
-        let t1626: f32 = t514 * t524;
-        let t1627: f32 = t522 * t528;
-        let t1628: f32 = t1626 - t1627;
-        let t1629: f32 = t47 * t1628;
-        let t1630: f32 = t514 * t519;
-        let t1631: f32 = t517 * t528;
-        let t1632: f32 = t1630 - t1631;
-        let t1633: f32 = t51 * t1632;
-        let t1634: f32 = t519 * t522;
-        let t1635: f32 = t517 * t524;
-        let t1636: f32 = t1634 - t1635;
-        let t1637: f32 = t55 * t1636;
-        let t1638: f32 = t10 * t519;
-        let t1639: f32 = t25 * t524;
-        let t1640: f32 = t38 * t528;
-        let t1641: f32 = t1629 + t1633;
-        let t1642: f32 = t1637 + t1641;
-        let t1643: f32 = t1638 + t1639;
-        let t1644: f32 = t1640 + t1643;
-        let t1645: f32 = t1642 - t1644;
-        let t1646: f32 = t43 * t546;
-        let t1647: f32 = t1645 * t1646;
-        let t1648: f32 = t61 * t1647;
-        let t1649: f32 = t1605 * t1648;
-        let t1650: f32 = t1571 * t1647;
-        let t1651: f32 = t1551 * t1628;
-        let t1652: f32 = t1555 * t1632;
-        let t1653: f32 = t1559 * t1636;
-        let t1654: f32 = t315 * t519;
-        let t1655: f32 = t318 * t524;
-        let t1656: f32 = t322 * t528;
-        let t1657: f32 = t1651 + t1652;
-        let t1658: f32 = t1653 + t1657;
-        let t1659: f32 = t1654 + t1655;
-        let t1660: f32 = t1656 + t1659;
-        let t1661: f32 = t1658 - t1660;
-        let t1662: f32 = t340 * t546;
-        let t1663: f32 = t1661 * t1662;
-        let t1664: f32 = t1650 - t1663;
-        let t1665: f32 = -t1664;
-        let t1666: f32 = t1583 * t1665;
-        let t1667: f32 = t1621 * t1666;
-        let t1668: f32 = t1586 * t1628;
-        let t1669: f32 = t1590 * t1632;
-        let t1670: f32 = t1594 * t1636;
-        let t1671: f32 = t519 * t722;
-        let t1672: f32 = t524 * t727;
-        let t1673: f32 = t528 * t731;
-        let t1674: f32 = t1668 + t1669;
-        let t1675: f32 = t1670 + t1674;
-        let t1676: f32 = t1671 + t1672;
-        let t1677: f32 = t1673 + t1676;
-        let t1678: f32 = t1675 - t1677;
-        let t1679: f32 = t546 * t749;
-        let t1680: f32 = t1678 * t1679;
-        let t1681: f32 = t1649 + t1667;
-        let t1682: f32 = t1681 - t1680;
-        let t1683: f32 = -t1682;
-        let t1684: f32 = t1647 * t1648;
-        let t1685: f32 = t1665 * t1666;
-        let t1686: f32 = t1636 * t1636;
-        let t1687: f32 = t671 * t1686;
-        let t1688: f32 = t1628 * t1628;
-        let t1689: f32 = t671 * t1688;
-        let t1690: f32 = t1632 * t1632;
-        let t1691: f32 = t671 * t1690;
-        let t1692: f32 = t1689 + t1691;
-        let t1693: f32 = t1687 + t1692;
-        let t1694: f32 = t1693 + 1.0;
-        let t1695: f32 = t1684 + t1685;
-        let t1696: f32 = t1694 - t1695;
-        let t1697: f32 = 1.0 / t1696;
-        let t1698: f32 = t1683 * t1697;
-        let t1699: f32 = t1683 * t1698;
-        let t1700: f32 = t1594 * t1594;
-        let t1701: f32 = t874 * t1700;
-        let t1702: f32 = t1586 * t1586;
-        let t1703: f32 = t874 * t1702;
-        let t1704: f32 = t1590 * t1590;
-        let t1705: f32 = t874 * t1704;
-        let t1706: f32 = t1703 + t1705;
-        let t1707: f32 = t1701 + t1706;
-        let t1708: f32 = t1707 + 1.0;
-        let t1709: f32 = t1624 + t1625;
-        let t1710: f32 = t1699 + t1709;
-        let t1711: f32 = t1708 - t1710;
-        let t1712: f32 = 1.0 / t1711;
-        let t1713: f32 = t1115 * t1120;
-        let t1714: f32 = t1118 * t1124;
-        let t1715: f32 = t1713 - t1714;
-        let t1716: f32 = t47 * t1715;
-        let t1717: f32 = t1115 * t1117;
-        let t1718: f32 = t1116 * t1124;
-        let t1719: f32 = t1717 - t1718;
-        let t1720: f32 = t51 * t1719;
-        let t1721: f32 = t1117 * t1118;
-        let t1722: f32 = t1116 * t1120;
-        let t1723: f32 = t1721 - t1722;
-        let t1724: f32 = t55 * t1723;
-        let t1725: f32 = t10 * t1117;
-        let t1726: f32 = t25 * t1120;
-        let t1727: f32 = t38 * t1124;
-        let t1728: f32 = t1716 + t1720;
-        let t1729: f32 = t1724 + t1728;
-        let t1730: f32 = t1725 + t1726;
-        let t1731: f32 = t1727 + t1730;
-        let t1732: f32 = t1729 - t1731;
-        let t1733: f32 = t43 * t1141;
-        let t1734: f32 = t1732 * t1733;
-        let t1735: f32 = t1623 * t1734;
-        let t1736: f32 = t1571 * t1734;
-        let t1737: f32 = t1551 * t1715;
-        let t1738: f32 = t1555 * t1719;
-        let t1739: f32 = t1559 * t1723;
-        let t1740: f32 = t315 * t1117;
-        let t1741: f32 = t318 * t1120;
-        let t1742: f32 = t322 * t1124;
-        let t1743: f32 = t1737 + t1738;
-        let t1744: f32 = t1739 + t1743;
-        let t1745: f32 = t1740 + t1741;
-        let t1746: f32 = t1742 + t1745;
-        let t1747: f32 = t1744 - t1746;
-        let t1748: f32 = t340 * t1141;
-        let t1749: f32 = t1747 * t1748;
-        let t1750: f32 = t1736 - t1749;
-        let t1751: f32 = -t1750;
-        let t1752: f32 = t1622 * t1751;
-        let t1753: f32 = t1648 * t1734;
-        let t1754: f32 = t1666 * t1751;
-        let t1755: f32 = t1628 * t1715;
-        let t1756: f32 = t1632 * t1719;
-        let t1757: f32 = t1636 * t1723;
-        let t1758: f32 = t519 * t1117;
-        let t1759: f32 = t524 * t1120;
-        let t1760: f32 = t528 * t1124;
-        let t1761: f32 = t1755 + t1756;
-        let t1762: f32 = t1757 + t1758;
-        let t1763: f32 = t1759 + t1760;
-        let t1764: f32 = t1761 + t1762;
-        let t1765: f32 = t1763 + t1764;
-        let t1766: f32 = t546 * t1141;
-        let t1767: f32 = t1765 * t1766;
-        let t1768: f32 = t1753 + t1754;
-        let t1769: f32 = t1768 - t1767;
-        let t1770: f32 = -t1769;
-        let t1771: f32 = t1698 * t1770;
-        let t1772: f32 = t1586 * t1715;
-        let t1773: f32 = t1590 * t1719;
-        let t1774: f32 = t1594 * t1723;
-        let t1775: f32 = t722 * t1117;
-        let t1776: f32 = t727 * t1120;
-        let t1777: f32 = t731 * t1124;
-        let t1778: f32 = t1772 + t1773;
-        let t1779: f32 = t1774 + t1778;
-        let t1780: f32 = t1775 + t1776;
-        let t1781: f32 = t1777 + t1780;
-        let t1782: f32 = t1779 - t1781;
-        let t1783: f32 = t749 * t1141;
-        let t1784: f32 = t1782 * t1783;
-        let t1785: f32 = t1735 + t1752;
-        let t1786: f32 = t1771 + t1785;
-        let t1787: f32 = t1786 - t1784;
-        let t1788: f32 = -t1787;
-        let t1789: f32 = t1712 * t1788;
-        let t1790: f32 = t61 * t1734;
-        let t1791: f32 = t1734 * t1790;
-        let t1792: f32 = t1583 * t1751;
-        let t1793: f32 = t1751 * t1792;
-        let t1794: f32 = t1697 * t1770;
-        let t1795: f32 = t1770 * t1794;
-        let t1796: f32 = t1788 * t1789;
-        let t1797: f32 = t918 * t924;
-        let t1798: f32 = t922 * t928;
-        let t1799: f32 = t1797 - t1798;
-        let t1800: f32 = t47 * t1799;
-        let t1801: f32 = t918 * t921;
-        let t1802: f32 = t919 * t928;
-        let t1803: f32 = t1801 - t1802;
-        let t1804: f32 = t51 * t1803;
-        let t1805: f32 = t921 * t922;
-        let t1806: f32 = t919 * t924;
-        let t1807: f32 = t1805 - t1806;
-        let t1808: f32 = t55 * t1807;
-        let t1809: f32 = t10 * t921;
-        let t1810: f32 = t25 * t924;
-        let t1811: f32 = t38 * t928;
-        let t1812: f32 = t1800 + t1804;
-        let t1813: f32 = t1808 + t1809;
-        let t1814: f32 = t1810 + t1811;
-        let t1815: f32 = t1812 + t1813;
-        let t1816: f32 = t1814 + t1815;
-        let t1817: f32 = t43 * t945;
-        let t1818: f32 = t1816 * t1817;
-        let t1819: f32 = t61 * t1818;
-        let t1820: f32 = t1734 * t1819;
-        let t1821: f32 = t1571 * t1818;
-        let t1822: f32 = t1551 * t1799;
-        let t1823: f32 = t1555 * t1803;
-        let t1824: f32 = t1559 * t1807;
-        let t1825: f32 = t315 * t921;
-        let t1826: f32 = t318 * t924;
-        let t1827: f32 = t322 * t928;
-        let t1828: f32 = t1822 + t1823;
-        let t1829: f32 = t1824 + t1825;
-        let t1830: f32 = t1826 + t1827;
-        let t1831: f32 = t1828 + t1829;
-        let t1832: f32 = t1830 + t1831;
-        let t1833: f32 = t340 * t945;
-        let t1834: f32 = t1832 * t1833;
-        let t1835: f32 = t1821 - t1834;
-        let t1836: f32 = -t1835;
-        let t1837: f32 = t1583 * t1836;
-        let t1838: f32 = t1751 * t1837;
-        let t1839: f32 = t1648 * t1818;
-        let t1840: f32 = t1666 * t1836;
-        let t1841: f32 = t1628 * t1799;
-        let t1842: f32 = t1632 * t1803;
-        let t1843: f32 = t1636 * t1807;
-        let t1844: f32 = t519 * t921;
-        let t1845: f32 = t524 * t924;
-        let t1846: f32 = t528 * t928;
-        let t1847: f32 = t1841 + t1842;
-        let t1848: f32 = t1843 + t1847;
-        let t1849: f32 = t1844 + t1845;
-        let t1850: f32 = t1846 + t1849;
-        let t1851: f32 = t1848 - t1850;
-        let t1852: f32 = t546 * t945;
-        let t1853: f32 = t1851 * t1852;
-        let t1854: f32 = t1839 + t1840;
-        let t1855: f32 = t1854 - t1853;
-        let t1856: f32 = -t1855;
-        let t1857: f32 = t1697 * t1856;
-        let t1858: f32 = t1770 * t1857;
-        let t1859: f32 = t1623 * t1818;
-        let t1860: f32 = t1622 * t1836;
-        let t1861: f32 = t1698 * t1856;
-        let t1862: f32 = t1586 * t1799;
-        let t1863: f32 = t1590 * t1803;
-        let t1864: f32 = t1594 * t1807;
-        let t1865: f32 = t722 * t921;
-        let t1866: f32 = t727 * t924;
-        let t1867: f32 = t731 * t928;
-        let t1868: f32 = t1862 + t1863;
-        let t1869: f32 = t1864 + t1865;
-        let t1870: f32 = t1866 + t1867;
-        let t1871: f32 = t1868 + t1869;
-        let t1872: f32 = t1870 + t1871;
-        let t1873: f32 = t749 * t945;
-        let t1874: f32 = t1872 * t1873;
-        let t1875: f32 = t1859 + t1860;
-        let t1876: f32 = t1861 + t1875;
-        let t1877: f32 = t1876 - t1874;
-        let t1878: f32 = -t1877;
-        let t1879: f32 = t1712 * t1878;
-        let t1880: f32 = t1788 * t1879;
-        let t1881: f32 = t1715 * t1799;
-        let t1882: f32 = t1719 * t1803;
-        let t1883: f32 = t1723 * t1807;
-        let t1884: f32 = t921 * t1117;
-        let t1885: f32 = t924 * t1120;
-        let t1886: f32 = t928 * t1124;
-        let t1887: f32 = t1881 + t1882;
-        let t1888: f32 = t1883 + t1887;
-        let t1889: f32 = t1884 + t1885;
-        let t1890: f32 = t1886 + t1889;
-        let t1891: f32 = t1888 - t1890;
-        let t1892: f32 = t945 * t1141;
-        let t1893: f32 = t1891 * t1892;
-        let t1894: f32 = t1820 + t1838;
-        let t1895: f32 = t1858 + t1880;
-        let t1896: f32 = t1894 + t1895;
-        let t1897: f32 = t1896 - t1893;
-        let t1898: f32 = -t1897;
-        let t1899: f32 = t1818 * t1819;
-        let t1900: f32 = t1836 * t1837;
-        let t1901: f32 = t1856 * t1857;
-        let t1902: f32 = t1878 * t1879;
-        let t1903: f32 = t1807 * t1807;
-        let t1904: f32 = t1070 * t1903;
-        let t1905: f32 = t1799 * t1799;
-        let t1906: f32 = t1070 * t1905;
-        let t1907: f32 = t1803 * t1803;
-        let t1908: f32 = t1070 * t1907;
-        let t1909: f32 = t1906 + t1908;
-        let t1910: f32 = t1904 + t1909;
-        let t1911: f32 = t1910 + 1.0;
-        let t1912: f32 = t1899 + t1900;
-        let t1913: f32 = t1901 + t1902;
-        let t1914: f32 = t1912 + t1913;
-        let t1915: f32 = t1911 - t1914;
-        let t1916: f32 = 1.0 / t1915;
-        let t1917: f32 = t1898 * t1916;
-        let t1918: f32 = t1898 * t1917;
-        let t1919: f32 = t1723 * t1723;
-        let t1920: f32 = t1266 * t1919;
-        let t1921: f32 = t1715 * t1715;
-        let t1922: f32 = t1266 * t1921;
-        let t1923: f32 = t1719 * t1719;
-        let t1924: f32 = t1266 * t1923;
-        let t1925: f32 = t1922 + t1924;
-        let t1926: f32 = t1920 + t1925;
-        let t1927: f32 = t1926 + 1.0;
-        let t1928: f32 = t1791 + t1793;
-        let t1929: f32 = t1795 + t1796;
-        let t1930: f32 = t1928 + t1929;
-        let t1931: f32 = t1918 + t1930;
-        let t1932: f32 = t1927 - t1931;
-        let t1933: f32 = 1.0 / t1932;
-        let t1934: f32 = t43 * t1546;
-        let t1935: f32 = t1790 * t1934;
-        let t1936: f32 = t1571 * t1934;
-        let t1937: f32 = t1323 * t1551;
-        let t1938: f32 = t1432 * t1555;
-        let t1939: f32 = t1469 * t1559;
-        let t1940: f32 = t315 * t1497;
-        let t1941: f32 = t318 * t1520;
-        let t1942: f32 = t322 * t1540;
-        let t1943: f32 = t1937 + t1939;
-        let t1944: f32 = t1938 + t1940;
-        let t1945: f32 = t1941 + t1942;
-        let t1946: f32 = t1944 + t1945;
-        let t1947: f32 = t1943 - t1946;
-        let t1948: f32 = t340 * t1947;
-        let t1949: f32 = t1948 - t1936;
-        let t1950: f32 = t1792 * t1949;
-        let t1951: f32 = t1648 * t1934;
-        let t1952: f32 = t1666 * t1949;
-        let t1953: f32 = t1323 * t1628;
-        let t1954: f32 = t1432 * t1632;
-        let t1955: f32 = t1469 * t1636;
-        let t1956: f32 = t519 * t1497;
-        let t1957: f32 = t524 * t1520;
-        let t1958: f32 = t528 * t1540;
-        let t1959: f32 = t1953 + t1955;
-        let t1960: f32 = t1956 + t1957;
-        let t1961: f32 = t1959 + t1960;
-        let t1962: f32 = t1958 + t1961;
-        let t1963: f32 = t1962 - t1954;
-        let t1964: f32 = t546 * t1963;
-        let t1965: f32 = t1951 + t1952;
-        let t1966: f32 = t1964 - t1965;
-        let t1967: f32 = t1794 * t1966;
-        let t1968: f32 = t1623 * t1934;
-        let t1969: f32 = t1622 * t1949;
-        let t1970: f32 = t1698 * t1966;
-        let t1971: f32 = t1323 * t1586;
-        let t1972: f32 = t1432 * t1590;
-        let t1973: f32 = t1469 * t1594;
-        let t1974: f32 = t722 * t1497;
-        let t1975: f32 = t727 * t1520;
-        let t1976: f32 = t731 * t1540;
-        let t1977: f32 = t1971 + t1973;
-        let t1978: f32 = t1972 + t1974;
-        let t1979: f32 = t1975 + t1976;
-        let t1980: f32 = t1978 + t1979;
-        let t1981: f32 = t1977 - t1980;
-        let t1982: f32 = t749 * t1981;
-        let t1983: f32 = t1968 + t1969;
-        let t1984: f32 = t1970 + t1983;
-        let t1985: f32 = t1982 - t1984;
-        let t1986: f32 = t1789 * t1985;
-        let t1987: f32 = t1819 * t1934;
-        let t1988: f32 = t1837 * t1949;
-        let t1989: f32 = t1857 * t1966;
-        let t1990: f32 = t1879 * t1985;
-        let t1991: f32 = t1323 * t1799;
-        let t1992: f32 = t1432 * t1803;
-        let t1993: f32 = t1469 * t1807;
-        let t1994: f32 = t921 * t1497;
-        let t1995: f32 = t924 * t1520;
-        let t1996: f32 = t928 * t1540;
-        let t1997: f32 = t1991 + t1993;
-        let t1998: f32 = t1992 + t1994;
-        let t1999: f32 = t1995 + t1996;
-        let t2000: f32 = t1998 + t1999;
-        let t2001: f32 = t1997 - t2000;
-        let t2002: f32 = t945 * t2001;
+        let t1518: f32 = t1 * t1517;
+        let t1519: f32 = az * 12.0;
+        let t1520: f32 = t1512 * 0.36;
+        let t1521: f32 = t1513 + t1519;
+        let t1522: f32 = t1103 + t1299;
+        let t1523: f32 = t1521 + t1522;
+        let t1524: f32 = t1523 + 117.72;
+        let t1525: f32 = t1518 + t1520;
+        let t1526: f32 = t300 + t499;
+        let t1527: f32 = t703 + t906;
+        let t1528: f32 = t1525 + t1526;
+        let t1529: f32 = t1527 + t1528;
+        let t1530: f32 = t1524 - t1529;
+        let t1531: f32 = t38 * t1530;
+        let t1532: f32 = t1314 + t1460;
+        let t1533: f32 = t1423 + t1488;
+        let t1534: f32 = t1511 + t1531;
+        let t1535: f32 = t1533 + t1534;
+        let t1536: f32 = t1532 - t1535;
+        let t1537: f32 = t43 * t61;
+        let t1538: f32 = t1536 * t1537;
+        let t1539: f32 = t302 * t308;
+        let t1540: f32 = t306 * t312;
+        let t1541: f32 = t1539 - t1540;
+        let t1542: f32 = t47 * t1541;
+        let t1543: f32 = t302 * t305;
+        let t1544: f32 = t303 * t312;
+        let t1545: f32 = t1543 - t1544;
+        let t1546: f32 = t51 * t1545;
+        let t1547: f32 = t305 * t306;
+        let t1548: f32 = t303 * t308;
+        let t1549: f32 = t1547 - t1548;
+        let t1550: f32 = t55 * t1549;
+        let t1551: f32 = t10 * t305;
+        let t1552: f32 = t25 * t308;
+        let t1553: f32 = t38 * t312;
+        let t1554: f32 = t1542 + t1546;
+        let t1555: f32 = t1550 + t1551;
+        let t1556: f32 = t1552 + t1553;
+        let t1557: f32 = t1554 + t1555;
+        let t1558: f32 = t1556 + t1557;
+        let t1559: f32 = t43 * t330;
+        let t1560: f32 = t1558 * t1559;
+        let t1561: f32 = t61 * t1560;
+        let t1562: f32 = t1560 * t1561;
+        let t1563: f32 = t1549 * t1549;
+        let t1564: f32 = t456 * t1563;
+        let t1565: f32 = t1541 * t1541;
+        let t1566: f32 = t456 * t1565;
+        let t1567: f32 = t1545 * t1545;
+        let t1568: f32 = t456 * t1567;
+        let t1569: f32 = t1566 + t1568;
+        let t1570: f32 = t1564 + t1569;
+        let t1571: f32 = t1570 + 1.0;
+        let t1572: f32 = t1571 - t1562;
+        let t1573: f32 = 1.0 / t1572;
+        let t1574: f32 = t707 * t717;
+        let t1575: f32 = t715 * t721;
+        let t1576: f32 = t1574 - t1575;
+        let t1577: f32 = t47 * t1576;
+        let t1578: f32 = t707 * t712;
+        let t1579: f32 = t710 * t721;
+        let t1580: f32 = t1578 - t1579;
+        let t1581: f32 = t51 * t1580;
+        let t1582: f32 = t712 * t715;
+        let t1583: f32 = t710 * t717;
+        let t1584: f32 = t1582 - t1583;
+        let t1585: f32 = t55 * t1584;
+        let t1586: f32 = t10 * t712;
+        let t1587: f32 = t25 * t717;
+        let t1588: f32 = t38 * t721;
+        let t1589: f32 = t1577 + t1581;
+        let t1590: f32 = t1585 + t1586;
+        let t1591: f32 = t1587 + t1588;
+        let t1592: f32 = t1589 + t1590;
+        let t1593: f32 = t1591 + t1592;
+        let t1594: f32 = t43 * t739;
+        let t1595: f32 = t1593 * t1594;
+        let t1596: f32 = t1561 * t1595;
+        let t1597: f32 = t1541 * t1576;
+        let t1598: f32 = t1545 * t1580;
+        let t1599: f32 = t1549 * t1584;
+        let t1600: f32 = t305 * t712;
+        let t1601: f32 = t308 * t717;
+        let t1602: f32 = t312 * t721;
+        let t1603: f32 = t1597 + t1598;
+        let t1604: f32 = t1599 + t1600;
+        let t1605: f32 = t1601 + t1602;
+        let t1606: f32 = t1603 + t1604;
+        let t1607: f32 = t1605 + t1606;
+        let t1608: f32 = t330 * t739;
+        let t1609: f32 = t1607 * t1608;
+        let t1610: f32 = t1596 - t1609;
+        let t1611: f32 = -t1610;
+        let t1612: f32 = t1573 * t1611;
+        let t1613: f32 = t61 * t1595;
+        let t1614: f32 = t1595 * t1613;
+        let t1615: f32 = t1611 * t1612;
+        let t1616: f32 = t504 * t514;
+        let t1617: f32 = t512 * t518;
+        let t1618: f32 = t1616 - t1617;
+        let t1619: f32 = t47 * t1618;
+        let t1620: f32 = t504 * t509;
+        let t1621: f32 = t507 * t518;
+        let t1622: f32 = t1620 - t1621;
+        let t1623: f32 = t51 * t1622;
+        let t1624: f32 = t509 * t512;
+        let t1625: f32 = t507 * t514;
+        let t1626: f32 = t1624 - t1625;
+        let t1627: f32 = t55 * t1626;
+        let t1628: f32 = t10 * t509;
+        let t1629: f32 = t25 * t514;
+        let t1630: f32 = t38 * t518;
+        let t1631: f32 = t1619 + t1623;
+        let t1632: f32 = t1627 + t1631;
+        let t1633: f32 = t1628 + t1629;
+        let t1634: f32 = t1630 + t1633;
+        let t1635: f32 = t1632 - t1634;
+        let t1636: f32 = t43 * t536;
+        let t1637: f32 = t1635 * t1636;
+        let t1638: f32 = t61 * t1637;
+        let t1639: f32 = t1595 * t1638;
+        let t1640: f32 = t1561 * t1637;
+        let t1641: f32 = t1541 * t1618;
+        let t1642: f32 = t1545 * t1622;
+        let t1643: f32 = t1549 * t1626;
+        let t1644: f32 = t305 * t509;
+        let t1645: f32 = t308 * t514;
+        let t1646: f32 = t312 * t518;
+        let t1647: f32 = t1641 + t1642;
+        let t1648: f32 = t1643 + t1647;
+        let t1649: f32 = t1644 + t1645;
+        let t1650: f32 = t1646 + t1649;
+        let t1651: f32 = t1648 - t1650;
+        let t1652: f32 = t330 * t536;
+        let t1653: f32 = t1651 * t1652;
+        let t1654: f32 = t1640 - t1653;
+        let t1655: f32 = -t1654;
+        let t1656: f32 = t1573 * t1655;
+        let t1657: f32 = t1611 * t1656;
+        let t1658: f32 = t1576 * t1618;
+        let t1659: f32 = t1580 * t1622;
+        let t1660: f32 = t1584 * t1626;
+        let t1661: f32 = t509 * t712;
+        let t1662: f32 = t514 * t717;
+        let t1663: f32 = t518 * t721;
+        let t1664: f32 = t1658 + t1659;
+        let t1665: f32 = t1660 + t1664;
+        let t1666: f32 = t1661 + t1662;
+        let t1667: f32 = t1663 + t1666;
+        let t1668: f32 = t1665 - t1667;
+        let t1669: f32 = t536 * t739;
+        let t1670: f32 = t1668 * t1669;
+        let t1671: f32 = t1639 + t1657;
+        let t1672: f32 = t1671 - t1670;
+        let t1673: f32 = -t1672;
+        let t1674: f32 = t1637 * t1638;
+        let t1675: f32 = t1655 * t1656;
+        let t1676: f32 = t1626 * t1626;
+        let t1677: f32 = t661 * t1676;
+        let t1678: f32 = t1618 * t1618;
+        let t1679: f32 = t661 * t1678;
+        let t1680: f32 = t1622 * t1622;
+        let t1681: f32 = t661 * t1680;
+        let t1682: f32 = t1679 + t1681;
+        let t1683: f32 = t1677 + t1682;
+        let t1684: f32 = t1683 + 1.0;
+        let t1685: f32 = t1674 + t1675;
+        let t1686: f32 = t1684 - t1685;
+        let t1687: f32 = 1.0 / t1686;
+        let t1688: f32 = t1673 * t1687;
+        let t1689: f32 = t1673 * t1688;
+        let t1690: f32 = t1584 * t1584;
+        let t1691: f32 = t864 * t1690;
+        let t1692: f32 = t1576 * t1576;
+        let t1693: f32 = t864 * t1692;
+        let t1694: f32 = t1580 * t1580;
+        let t1695: f32 = t864 * t1694;
+        let t1696: f32 = t1693 + t1695;
+        let t1697: f32 = t1691 + t1696;
+        let t1698: f32 = t1697 + 1.0;
+        let t1699: f32 = t1614 + t1615;
+        let t1700: f32 = t1689 + t1699;
+        let t1701: f32 = t1698 - t1700;
+        let t1702: f32 = 1.0 / t1701;
+        let t1703: f32 = t1105 * t1110;
+        let t1704: f32 = t1108 * t1114;
+        let t1705: f32 = t1703 - t1704;
+        let t1706: f32 = t47 * t1705;
+        let t1707: f32 = t1105 * t1107;
+        let t1708: f32 = t1106 * t1114;
+        let t1709: f32 = t1707 - t1708;
+        let t1710: f32 = t51 * t1709;
+        let t1711: f32 = t1107 * t1108;
+        let t1712: f32 = t1106 * t1110;
+        let t1713: f32 = t1711 - t1712;
+        let t1714: f32 = t55 * t1713;
+        let t1715: f32 = t10 * t1107;
+        let t1716: f32 = t25 * t1110;
+        let t1717: f32 = t38 * t1114;
+        let t1718: f32 = t1706 + t1710;
+        let t1719: f32 = t1714 + t1718;
+        let t1720: f32 = t1715 + t1716;
+        let t1721: f32 = t1717 + t1720;
+        let t1722: f32 = t1719 - t1721;
+        let t1723: f32 = t43 * t1131;
+        let t1724: f32 = t1722 * t1723;
+        let t1725: f32 = t1613 * t1724;
+        let t1726: f32 = t1561 * t1724;
+        let t1727: f32 = t1541 * t1705;
+        let t1728: f32 = t1545 * t1709;
+        let t1729: f32 = t1549 * t1713;
+        let t1730: f32 = t305 * t1107;
+        let t1731: f32 = t308 * t1110;
+        let t1732: f32 = t312 * t1114;
+        let t1733: f32 = t1727 + t1728;
+        let t1734: f32 = t1729 + t1733;
+        let t1735: f32 = t1730 + t1731;
+        let t1736: f32 = t1732 + t1735;
+        let t1737: f32 = t1734 - t1736;
+        let t1738: f32 = t330 * t1131;
+        let t1739: f32 = t1737 * t1738;
+        let t1740: f32 = t1726 - t1739;
+        let t1741: f32 = -t1740;
+        let t1742: f32 = t1612 * t1741;
+        let t1743: f32 = t1638 * t1724;
+        let t1744: f32 = t1656 * t1741;
+        let t1745: f32 = t1618 * t1705;
+        let t1746: f32 = t1622 * t1709;
+        let t1747: f32 = t1626 * t1713;
+        let t1748: f32 = t509 * t1107;
+        let t1749: f32 = t514 * t1110;
+        let t1750: f32 = t518 * t1114;
+        let t1751: f32 = t1745 + t1746;
+        let t1752: f32 = t1747 + t1748;
+        let t1753: f32 = t1749 + t1750;
+        let t1754: f32 = t1751 + t1752;
+        let t1755: f32 = t1753 + t1754;
+        let t1756: f32 = t536 * t1131;
+        let t1757: f32 = t1755 * t1756;
+        let t1758: f32 = t1743 + t1744;
+        let t1759: f32 = t1758 - t1757;
+        let t1760: f32 = -t1759;
+        let t1761: f32 = t1688 * t1760;
+        let t1762: f32 = t1576 * t1705;
+        let t1763: f32 = t1580 * t1709;
+        let t1764: f32 = t1584 * t1713;
+        let t1765: f32 = t712 * t1107;
+        let t1766: f32 = t717 * t1110;
+        let t1767: f32 = t721 * t1114;
+        let t1768: f32 = t1762 + t1763;
+        let t1769: f32 = t1764 + t1768;
+        let t1770: f32 = t1765 + t1766;
+        let t1771: f32 = t1767 + t1770;
+        let t1772: f32 = t1769 - t1771;
+        let t1773: f32 = t739 * t1131;
+        let t1774: f32 = t1772 * t1773;
+        let t1775: f32 = t1725 + t1742;
+        let t1776: f32 = t1761 + t1775;
+        let t1777: f32 = t1776 - t1774;
+        let t1778: f32 = -t1777;
+        let t1779: f32 = t1702 * t1778;
+        let t1780: f32 = t61 * t1724;
+        let t1781: f32 = t1724 * t1780;
+        let t1782: f32 = t1573 * t1741;
+        let t1783: f32 = t1741 * t1782;
+        let t1784: f32 = t1687 * t1760;
+        let t1785: f32 = t1760 * t1784;
+        let t1786: f32 = t1778 * t1779;
+        let t1787: f32 = t908 * t914;
+        let t1788: f32 = t912 * t918;
+        let t1789: f32 = t1787 - t1788;
+        let t1790: f32 = t47 * t1789;
+        let t1791: f32 = t908 * t911;
+        let t1792: f32 = t909 * t918;
+        let t1793: f32 = t1791 - t1792;
+        let t1794: f32 = t51 * t1793;
+        let t1795: f32 = t911 * t912;
+        let t1796: f32 = t909 * t914;
+        let t1797: f32 = t1795 - t1796;
+        let t1798: f32 = t55 * t1797;
+        let t1799: f32 = t10 * t911;
+        let t1800: f32 = t25 * t914;
+        let t1801: f32 = t38 * t918;
+        let t1802: f32 = t1790 + t1794;
+        let t1803: f32 = t1798 + t1799;
+        let t1804: f32 = t1800 + t1801;
+        let t1805: f32 = t1802 + t1803;
+        let t1806: f32 = t1804 + t1805;
+        let t1807: f32 = t43 * t935;
+        let t1808: f32 = t1806 * t1807;
+        let t1809: f32 = t61 * t1808;
+        let t1810: f32 = t1724 * t1809;
+        let t1811: f32 = t1561 * t1808;
+        let t1812: f32 = t1541 * t1789;
+        let t1813: f32 = t1545 * t1793;
+        let t1814: f32 = t1549 * t1797;
+        let t1815: f32 = t305 * t911;
+        let t1816: f32 = t308 * t914;
+        let t1817: f32 = t312 * t918;
+        let t1818: f32 = t1812 + t1813;
+        let t1819: f32 = t1814 + t1815;
+        let t1820: f32 = t1816 + t1817;
+        let t1821: f32 = t1818 + t1819;
+        let t1822: f32 = t1820 + t1821;
+        let t1823: f32 = t330 * t935;
+        let t1824: f32 = t1822 * t1823;
+        let t1825: f32 = t1811 - t1824;
+        let t1826: f32 = -t1825;
+        let t1827: f32 = t1573 * t1826;
+        let t1828: f32 = t1741 * t1827;
+        let t1829: f32 = t1638 * t1808;
+        let t1830: f32 = t1656 * t1826;
+        let t1831: f32 = t1618 * t1789;
+        let t1832: f32 = t1622 * t1793;
+        let t1833: f32 = t1626 * t1797;
+        let t1834: f32 = t509 * t911;
+        let t1835: f32 = t514 * t914;
+        let t1836: f32 = t518 * t918;
+        let t1837: f32 = t1831 + t1832;
+        let t1838: f32 = t1833 + t1837;
+        let t1839: f32 = t1834 + t1835;
+        let t1840: f32 = t1836 + t1839;
+        let t1841: f32 = t1838 - t1840;
+        let t1842: f32 = t536 * t935;
+        let t1843: f32 = t1841 * t1842;
+        let t1844: f32 = t1829 + t1830;
+        let t1845: f32 = t1844 - t1843;
+        let t1846: f32 = -t1845;
+        let t1847: f32 = t1687 * t1846;
+        let t1848: f32 = t1760 * t1847;
+        let t1849: f32 = t1613 * t1808;
+        let t1850: f32 = t1612 * t1826;
+        let t1851: f32 = t1688 * t1846;
+        let t1852: f32 = t1576 * t1789;
+        let t1853: f32 = t1580 * t1793;
+        let t1854: f32 = t1584 * t1797;
+        let t1855: f32 = t712 * t911;
+        let t1856: f32 = t717 * t914;
+        let t1857: f32 = t721 * t918;
+        let t1858: f32 = t1852 + t1853;
+        let t1859: f32 = t1854 + t1855;
+        let t1860: f32 = t1856 + t1857;
+        let t1861: f32 = t1858 + t1859;
+        let t1862: f32 = t1860 + t1861;
+        let t1863: f32 = t739 * t935;
+        let t1864: f32 = t1862 * t1863;
+        let t1865: f32 = t1849 + t1850;
+        let t1866: f32 = t1851 + t1865;
+        let t1867: f32 = t1866 - t1864;
+        let t1868: f32 = -t1867;
+        let t1869: f32 = t1702 * t1868;
+        let t1870: f32 = t1778 * t1869;
+        let t1871: f32 = t1705 * t1789;
+        let t1872: f32 = t1709 * t1793;
+        let t1873: f32 = t1713 * t1797;
+        let t1874: f32 = t911 * t1107;
+        let t1875: f32 = t914 * t1110;
+        let t1876: f32 = t918 * t1114;
+        let t1877: f32 = t1871 + t1872;
+        let t1878: f32 = t1873 + t1877;
+        let t1879: f32 = t1874 + t1875;
+        let t1880: f32 = t1876 + t1879;
+        let t1881: f32 = t1878 - t1880;
+        let t1882: f32 = t935 * t1131;
+        let t1883: f32 = t1881 * t1882;
+        let t1884: f32 = t1810 + t1828;
+        let t1885: f32 = t1848 + t1870;
+        let t1886: f32 = t1884 + t1885;
+        let t1887: f32 = t1886 - t1883;
+        let t1888: f32 = -t1887;
+        let t1889: f32 = t1808 * t1809;
+        let t1890: f32 = t1826 * t1827;
+        let t1891: f32 = t1846 * t1847;
+        let t1892: f32 = t1868 * t1869;
+        let t1893: f32 = t1797 * t1797;
+        let t1894: f32 = t1060 * t1893;
+        let t1895: f32 = t1789 * t1789;
+        let t1896: f32 = t1060 * t1895;
+        let t1897: f32 = t1793 * t1793;
+        let t1898: f32 = t1060 * t1897;
+        let t1899: f32 = t1896 + t1898;
+        let t1900: f32 = t1894 + t1899;
+        let t1901: f32 = t1900 + 1.0;
+        let t1902: f32 = t1889 + t1890;
+        let t1903: f32 = t1891 + t1892;
+        let t1904: f32 = t1902 + t1903;
+        let t1905: f32 = t1901 - t1904;
+        let t1906: f32 = 1.0 / t1905;
+        let t1907: f32 = t1888 * t1906;
+        let t1908: f32 = t1888 * t1907;
+        let t1909: f32 = t1713 * t1713;
+        let t1910: f32 = t1256 * t1909;
+        let t1911: f32 = t1705 * t1705;
+        let t1912: f32 = t1256 * t1911;
+        let t1913: f32 = t1709 * t1709;
+        let t1914: f32 = t1256 * t1913;
+        let t1915: f32 = t1912 + t1914;
+        let t1916: f32 = t1910 + t1915;
+        let t1917: f32 = t1916 + 1.0;
+        let t1918: f32 = t1781 + t1783;
+        let t1919: f32 = t1785 + t1786;
+        let t1920: f32 = t1918 + t1919;
+        let t1921: f32 = t1908 + t1920;
+        let t1922: f32 = t1917 - t1921;
+        let t1923: f32 = 1.0 / t1922;
+        let t1924: f32 = t43 * t1536;
+        let t1925: f32 = t1780 * t1924;
+        let t1926: f32 = t1561 * t1924;
+        let t1927: f32 = t1313 * t1541;
+        let t1928: f32 = t1422 * t1545;
+        let t1929: f32 = t1459 * t1549;
+        let t1930: f32 = t305 * t1487;
+        let t1931: f32 = t308 * t1510;
+        let t1932: f32 = t312 * t1530;
+        let t1933: f32 = t1927 + t1929;
+        let t1934: f32 = t1928 + t1930;
+        let t1935: f32 = t1931 + t1932;
+        let t1936: f32 = t1934 + t1935;
+        let t1937: f32 = t1933 - t1936;
+        let t1938: f32 = t330 * t1937;
+        let t1939: f32 = t1938 - t1926;
+        let t1940: f32 = t1782 * t1939;
+        let t1941: f32 = t1638 * t1924;
+        let t1942: f32 = t1656 * t1939;
+        let t1943: f32 = t1313 * t1618;
+        let t1944: f32 = t1422 * t1622;
+        let t1945: f32 = t1459 * t1626;
+        let t1946: f32 = t509 * t1487;
+        let t1947: f32 = t514 * t1510;
+        let t1948: f32 = t518 * t1530;
+        let t1949: f32 = t1943 + t1945;
+        let t1950: f32 = t1946 + t1947;
+        let t1951: f32 = t1949 + t1950;
+        let t1952: f32 = t1948 + t1951;
+        let t1953: f32 = t1952 - t1944;
+        let t1954: f32 = t536 * t1953;
+        let t1955: f32 = t1941 + t1942;
+        let t1956: f32 = t1954 - t1955;
+        let t1957: f32 = t1784 * t1956;
+        let t1958: f32 = t1613 * t1924;
+        let t1959: f32 = t1612 * t1939;
+        let t1960: f32 = t1688 * t1956;
+        let t1961: f32 = t1313 * t1576;
+        let t1962: f32 = t1422 * t1580;
+        let t1963: f32 = t1459 * t1584;
+        let t1964: f32 = t712 * t1487;
+        let t1965: f32 = t717 * t1510;
+        let t1966: f32 = t721 * t1530;
+        let t1967: f32 = t1961 + t1963;
+        let t1968: f32 = t1962 + t1964;
+        let t1969: f32 = t1965 + t1966;
+        let t1970: f32 = t1968 + t1969;
+        let t1971: f32 = t1967 - t1970;
+        let t1972: f32 = t739 * t1971;
+        let t1973: f32 = t1958 + t1959;
+        let t1974: f32 = t1960 + t1973;
+        let t1975: f32 = t1972 - t1974;
+        let t1976: f32 = t1779 * t1975;
+        let t1977: f32 = t1809 * t1924;
+        let t1978: f32 = t1827 * t1939;
+        let t1979: f32 = t1847 * t1956;
+        let t1980: f32 = t1869 * t1975;
+        let t1981: f32 = t1313 * t1789;
+        let t1982: f32 = t1422 * t1793;
+        let t1983: f32 = t1459 * t1797;
+        let t1984: f32 = t911 * t1487;
+        let t1985: f32 = t914 * t1510;
+        let t1986: f32 = t918 * t1530;
+        let t1987: f32 = t1981 + t1983;
+        let t1988: f32 = t1982 + t1984;
+        let t1989: f32 = t1985 + t1986;
+        let t1990: f32 = t1988 + t1989;
+        let t1991: f32 = t1987 - t1990;
+        let t1992: f32 = t935 * t1991;
+        let t1993: f32 = t1977 + t1978;
+        let t1994: f32 = t1979 + t1980;
+        let t1995: f32 = t1993 + t1994;
+        let t1996: f32 = t1992 - t1995;
+        let t1997: f32 = t1907 * t1996;
+        let t1998: f32 = t1313 * t1705;
+        let t1999: f32 = t1422 * t1709;
+        let t2000: f32 = t1459 * t1713;
+        let t2001: f32 = t1107 * t1487;
+        let t2002: f32 = t1110 * t1510;
         (
-            t1117,
-            t1120,
-            t1124,
-            t1132,
-            t1141,
-            t1323,
-            t1432,
-            t1469,
-            t1497,
-            t1520,
-            t1540,
-            t1548,
+            t1114,
+            t1122,
+            t1131,
+            t1530,
+            t1538,
+            t1561,
             t1571,
-            t1581,
-            t1582,
-            t1583,
-            t1622,
-            t1623,
-            t1648,
-            t1666,
-            t1694,
-            t1696,
-            t1697,
+            t1572,
+            t1573,
+            t1612,
+            t1613,
+            t1638,
+            t1656,
+            t1684,
+            t1686,
+            t1687,
+            t1688,
             t1698,
-            t1708,
-            t1711,
-            t1712,
-            t1715,
-            t1719,
-            t1723,
-            t1789,
-            t1790,
-            t1792,
-            t1794,
-            t1819,
-            t1837,
-            t1857,
-            t1879,
-            t1911,
-            t1915,
-            t1916,
+            t1701,
+            t1702,
+            t1779,
+            t1780,
+            t1782,
+            t1784,
+            t1809,
+            t1827,
+            t1847,
+            t1869,
+            t1901,
+            t1905,
+            t1906,
+            t1907,
             t1917,
-            t1927,
-            t1932,
-            t1933,
-            t1935,
-            t1949,
-            t1950,
-            t1966,
-            t1967,
-            t1985,
-            t1986,
-            t1987,
-            t1988,
-            t1989,
-            t1990,
+            t1922,
+            t1923,
+            t1925,
+            t1939,
+            t1940,
+            t1956,
+            t1957,
+            t1975,
+            t1976,
+            t1996,
+            t1997,
+            t1998,
+            t1999,
+            t2000,
+            t2001,
             t2002,
         )
     };
     let (
-        t2034,
-        t2049,
-        t2053,
+        t2024,
+        t2039,
+        t2043,
+        t2055,
+        t2056,
+        t2057,
+        t2058,
+        t2059,
+        t2060,
+        t2061,
+        t2062,
+        t2063,
+        t2064,
         t2065,
         t2066,
         t2067,
         t2068,
         t2069,
-        t2070,
-        t2071,
-        t2072,
-        t2073,
-        t2074,
-        t2075,
-        t2076,
-        t2077,
-        t2078,
-        t2079,
     ) = {
-        let t2003: f32 = t1987 + t1988;
-        let t2004: f32 = t1989 + t1990;
-        let t2005: f32 = t2003 + t2004;
-        let t2006: f32 = t2002 - t2005;
-        let t2007: f32 = t1917 * t2006;
-        let t2008: f32 = t1323 * t1715;
-        let t2009: f32 = t1432 * t1719;
-        let t2010: f32 = t1469 * t1723;
-        let t2011: f32 = t1117 * t1497;
-        let t2012: f32 = t1120 * t1520;
-        let t2013: f32 = t1124 * t1540;
-        let t2014: f32 = t2008 + t2010;
-        let t2015: f32 = t2011 + t2012;
-        let t2016: f32 = t2014 + t2015;
-        let t2017: f32 = t2013 + t2016;
-        let t2018: f32 = t2017 - t2009;
-        let t2019: f32 = t1141 * t2018;
-        let t2020: f32 = t1935 + t1950;
-        let t2021: f32 = t1967 + t1986;
-        let t2022: f32 = t2020 + t2021;
-        let t2023: f32 = t2007 + t2022;
-        let t2024: f32 = t2019 - t2023;
-        let t2025: f32 = t1789 * t1933;
-        let t2026: f32 = t2024 * t2025;
-        let t2027: f32 = t1712 * t1985;
-        let t2028: f32 = t1916 * t2006;
-        let t2029: f32 = t1917 * t1933;
-        let t2030: f32 = t2024 * t2029;
-        let t2031: f32 = t2028 - t2030;
-        let t2032: f32 = t1879 * t2031;
-        let t2033: f32 = t2027 - t2032;
-        let t2034: f32 = t2026 - t2033;
-        let t2035: f32 = -t2034;
-        let t2036: f32 = t1622 * t2035;
-        let t2037: f32 = t1837 * t2031;
+        let t2003: f32 = t1114 * t1530;
+        let t2004: f32 = t1998 + t2000;
+        let t2005: f32 = t2001 + t2002;
+        let t2006: f32 = t2004 + t2005;
+        let t2007: f32 = t2003 + t2006;
+        let t2008: f32 = t2007 - t1999;
+        let t2009: f32 = t1131 * t2008;
+        let t2010: f32 = t1925 + t1940;
+        let t2011: f32 = t1957 + t1976;
+        let t2012: f32 = t2010 + t2011;
+        let t2013: f32 = t1997 + t2012;
+        let t2014: f32 = t2009 - t2013;
+        let t2015: f32 = t1779 * t1923;
+        let t2016: f32 = t2014 * t2015;
+        let t2017: f32 = t1702 * t1975;
+        let t2018: f32 = t1906 * t1996;
+        let t2019: f32 = t1907 * t1923;
+        let t2020: f32 = t2014 * t2019;
+        let t2021: f32 = t2018 - t2020;
+        let t2022: f32 = t1869 * t2021;
+        let t2023: f32 = t2017 - t2022;
+        let t2024: f32 = t2016 - t2023;
+        let t2025: f32 = -t2024;
+        let t2026: f32 = t1612 * t2025;
+        let t2027: f32 = t1827 * t2021;
+        let t2028: f32 = t2026 + t2027;
+        let t2029: f32 = t1782 * t1923;
+        let t2030: f32 = t2014 * t2029;
+        let t2031: f32 = t1573 * t1939;
+        let t2032: f32 = t1687 * t1956;
+        let t2033: f32 = t1688 * t2025;
+        let t2034: f32 = t1847 * t2021;
+        let t2035: f32 = t1784 * t1923;
+        let t2036: f32 = t2014 * t2035;
+        let t2037: f32 = t2033 + t2034;
         let t2038: f32 = t2036 + t2037;
-        let t2039: f32 = t1792 * t1933;
-        let t2040: f32 = t2024 * t2039;
-        let t2041: f32 = t1583 * t1949;
-        let t2042: f32 = t1697 * t1966;
-        let t2043: f32 = t1698 * t2035;
-        let t2044: f32 = t1857 * t2031;
-        let t2045: f32 = t1794 * t1933;
-        let t2046: f32 = t2024 * t2045;
-        let t2047: f32 = t2043 + t2044;
-        let t2048: f32 = t2046 + t2047;
-        let t2049: f32 = t2042 - t2048;
-        let t2050: f32 = t1666 * t2049;
-        let t2051: f32 = t2041 - t2050;
-        let t2052: f32 = t2040 - t2051;
-        let t2053: f32 = t2038 + t2052;
-        let t2054: f32 = -t2053;
-        let t2055: f32 = t1571 * t2054;
-        let t2056: f32 = t1648 * t2049;
-        let t2057: f32 = t1623 * t2035;
-        let t2058: f32 = t1819 * t2031;
-        let t2059: f32 = t1790 * t1933;
-        let t2060: f32 = t2024 * t2059;
-        let t2061: f32 = t2055 + t2056;
-        let t2062: f32 = t2057 + t2058;
-        let t2063: f32 = t2061 + t2062;
-        let t2064: f32 = t2060 + t2063;
-        let t2065: f32 = t2064 - t1548;
-        let t2066: f32 = -t2031;
-        let t2067: f32 = t1933 * t2024;
-        let t2068: f32 = t43 * t141;
-        let t2069: f32 = t331 * t340;
-        let t2070: f32 = t537 * t546;
-        let t2071: f32 = t740 * t749;
-        let t2072: f32 = t936 * t945;
-        let t2073: f32 = t1132 * t1141;
-        let t2074: f32 = t60 / t60;
-        let t2075: f32 = t1582 / t1581;
-        let t2076: f32 = t1696 / t1694;
-        let t2077: f32 = t1711 / t1708;
-        let t2078: f32 = t1915 / t1911;
-        let t2079: f32 = t1932 / t1927;
+        let t2039: f32 = t2032 - t2038;
+        let t2040: f32 = t1656 * t2039;
+        let t2041: f32 = t2031 - t2040;
+        let t2042: f32 = t2030 - t2041;
+        let t2043: f32 = t2028 + t2042;
+        let t2044: f32 = -t2043;
+        let t2045: f32 = t1561 * t2044;
+        let t2046: f32 = t1638 * t2039;
+        let t2047: f32 = t1613 * t2025;
+        let t2048: f32 = t1809 * t2021;
+        let t2049: f32 = t1780 * t1923;
+        let t2050: f32 = t2014 * t2049;
+        let t2051: f32 = t2045 + t2046;
+        let t2052: f32 = t2047 + t2048;
+        let t2053: f32 = t2051 + t2052;
+        let t2054: f32 = t2050 + t2053;
+        let t2055: f32 = t2054 - t1538;
+        let t2056: f32 = -t2021;
+        let t2057: f32 = t1923 * t2014;
+        let t2058: f32 = t43 * t131;
+        let t2059: f32 = t321 * t330;
+        let t2060: f32 = t527 * t536;
+        let t2061: f32 = t730 * t739;
+        let t2062: f32 = t926 * t935;
+        let t2063: f32 = t1122 * t1131;
+        let t2064: f32 = t60 / t60;
+        let t2065: f32 = t1572 / t1571;
+        let t2066: f32 = t1686 / t1684;
+        let t2067: f32 = t1701 / t1698;
+        let t2068: f32 = t1905 / t1901;
+        let t2069: f32 = t1922 / t1917;
         (
-            t2034,
-            t2049,
-            t2053,
+            t2024,
+            t2039,
+            t2043,
+            t2055,
+            t2056,
+            t2057,
+            t2058,
+            t2059,
+            t2060,
+            t2061,
+            t2062,
+            t2063,
+            t2064,
             t2065,
             t2066,
             t2067,
             t2068,
             t2069,
-            t2070,
-            t2071,
-            t2072,
-            t2073,
-            t2074,
-            t2075,
-            t2076,
-            t2077,
-            t2078,
-            t2079,
         )
     };
     (
-        [t2065, t2053, t2049, t2034, t2066, t2067],
+        [t2055, t2043, t2039, t2024, t2056, t2057],
         [
+            t2058,
+            t2059,
+            t2060,
+            t2061,
+            t2062,
+            t2063,
+            t2064,
+            t2065,
+            t2066,
+            t2067,
             t2068,
             t2069,
-            t2070,
-            t2071,
-            t2072,
-            t2073,
-            t2074,
-            t2075,
-            t2076,
-            t2077,
-            t2078,
-            t2079,
         ],
     )
 }

@@ -2,8 +2,8 @@
 // model: consistent; any robot of its kind (geometry and gravity are `params`; base parameters found with the chapter's (Robot::default()))
 //
 // Kernel operation counts (mul, div, add, neg, calls):
-//   regressor                          595    5   331   87  6 sign, 3 sin_cos
-//   base_regressor                     595    5   331   87  6 sign, 3 sin_cos
+//   regressor                          584    4   331   87  6 sign, 3 sin_cos
+//   base_regressor                     584    4   331   87  6 sign, 3 sin_cos
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -31,7 +31,7 @@
 /// - `y`: row `i` for actuator `i+1`, one column per parameter (N per unit)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 595 mul, 5 div, 331 add, 87 neg, 6 sign, 3 sin_cos (chapter convention: 600m + 331a).
+/// Operations: 584 mul, 4 div, 331 add, 87 neg, 6 sign, 3 sin_cos (chapter convention: 588m + 331a).
 #[inline]
 pub fn regressor(
     pose: &[f64; 6],
@@ -44,1462 +44,1440 @@ pub fn regressor(
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
     let [half_spacing, gravity_x, gravity_y, gravity_z] = *params;
     let (
-        t38,
-        t62,
-        t78,
-        t85,
-        t105,
-        t180,
-        t237,
-        t247,
-        t266,
-        t267,
-        t287,
+        t4,
+        t25,
+        t51,
+        t66,
+        t171,
+        t222,
+        t250,
+        t271,
+        t280,
+        t288,
+        t289,
         t297,
+        t304,
         t305,
-        t306,
-        t314,
-        t322,
-        t323,
-        t331,
-        t336,
-        t337,
-        t383,
+        t313,
+        t318,
+        t357,
+        t369,
+        t375,
+        t382,
+        t388,
+        t394,
         t400,
-        t407,
-        t413,
-        t419,
-        t425,
-        t457,
-        t463,
-        t468,
-        t500,
-        t506,
-        t507,
-        t511,
-        t541,
-        t547,
-        t548,
-        t552,
+        t435,
+        t441,
+        t446,
+        t478,
+        t479,
+        t485,
+        t486,
+        t490,
+        t522,
+        t523,
+        t529,
+        t530,
+        t534,
+        t565,
+        t571,
+        t575,
+        t576,
         t583,
-        t584,
-        t590,
-        t594,
-        t595,
-        t602,
+        t601,
+        t607,
+        t613,
+        t617,
+        t618,
         t619,
-        t624,
-        t625,
+        t620,
+        t623,
+        t627,
         t631,
         t635,
         t636,
         t637,
         t638,
+        t639,
         t641,
+        t642,
+        t643,
+        t644,
         t645,
+        t646,
+        t647,
+        t648,
         t649,
-        t653,
-        t654,
-        t655,
-        t656,
-        t657,
-        t659,
+        t650,
+        t651,
+        t652,
         t660,
-        t661,
-        t662,
-        t663,
-        t664,
-        t665,
-        t666,
-        t667,
         t668,
-        t669,
-        t670,
-        t679,
-        t687,
-        t694,
-        t701,
-        t711,
-        t718,
-        t719,
+        t675,
+        t682,
+        t691,
+        t698,
+        t699,
+        t706,
+        t713,
+        t714,
+        t721,
         t726,
-        t734,
-        t741,
-        t746,
+        t732,
+        t733,
+        t738,
+        t739,
+        t742,
+        t743,
         t747,
+        t748,
         t753,
-        t758,
+        t754,
+        t755,
+        t756,
         t759,
-        t762,
         t763,
-        t767,
-        t771,
-        t772,
-        t773,
+        t769,
         t774,
-        t777,
-        t787,
-        t791,
-        t798,
-        t805,
+        t781,
+        t788,
+        t793,
+        t799,
+        t800,
+        t804,
         t809,
-        t814,
+        t810,
+        t811,
         t815,
-        t819,
         t820,
+        t821,
+        t822,
         t824,
         t825,
-        t826,
-        t830,
-        t831,
-        t835,
+        t829,
+        t832,
         t836,
-        t837,
-        t839,
         t840,
+        t841,
+        t842,
+        t843,
         t844,
-        t847,
+        t845,
+        t848,
+        t849,
+        t850,
         t851,
+        t852,
+        t853,
+        t854,
         t855,
-        t856,
         t857,
         t858,
-        t859,
-        t860,
-        t861,
-        t862,
-        t863,
-        t866,
-        t867,
+        t864,
         t868,
-        t869,
-        t870,
-        t871,
         t873,
-        t874,
-        t880,
-        t884,
-        t889,
-        t892,
+        t878,
+        t885,
+        t886,
+        t890,
         t894,
-        t902,
-        t903,
-        t907,
+        t895,
+        t901,
+        t905,
+        t906,
+        t910,
         t911,
-        t912,
-        t919,
+        t914,
+        t917,
+        t922,
         t923,
         t924,
-        t928,
         t929,
-        t932,
-        t935,
+        t930,
+        t931,
+        t936,
+        t937,
+        t938,
         t939,
-        t940,
-        t941,
+        t944,
         t945,
-        t946,
         t947,
-        t951,
-        t952,
+        t948,
         t953,
         t954,
-        t958,
-        t959,
+        t955,
+        t960,
         t961,
-        t962,
-        t967,
-        t968,
-        t969,
+        t966,
+        t971,
+        t972,
+        t973,
         t974,
         t975,
-        t979,
-        t984,
-        t985,
+        t976,
+        t981,
+        t982,
+        t983,
         t986,
-        t987,
-        t988,
         t989,
-        t993,
-        t994,
-        t995,
+        t992,
+        t996,
+        t997,
         t998,
+        t999,
+        t1000,
         t1001,
         t1002,
     ) = {
         let (t0, t1): (f64, f64) = sin_cos(beta);
         let (t2, t3): (f64, f64) = sin_cos(gamma);
-        let t4: f64 = 1.0 / t3;
-        let (t5, t6): (f64, f64) = sin_cos(alpha);
-        let t7: f64 = t2 * t6;
-        let t8: f64 = t0 * t5;
-        let t9: f64 = t3 * t8;
-        let t10: f64 = t7 + t9;
-        let t11: f64 = yc * t10;
-        let t12: f64 = t2 * t5;
-        let t13: f64 = t0 * t6;
-        let t14: f64 = t3 * t13;
-        let t15: f64 = t12 - t14;
-        let t16: f64 = zc - half_spacing;
-        let t17: f64 = t15 * t16;
-        let t18: f64 = t11 + t17;
-        let t19: f64 = t2 * t4;
-        let t20: f64 = t18 * t19;
-        let t21: f64 = t3 * t5;
-        let t22: f64 = t0 * t2;
-        let t23: f64 = t6 * t22;
-        let t24: f64 = t21 + t23;
-        let t25: f64 = t16 * t24;
-        let t26: f64 = t20 + t25;
-        let t27: f64 = zc + half_spacing;
-        let t28: f64 = t15 * t27;
-        let t29: f64 = t11 + t28;
-        let t30: f64 = t19 * t29;
-        let t31: f64 = t24 * t27;
-        let t32: f64 = t30 + t31;
-        let t33: f64 = t26 - t32;
-        let t34: f64 = xc - half_spacing;
-        let t35: f64 = t0 * t34;
-        let t36: f64 = t3 * t6;
-        let t37: f64 = t2 * t8;
-        let t38: f64 = t36 - t37;
-        let t39: f64 = 1.0 / t38;
-        let t40: f64 = t1 * t2;
-        let t41: f64 = t34 * t40;
-        let t42: f64 = zc * t24;
-        let t43: f64 = t41 - t42;
-        let t44: f64 = t1 * t5;
-        let t45: f64 = t39 * t44;
-        let t46: f64 = t43 * t45;
-        let t47: f64 = t35 - t46;
-        let t48: f64 = xc + half_spacing;
-        let t49: f64 = t0 * t48;
-        let t50: f64 = t40 * t48;
-        let t51: f64 = t42 - t50;
-        let t52: f64 = t45 * t51;
-        let t53: f64 = t49 + t52;
-        let t54: f64 = t47 - t53;
-        let t55: f64 = yc - half_spacing;
-        let t56: f64 = t10 * t55;
-        let t57: f64 = 1.0 / t6;
-        let t58: f64 = 1.0 / t1;
-        let t59: f64 = xc * t0;
-        let t60: f64 = t44 * t55;
-        let t61: f64 = t59 - t60;
-        let t62: f64 = t57 * t58;
-        let t63: f64 = t15 * t62;
-        let t64: f64 = t61 * t63;
-        let t65: f64 = t56 - t64;
-        let t66: f64 = yc + half_spacing;
-        let t67: f64 = t10 * t66;
-        let t68: f64 = t44 * t66;
-        let t69: f64 = t59 - t68;
-        let t70: f64 = t63 * t69;
-        let t71: f64 = t67 - t70;
-        let t72: f64 = t65 - t71;
-        let t73: f64 = t33 * t54;
-        let t74: f64 = t72 * t73;
-        let t75: f64 = t0 * t58;
-        let t76: f64 = t4 * t75;
-        let t77: f64 = t18 * t76;
-        let t78: f64 = t1 * t6;
-        let t79: f64 = t16 * t78;
-        let t80: f64 = t77 - t79;
-        let t81: f64 = t29 * t76;
-        let t82: f64 = t27 * t78;
-        let t83: f64 = t81 - t82;
-        let t84: f64 = t80 - t83;
-        let t85: f64 = t1 * t3;
-        let t86: f64 = t34 * t85;
-        let t87: f64 = t10 * t39;
-        let t88: f64 = t43 * t87;
-        let t89: f64 = t86 + t88;
-        let t90: f64 = t48 * t85;
-        let t91: f64 = t51 * t87;
-        let t92: f64 = t90 - t91;
-        let t93: f64 = t89 - t92;
-        let t94: f64 = t38 * t55;
-        let t95: f64 = t24 * t62;
-        let t96: f64 = t61 * t95;
-        let t97: f64 = t94 - t96;
-        let t98: f64 = t69 * t95;
-        let t99: f64 = t38 * t66;
-        let t100: f64 = t98 - t99;
-        let t101: f64 = t97 + t100;
-        let t102: f64 = t84 * t93;
-        let t103: f64 = t101 * t102;
-        let t104: f64 = t74 + t103;
-        let t105: f64 = 1.0 / t104;
-        let t106: f64 = yc * t5;
-        let t107: f64 = t1 * t106;
-        let t108: f64 = t83 + t107;
-        let t109: f64 = az * t15;
-        let t110: f64 = ax * t1;
-        let t111: f64 = t3 * t110;
-        let t112: f64 = ay * t10;
-        let t113: f64 = t111 + t112;
-        let t114: f64 = t109 + t113;
-        let t115: f64 = gravity_z * t15;
-        let t116: f64 = gravity_x * t1;
-        let t117: f64 = t3 * t116;
-        let t118: f64 = gravity_y * t10;
-        let t119: f64 = t117 + t118;
-        let t120: f64 = t115 + t119;
-        let t121: f64 = t114 - t120;
-        let t122: f64 = t108 * t121;
-        let t123: f64 = xc * t1;
-        let t124: f64 = t3 * t123;
-        let t125: f64 = t71 + t124;
-        let t126: f64 = gravity_y * t5;
-        let t127: f64 = t1 * t126;
-        let t128: f64 = gravity_x * t0;
-        let t129: f64 = t127 - t128;
-        let t130: f64 = gravity_z * t6;
-        let t131: f64 = t1 * t130;
-        let t132: f64 = t129 - t131;
-        let t133: f64 = az * t6;
-        let t134: f64 = t1 * t133;
-        let t135: f64 = ax * t0;
-        let t136: f64 = ay * t5;
-        let t137: f64 = t1 * t136;
-        let t138: f64 = t135 - t137;
-        let t139: f64 = t134 + t138;
-        let t140: f64 = t132 + t139;
-        let t141: f64 = t125 * t140;
-        let t142: f64 = t122 + t141;
-        let t143: f64 = t93 * t101;
-        let t144: f64 = t142 * t143;
-        let t145: f64 = zc * t6;
-        let t146: f64 = t1 * t145;
-        let t147: f64 = t53 + t146;
-        let t148: f64 = gravity_z * t24;
-        let t149: f64 = gravity_y * t38;
-        let t150: f64 = gravity_x * t2;
-        let t151: f64 = t1 * t150;
-        let t152: f64 = t149 - t151;
-        let t153: f64 = t148 + t152;
-        let t154: f64 = ax * t2;
-        let t155: f64 = t1 * t154;
-        let t156: f64 = ay * t38;
-        let t157: f64 = t155 - t156;
-        let t158: f64 = az * t24;
-        let t159: f64 = t157 - t158;
-        let t160: f64 = t153 + t159;
-        let t161: f64 = t147 * t160;
-        let t162: f64 = xc * t2;
-        let t163: f64 = t1 * t162;
-        let t164: f64 = t100 + t163;
-        let t165: f64 = t140 * t164;
-        let t166: f64 = t161 - t165;
-        let t167: f64 = t93 * t166;
-        let t168: f64 = yc * t38;
-        let t169: f64 = t32 + t168;
-        let t170: f64 = t121 * t169;
-        let t171: f64 = zc * t15;
-        let t172: f64 = t92 + t171;
-        let t173: f64 = t160 * t172;
-        let t174: f64 = t170 + t173;
-        let t175: f64 = t54 * t174;
-        let t176: f64 = t167 - t175;
-        let t177: f64 = t72 * t176;
-        let t178: f64 = t177 - t144;
-        let t179: f64 = t85 * t105;
-        let t180: f64 = t178 * t179;
-        let t181: f64 = wx * t2;
-        let t182: f64 = t1 * t181;
-        let t183: f64 = wy * t38;
-        let t184: f64 = wz * t24;
-        let t185: f64 = t183 + t184;
-        let t186: f64 = t182 - t185;
-        let t187: f64 = t186 * t186;
-        let t188: f64 = wx * t0;
-        let t189: f64 = wy * t5;
-        let t190: f64 = wz * t6;
-        let t191: f64 = t189 - t190;
-        let t192: f64 = t1 * t191;
-        let t193: f64 = t188 - t192;
-        let t194: f64 = t193 * t193;
-        let t195: f64 = t187 + t194;
-        let t196: f64 = t108 * t195;
-        let t197: f64 = wx * t1;
-        let t198: f64 = t3 * t197;
-        let t199: f64 = wy * t10;
-        let t200: f64 = wz * t15;
-        let t201: f64 = t198 + t199;
-        let t202: f64 = t200 + t201;
-        let t203: f64 = t193 * t202;
-        let t204: f64 = wdx * t2;
-        let t205: f64 = t1 * t204;
-        let t206: f64 = wdy * t38;
-        let t207: f64 = t205 - t206;
-        let t208: f64 = wdz * t24;
-        let t209: f64 = t207 - t208;
-        let t210: f64 = t203 + t209;
-        let t211: f64 = t125 * t210;
-        let t212: f64 = t140 + t211;
-        let t213: f64 = t212 - t196;
-        let t214: f64 = t143 * t213;
-        let t215: f64 = wdz * t6;
-        let t216: f64 = t1 * t215;
-        let t217: f64 = wdx * t0;
-        let t218: f64 = wdy * t5;
-        let t219: f64 = t1 * t218;
-        let t220: f64 = t217 - t219;
-        let t221: f64 = t216 + t220;
-        let t222: f64 = t186 * t202;
-        let t223: f64 = t221 - t222;
-        let t224: f64 = t147 * t223;
-        let t225: f64 = t164 * t210;
-        let t226: f64 = t224 + t225;
-        let t227: f64 = t93 * t226;
-        let t228: f64 = t172 * t223;
-        let t229: f64 = t169 * t195;
-        let t230: f64 = t228 + t229;
-        let t231: f64 = t160 - t230;
-        let t232: f64 = t54 * t231;
-        let t233: f64 = t227 + t232;
-        let t234: f64 = t72 * t233;
-        let t235: f64 = t214 + t234;
-        let t236: f64 = t179 * t235;
-        let t237: f64 = -t236;
-        let t238: f64 = t221 + t222;
-        let t239: f64 = t108 * t238;
-        let t240: f64 = wdz * t15;
-        let t241: f64 = wdx * t1;
-        let t242: f64 = t3 * t241;
-        let t243: f64 = wdy * t10;
-        let t244: f64 = t242 + t243;
-        let t245: f64 = t240 + t244;
-        let t246: f64 = t186 * t193;
-        let t247: f64 = t245 - t246;
-        let t248: f64 = t125 * t247;
-        let t249: f64 = t239 - t248;
-        let t250: f64 = t143 * t249;
-        let t251: f64 = t202 * t202;
-        let t252: f64 = t194 + t251;
-        let t253: f64 = t147 * t252;
-        let t254: f64 = t164 * t247;
-        let t255: f64 = t140 + t253;
-        let t256: f64 = t255 - t254;
-        let t257: f64 = t93 * t256;
-        let t258: f64 = t169 * t238;
-        let t259: f64 = t172 * t252;
-        let t260: f64 = t121 + t259;
-        let t261: f64 = t260 - t258;
-        let t262: f64 = t54 * t261;
-        let t263: f64 = t257 - t262;
-        let t264: f64 = t72 * t263;
-        let t265: f64 = t250 + t264;
-        let t266: f64 = t179 * t265;
-        let t267: f64 = t187 + t251;
-        let t268: f64 = t125 * t267;
-        let t269: f64 = t209 - t203;
-        let t270: f64 = t108 * t269;
-        let t271: f64 = t268 + t270;
-        let t272: f64 = t121 + t271;
-        let t273: f64 = t143 * t272;
-        let t274: f64 = t164 * t267;
-        let t275: f64 = t245 + t246;
-        let t276: f64 = t147 * t275;
-        let t277: f64 = t274 + t276;
-        let t278: f64 = t160 + t277;
-        let t279: f64 = t93 * t278;
-        let t280: f64 = t169 * t269;
-        let t281: f64 = t172 * t275;
-        let t282: f64 = t280 - t281;
-        let t283: f64 = t54 * t282;
-        let t284: f64 = t279 + t283;
-        let t285: f64 = t72 * t284;
-        let t286: f64 = t273 + t285;
-        let t287: f64 = t179 * t286;
-        let t288: f64 = t72 * t245;
-        let t289: f64 = t93 * t288;
-        let t290: f64 = t54 * t222;
-        let t291: f64 = t72 * t290;
-        let t292: f64 = t93 * t202;
-        let t293: f64 = t101 * t292;
-        let t294: f64 = t193 * t293;
-        let t295: f64 = t289 + t291;
-        let t296: f64 = t294 + t295;
-        let t297: f64 = t179 * t296;
-        let t298: f64 = t143 * t247;
-        let t299: f64 = t93 * t210;
-        let t300: f64 = t187 - t251;
-        let t301: f64 = t54 * t300;
+        let t4: f64 = t1 * t3;
+        let t5: f64 = 1.0 / t4;
+        let t6: f64 = t1 * t2;
+        let (t7, t8): (f64, f64) = sin_cos(alpha);
+        let t9: f64 = t2 * t8;
+        let t10: f64 = t0 * t7;
+        let t11: f64 = t3 * t10;
+        let t12: f64 = t9 + t11;
+        let t13: f64 = yc * t12;
+        let t14: f64 = t2 * t7;
+        let t15: f64 = t0 * t8;
+        let t16: f64 = t3 * t15;
+        let t17: f64 = t14 - t16;
+        let t18: f64 = zc - half_spacing;
+        let t19: f64 = t17 * t18;
+        let t20: f64 = t13 + t19;
+        let t21: f64 = t5 * t6;
+        let t22: f64 = t20 * t21;
+        let t23: f64 = t3 * t8;
+        let t24: f64 = t2 * t10;
+        let t25: f64 = t23 - t24;
+        let t26: f64 = yc * t25;
+        let t27: f64 = t3 * t7;
+        let t28: f64 = t0 * t2;
+        let t29: f64 = t8 * t28;
+        let t30: f64 = t27 + t29;
+        let t31: f64 = t18 * t30;
+        let t32: f64 = t22 + t26;
+        let t33: f64 = t31 + t32;
+        let t34: f64 = zc + half_spacing;
+        let t35: f64 = t17 * t34;
+        let t36: f64 = t13 + t35;
+        let t37: f64 = t21 * t36;
+        let t38: f64 = t30 * t34;
+        let t39: f64 = t26 + t37;
+        let t40: f64 = t38 + t39;
+        let t41: f64 = t33 - t40;
+        let t42: f64 = xc - half_spacing;
+        let t43: f64 = t0 * t42;
+        let t44: f64 = 1.0 / t25;
+        let t45: f64 = t1 * t7;
+        let t46: f64 = t6 * t42;
+        let t47: f64 = zc * t30;
+        let t48: f64 = t46 - t47;
+        let t49: f64 = t44 * t45;
+        let t50: f64 = t48 * t49;
+        let t51: f64 = t1 * t8;
+        let t52: f64 = zc * t51;
+        let t53: f64 = t43 + t52;
+        let t54: f64 = t53 - t50;
+        let t55: f64 = xc + half_spacing;
+        let t56: f64 = t0 * t55;
+        let t57: f64 = t6 * t55;
+        let t58: f64 = t47 - t57;
+        let t59: f64 = t49 * t58;
+        let t60: f64 = t52 + t56;
+        let t61: f64 = t59 + t60;
+        let t62: f64 = t54 - t61;
+        let t63: f64 = xc * t4;
+        let t64: f64 = yc - half_spacing;
+        let t65: f64 = t12 * t64;
+        let t66: f64 = 1.0 / t51;
+        let t67: f64 = xc * t0;
+        let t68: f64 = t45 * t64;
+        let t69: f64 = t67 - t68;
+        let t70: f64 = t17 * t66;
+        let t71: f64 = t69 * t70;
+        let t72: f64 = t63 + t65;
+        let t73: f64 = t72 - t71;
+        let t74: f64 = yc + half_spacing;
+        let t75: f64 = t12 * t74;
+        let t76: f64 = t45 * t74;
+        let t77: f64 = t67 - t76;
+        let t78: f64 = t70 * t77;
+        let t79: f64 = t63 + t75;
+        let t80: f64 = t79 - t78;
+        let t81: f64 = t73 - t80;
+        let t82: f64 = t41 * t62;
+        let t83: f64 = t81 * t82;
+        let t84: f64 = t0 * t5;
+        let t85: f64 = t20 * t84;
+        let t86: f64 = yc * t45;
+        let t87: f64 = t18 * t51;
+        let t88: f64 = t85 + t86;
+        let t89: f64 = t88 - t87;
+        let t90: f64 = t36 * t84;
+        let t91: f64 = t34 * t51;
+        let t92: f64 = t86 + t90;
+        let t93: f64 = t92 - t91;
+        let t94: f64 = t89 - t93;
+        let t95: f64 = xc * t6;
+        let t96: f64 = t25 * t64;
+        let t97: f64 = t30 * t66;
+        let t98: f64 = t69 * t97;
+        let t99: f64 = t95 + t98;
+        let t100: f64 = t99 - t96;
+        let t101: f64 = t25 * t74;
+        let t102: f64 = t77 * t97;
+        let t103: f64 = t95 + t102;
+        let t104: f64 = t103 - t101;
+        let t105: f64 = t100 - t104;
+        let t106: f64 = t4 * t42;
+        let t107: f64 = t12 * t44;
+        let t108: f64 = t48 * t107;
+        let t109: f64 = zc * t17;
+        let t110: f64 = t106 + t108;
+        let t111: f64 = t109 + t110;
+        let t112: f64 = t4 * t55;
+        let t113: f64 = t58 * t107;
+        let t114: f64 = t109 + t112;
+        let t115: f64 = t114 - t113;
+        let t116: f64 = t111 - t115;
+        let t117: f64 = t94 * t105;
+        let t118: f64 = t116 * t117;
+        let t119: f64 = t83 - t118;
+        let t120: f64 = 1.0 / t119;
+        let t121: f64 = ax * t4;
+        let t122: f64 = ay * t12;
+        let t123: f64 = az * t17;
+        let t124: f64 = t121 + t122;
+        let t125: f64 = t123 + t124;
+        let t126: f64 = gravity_z * t17;
+        let t127: f64 = gravity_x * t4;
+        let t128: f64 = gravity_y * t12;
+        let t129: f64 = t127 + t128;
+        let t130: f64 = t126 + t129;
+        let t131: f64 = t125 - t130;
+        let t132: f64 = t93 * t131;
+        let t133: f64 = ax * t0;
+        let t134: f64 = ay * t45;
+        let t135: f64 = az * t51;
+        let t136: f64 = t133 + t135;
+        let t137: f64 = t136 - t134;
+        let t138: f64 = gravity_y * t45;
+        let t139: f64 = gravity_x * t0;
+        let t140: f64 = t138 - t139;
+        let t141: f64 = gravity_z * t51;
+        let t142: f64 = t140 - t141;
+        let t143: f64 = t137 + t142;
+        let t144: f64 = t80 * t143;
+        let t145: f64 = t132 + t144;
+        let t146: f64 = t105 * t116;
+        let t147: f64 = t145 * t146;
+        let t148: f64 = ax * t6;
+        let t149: f64 = ay * t25;
+        let t150: f64 = az * t30;
+        let t151: f64 = t149 + t150;
+        let t152: f64 = t148 - t151;
+        let t153: f64 = gravity_z * t30;
+        let t154: f64 = gravity_y * t25;
+        let t155: f64 = gravity_x * t6;
+        let t156: f64 = t154 - t155;
+        let t157: f64 = t153 + t156;
+        let t158: f64 = t152 + t157;
+        let t159: f64 = t61 * t158;
+        let t160: f64 = t104 * t143;
+        let t161: f64 = t159 - t160;
+        let t162: f64 = t116 * t161;
+        let t163: f64 = t40 * t131;
+        let t164: f64 = t115 * t158;
+        let t165: f64 = t163 + t164;
+        let t166: f64 = t62 * t165;
+        let t167: f64 = t162 - t166;
+        let t168: f64 = t81 * t167;
+        let t169: f64 = t147 + t168;
+        let t170: f64 = t4 * t120;
+        let t171: f64 = t169 * t170;
+        let t172: f64 = wx * t6;
+        let t173: f64 = wy * t25;
+        let t174: f64 = wz * t30;
+        let t175: f64 = t173 + t174;
+        let t176: f64 = t172 - t175;
+        let t177: f64 = t176 * t176;
+        let t178: f64 = wx * t0;
+        let t179: f64 = wy * t45;
+        let t180: f64 = wz * t51;
+        let t181: f64 = t178 + t180;
+        let t182: f64 = t181 - t179;
+        let t183: f64 = t182 * t182;
+        let t184: f64 = t177 + t183;
+        let t185: f64 = t93 * t184;
+        let t186: f64 = wdx * t6;
+        let t187: f64 = wdy * t25;
+        let t188: f64 = wdz * t30;
+        let t189: f64 = t187 + t188;
+        let t190: f64 = t186 - t189;
+        let t191: f64 = wx * t4;
+        let t192: f64 = wy * t12;
+        let t193: f64 = wz * t17;
+        let t194: f64 = t191 + t192;
+        let t195: f64 = t193 + t194;
+        let t196: f64 = t182 * t195;
+        let t197: f64 = t190 + t196;
+        let t198: f64 = t80 * t197;
+        let t199: f64 = t143 + t198;
+        let t200: f64 = t199 - t185;
+        let t201: f64 = t146 * t200;
+        let t202: f64 = wdx * t0;
+        let t203: f64 = wdy * t45;
+        let t204: f64 = wdz * t51;
+        let t205: f64 = t202 + t204;
+        let t206: f64 = t205 - t203;
+        let t207: f64 = t176 * t195;
+        let t208: f64 = t206 - t207;
+        let t209: f64 = t61 * t208;
+        let t210: f64 = t104 * t197;
+        let t211: f64 = t209 + t210;
+        let t212: f64 = t116 * t211;
+        let t213: f64 = t40 * t184;
+        let t214: f64 = t115 * t208;
+        let t215: f64 = t213 + t214;
+        let t216: f64 = t158 - t215;
+        let t217: f64 = t62 * t216;
+        let t218: f64 = t212 + t217;
+        let t219: f64 = t81 * t218;
+        let t220: f64 = t219 - t201;
+        let t221: f64 = t170 * t220;
+        let t222: f64 = -t221;
+        let t223: f64 = t206 + t207;
+        let t224: f64 = t93 * t223;
+        let t225: f64 = wdx * t4;
+        let t226: f64 = wdy * t12;
+        let t227: f64 = wdz * t17;
+        let t228: f64 = t225 + t226;
+        let t229: f64 = t227 + t228;
+        let t230: f64 = t176 * t182;
+        let t231: f64 = t229 - t230;
+        let t232: f64 = t80 * t231;
+        let t233: f64 = t224 - t232;
+        let t234: f64 = t146 * t233;
+        let t235: f64 = t195 * t195;
+        let t236: f64 = t183 + t235;
+        let t237: f64 = t61 * t236;
+        let t238: f64 = t104 * t231;
+        let t239: f64 = t143 + t237;
+        let t240: f64 = t239 - t238;
+        let t241: f64 = t116 * t240;
+        let t242: f64 = t40 * t223;
+        let t243: f64 = t115 * t236;
+        let t244: f64 = t131 + t243;
+        let t245: f64 = t244 - t242;
+        let t246: f64 = t62 * t245;
+        let t247: f64 = t241 - t246;
+        let t248: f64 = t81 * t247;
+        let t249: f64 = t248 - t234;
+        let t250: f64 = t170 * t249;
+        let t251: f64 = t190 - t196;
+        let t252: f64 = t93 * t251;
+        let t253: f64 = t177 + t235;
+        let t254: f64 = t80 * t253;
+        let t255: f64 = t252 + t254;
+        let t256: f64 = t131 + t255;
+        let t257: f64 = t146 * t256;
+        let t258: f64 = t229 + t230;
+        let t259: f64 = t61 * t258;
+        let t260: f64 = t104 * t253;
+        let t261: f64 = t259 + t260;
+        let t262: f64 = t158 + t261;
+        let t263: f64 = t116 * t262;
+        let t264: f64 = t40 * t251;
+        let t265: f64 = t115 * t258;
+        let t266: f64 = t264 - t265;
+        let t267: f64 = t62 * t266;
+        let t268: f64 = t263 + t267;
+        let t269: f64 = t81 * t268;
+        let t270: f64 = t269 - t257;
+        let t271: f64 = t170 * t270;
+        let t272: f64 = t81 * t229;
+        let t273: f64 = t116 * t272;
+        let t274: f64 = t105 * t196;
+        let t275: f64 = t116 * t274;
+        let t276: f64 = t62 * t207;
+        let t277: f64 = t81 * t276;
+        let t278: f64 = t273 + t277;
+        let t279: f64 = t278 - t275;
+        let t280: f64 = t170 * t279;
+        let t281: f64 = t146 * t231;
+        let t282: f64 = t116 * t197;
+        let t283: f64 = t177 - t235;
+        let t284: f64 = t62 * t283;
+        let t285: f64 = t282 + t284;
+        let t286: f64 = t81 * t285;
+        let t287: f64 = t281 + t286;
+        let t288: f64 = t170 * t287;
+        let t289: f64 = -t288;
+        let t290: f64 = t183 - t235;
+        let t291: f64 = t146 * t290;
+        let t292: f64 = t116 * t208;
+        let t293: f64 = t62 * t258;
+        let t294: f64 = t292 + t293;
+        let t295: f64 = t81 * t294;
+        let t296: f64 = t295 - t291;
+        let t297: f64 = t170 * t296;
+        let t298: f64 = t81 * t230;
+        let t299: f64 = t116 * t298;
+        let t300: f64 = t105 * t190;
+        let t301: f64 = t116 * t300;
         let t302: f64 = t299 + t301;
-        let t303: f64 = t72 * t302;
-        let t304: f64 = t303 - t298;
-        let t305: f64 = t179 * t304;
-        let t306: f64 = -t305;
-        let t307: f64 = t194 - t251;
-        let t308: f64 = t143 * t307;
-        let t309: f64 = t93 * t223;
-        let t310: f64 = t54 * t275;
-        let t311: f64 = t309 + t310;
-        let t312: f64 = t72 * t311;
-        let t313: f64 = t308 + t312;
-        let t314: f64 = t179 * t313;
-        let t315: f64 = t93 * t209;
-        let t316: f64 = t101 * t315;
-        let t317: f64 = t72 * t186;
-        let t318: f64 = t93 * t317;
-        let t319: f64 = t193 * t318;
-        let t320: f64 = t291 + t316;
-        let t321: f64 = t320 - t319;
-        let t322: f64 = t179 * t321;
-        let t323: f64 = -t322;
-        let t324: f64 = t143 * t238;
-        let t325: f64 = t187 - t194;
-        let t326: f64 = t93 * t325;
-        let t327: f64 = t54 * t269;
-        let t328: f64 = t326 - t327;
-        let t329: f64 = t72 * t328;
-        let t330: f64 = t324 + t329;
-        let t331: f64 = t179 * t330;
-        let t332: f64 = t54 * t221;
-        let t333: f64 = t72 * t332;
-        let t334: f64 = t294 + t319;
-        let t335: f64 = t334 - t333;
-        let t336: f64 = t179 * t335;
-        let t337: f64 = -t336;
-        let t338: f64 = t26 + t168;
-        let t339: f64 = t221 * t338;
-        let t340: f64 = t80 + t107;
-        let t341: f64 = t209 * t340;
-        let t342: f64 = t339 - t341;
-        let t343: f64 = t202 * t338;
-        let t344: f64 = t186 * t340;
-        let t345: f64 = t193 * t338;
-        let t346: f64 = vz * t15;
-        let t347: f64 = vx * t1;
-        let t348: f64 = t3 * t347;
-        let t349: f64 = vy * t10;
-        let t350: f64 = t348 + t349;
-        let t351: f64 = t346 + t350;
-        let t352: f64 = t345 + t351;
-        let t353: f64 = t352 - t344;
-        let t354: f64 = t76 * t353;
-        let t355: f64 = vz * t6;
-        let t356: f64 = t1 * t355;
-        let t357: f64 = vx * t0;
-        let t358: f64 = vy * t5;
-        let t359: f64 = t1 * t358;
-        let t360: f64 = t357 - t359;
-        let t361: f64 = t356 + t360;
-        let t362: f64 = t361 - t354;
-        let t363: f64 = t362 * 2.0;
-        let t364: f64 = t363 - t343;
-        let t365: f64 = t186 * t364;
-        let t366: f64 = t202 * t340;
-        let t367: f64 = t19 * t353;
-        let t368: f64 = vx * t2;
-        let t369: f64 = t1 * t368;
-        let t370: f64 = vy * t38;
-        let t371: f64 = t369 - t370;
-        let t372: f64 = vz * t24;
-        let t373: f64 = t371 - t372;
-        let t374: f64 = t373 - t367;
-        let t375: f64 = t374 * 2.0;
-        let t376: f64 = t366 + t375;
-        let t377: f64 = t193 * t376;
-        let t378: f64 = t365 - t377;
-        let t379: f64 = t342 + t378;
-        let t380: f64 = t114 + t379;
-        let t381: f64 = t4 * t58;
-        let t382: f64 = t380 * t381;
-        let t383: f64 = t382 - gravity_x;
-        let t384: f64 = t76 * t380;
-        let t385: f64 = t132 + t384;
-        let t386: f64 = -t385;
-        let t387: f64 = t143 * t386;
-        let t388: f64 = t19 * t380;
-        let t389: f64 = t153 + t388;
-        let t390: f64 = -t389;
-        let t391: f64 = t54 * t72;
-        let t392: f64 = t390 * t391;
-        let t393: f64 = t387 + t392;
-        let t394: f64 = t179 * t393;
-        let t395: f64 = t0 * t210;
-        let t396: f64 = t40 * t223;
-        let t397: f64 = t85 * t195;
-        let t398: f64 = t396 + t397;
-        let t399: f64 = t395 - t398;
-        let t400: f64 = t394 + t399;
-        let t401: f64 = t93 * t386;
-        let t402: f64 = t121 + t379;
-        let t403: f64 = t54 * t402;
-        let t404: f64 = t401 + t403;
-        let t405: f64 = t72 * t85;
-        let t406: f64 = t105 * t405;
-        let t407: f64 = t404 * t406;
-        let t408: f64 = t0 * t247;
-        let t409: f64 = t40 * t252;
-        let t410: f64 = t85 * t238;
-        let t411: f64 = t409 - t410;
-        let t412: f64 = t408 + t411;
-        let t413: f64 = t412 - t407;
-        let t414: f64 = t72 * t390;
-        let t415: f64 = t101 * t402;
-        let t416: f64 = t414 - t415;
-        let t417: f64 = t85 * t93;
-        let t418: f64 = t105 * t417;
-        let t419: f64 = t416 * t418;
-        let t420: f64 = t40 * t275;
-        let t421: f64 = t0 * t267;
-        let t422: f64 = t85 * t269;
-        let t423: f64 = t421 + t422;
-        let t424: f64 = t420 - t423;
-        let t425: f64 = t424 - t419;
-        let t426: f64 = t169 * t221;
-        let t427: f64 = t108 * t209;
-        let t428: f64 = t426 - t427;
-        let t429: f64 = t169 * t202;
-        let t430: f64 = t108 * t186;
-        let t431: f64 = t169 * t193;
-        let t432: f64 = t351 + t431;
-        let t433: f64 = t432 - t430;
-        let t434: f64 = t76 * t433;
-        let t435: f64 = t361 - t434;
-        let t436: f64 = t435 * 2.0;
-        let t437: f64 = t436 - t429;
-        let t438: f64 = t186 * t437;
-        let t439: f64 = t108 * t202;
-        let t440: f64 = t19 * t433;
-        let t441: f64 = t373 - t440;
-        let t442: f64 = t441 * 2.0;
-        let t443: f64 = t439 + t442;
-        let t444: f64 = t193 * t443;
-        let t445: f64 = t438 - t444;
-        let t446: f64 = t428 + t445;
-        let t447: f64 = t114 + t446;
-        let t448: f64 = t76 * t447;
-        let t449: f64 = t132 + t448;
-        let t450: f64 = -t449;
-        let t451: f64 = t143 * t450;
-        let t452: f64 = t19 * t447;
-        let t453: f64 = t153 + t452;
-        let t454: f64 = -t453;
-        let t455: f64 = t391 * t454;
-        let t456: f64 = t451 + t455;
-        let t457: f64 = t179 * t456;
-        let t458: f64 = t93 * t450;
-        let t459: f64 = t121 + t446;
-        let t460: f64 = t54 * t459;
-        let t461: f64 = t458 + t460;
-        let t462: f64 = t406 * t461;
-        let t463: f64 = -t462;
-        let t464: f64 = t72 * t454;
-        let t465: f64 = t101 * t459;
-        let t466: f64 = t464 - t465;
-        let t467: f64 = t418 * t466;
-        let t468: f64 = -t467;
-        let t469: f64 = t89 + t171;
-        let t470: f64 = t221 * t469;
-        let t471: f64 = t47 + t146;
-        let t472: f64 = t245 * t471;
-        let t473: f64 = t470 - t472;
-        let t474: f64 = t186 * t471;
-        let t475: f64 = t202 * t471;
-        let t476: f64 = t193 * t469;
-        let t477: f64 = t373 + t476;
-        let t478: f64 = t477 - t475;
-        let t479: f64 = t87 * t478;
-        let t480: f64 = t351 + t479;
-        let t481: f64 = t480 * 2.0;
-        let t482: f64 = t474 + t481;
-        let t483: f64 = t193 * t482;
-        let t484: f64 = t186 * t469;
-        let t485: f64 = t45 * t478;
-        let t486: f64 = t361 - t485;
-        let t487: f64 = t486 * 2.0;
-        let t488: f64 = t487 - t484;
-        let t489: f64 = t202 * t488;
-        let t490: f64 = t483 - t489;
-        let t491: f64 = t473 + t490;
-        let t492: f64 = t159 + t491;
-        let t493: f64 = t45 * t492;
-        let t494: f64 = t132 + t493;
-        let t495: f64 = -t494;
-        let t496: f64 = t143 * t495;
-        let t497: f64 = t160 + t491;
-        let t498: f64 = t391 * t497;
-        let t499: f64 = t496 - t498;
-        let t500: f64 = t179 * t499;
-        let t501: f64 = t93 * t495;
-        let t502: f64 = t87 * t492;
-        let t503: f64 = t120 + t502;
-        let t504: f64 = t54 * t503;
-        let t505: f64 = t501 - t504;
-        let t506: f64 = t406 * t505;
-        let t507: f64 = -t506;
-        let t508: f64 = t72 * t497;
-        let t509: f64 = t101 * t503;
-        let t510: f64 = t508 - t509;
-        let t511: f64 = t418 * t510;
-        let t512: f64 = t172 * t221;
-        let t513: f64 = t147 * t245;
-        let t514: f64 = t512 - t513;
-        let t515: f64 = t147 * t186;
-        let t516: f64 = t147 * t202;
-        let t517: f64 = t172 * t193;
-        let t518: f64 = t373 + t517;
-        let t519: f64 = t518 - t516;
-        let t520: f64 = t87 * t519;
-        let t521: f64 = t351 + t520;
-        let t522: f64 = t521 * 2.0;
-        let t523: f64 = t515 + t522;
-        let t524: f64 = t193 * t523;
-        let t525: f64 = t172 * t186;
-        let t526: f64 = t45 * t519;
-        let t527: f64 = t361 - t526;
-        let t528: f64 = t527 * 2.0;
-        let t529: f64 = t528 - t525;
-        let t530: f64 = t202 * t529;
-        let t531: f64 = t524 - t530;
-        let t532: f64 = t514 + t531;
-        let t533: f64 = t159 + t532;
-        let t534: f64 = t45 * t533;
-        let t535: f64 = t132 + t534;
-        let t536: f64 = -t535;
-        let t537: f64 = t143 * t536;
-        let t538: f64 = t160 + t532;
-        let t539: f64 = t391 * t538;
-        let t540: f64 = t537 - t539;
-        let t541: f64 = t179 * t540;
-        let t542: f64 = t93 * t536;
-        let t543: f64 = t87 * t533;
-        let t544: f64 = t120 + t543;
-        let t545: f64 = t54 * t544;
-        let t546: f64 = t542 - t545;
-        let t547: f64 = t406 * t546;
-        let t548: f64 = -t547;
-        let t549: f64 = t72 * t538;
-        let t550: f64 = t101 * t544;
-        let t551: f64 = t549 - t550;
-        let t552: f64 = t418 * t551;
-        let t553: f64 = t163 - t97;
-        let t554: f64 = t245 * t553;
-        let t555: f64 = t65 + t124;
-        let t556: f64 = t209 * t555;
-        let t557: f64 = t554 - t556;
-        let t558: f64 = t202 * t553;
-        let t559: f64 = t186 * t555;
-        let t560: f64 = t361 + t558;
-        let t561: f64 = t560 - t559;
-        let t562: f64 = t95 * t561;
-        let t563: f64 = t193 * t555;
-        let t564: f64 = t373 + t562;
-        let t565: f64 = t564 * 2.0;
-        let t566: f64 = t563 + t565;
-        let t567: f64 = t202 * t566;
-        let t568: f64 = t63 * t561;
-        let t569: f64 = t193 * t553;
-        let t570: f64 = t351 - t568;
-        let t571: f64 = t570 * 2.0;
-        let t572: f64 = t571 - t569;
-        let t573: f64 = t186 * t572;
-        let t574: f64 = t567 - t573;
-        let t575: f64 = t557 + t574;
-        let t576: f64 = t140 + t575;
-        let t577: f64 = t143 * t576;
-        let t578: f64 = t139 + t575;
-        let t579: f64 = t95 * t578;
-        let t580: f64 = t579 - t153;
-        let t581: f64 = t391 * t580;
-        let t582: f64 = t577 - t581;
-        let t583: f64 = t179 * t582;
-        let t584: f64 = -t583;
-        let t585: f64 = t93 * t576;
-        let t586: f64 = t63 * t578;
-        let t587: f64 = t120 - t586;
-        let t588: f64 = t54 * t587;
-        let t589: f64 = t585 + t588;
-        let t590: f64 = t406 * t589;
-        let t591: f64 = t72 * t580;
-        let t592: f64 = t101 * t587;
-        let t593: f64 = t591 + t592;
-        let t594: f64 = t418 * t593;
-        let t595: f64 = -t594;
-        let t596: f64 = t164 * t245;
-        let t597: f64 = t125 * t209;
-        let t598: f64 = t596 - t597;
-        let t599: f64 = t164 * t202;
-        let t600: f64 = t125 * t186;
-        let t601: f64 = t361 + t599;
-        let t602: f64 = t601 - t600;
-        let t603: f64 = t95 * t602;
-        let t604: f64 = t125 * t193;
-        let t605: f64 = t373 + t603;
-        let t606: f64 = t605 * 2.0;
-        let t607: f64 = t604 + t606;
-        let t608: f64 = t202 * t607;
-        let t609: f64 = t63 * t602;
-        let t610: f64 = t164 * t193;
-        let t611: f64 = t351 - t609;
-        let t612: f64 = t611 * 2.0;
-        let t613: f64 = t612 - t610;
-        let t614: f64 = t186 * t613;
-        let t615: f64 = t608 - t614;
-        let t616: f64 = t598 + t615;
-        let t617: f64 = t140 + t616;
-        let t618: f64 = t143 * t617;
-        let t619: f64 = t139 + t616;
-        let t620: f64 = t95 * t619;
-        let t621: f64 = t620 - t153;
-        let t622: f64 = t391 * t621;
-        let t623: f64 = t618 - t622;
-        let t624: f64 = t179 * t623;
-        let t625: f64 = -t624;
-        let t626: f64 = t93 * t617;
-        let t627: f64 = t63 * t619;
-        let t628: f64 = t120 - t627;
-        let t629: f64 = t54 * t628;
-        let t630: f64 = t626 + t629;
-        let t631: f64 = t406 * t630;
-        let t632: f64 = t72 * t621;
-        let t633: f64 = t101 * t628;
-        let t634: f64 = t632 + t633;
-        let t635: f64 = t418 * t634;
-        let t636: f64 = -t635;
-        let t637: f64 = t353 * t381;
-        let t638: f64 = ((t637 > 0.0) as i8 - (t637 < 0.0) as i8) as f64;
-        let t639: f64 = t105 * t178;
-        let t640: f64 = t121 - t639;
-        let t641: f64 = t85 * t640;
-        let t642: f64 = t105 * t235;
-        let t643: f64 = t195 - t642;
-        let t644: f64 = t85 * t643;
-        let t645: f64 = -t644;
-        let t646: f64 = t105 * t265;
-        let t647: f64 = t238 + t646;
-        let t648: f64 = t85 * t647;
-        let t649: f64 = -t648;
-        let t650: f64 = t105 * t286;
-        let t651: f64 = t269 + t650;
-        let t652: f64 = t85 * t651;
-        let t653: f64 = -t652;
-        let t654: f64 = -t297;
-        let t655: f64 = -t314;
-        let t656: f64 = -t331;
-        let t657: f64 = -t394;
-        let t658: f64 = t381 * t447;
-        let t659: f64 = t658 - gravity_x;
-        let t660: f64 = t399 - t457;
-        let t661: f64 = t412 + t462;
-        let t662: f64 = t424 + t467;
-        let t663: f64 = -t500;
-        let t664: f64 = -t511;
-        let t665: f64 = -t541;
-        let t666: f64 = -t552;
-        let t667: f64 = -t590;
-        let t668: f64 = -t631;
-        let t669: f64 = t381 * t433;
-        let t670: f64 = ((t669 > 0.0) as i8 - (t669 < 0.0) as i8) as f64;
-        let t671: f64 = t84 * t101;
-        let t672: f64 = t174 * t671;
-        let t673: f64 = t72 * t166;
-        let t674: f64 = t101 * t142;
-        let t675: f64 = t673 - t674;
-        let t676: f64 = t33 * t675;
-        let t677: f64 = t672 + t676;
-        let t678: f64 = t38 * t105;
-        let t679: f64 = t677 * t678;
-        let t680: f64 = t231 * t671;
-        let t681: f64 = t72 * t226;
-        let t682: f64 = t101 * t213;
-        let t683: f64 = t681 + t682;
-        let t684: f64 = t33 * t683;
-        let t685: f64 = t684 - t680;
-        let t686: f64 = t678 * t685;
-        let t687: f64 = -t686;
-        let t688: f64 = t261 * t671;
-        let t689: f64 = t72 * t256;
-        let t690: f64 = t101 * t249;
-        let t691: f64 = t689 + t690;
-        let t692: f64 = t33 * t691;
-        let t693: f64 = t688 + t692;
-        let t694: f64 = t678 * t693;
-        let t695: f64 = t282 * t671;
-        let t696: f64 = t72 * t278;
-        let t697: f64 = t101 * t272;
-        let t698: f64 = t696 + t697;
-        let t699: f64 = t33 * t698;
-        let t700: f64 = t699 - t695;
-        let t701: f64 = t678 * t700;
-        let t702: f64 = t33 * t245;
-        let t703: f64 = t72 * t702;
-        let t704: f64 = t84 * t222;
-        let t705: f64 = t101 * t704;
-        let t706: f64 = t33 * t202;
-        let t707: f64 = t101 * t706;
-        let t708: f64 = t193 * t707;
-        let t709: f64 = t703 + t708;
-        let t710: f64 = t709 - t705;
-        let t711: f64 = t678 * t710;
-        let t712: f64 = t300 * t671;
-        let t713: f64 = t72 * t210;
-        let t714: f64 = t101 * t247;
-        let t715: f64 = t713 - t714;
-        let t716: f64 = t33 * t715;
-        let t717: f64 = t716 - t712;
-        let t718: f64 = t678 * t717;
-        let t719: f64 = -t718;
-        let t720: f64 = t275 * t671;
-        let t721: f64 = t72 * t223;
-        let t722: f64 = t101 * t307;
-        let t723: f64 = t721 + t722;
-        let t724: f64 = t33 * t723;
-        let t725: f64 = t724 - t720;
-        let t726: f64 = t678 * t725;
-        let t727: f64 = t33 * t209;
-        let t728: f64 = t101 * t727;
-        let t729: f64 = t33 * t186;
-        let t730: f64 = t72 * t729;
-        let t731: f64 = t193 * t730;
-        let t732: f64 = t705 + t731;
-        let t733: f64 = t732 - t728;
-        let t734: f64 = t678 * t733;
-        let t735: f64 = t269 * t671;
-        let t736: f64 = t72 * t325;
-        let t737: f64 = t101 * t238;
-        let t738: f64 = t736 + t737;
-        let t739: f64 = t33 * t738;
-        let t740: f64 = t735 + t739;
-        let t741: f64 = t678 * t740;
-        let t742: f64 = t84 * t221;
-        let t743: f64 = t101 * t742;
-        let t744: f64 = t708 + t743;
-        let t745: f64 = t731 + t744;
-        let t746: f64 = t678 * t745;
-        let t747: f64 = -t746;
-        let t748: f64 = t33 * t386;
-        let t749: f64 = t84 * t390;
-        let t750: f64 = t748 - t749;
-        let t751: f64 = t38 * t101;
-        let t752: f64 = t105 * t751;
-        let t753: f64 = t750 * t752;
-        let t754: f64 = t33 * t72;
-        let t755: f64 = t386 * t754;
-        let t756: f64 = t402 * t671;
-        let t757: f64 = t755 - t756;
-        let t758: f64 = t678 * t757;
+        let t303: f64 = t277 - t302;
+        let t304: f64 = t170 * t303;
+        let t305: f64 = -t304;
+        let t306: f64 = t146 * t223;
+        let t307: f64 = t177 - t183;
+        let t308: f64 = t116 * t307;
+        let t309: f64 = t62 * t251;
+        let t310: f64 = t308 - t309;
+        let t311: f64 = t81 * t310;
+        let t312: f64 = t311 - t306;
+        let t313: f64 = t170 * t312;
+        let t314: f64 = t62 * t206;
+        let t315: f64 = t81 * t314;
+        let t316: f64 = t275 + t315;
+        let t317: f64 = t316 - t299;
+        let t318: f64 = t170 * t317;
+        let t319: f64 = t33 * t206;
+        let t320: f64 = t89 * t190;
+        let t321: f64 = t319 - t320;
+        let t322: f64 = vx * t0;
+        let t323: f64 = vy * t45;
+        let t324: f64 = vz * t51;
+        let t325: f64 = t322 + t324;
+        let t326: f64 = t325 - t323;
+        let t327: f64 = vx * t4;
+        let t328: f64 = vy * t12;
+        let t329: f64 = vz * t17;
+        let t330: f64 = t327 + t328;
+        let t331: f64 = t329 + t330;
+        let t332: f64 = t89 * t176;
+        let t333: f64 = t33 * t182;
+        let t334: f64 = t331 + t333;
+        let t335: f64 = t334 - t332;
+        let t336: f64 = t84 * t335;
+        let t337: f64 = t33 * t195;
+        let t338: f64 = t326 - t336;
+        let t339: f64 = t338 * 2.0;
+        let t340: f64 = t339 - t337;
+        let t341: f64 = t176 * t340;
+        let t342: f64 = vx * t6;
+        let t343: f64 = vy * t25;
+        let t344: f64 = vz * t30;
+        let t345: f64 = t343 + t344;
+        let t346: f64 = t342 - t345;
+        let t347: f64 = t21 * t335;
+        let t348: f64 = t89 * t195;
+        let t349: f64 = t346 - t347;
+        let t350: f64 = t349 * 2.0;
+        let t351: f64 = t348 + t350;
+        let t352: f64 = t182 * t351;
+        let t353: f64 = t341 - t352;
+        let t354: f64 = t321 + t353;
+        let t355: f64 = t125 + t354;
+        let t356: f64 = t5 * t355;
+        let t357: f64 = t356 - gravity_x;
+        let t358: f64 = t84 * t355;
+        let t359: f64 = t142 + t358;
+        let t360: f64 = -t359;
+        let t361: f64 = t105 * t360;
+        let t362: f64 = t116 * t361;
+        let t363: f64 = t21 * t355;
+        let t364: f64 = t157 + t363;
+        let t365: f64 = -t364;
+        let t366: f64 = t62 * t365;
+        let t367: f64 = t81 * t366;
+        let t368: f64 = t362 - t367;
+        let t369: f64 = t170 * t368;
+        let t370: f64 = t0 * t197;
+        let t371: f64 = t4 * t184;
+        let t372: f64 = t6 * t208;
+        let t373: f64 = t371 + t372;
+        let t374: f64 = t370 - t373;
+        let t375: f64 = t374 - t369;
+        let t376: f64 = t116 * t360;
+        let t377: f64 = t131 + t354;
+        let t378: f64 = t62 * t377;
+        let t379: f64 = t376 + t378;
+        let t380: f64 = t4 * t81;
+        let t381: f64 = t120 * t380;
+        let t382: f64 = t379 * t381;
+        let t383: f64 = t0 * t231;
+        let t384: f64 = t6 * t236;
+        let t385: f64 = t4 * t223;
+        let t386: f64 = t384 - t385;
+        let t387: f64 = t383 + t386;
+        let t388: f64 = t387 - t382;
+        let t389: f64 = t81 * t365;
+        let t390: f64 = t105 * t377;
+        let t391: f64 = t389 + t390;
+        let t392: f64 = t4 * t116;
+        let t393: f64 = t120 * t392;
+        let t394: f64 = t391 * t393;
+        let t395: f64 = t6 * t258;
+        let t396: f64 = t4 * t251;
+        let t397: f64 = t395 - t396;
+        let t398: f64 = t0 * t253;
+        let t399: f64 = t397 - t398;
+        let t400: f64 = t399 - t394;
+        let t401: f64 = t40 * t206;
+        let t402: f64 = t93 * t190;
+        let t403: f64 = t401 - t402;
+        let t404: f64 = t93 * t176;
+        let t405: f64 = t40 * t182;
+        let t406: f64 = t331 + t405;
+        let t407: f64 = t406 - t404;
+        let t408: f64 = t84 * t407;
+        let t409: f64 = t40 * t195;
+        let t410: f64 = t326 - t408;
+        let t411: f64 = t410 * 2.0;
+        let t412: f64 = t411 - t409;
+        let t413: f64 = t176 * t412;
+        let t414: f64 = t21 * t407;
+        let t415: f64 = t93 * t195;
+        let t416: f64 = t346 - t414;
+        let t417: f64 = t416 * 2.0;
+        let t418: f64 = t415 + t417;
+        let t419: f64 = t182 * t418;
+        let t420: f64 = t413 - t419;
+        let t421: f64 = t403 + t420;
+        let t422: f64 = t125 + t421;
+        let t423: f64 = t84 * t422;
+        let t424: f64 = t142 + t423;
+        let t425: f64 = -t424;
+        let t426: f64 = t105 * t425;
+        let t427: f64 = t116 * t426;
+        let t428: f64 = t21 * t422;
+        let t429: f64 = t157 + t428;
+        let t430: f64 = -t429;
+        let t431: f64 = t62 * t430;
+        let t432: f64 = t81 * t431;
+        let t433: f64 = t427 - t432;
+        let t434: f64 = t170 * t433;
+        let t435: f64 = -t434;
+        let t436: f64 = t116 * t425;
+        let t437: f64 = t131 + t421;
+        let t438: f64 = t62 * t437;
+        let t439: f64 = t436 + t438;
+        let t440: f64 = t381 * t439;
+        let t441: f64 = -t440;
+        let t442: f64 = t81 * t430;
+        let t443: f64 = t105 * t437;
+        let t444: f64 = t442 + t443;
+        let t445: f64 = t393 * t444;
+        let t446: f64 = -t445;
+        let t447: f64 = t111 * t206;
+        let t448: f64 = t54 * t229;
+        let t449: f64 = t447 - t448;
+        let t450: f64 = t54 * t195;
+        let t451: f64 = t111 * t182;
+        let t452: f64 = t346 + t451;
+        let t453: f64 = t452 - t450;
+        let t454: f64 = t107 * t453;
+        let t455: f64 = t54 * t176;
+        let t456: f64 = t331 + t454;
+        let t457: f64 = t456 * 2.0;
+        let t458: f64 = t455 + t457;
+        let t459: f64 = t182 * t458;
+        let t460: f64 = t49 * t453;
+        let t461: f64 = t111 * t176;
+        let t462: f64 = t326 - t460;
+        let t463: f64 = t462 * 2.0;
+        let t464: f64 = t463 - t461;
+        let t465: f64 = t195 * t464;
+        let t466: f64 = t459 - t465;
+        let t467: f64 = t449 + t466;
+        let t468: f64 = t152 + t467;
+        let t469: f64 = t49 * t468;
+        let t470: f64 = t142 + t469;
+        let t471: f64 = -t470;
+        let t472: f64 = t105 * t471;
+        let t473: f64 = t116 * t472;
+        let t474: f64 = t158 + t467;
+        let t475: f64 = t62 * t474;
+        let t476: f64 = t81 * t475;
+        let t477: f64 = t473 + t476;
+        let t478: f64 = t170 * t477;
+        let t479: f64 = -t478;
+        let t480: f64 = t116 * t471;
+        let t481: f64 = t107 * t468;
+        let t482: f64 = t130 + t481;
+        let t483: f64 = t62 * t482;
+        let t484: f64 = t480 - t483;
+        let t485: f64 = t381 * t484;
+        let t486: f64 = -t485;
+        let t487: f64 = t81 * t474;
+        let t488: f64 = t105 * t482;
+        let t489: f64 = t487 + t488;
+        let t490: f64 = t393 * t489;
+        let t491: f64 = t115 * t206;
+        let t492: f64 = t61 * t229;
+        let t493: f64 = t491 - t492;
+        let t494: f64 = t61 * t195;
+        let t495: f64 = t115 * t182;
+        let t496: f64 = t346 + t495;
+        let t497: f64 = t496 - t494;
+        let t498: f64 = t107 * t497;
+        let t499: f64 = t61 * t176;
+        let t500: f64 = t331 + t498;
+        let t501: f64 = t500 * 2.0;
+        let t502: f64 = t499 + t501;
+        let t503: f64 = t182 * t502;
+        let t504: f64 = t49 * t497;
+        let t505: f64 = t115 * t176;
+        let t506: f64 = t326 - t504;
+        let t507: f64 = t506 * 2.0;
+        let t508: f64 = t507 - t505;
+        let t509: f64 = t195 * t508;
+        let t510: f64 = t503 - t509;
+        let t511: f64 = t493 + t510;
+        let t512: f64 = t152 + t511;
+        let t513: f64 = t49 * t512;
+        let t514: f64 = t142 + t513;
+        let t515: f64 = -t514;
+        let t516: f64 = t105 * t515;
+        let t517: f64 = t116 * t516;
+        let t518: f64 = t158 + t511;
+        let t519: f64 = t62 * t518;
+        let t520: f64 = t81 * t519;
+        let t521: f64 = t517 + t520;
+        let t522: f64 = t170 * t521;
+        let t523: f64 = -t522;
+        let t524: f64 = t116 * t515;
+        let t525: f64 = t107 * t512;
+        let t526: f64 = t130 + t525;
+        let t527: f64 = t62 * t526;
+        let t528: f64 = t524 - t527;
+        let t529: f64 = t381 * t528;
+        let t530: f64 = -t529;
+        let t531: f64 = t81 * t518;
+        let t532: f64 = t105 * t526;
+        let t533: f64 = t531 + t532;
+        let t534: f64 = t393 * t533;
+        let t535: f64 = t100 * t229;
+        let t536: f64 = t73 * t190;
+        let t537: f64 = t535 - t536;
+        let t538: f64 = t100 * t195;
+        let t539: f64 = t73 * t176;
+        let t540: f64 = t326 + t538;
+        let t541: f64 = t540 - t539;
+        let t542: f64 = t97 * t541;
+        let t543: f64 = t73 * t182;
+        let t544: f64 = t346 + t542;
+        let t545: f64 = t544 * 2.0;
+        let t546: f64 = t543 + t545;
+        let t547: f64 = t195 * t546;
+        let t548: f64 = t70 * t541;
+        let t549: f64 = t100 * t182;
+        let t550: f64 = t331 - t548;
+        let t551: f64 = t550 * 2.0;
+        let t552: f64 = t551 - t549;
+        let t553: f64 = t176 * t552;
+        let t554: f64 = t547 - t553;
+        let t555: f64 = t537 + t554;
+        let t556: f64 = t143 + t555;
+        let t557: f64 = t105 * t556;
+        let t558: f64 = t116 * t557;
+        let t559: f64 = t137 + t555;
+        let t560: f64 = t97 * t559;
+        let t561: f64 = t560 - t157;
+        let t562: f64 = t62 * t561;
+        let t563: f64 = t81 * t562;
+        let t564: f64 = t558 + t563;
+        let t565: f64 = t170 * t564;
+        let t566: f64 = t116 * t556;
+        let t567: f64 = t70 * t559;
+        let t568: f64 = t130 - t567;
+        let t569: f64 = t62 * t568;
+        let t570: f64 = t566 + t569;
+        let t571: f64 = t381 * t570;
+        let t572: f64 = t81 * t561;
+        let t573: f64 = t105 * t568;
+        let t574: f64 = t572 - t573;
+        let t575: f64 = t393 * t574;
+        let t576: f64 = -t575;
+        let t577: f64 = t104 * t229;
+        let t578: f64 = t80 * t190;
+        let t579: f64 = t577 - t578;
+        let t580: f64 = t104 * t195;
+        let t581: f64 = t80 * t176;
+        let t582: f64 = t326 + t580;
+        let t583: f64 = t582 - t581;
+        let t584: f64 = t97 * t583;
+        let t585: f64 = t80 * t182;
+        let t586: f64 = t346 + t584;
+        let t587: f64 = t586 * 2.0;
+        let t588: f64 = t585 + t587;
+        let t589: f64 = t195 * t588;
+        let t590: f64 = t70 * t583;
+        let t591: f64 = t104 * t182;
+        let t592: f64 = t331 - t590;
+        let t593: f64 = t592 * 2.0;
+        let t594: f64 = t593 - t591;
+        let t595: f64 = t176 * t594;
+        let t596: f64 = t589 - t595;
+        let t597: f64 = t579 + t596;
+        let t598: f64 = t143 + t597;
+        let t599: f64 = t105 * t598;
+        let t600: f64 = t116 * t599;
+        let t601: f64 = t137 + t597;
+        let t602: f64 = t97 * t601;
+        let t603: f64 = t602 - t157;
+        let t604: f64 = t62 * t603;
+        let t605: f64 = t81 * t604;
+        let t606: f64 = t600 + t605;
+        let t607: f64 = t170 * t606;
+        let t608: f64 = t116 * t598;
+        let t609: f64 = t70 * t601;
+        let t610: f64 = t130 - t609;
+        let t611: f64 = t62 * t610;
+        let t612: f64 = t608 + t611;
+        let t613: f64 = t381 * t612;
+        let t614: f64 = t81 * t603;
+        let t615: f64 = t105 * t610;
+        let t616: f64 = t614 - t615;
+        let t617: f64 = t393 * t616;
+        let t618: f64 = -t617;
+        let t619: f64 = t5 * t335;
+        let t620: f64 = ((t619 > 0.0) as i8 - (t619 < 0.0) as i8) as f64;
+        let t621: f64 = t120 * t169;
+        let t622: f64 = t131 - t621;
+        let t623: f64 = t4 * t622;
+        let t624: f64 = t120 * t220;
+        let t625: f64 = t184 - t624;
+        let t626: f64 = t4 * t625;
+        let t627: f64 = -t626;
+        let t628: f64 = t120 * t249;
+        let t629: f64 = t223 + t628;
+        let t630: f64 = t4 * t629;
+        let t631: f64 = -t630;
+        let t632: f64 = t120 * t270;
+        let t633: f64 = t251 + t632;
+        let t634: f64 = t4 * t633;
+        let t635: f64 = -t634;
+        let t636: f64 = -t280;
+        let t637: f64 = -t297;
+        let t638: f64 = -t313;
+        let t639: f64 = -t318;
+        let t640: f64 = t5 * t422;
+        let t641: f64 = t640 - gravity_x;
+        let t642: f64 = t374 + t434;
+        let t643: f64 = t387 + t440;
+        let t644: f64 = t399 + t445;
+        let t645: f64 = -t490;
+        let t646: f64 = -t534;
+        let t647: f64 = -t565;
+        let t648: f64 = -t571;
+        let t649: f64 = -t607;
+        let t650: f64 = -t613;
+        let t651: f64 = t5 * t407;
+        let t652: f64 = ((t651 > 0.0) as i8 - (t651 < 0.0) as i8) as f64;
+        let t653: f64 = t117 * t165;
+        let t654: f64 = t81 * t161;
+        let t655: f64 = t105 * t145;
+        let t656: f64 = t654 + t655;
+        let t657: f64 = t41 * t656;
+        let t658: f64 = t657 - t653;
+        let t659: f64 = t25 * t120;
+        let t660: f64 = t658 * t659;
+        let t661: f64 = t117 * t216;
+        let t662: f64 = t81 * t211;
+        let t663: f64 = t105 * t200;
+        let t664: f64 = t662 - t663;
+        let t665: f64 = t41 * t664;
+        let t666: f64 = t661 + t665;
+        let t667: f64 = t659 * t666;
+        let t668: f64 = -t667;
+        let t669: f64 = t117 * t245;
+        let t670: f64 = t81 * t240;
+        let t671: f64 = t105 * t233;
+        let t672: f64 = t670 - t671;
+        let t673: f64 = t41 * t672;
+        let t674: f64 = t673 - t669;
+        let t675: f64 = t659 * t674;
+        let t676: f64 = t117 * t266;
+        let t677: f64 = t81 * t262;
+        let t678: f64 = t105 * t256;
+        let t679: f64 = t677 - t678;
+        let t680: f64 = t41 * t679;
+        let t681: f64 = t676 + t680;
+        let t682: f64 = t659 * t681;
+        let t683: f64 = t41 * t229;
+        let t684: f64 = t81 * t683;
+        let t685: f64 = t41 * t196;
+        let t686: f64 = t105 * t685;
+        let t687: f64 = t94 * t207;
+        let t688: f64 = t105 * t687;
+        let t689: f64 = t684 + t688;
+        let t690: f64 = t689 - t686;
+        let t691: f64 = t659 * t690;
+        let t692: f64 = t117 * t283;
+        let t693: f64 = t81 * t197;
+        let t694: f64 = t105 * t231;
+        let t695: f64 = t693 + t694;
+        let t696: f64 = t41 * t695;
+        let t697: f64 = t692 + t696;
+        let t698: f64 = t659 * t697;
+        let t699: f64 = -t698;
+        let t700: f64 = t117 * t258;
+        let t701: f64 = t81 * t208;
+        let t702: f64 = t105 * t290;
+        let t703: f64 = t701 - t702;
+        let t704: f64 = t41 * t703;
+        let t705: f64 = t700 + t704;
+        let t706: f64 = t659 * t705;
+        let t707: f64 = t41 * t230;
+        let t708: f64 = t81 * t707;
+        let t709: f64 = t41 * t190;
+        let t710: f64 = t105 * t709;
+        let t711: f64 = t708 + t710;
+        let t712: f64 = t688 - t711;
+        let t713: f64 = t659 * t712;
+        let t714: f64 = -t713;
+        let t715: f64 = t117 * t251;
+        let t716: f64 = t81 * t307;
+        let t717: f64 = t105 * t223;
+        let t718: f64 = t716 - t717;
+        let t719: f64 = t41 * t718;
+        let t720: f64 = t719 - t715;
+        let t721: f64 = t659 * t720;
+        let t722: f64 = t94 * t206;
+        let t723: f64 = t105 * t722;
+        let t724: f64 = t686 + t723;
+        let t725: f64 = t724 - t708;
+        let t726: f64 = t659 * t725;
+        let t727: f64 = t41 * t360;
+        let t728: f64 = t94 * t365;
+        let t729: f64 = t727 - t728;
+        let t730: f64 = t25 * t105;
+        let t731: f64 = t120 * t730;
+        let t732: f64 = t729 * t731;
+        let t733: f64 = -t732;
+        let t734: f64 = t81 * t727;
+        let t735: f64 = t94 * t377;
+        let t736: f64 = t105 * t735;
+        let t737: f64 = t734 + t736;
+        let t738: f64 = t659 * t737;
+        let t739: f64 = -t738;
+        let t740: f64 = t25 * t41;
+        let t741: f64 = t120 * t740;
+        let t742: f64 = t391 * t741;
+        let t743: f64 = -t742;
+        let t744: f64 = t41 * t425;
+        let t745: f64 = t94 * t430;
+        let t746: f64 = t744 - t745;
+        let t747: f64 = t731 * t746;
+        let t748: f64 = -t747;
+        let t749: f64 = t81 * t744;
+        let t750: f64 = t94 * t437;
+        let t751: f64 = t105 * t750;
+        let t752: f64 = t749 + t751;
+        let t753: f64 = t659 * t752;
+        let t754: f64 = -t753;
+        let t755: f64 = t444 * t741;
+        let t756: f64 = -t755;
+        let t757: f64 = t44 * t468;
+        let t758: f64 = gravity_y + t757;
         let t759: f64 = -t758;
-        let t760: f64 = t33 * t38;
-        let t761: f64 = t105 * t760;
-        let t762: f64 = t416 * t761;
-        let t763: f64 = -t762;
-        let t764: f64 = t33 * t450;
-        let t765: f64 = t84 * t454;
+        let t760: f64 = t41 * t471;
+        let t761: f64 = t94 * t474;
+        let t762: f64 = t760 + t761;
+        let t763: f64 = t731 * t762;
+        let t764: f64 = t25 * t208;
+        let t765: f64 = t12 * t184;
         let t766: f64 = t764 - t765;
-        let t767: f64 = t752 * t766;
-        let t768: f64 = t450 * t754;
-        let t769: f64 = t459 * t671;
-        let t770: f64 = t768 - t769;
-        let t771: f64 = t678 * t770;
-        let t772: f64 = -t771;
-        let t773: f64 = t466 * t761;
-        let t774: f64 = -t773;
-        let t775: f64 = t39 * t492;
-        let t776: f64 = gravity_y + t775;
-        let t777: f64 = -t776;
-        let t778: f64 = t33 * t495;
-        let t779: f64 = t84 * t497;
-        let t780: f64 = t778 + t779;
-        let t781: f64 = t752 * t780;
-        let t782: f64 = t38 * t223;
-        let t783: f64 = t10 * t195;
-        let t784: f64 = t782 - t783;
-        let t785: f64 = t44 * t210;
-        let t786: f64 = t784 - t785;
-        let t787: f64 = t781 + t786;
-        let t788: f64 = t495 * t754;
-        let t789: f64 = t503 * t671;
-        let t790: f64 = t788 + t789;
-        let t791: f64 = t678 * t790;
-        let t792: f64 = t44 * t247;
-        let t793: f64 = t10 * t238;
-        let t794: f64 = t38 * t252;
-        let t795: f64 = t793 + t794;
-        let t796: f64 = t792 + t795;
-        let t797: f64 = t791 + t796;
-        let t798: f64 = -t797;
-        let t799: f64 = t510 * t761;
-        let t800: f64 = t44 * t267;
-        let t801: f64 = t10 * t269;
-        let t802: f64 = t800 - t801;
-        let t803: f64 = t38 * t275;
-        let t804: f64 = t802 - t803;
-        let t805: f64 = t799 + t804;
-        let t806: f64 = t33 * t536;
-        let t807: f64 = t84 * t538;
-        let t808: f64 = t806 + t807;
-        let t809: f64 = t752 * t808;
-        let t810: f64 = t536 * t754;
-        let t811: f64 = t544 * t671;
-        let t812: f64 = t810 + t811;
-        let t813: f64 = t678 * t812;
-        let t814: f64 = -t813;
-        let t815: f64 = t551 * t761;
-        let t816: f64 = t33 * t576;
-        let t817: f64 = t84 * t580;
-        let t818: f64 = t816 + t817;
-        let t819: f64 = t752 * t818;
-        let t820: f64 = -t819;
-        let t821: f64 = t576 * t754;
-        let t822: f64 = t587 * t671;
-        let t823: f64 = t821 - t822;
-        let t824: f64 = t678 * t823;
-        let t825: f64 = t593 * t761;
-        let t826: f64 = -t825;
-        let t827: f64 = t33 * t617;
-        let t828: f64 = t84 * t621;
-        let t829: f64 = t827 + t828;
-        let t830: f64 = t752 * t829;
-        let t831: f64 = -t830;
-        let t832: f64 = t617 * t754;
-        let t833: f64 = t628 * t671;
-        let t834: f64 = t832 - t833;
-        let t835: f64 = t678 * t834;
-        let t836: f64 = t634 * t761;
-        let t837: f64 = -t836;
-        let t838: f64 = t39 * t478;
-        let t839: f64 = -t838;
-        let t840: f64 = ((t839 > 0.0) as i8 - (t839 < 0.0) as i8) as f64;
-        let t841: f64 = t105 * t677;
-        let t842: f64 = t160 + t841;
-        let t843: f64 = t38 * t842;
-        let t844: f64 = -t843;
-        let t845: f64 = t105 * t685;
-        let t846: f64 = t223 + t845;
-        let t847: f64 = t38 * t846;
-        let t848: f64 = t105 * t693;
-        let t849: f64 = t252 + t848;
-        let t850: f64 = t38 * t849;
-        let t851: f64 = -t850;
-        let t852: f64 = t105 * t700;
-        let t853: f64 = t275 + t852;
-        let t854: f64 = t38 * t853;
-        let t855: f64 = -t854;
-        let t856: f64 = -t711;
-        let t857: f64 = -t726;
-        let t858: f64 = -t734;
-        let t859: f64 = -t741;
-        let t860: f64 = -t753;
-        let t861: f64 = -t767;
-        let t862: f64 = -t781;
-        let t863: f64 = -t799;
-        let t864: f64 = t39 * t533;
-        let t865: f64 = gravity_y + t864;
-        let t866: f64 = -t865;
-        let t867: f64 = t786 - t809;
-        let t868: f64 = t813 - t796;
-        let t869: f64 = t804 - t815;
-        let t870: f64 = -t824;
-        let t871: f64 = -t835;
-        let t872: f64 = t39 * t519;
+        let t767: f64 = t45 * t197;
+        let t768: f64 = t766 - t767;
+        let t769: f64 = t768 - t763;
+        let t770: f64 = t81 * t760;
+        let t771: f64 = t94 * t482;
+        let t772: f64 = t105 * t771;
+        let t773: f64 = t770 - t772;
+        let t774: f64 = t659 * t773;
+        let t775: f64 = t45 * t231;
+        let t776: f64 = t12 * t223;
+        let t777: f64 = t25 * t236;
+        let t778: f64 = t776 + t777;
+        let t779: f64 = t775 + t778;
+        let t780: f64 = t774 + t779;
+        let t781: f64 = -t780;
+        let t782: f64 = t489 * t741;
+        let t783: f64 = t45 * t253;
+        let t784: f64 = t12 * t251;
+        let t785: f64 = t25 * t258;
+        let t786: f64 = t784 + t785;
+        let t787: f64 = t783 - t786;
+        let t788: f64 = t782 + t787;
+        let t789: f64 = t41 * t515;
+        let t790: f64 = t94 * t518;
+        let t791: f64 = t789 + t790;
+        let t792: f64 = t731 * t791;
+        let t793: f64 = -t792;
+        let t794: f64 = t81 * t789;
+        let t795: f64 = t94 * t526;
+        let t796: f64 = t105 * t795;
+        let t797: f64 = t794 - t796;
+        let t798: f64 = t659 * t797;
+        let t799: f64 = -t798;
+        let t800: f64 = t533 * t741;
+        let t801: f64 = t41 * t556;
+        let t802: f64 = t94 * t561;
+        let t803: f64 = t801 + t802;
+        let t804: f64 = t731 * t803;
+        let t805: f64 = t81 * t801;
+        let t806: f64 = t94 * t568;
+        let t807: f64 = t105 * t806;
+        let t808: f64 = t805 + t807;
+        let t809: f64 = t659 * t808;
+        let t810: f64 = t574 * t741;
+        let t811: f64 = -t810;
+        let t812: f64 = t41 * t598;
+        let t813: f64 = t94 * t603;
+        let t814: f64 = t812 + t813;
+        let t815: f64 = t731 * t814;
+        let t816: f64 = t81 * t812;
+        let t817: f64 = t94 * t610;
+        let t818: f64 = t105 * t817;
+        let t819: f64 = t816 + t818;
+        let t820: f64 = t659 * t819;
+        let t821: f64 = t616 * t741;
+        let t822: f64 = -t821;
+        let t823: f64 = t44 * t453;
+        let t824: f64 = -t823;
+        let t825: f64 = ((t824 > 0.0) as i8 - (t824 < 0.0) as i8) as f64;
+        let t826: f64 = t120 * t658;
+        let t827: f64 = t158 + t826;
+        let t828: f64 = t25 * t827;
+        let t829: f64 = -t828;
+        let t830: f64 = t120 * t666;
+        let t831: f64 = t208 + t830;
+        let t832: f64 = t25 * t831;
+        let t833: f64 = t120 * t674;
+        let t834: f64 = t236 + t833;
+        let t835: f64 = t25 * t834;
+        let t836: f64 = -t835;
+        let t837: f64 = t120 * t681;
+        let t838: f64 = t258 + t837;
+        let t839: f64 = t25 * t838;
+        let t840: f64 = -t839;
+        let t841: f64 = -t691;
+        let t842: f64 = -t706;
+        let t843: f64 = -t721;
+        let t844: f64 = -t726;
+        let t845: f64 = -t782;
+        let t846: f64 = t44 * t512;
+        let t847: f64 = gravity_y + t846;
+        let t848: f64 = -t847;
+        let t849: f64 = t768 + t792;
+        let t850: f64 = t798 - t779;
+        let t851: f64 = t787 - t800;
+        let t852: f64 = -t804;
+        let t853: f64 = -t809;
+        let t854: f64 = -t815;
+        let t855: f64 = -t820;
+        let t856: f64 = t44 * t497;
+        let t857: f64 = -t856;
+        let t858: f64 = ((t857 > 0.0) as i8 - (t857 < 0.0) as i8) as f64;
+        let t859: f64 = t82 * t145;
+        let t860: f64 = t94 * t167;
+        let t861: f64 = t859 + t860;
+        let t862: f64 = t51 * t120;
+        let t863: f64 = t861 * t862;
+        let t864: f64 = -t863;
+        let t865: f64 = t82 * t200;
+        let t866: f64 = t94 * t218;
+        let t867: f64 = t866 - t865;
+        let t868: f64 = t862 * t867;
+        let t869: f64 = t82 * t233;
+        let t870: f64 = t94 * t247;
+        let t871: f64 = t870 - t869;
+        let t872: f64 = t862 * t871;
         let t873: f64 = -t872;
-        let t874: f64 = ((t873 > 0.0) as i8 - (t873 < 0.0) as i8) as f64;
-        let t875: f64 = t73 * t142;
-        let t876: f64 = t84 * t176;
-        let t877: f64 = t875 + t876;
-        let t878: f64 = t78 * t105;
-        let t879: f64 = t877 * t878;
-        let t880: f64 = -t879;
-        let t881: f64 = t73 * t213;
-        let t882: f64 = t84 * t233;
-        let t883: f64 = t882 - t881;
-        let t884: f64 = t878 * t883;
-        let t885: f64 = t73 * t249;
-        let t886: f64 = t84 * t263;
-        let t887: f64 = t886 - t885;
-        let t888: f64 = t878 * t887;
-        let t889: f64 = -t888;
-        let t890: f64 = t73 * t272;
-        let t891: f64 = t84 * t284;
-        let t892: f64 = t891 - t890;
-        let t893: f64 = t878 * t892;
-        let t894: f64 = -t893;
-        let t895: f64 = t84 * t245;
-        let t896: f64 = t93 * t895;
-        let t897: f64 = t54 * t704;
-        let t898: f64 = t54 * t706;
-        let t899: f64 = t193 * t898;
-        let t900: f64 = t896 + t897;
-        let t901: f64 = t900 - t899;
-        let t902: f64 = t878 * t901;
-        let t903: f64 = -t902;
-        let t904: f64 = t73 * t247;
-        let t905: f64 = t84 * t302;
-        let t906: f64 = t904 + t905;
-        let t907: f64 = t878 * t906;
-        let t908: f64 = t73 * t307;
-        let t909: f64 = t84 * t311;
-        let t910: f64 = t909 - t908;
-        let t911: f64 = t878 * t910;
-        let t912: f64 = -t911;
-        let t913: f64 = t54 * t727;
-        let t914: f64 = t84 * t186;
-        let t915: f64 = t93 * t914;
-        let t916: f64 = t193 * t915;
-        let t917: f64 = t913 + t916;
-        let t918: f64 = t897 - t917;
-        let t919: f64 = t878 * t918;
-        let t920: f64 = t73 * t238;
-        let t921: f64 = t84 * t328;
-        let t922: f64 = t921 - t920;
-        let t923: f64 = t878 * t922;
-        let t924: f64 = -t923;
-        let t925: f64 = t54 * t742;
-        let t926: f64 = t899 + t925;
-        let t927: f64 = t926 - t916;
-        let t928: f64 = t878 * t927;
-        let t929: f64 = -t928;
-        let t930: f64 = t54 * t78;
-        let t931: f64 = t105 * t930;
-        let t932: f64 = t750 * t931;
-        let t933: f64 = t78 * t84;
-        let t934: f64 = t105 * t933;
-        let t935: f64 = t404 * t934;
-        let t936: f64 = t102 * t390;
-        let t937: f64 = t73 * t402;
-        let t938: f64 = t936 + t937;
-        let t939: f64 = t878 * t938;
-        let t940: f64 = t766 * t931;
-        let t941: f64 = t461 * t934;
-        let t942: f64 = t102 * t454;
-        let t943: f64 = t73 * t459;
-        let t944: f64 = t942 + t943;
-        let t945: f64 = t878 * t944;
-        let t946: f64 = t780 * t931;
-        let t947: f64 = t505 * t934;
-        let t948: f64 = t102 * t497;
-        let t949: f64 = t73 * t503;
-        let t950: f64 = t948 + t949;
-        let t951: f64 = t878 * t950;
-        let t952: f64 = -t951;
-        let t953: f64 = t808 * t931;
-        let t954: f64 = t546 * t934;
-        let t955: f64 = t102 * t538;
-        let t956: f64 = t73 * t544;
-        let t957: f64 = t955 + t956;
-        let t958: f64 = t878 * t957;
-        let t959: f64 = -t958;
-        let t960: f64 = t62 * t578;
-        let t961: f64 = t960 - gravity_z;
-        let t962: f64 = t818 * t931;
-        let t963: f64 = t78 * t210;
-        let t964: f64 = t24 * t223;
-        let t965: f64 = t15 * t195;
-        let t966: f64 = t964 - t965;
-        let t967: f64 = t963 + t966;
-        let t968: f64 = t967 - t962;
-        let t969: f64 = t589 * t934;
-        let t970: f64 = t78 * t247;
-        let t971: f64 = t15 * t238;
-        let t972: f64 = t24 * t252;
-        let t973: f64 = t971 + t972;
-        let t974: f64 = t970 - t973;
-        let t975: f64 = t974 - t969;
-        let t976: f64 = t102 * t580;
-        let t977: f64 = t73 * t587;
-        let t978: f64 = t976 - t977;
-        let t979: f64 = t878 * t978;
-        let t980: f64 = t24 * t275;
-        let t981: f64 = t78 * t267;
-        let t982: f64 = t15 * t269;
-        let t983: f64 = t981 + t982;
-        let t984: f64 = t980 + t983;
-        let t985: f64 = t979 - t984;
-        let t986: f64 = t829 * t931;
-        let t987: f64 = -t986;
-        let t988: f64 = t630 * t934;
-        let t989: f64 = -t988;
-        let t990: f64 = t102 * t621;
-        let t991: f64 = t73 * t628;
-        let t992: f64 = t990 - t991;
-        let t993: f64 = t878 * t992;
-        let t994: f64 = t62 * t561;
-        let t995: f64 = ((t994 > 0.0) as i8 - (t994 < 0.0) as i8) as f64;
-        let t996: f64 = t105 * t877;
-        let t997: f64 = t140 + t996;
-        let t998: f64 = t78 * t997;
-        let t999: f64 = t105 * t883;
-        let t1000: f64 = t210 - t999;
-        let t1001: f64 = t78 * t1000;
-        let t1002: f64 = t105 * t887;
+        let t874: f64 = t82 * t256;
+        let t875: f64 = t94 * t268;
+        let t876: f64 = t875 - t874;
+        let t877: f64 = t862 * t876;
+        let t878: f64 = -t877;
+        let t879: f64 = t94 * t229;
+        let t880: f64 = t116 * t879;
+        let t881: f64 = t62 * t685;
+        let t882: f64 = t62 * t687;
+        let t883: f64 = t880 + t882;
+        let t884: f64 = t883 - t881;
+        let t885: f64 = t862 * t884;
+        let t886: f64 = -t885;
+        let t887: f64 = t82 * t231;
+        let t888: f64 = t94 * t285;
+        let t889: f64 = t887 + t888;
+        let t890: f64 = t862 * t889;
+        let t891: f64 = t82 * t290;
+        let t892: f64 = t94 * t294;
+        let t893: f64 = t892 - t891;
+        let t894: f64 = t862 * t893;
+        let t895: f64 = -t894;
+        let t896: f64 = t94 * t230;
+        let t897: f64 = t116 * t896;
+        let t898: f64 = t62 * t709;
+        let t899: f64 = t897 + t898;
+        let t900: f64 = t882 - t899;
+        let t901: f64 = t862 * t900;
+        let t902: f64 = t82 * t223;
+        let t903: f64 = t94 * t310;
+        let t904: f64 = t903 - t902;
+        let t905: f64 = t862 * t904;
+        let t906: f64 = -t905;
+        let t907: f64 = t62 * t722;
+        let t908: f64 = t881 + t907;
+        let t909: f64 = t908 - t897;
+        let t910: f64 = t862 * t909;
+        let t911: f64 = -t910;
+        let t912: f64 = t51 * t62;
+        let t913: f64 = t120 * t912;
+        let t914: f64 = t729 * t913;
+        let t915: f64 = t51 * t94;
+        let t916: f64 = t120 * t915;
+        let t917: f64 = t379 * t916;
+        let t918: f64 = t116 * t728;
+        let t919: f64 = t41 * t377;
+        let t920: f64 = t62 * t919;
+        let t921: f64 = t918 + t920;
+        let t922: f64 = t862 * t921;
+        let t923: f64 = t746 * t913;
+        let t924: f64 = t439 * t916;
+        let t925: f64 = t116 * t745;
+        let t926: f64 = t41 * t437;
+        let t927: f64 = t62 * t926;
+        let t928: f64 = t925 + t927;
+        let t929: f64 = t862 * t928;
+        let t930: f64 = t762 * t913;
+        let t931: f64 = t484 * t916;
+        let t932: f64 = t116 * t761;
+        let t933: f64 = t41 * t482;
+        let t934: f64 = t62 * t933;
+        let t935: f64 = t932 + t934;
+        let t936: f64 = t862 * t935;
+        let t937: f64 = -t936;
+        let t938: f64 = t791 * t913;
+        let t939: f64 = t528 * t916;
+        let t940: f64 = t116 * t790;
+        let t941: f64 = t41 * t526;
+        let t942: f64 = t62 * t941;
+        let t943: f64 = t940 + t942;
+        let t944: f64 = t862 * t943;
+        let t945: f64 = -t944;
+        let t946: f64 = t66 * t559;
+        let t947: f64 = t946 - gravity_z;
+        let t948: f64 = t803 * t913;
+        let t949: f64 = t51 * t197;
+        let t950: f64 = t30 * t208;
+        let t951: f64 = t17 * t184;
+        let t952: f64 = t950 - t951;
+        let t953: f64 = t949 + t952;
+        let t954: f64 = t953 - t948;
+        let t955: f64 = t570 * t916;
+        let t956: f64 = t51 * t231;
+        let t957: f64 = t17 * t223;
+        let t958: f64 = t30 * t236;
+        let t959: f64 = t957 + t958;
+        let t960: f64 = t956 - t959;
+        let t961: f64 = t960 - t955;
+        let t962: f64 = t116 * t802;
+        let t963: f64 = t41 * t568;
+        let t964: f64 = t62 * t963;
+        let t965: f64 = t962 - t964;
+        let t966: f64 = t862 * t965;
+        let t967: f64 = t51 * t253;
+        let t968: f64 = t17 * t251;
+        let t969: f64 = t30 * t258;
+        let t970: f64 = t968 + t969;
+        let t971: f64 = t967 + t970;
+        let t972: f64 = t966 - t971;
+        let t973: f64 = t814 * t913;
+        let t974: f64 = -t973;
+        let t975: f64 = t612 * t916;
+        let t976: f64 = -t975;
+        let t977: f64 = t116 * t813;
+        let t978: f64 = t41 * t610;
+        let t979: f64 = t62 * t978;
+        let t980: f64 = t977 - t979;
+        let t981: f64 = t862 * t980;
+        let t982: f64 = t66 * t541;
+        let t983: f64 = ((t982 > 0.0) as i8 - (t982 < 0.0) as i8) as f64;
+        let t984: f64 = t120 * t861;
+        let t985: f64 = t143 + t984;
+        let t986: f64 = t51 * t985;
+        let t987: f64 = t120 * t867;
+        let t988: f64 = t197 - t987;
+        let t989: f64 = t51 * t988;
+        let t990: f64 = t120 * t871;
+        let t991: f64 = t231 + t990;
+        let t992: f64 = t51 * t991;
+        let t993: f64 = t120 * t876;
+        let t994: f64 = t253 - t993;
+        let t995: f64 = t51 * t994;
+        let t996: f64 = -t995;
+        let t997: f64 = -t890;
+        let t998: f64 = -t901;
+        let t999: f64 = -t914;
+        let t1000: f64 = -t917;
+        let t1001: f64 = -t922;
+        let t1002: f64 = -t923;
         (
-            t38,
-            t62,
-            t78,
-            t85,
-            t105,
-            t180,
-            t237,
-            t247,
-            t266,
-            t267,
-            t287,
+            t4,
+            t25,
+            t51,
+            t66,
+            t171,
+            t222,
+            t250,
+            t271,
+            t280,
+            t288,
+            t289,
             t297,
+            t304,
             t305,
-            t306,
-            t314,
-            t322,
-            t323,
-            t331,
-            t336,
-            t337,
-            t383,
+            t313,
+            t318,
+            t357,
+            t369,
+            t375,
+            t382,
+            t388,
+            t394,
             t400,
-            t407,
-            t413,
-            t419,
-            t425,
-            t457,
-            t463,
-            t468,
-            t500,
-            t506,
-            t507,
-            t511,
-            t541,
-            t547,
-            t548,
-            t552,
+            t435,
+            t441,
+            t446,
+            t478,
+            t479,
+            t485,
+            t486,
+            t490,
+            t522,
+            t523,
+            t529,
+            t530,
+            t534,
+            t565,
+            t571,
+            t575,
+            t576,
             t583,
-            t584,
-            t590,
-            t594,
-            t595,
-            t602,
+            t601,
+            t607,
+            t613,
+            t617,
+            t618,
             t619,
-            t624,
-            t625,
+            t620,
+            t623,
+            t627,
             t631,
             t635,
             t636,
             t637,
             t638,
+            t639,
             t641,
+            t642,
+            t643,
+            t644,
             t645,
+            t646,
+            t647,
+            t648,
             t649,
-            t653,
-            t654,
-            t655,
-            t656,
-            t657,
-            t659,
+            t650,
+            t651,
+            t652,
             t660,
-            t661,
-            t662,
-            t663,
-            t664,
-            t665,
-            t666,
-            t667,
             t668,
-            t669,
-            t670,
-            t679,
-            t687,
-            t694,
-            t701,
-            t711,
-            t718,
-            t719,
+            t675,
+            t682,
+            t691,
+            t698,
+            t699,
+            t706,
+            t713,
+            t714,
+            t721,
             t726,
-            t734,
-            t741,
-            t746,
+            t732,
+            t733,
+            t738,
+            t739,
+            t742,
+            t743,
             t747,
+            t748,
             t753,
-            t758,
+            t754,
+            t755,
+            t756,
             t759,
-            t762,
             t763,
-            t767,
-            t771,
-            t772,
-            t773,
+            t769,
             t774,
-            t777,
-            t787,
-            t791,
-            t798,
-            t805,
+            t781,
+            t788,
+            t793,
+            t799,
+            t800,
+            t804,
             t809,
-            t814,
+            t810,
+            t811,
             t815,
-            t819,
             t820,
+            t821,
+            t822,
             t824,
             t825,
-            t826,
-            t830,
-            t831,
-            t835,
+            t829,
+            t832,
             t836,
-            t837,
-            t839,
             t840,
+            t841,
+            t842,
+            t843,
             t844,
-            t847,
+            t845,
+            t848,
+            t849,
+            t850,
             t851,
+            t852,
+            t853,
+            t854,
             t855,
-            t856,
             t857,
             t858,
-            t859,
-            t860,
-            t861,
-            t862,
-            t863,
-            t866,
-            t867,
+            t864,
             t868,
-            t869,
-            t870,
-            t871,
             t873,
-            t874,
-            t880,
-            t884,
-            t889,
-            t892,
+            t878,
+            t885,
+            t886,
+            t890,
             t894,
-            t902,
-            t903,
-            t907,
+            t895,
+            t901,
+            t905,
+            t906,
+            t910,
             t911,
-            t912,
-            t919,
+            t914,
+            t917,
+            t922,
             t923,
             t924,
-            t928,
             t929,
-            t932,
-            t935,
+            t930,
+            t931,
+            t936,
+            t937,
+            t938,
             t939,
-            t940,
-            t941,
+            t944,
             t945,
-            t946,
             t947,
-            t951,
-            t952,
+            t948,
             t953,
             t954,
-            t958,
-            t959,
+            t955,
+            t960,
             t961,
-            t962,
-            t967,
-            t968,
-            t969,
+            t966,
+            t971,
+            t972,
+            t973,
             t974,
             t975,
-            t979,
-            t984,
-            t985,
+            t976,
+            t981,
+            t982,
+            t983,
             t986,
-            t987,
-            t988,
             t989,
-            t993,
-            t994,
-            t995,
+            t992,
+            t996,
+            t997,
             t998,
+            t999,
+            t1000,
             t1001,
             t1002,
         )
     };
     let (
+        t1003,
         t1004,
+        t1005,
+        t1006,
+        t1007,
         t1008,
         t1009,
-        t1010,
         t1011,
         t1012,
         t1013,
-        t1014,
         t1015,
         t1016,
         t1017,
-        t1018,
-        t1019,
-        t1020,
-        t1021,
-        t1023,
-        t1024,
-        t1025,
-        t1027,
-        t1028,
-        t1029,
     ) = {
-        let t1003: f64 = t247 + t1002;
-        let t1004: f64 = t78 * t1003;
-        let t1005: f64 = t105 * t892;
-        let t1006: f64 = t267 - t1005;
-        let t1007: f64 = t78 * t1006;
-        let t1008: f64 = -t1007;
-        let t1009: f64 = -t907;
-        let t1010: f64 = -t919;
-        let t1011: f64 = -t932;
-        let t1012: f64 = -t935;
-        let t1013: f64 = -t939;
-        let t1014: f64 = -t940;
-        let t1015: f64 = -t941;
-        let t1016: f64 = -t945;
-        let t1017: f64 = -t946;
-        let t1018: f64 = -t947;
-        let t1019: f64 = -t953;
-        let t1020: f64 = -t954;
-        let t1021: f64 = -t979;
-        let t1022: f64 = t62 * t619;
-        let t1023: f64 = t1022 - gravity_z;
-        let t1024: f64 = t967 + t986;
-        let t1025: f64 = t974 + t988;
-        let t1026: f64 = t984 + t993;
-        let t1027: f64 = -t1026;
-        let t1028: f64 = t62 * t602;
-        let t1029: f64 = ((t1028 > 0.0) as i8 - (t1028 < 0.0) as i8) as f64;
+        let t1003: f64 = -t924;
+        let t1004: f64 = -t929;
+        let t1005: f64 = -t930;
+        let t1006: f64 = -t931;
+        let t1007: f64 = -t938;
+        let t1008: f64 = -t939;
+        let t1009: f64 = -t966;
+        let t1010: f64 = t66 * t601;
+        let t1011: f64 = t1010 - gravity_z;
+        let t1012: f64 = t953 + t973;
+        let t1013: f64 = t960 + t975;
+        let t1014: f64 = t971 + t981;
+        let t1015: f64 = -t1014;
+        let t1016: f64 = t66 * t583;
+        let t1017: f64 = ((t1016 > 0.0) as i8 - (t1016 < 0.0) as i8) as f64;
         (
+            t1003,
             t1004,
+            t1005,
+            t1006,
+            t1007,
             t1008,
             t1009,
-            t1010,
             t1011,
             t1012,
             t1013,
-            t1014,
             t1015,
             t1016,
             t1017,
-            t1018,
-            t1019,
-            t1020,
-            t1021,
-            t1023,
-            t1024,
-            t1025,
-            t1027,
-            t1028,
-            t1029,
         )
     };
     (
         [
             [
-                t180,
-                t237,
-                t266,
-                t287,
+                t171,
+                t222,
+                t250,
+                t271,
+                t280,
+                t289,
                 t297,
-                t306,
-                t314,
-                t323,
-                t331,
-                t337,
-                t383,
+                t305,
+                t313,
+                t318,
+                t357,
                 0.0,
                 0.0,
                 0.0,
@@ -1509,16 +1487,16 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t383,
+                t357,
+                t375,
+                t388,
                 t400,
-                t413,
-                t425,
+                t280,
+                t289,
                 t297,
-                t306,
-                t314,
-                t323,
-                t331,
-                t337,
+                t305,
+                t313,
+                t318,
                 0.0,
                 0.0,
                 0.0,
@@ -1530,15 +1508,15 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t457,
-                t463,
-                t468,
+                t435,
+                t441,
+                t446,
+                t280,
+                t289,
                 t297,
-                t306,
-                t314,
-                t323,
-                t331,
-                t337,
+                t305,
+                t313,
+                t318,
                 0.0,
                 0.0,
                 0.0,
@@ -1550,15 +1528,15 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t500,
-                t507,
-                t511,
+                t479,
+                t486,
+                t490,
+                t280,
+                t289,
                 t297,
-                t306,
-                t314,
-                t323,
-                t331,
-                t337,
+                t305,
+                t313,
+                t318,
                 0.0,
                 0.0,
                 0.0,
@@ -1570,15 +1548,15 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t541,
-                t548,
-                t552,
+                t523,
+                t530,
+                t534,
+                t280,
+                t289,
                 t297,
-                t306,
-                t314,
-                t323,
-                t331,
-                t337,
+                t305,
+                t313,
+                t318,
                 0.0,
                 0.0,
                 0.0,
@@ -1590,15 +1568,15 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t584,
-                t590,
-                t595,
+                t565,
+                t571,
+                t576,
+                t280,
+                t289,
                 t297,
-                t306,
-                t314,
-                t323,
-                t331,
-                t337,
+                t305,
+                t313,
+                t318,
                 0.0,
                 0.0,
                 0.0,
@@ -1610,183 +1588,183 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t625,
+                t607,
+                t613,
+                t618,
+                t280,
+                t289,
+                t297,
+                t305,
+                t313,
+                t318,
+                t619,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t620,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                t623,
+                t627,
                 t631,
-                t636,
-                t297,
-                t306,
-                t314,
-                t323,
-                t331,
-                t337,
-                t637,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t638,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                t641,
-                t645,
-                t649,
-                t653,
-                t654,
-                t305,
-                t655,
-                t322,
-                t656,
-                t336,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t657,
-                t407,
-                t419,
-                t654,
-                t305,
-                t655,
-                t322,
-                t656,
-                t336,
-                t659,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t659,
-                t660,
-                t661,
-                t662,
-                t654,
-                t305,
-                t655,
-                t322,
-                t656,
-                t336,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t663,
-                t506,
-                t664,
-                t654,
-                t305,
-                t655,
-                t322,
-                t656,
-                t336,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t665,
-                t547,
-                t666,
-                t654,
-                t305,
-                t655,
-                t322,
-                t656,
-                t336,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t583,
-                t667,
-                t594,
-                t654,
-                t305,
-                t655,
-                t322,
-                t656,
-                t336,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t624,
-                t668,
                 t635,
-                t654,
-                t305,
-                t655,
-                t322,
-                t656,
-                t336,
-                0.0,
-                t669,
+                t636,
+                t288,
+                t637,
+                t304,
+                t638,
+                t639,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t670,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t369,
+                t382,
+                t394,
+                t636,
+                t288,
+                t637,
+                t304,
+                t638,
+                t639,
+                t641,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t641,
+                t642,
+                t643,
+                t644,
+                t636,
+                t288,
+                t637,
+                t304,
+                t638,
+                t639,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t478,
+                t485,
+                t645,
+                t636,
+                t288,
+                t637,
+                t304,
+                t638,
+                t639,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t522,
+                t529,
+                t646,
+                t636,
+                t288,
+                t637,
+                t304,
+                t638,
+                t639,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t647,
+                t648,
+                t575,
+                t636,
+                t288,
+                t637,
+                t304,
+                t638,
+                t639,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t649,
+                t650,
+                t617,
+                t636,
+                t288,
+                t637,
+                t304,
+                t638,
+                t639,
+                0.0,
+                t651,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t652,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
             ],
             [
-                t679,
-                t687,
-                t694,
-                t701,
-                t711,
-                t719,
+                t660,
+                t668,
+                t675,
+                t682,
+                t691,
+                t699,
+                t706,
+                t714,
+                t721,
                 t726,
-                t734,
-                t741,
-                t747,
                 0.0,
                 0.0,
                 0.0,
@@ -1798,15 +1776,55 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t753,
+                t733,
+                t739,
+                t743,
+                t691,
+                t699,
+                t706,
+                t714,
+                t721,
+                t726,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t748,
+                t754,
+                t756,
+                t691,
+                t699,
+                t706,
+                t714,
+                t721,
+                t726,
                 t759,
-                t763,
-                t711,
-                t719,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t759,
+                t769,
+                t781,
+                t788,
+                t691,
+                t699,
+                t706,
+                t714,
+                t721,
                 t726,
-                t734,
-                t741,
-                t747,
                 0.0,
                 0.0,
                 0.0,
@@ -1818,35 +1836,15 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t767,
-                t772,
-                t774,
-                t711,
-                t719,
+                t793,
+                t799,
+                t800,
+                t691,
+                t699,
+                t706,
+                t714,
+                t721,
                 t726,
-                t734,
-                t741,
-                t747,
-                t777,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t777,
-                t787,
-                t798,
-                t805,
-                t711,
-                t719,
-                t726,
-                t734,
-                t741,
-                t747,
                 0.0,
                 0.0,
                 0.0,
@@ -1858,369 +1856,448 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
+                t804,
                 t809,
-                t814,
+                t811,
+                t691,
+                t699,
+                t706,
+                t714,
+                t721,
+                t726,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
                 t815,
-                t711,
-                t719,
-                t726,
-                t734,
-                t741,
-                t747,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
                 t820,
+                t822,
+                t691,
+                t699,
+                t706,
+                t714,
+                t721,
+                t726,
+                0.0,
+                0.0,
                 t824,
-                t826,
-                t711,
-                t719,
-                t726,
-                t734,
-                t741,
-                t747,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t831,
-                t835,
-                t837,
-                t711,
-                t719,
-                t726,
-                t734,
-                t741,
-                t747,
-                0.0,
-                0.0,
-                t839,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t840,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                t844,
-                t847,
-                t851,
-                t855,
-                t856,
-                t718,
-                t857,
-                t858,
-                t859,
-                t746,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t860,
-                t758,
-                t762,
-                t856,
-                t718,
-                t857,
-                t858,
-                t859,
-                t746,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t861,
-                t771,
-                t773,
-                t856,
-                t718,
-                t857,
-                t858,
-                t859,
-                t746,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t862,
-                t791,
-                t863,
-                t856,
-                t718,
-                t857,
-                t858,
-                t859,
-                t746,
-                t866,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t866,
-                t867,
-                t868,
-                t869,
-                t856,
-                t718,
-                t857,
-                t858,
-                t859,
-                t746,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t819,
-                t870,
                 t825,
-                t856,
-                t718,
-                t857,
-                t858,
-                t859,
-                t746,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t830,
-                t871,
+            ],
+            [
+                t829,
+                t832,
                 t836,
-                t856,
-                t718,
+                t840,
+                t841,
+                t698,
+                t842,
+                t713,
+                t843,
+                t844,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t732,
+                t738,
+                t742,
+                t841,
+                t698,
+                t842,
+                t713,
+                t843,
+                t844,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t747,
+                t753,
+                t755,
+                t841,
+                t698,
+                t842,
+                t713,
+                t843,
+                t844,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t763,
+                t774,
+                t845,
+                t841,
+                t698,
+                t842,
+                t713,
+                t843,
+                t844,
+                t848,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t848,
+                t849,
+                t850,
+                t851,
+                t841,
+                t698,
+                t842,
+                t713,
+                t843,
+                t844,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t852,
+                t853,
+                t810,
+                t841,
+                t698,
+                t842,
+                t713,
+                t843,
+                t844,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t854,
+                t855,
+                t821,
+                t841,
+                t698,
+                t842,
+                t713,
+                t843,
+                t844,
+                0.0,
+                0.0,
+                0.0,
                 t857,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
                 t858,
-                t859,
-                t746,
                 0.0,
                 0.0,
-                0.0,
+            ],
+            [
+                t864,
+                t868,
                 t873,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t874,
-                0.0,
-                0.0,
-            ],
-            [
-                t880,
-                t884,
-                t889,
-                t894,
-                t903,
-                t907,
-                t912,
-                t919,
-                t924,
-                t929,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t932,
-                t935,
-                t939,
-                t903,
-                t907,
-                t912,
-                t919,
-                t924,
-                t929,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t940,
-                t941,
-                t945,
-                t903,
-                t907,
-                t912,
-                t919,
-                t924,
-                t929,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t946,
-                t947,
-                t952,
-                t903,
-                t907,
-                t912,
-                t919,
-                t924,
-                t929,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t953,
-                t954,
-                t959,
-                t903,
-                t907,
-                t912,
-                t919,
-                t924,
-                t929,
-                t961,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t961,
-                t968,
-                t975,
-                t985,
-                t903,
-                t907,
-                t912,
-                t919,
-                t924,
-                t929,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t987,
-                t989,
-                t993,
-                t903,
-                t907,
-                t912,
-                t919,
-                t924,
-                t929,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t994,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t995,
-                0.0,
-            ],
-            [
-                t998,
-                t1001,
-                t1004,
-                t1008,
-                t902,
-                t1009,
+                t878,
+                t886,
+                t890,
+                t895,
+                t901,
+                t906,
                 t911,
-                t1010,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t914,
+                t917,
+                t922,
+                t886,
+                t890,
+                t895,
+                t901,
+                t906,
+                t911,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
                 t923,
-                t928,
+                t924,
+                t929,
+                t886,
+                t890,
+                t895,
+                t901,
+                t906,
+                t911,
                 0.0,
                 0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t930,
+                t931,
+                t937,
+                t886,
+                t890,
+                t895,
+                t901,
+                t906,
+                t911,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t938,
+                t939,
+                t945,
+                t886,
+                t890,
+                t895,
+                t901,
+                t906,
+                t911,
+                t947,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t947,
+                t954,
+                t961,
+                t972,
+                t886,
+                t890,
+                t895,
+                t901,
+                t906,
+                t911,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t974,
+                t976,
+                t981,
+                t886,
+                t890,
+                t895,
+                t901,
+                t906,
+                t911,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t982,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t983,
+                0.0,
+            ],
+            [
+                t986,
+                t989,
+                t992,
+                t996,
+                t885,
+                t997,
+                t894,
+                t998,
+                t905,
+                t910,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t999,
+                t1000,
+                t1001,
+                t885,
+                t997,
+                t894,
+                t998,
+                t905,
+                t910,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1002,
+                t1003,
+                t1004,
+                t885,
+                t997,
+                t894,
+                t998,
+                t905,
+                t910,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1005,
+                t1006,
+                t936,
+                t885,
+                t997,
+                t894,
+                t998,
+                t905,
+                t910,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1007,
+                t1008,
+                t944,
+                t885,
+                t997,
+                t894,
+                t998,
+                t905,
+                t910,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t948,
+                t955,
+                t1009,
+                t885,
+                t997,
+                t894,
+                t998,
+                t905,
+                t910,
+                t1011,
                 0.0,
                 0.0,
                 0.0,
@@ -2233,127 +2310,28 @@ pub fn regressor(
                 t1011,
                 t1012,
                 t1013,
-                t902,
-                t1009,
-                t911,
-                t1010,
-                t923,
-                t928,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1014,
                 t1015,
+                t885,
+                t997,
+                t894,
+                t998,
+                t905,
+                t910,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
                 t1016,
-                t902,
-                t1009,
-                t911,
-                t1010,
-                t923,
-                t928,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 t1017,
-                t1018,
-                t951,
-                t902,
-                t1009,
-                t911,
-                t1010,
-                t923,
-                t928,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1019,
-                t1020,
-                t958,
-                t902,
-                t1009,
-                t911,
-                t1010,
-                t923,
-                t928,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t962,
-                t969,
-                t1021,
-                t902,
-                t1009,
-                t911,
-                t1010,
-                t923,
-                t928,
-                t1023,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1023,
-                t1024,
-                t1025,
-                t1027,
-                t902,
-                t1009,
-                t911,
-                t1010,
-                t923,
-                t928,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1028,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1029,
             ],
         ],
-        [t85, t38, t78],
+        [t4, t25, t51],
     )
 }
 /// The regressor `Y_b` of the base parameters: `Γ = Y_b β`.
@@ -2378,7 +2356,7 @@ pub fn regressor(
 /// - `y`: row `i` for actuator `i+1`, one column per parameter (N per unit)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 595 mul, 5 div, 331 add, 87 neg, 6 sign, 3 sin_cos (chapter convention: 600m + 331a).
+/// Operations: 584 mul, 4 div, 331 add, 87 neg, 6 sign, 3 sin_cos (chapter convention: 588m + 331a).
 #[inline]
 pub fn base_regressor(
     pose: &[f64; 6],
@@ -2391,1740 +2369,1718 @@ pub fn base_regressor(
     let [wdx, wdy, wdz, ax, ay, az] = *accel;
     let [half_spacing, gravity_x, gravity_y, gravity_z] = *params;
     let (
-        t38,
-        t62,
-        t78,
-        t85,
-        t105,
-        t180,
-        t237,
-        t247,
-        t266,
-        t267,
-        t287,
+        t4,
+        t25,
+        t51,
+        t66,
+        t171,
+        t222,
+        t250,
+        t271,
+        t280,
+        t288,
+        t289,
         t297,
+        t304,
         t305,
-        t306,
-        t314,
-        t322,
-        t323,
-        t331,
-        t336,
-        t337,
-        t383,
+        t313,
+        t318,
+        t357,
+        t369,
+        t375,
+        t382,
+        t388,
+        t394,
         t400,
-        t407,
-        t413,
-        t419,
-        t425,
-        t457,
-        t463,
-        t468,
-        t500,
-        t506,
-        t507,
-        t511,
-        t541,
-        t547,
-        t548,
-        t552,
+        t435,
+        t441,
+        t446,
+        t478,
+        t479,
+        t485,
+        t486,
+        t490,
+        t522,
+        t523,
+        t529,
+        t530,
+        t534,
+        t565,
+        t571,
+        t575,
+        t576,
         t583,
-        t584,
-        t590,
-        t594,
-        t595,
-        t602,
+        t601,
+        t607,
+        t613,
+        t617,
+        t618,
         t619,
-        t624,
-        t625,
+        t620,
+        t623,
+        t627,
         t631,
         t635,
         t636,
         t637,
         t638,
+        t639,
         t641,
+        t642,
+        t643,
+        t644,
         t645,
+        t646,
+        t647,
+        t648,
         t649,
-        t653,
-        t654,
-        t655,
-        t656,
-        t657,
-        t659,
+        t650,
+        t651,
+        t652,
         t660,
-        t661,
-        t662,
-        t663,
-        t664,
-        t665,
-        t666,
-        t667,
         t668,
-        t669,
-        t670,
-        t679,
-        t687,
-        t694,
-        t701,
-        t711,
-        t718,
-        t719,
+        t675,
+        t682,
+        t691,
+        t698,
+        t699,
+        t706,
+        t713,
+        t714,
+        t721,
         t726,
-        t734,
-        t741,
-        t746,
+        t732,
+        t733,
+        t738,
+        t739,
+        t742,
+        t743,
         t747,
+        t748,
         t753,
-        t758,
+        t754,
+        t755,
+        t756,
         t759,
-        t762,
         t763,
-        t767,
-        t771,
-        t772,
-        t773,
+        t769,
         t774,
-        t777,
-        t787,
-        t791,
-        t798,
-        t805,
+        t781,
+        t788,
+        t793,
+        t799,
+        t800,
+        t804,
         t809,
-        t814,
+        t810,
+        t811,
         t815,
-        t819,
         t820,
+        t821,
+        t822,
         t824,
         t825,
-        t826,
-        t830,
-        t831,
-        t835,
+        t829,
+        t832,
         t836,
-        t837,
-        t839,
         t840,
+        t841,
+        t842,
+        t843,
         t844,
-        t847,
+        t845,
+        t848,
+        t849,
+        t850,
         t851,
+        t852,
+        t853,
+        t854,
         t855,
-        t856,
         t857,
         t858,
-        t859,
-        t860,
-        t861,
-        t862,
-        t863,
-        t866,
-        t867,
+        t864,
         t868,
-        t869,
-        t870,
-        t871,
         t873,
-        t874,
-        t880,
-        t884,
-        t889,
-        t892,
+        t878,
+        t885,
+        t886,
+        t890,
         t894,
-        t902,
-        t903,
-        t907,
+        t895,
+        t901,
+        t905,
+        t906,
+        t910,
         t911,
-        t912,
-        t919,
+        t914,
+        t917,
+        t922,
         t923,
         t924,
-        t928,
         t929,
-        t932,
-        t935,
+        t930,
+        t931,
+        t936,
+        t937,
+        t938,
         t939,
-        t940,
-        t941,
+        t944,
         t945,
-        t946,
         t947,
-        t951,
-        t952,
+        t948,
         t953,
         t954,
-        t958,
-        t959,
+        t955,
+        t960,
         t961,
-        t962,
-        t967,
-        t968,
-        t969,
+        t966,
+        t971,
+        t972,
+        t973,
         t974,
         t975,
-        t979,
-        t984,
-        t985,
+        t976,
+        t981,
+        t982,
+        t983,
         t986,
-        t987,
-        t988,
         t989,
-        t993,
-        t994,
-        t995,
+        t992,
+        t996,
+        t997,
         t998,
+        t999,
+        t1000,
         t1001,
         t1002,
     ) = {
         let (t0, t1): (f64, f64) = sin_cos(beta);
         let (t2, t3): (f64, f64) = sin_cos(gamma);
-        let t4: f64 = 1.0 / t3;
-        let (t5, t6): (f64, f64) = sin_cos(alpha);
-        let t7: f64 = t2 * t6;
-        let t8: f64 = t0 * t5;
-        let t9: f64 = t3 * t8;
-        let t10: f64 = t7 + t9;
-        let t11: f64 = yc * t10;
-        let t12: f64 = t2 * t5;
-        let t13: f64 = t0 * t6;
-        let t14: f64 = t3 * t13;
-        let t15: f64 = t12 - t14;
-        let t16: f64 = zc - half_spacing;
-        let t17: f64 = t15 * t16;
-        let t18: f64 = t11 + t17;
-        let t19: f64 = t2 * t4;
-        let t20: f64 = t18 * t19;
-        let t21: f64 = t3 * t5;
-        let t22: f64 = t0 * t2;
-        let t23: f64 = t6 * t22;
-        let t24: f64 = t21 + t23;
-        let t25: f64 = t16 * t24;
-        let t26: f64 = t20 + t25;
-        let t27: f64 = zc + half_spacing;
-        let t28: f64 = t15 * t27;
-        let t29: f64 = t11 + t28;
-        let t30: f64 = t19 * t29;
-        let t31: f64 = t24 * t27;
-        let t32: f64 = t30 + t31;
-        let t33: f64 = t26 - t32;
-        let t34: f64 = xc - half_spacing;
-        let t35: f64 = t0 * t34;
-        let t36: f64 = t3 * t6;
-        let t37: f64 = t2 * t8;
-        let t38: f64 = t36 - t37;
-        let t39: f64 = 1.0 / t38;
-        let t40: f64 = t1 * t2;
-        let t41: f64 = t34 * t40;
-        let t42: f64 = zc * t24;
-        let t43: f64 = t41 - t42;
-        let t44: f64 = t1 * t5;
-        let t45: f64 = t39 * t44;
-        let t46: f64 = t43 * t45;
-        let t47: f64 = t35 - t46;
-        let t48: f64 = xc + half_spacing;
-        let t49: f64 = t0 * t48;
-        let t50: f64 = t40 * t48;
-        let t51: f64 = t42 - t50;
-        let t52: f64 = t45 * t51;
-        let t53: f64 = t49 + t52;
-        let t54: f64 = t47 - t53;
-        let t55: f64 = yc - half_spacing;
-        let t56: f64 = t10 * t55;
-        let t57: f64 = 1.0 / t6;
-        let t58: f64 = 1.0 / t1;
-        let t59: f64 = xc * t0;
-        let t60: f64 = t44 * t55;
-        let t61: f64 = t59 - t60;
-        let t62: f64 = t57 * t58;
-        let t63: f64 = t15 * t62;
-        let t64: f64 = t61 * t63;
-        let t65: f64 = t56 - t64;
-        let t66: f64 = yc + half_spacing;
-        let t67: f64 = t10 * t66;
-        let t68: f64 = t44 * t66;
-        let t69: f64 = t59 - t68;
-        let t70: f64 = t63 * t69;
-        let t71: f64 = t67 - t70;
-        let t72: f64 = t65 - t71;
-        let t73: f64 = t33 * t54;
-        let t74: f64 = t72 * t73;
-        let t75: f64 = t0 * t58;
-        let t76: f64 = t4 * t75;
-        let t77: f64 = t18 * t76;
-        let t78: f64 = t1 * t6;
-        let t79: f64 = t16 * t78;
-        let t80: f64 = t77 - t79;
-        let t81: f64 = t29 * t76;
-        let t82: f64 = t27 * t78;
-        let t83: f64 = t81 - t82;
-        let t84: f64 = t80 - t83;
-        let t85: f64 = t1 * t3;
-        let t86: f64 = t34 * t85;
-        let t87: f64 = t10 * t39;
-        let t88: f64 = t43 * t87;
-        let t89: f64 = t86 + t88;
-        let t90: f64 = t48 * t85;
-        let t91: f64 = t51 * t87;
-        let t92: f64 = t90 - t91;
-        let t93: f64 = t89 - t92;
-        let t94: f64 = t38 * t55;
-        let t95: f64 = t24 * t62;
-        let t96: f64 = t61 * t95;
-        let t97: f64 = t94 - t96;
-        let t98: f64 = t69 * t95;
-        let t99: f64 = t38 * t66;
-        let t100: f64 = t98 - t99;
-        let t101: f64 = t97 + t100;
-        let t102: f64 = t84 * t93;
-        let t103: f64 = t101 * t102;
-        let t104: f64 = t74 + t103;
-        let t105: f64 = 1.0 / t104;
-        let t106: f64 = yc * t5;
-        let t107: f64 = t1 * t106;
-        let t108: f64 = t83 + t107;
-        let t109: f64 = az * t15;
-        let t110: f64 = ax * t1;
-        let t111: f64 = t3 * t110;
-        let t112: f64 = ay * t10;
-        let t113: f64 = t111 + t112;
-        let t114: f64 = t109 + t113;
-        let t115: f64 = gravity_z * t15;
-        let t116: f64 = gravity_x * t1;
-        let t117: f64 = t3 * t116;
-        let t118: f64 = gravity_y * t10;
-        let t119: f64 = t117 + t118;
-        let t120: f64 = t115 + t119;
-        let t121: f64 = t114 - t120;
-        let t122: f64 = t108 * t121;
-        let t123: f64 = xc * t1;
-        let t124: f64 = t3 * t123;
-        let t125: f64 = t71 + t124;
-        let t126: f64 = gravity_y * t5;
-        let t127: f64 = t1 * t126;
-        let t128: f64 = gravity_x * t0;
-        let t129: f64 = t127 - t128;
-        let t130: f64 = gravity_z * t6;
-        let t131: f64 = t1 * t130;
-        let t132: f64 = t129 - t131;
-        let t133: f64 = az * t6;
-        let t134: f64 = t1 * t133;
-        let t135: f64 = ax * t0;
-        let t136: f64 = ay * t5;
-        let t137: f64 = t1 * t136;
-        let t138: f64 = t135 - t137;
-        let t139: f64 = t134 + t138;
-        let t140: f64 = t132 + t139;
-        let t141: f64 = t125 * t140;
-        let t142: f64 = t122 + t141;
-        let t143: f64 = t93 * t101;
-        let t144: f64 = t142 * t143;
-        let t145: f64 = zc * t6;
-        let t146: f64 = t1 * t145;
-        let t147: f64 = t53 + t146;
-        let t148: f64 = gravity_z * t24;
-        let t149: f64 = gravity_y * t38;
-        let t150: f64 = gravity_x * t2;
-        let t151: f64 = t1 * t150;
-        let t152: f64 = t149 - t151;
-        let t153: f64 = t148 + t152;
-        let t154: f64 = ax * t2;
-        let t155: f64 = t1 * t154;
-        let t156: f64 = ay * t38;
-        let t157: f64 = t155 - t156;
-        let t158: f64 = az * t24;
-        let t159: f64 = t157 - t158;
-        let t160: f64 = t153 + t159;
-        let t161: f64 = t147 * t160;
-        let t162: f64 = xc * t2;
-        let t163: f64 = t1 * t162;
-        let t164: f64 = t100 + t163;
-        let t165: f64 = t140 * t164;
-        let t166: f64 = t161 - t165;
-        let t167: f64 = t93 * t166;
-        let t168: f64 = yc * t38;
-        let t169: f64 = t32 + t168;
-        let t170: f64 = t121 * t169;
-        let t171: f64 = zc * t15;
-        let t172: f64 = t92 + t171;
-        let t173: f64 = t160 * t172;
-        let t174: f64 = t170 + t173;
-        let t175: f64 = t54 * t174;
-        let t176: f64 = t167 - t175;
-        let t177: f64 = t72 * t176;
-        let t178: f64 = t177 - t144;
-        let t179: f64 = t85 * t105;
-        let t180: f64 = t178 * t179;
-        let t181: f64 = wx * t2;
-        let t182: f64 = t1 * t181;
-        let t183: f64 = wy * t38;
-        let t184: f64 = wz * t24;
-        let t185: f64 = t183 + t184;
-        let t186: f64 = t182 - t185;
-        let t187: f64 = t186 * t186;
-        let t188: f64 = wx * t0;
-        let t189: f64 = wy * t5;
-        let t190: f64 = wz * t6;
-        let t191: f64 = t189 - t190;
-        let t192: f64 = t1 * t191;
-        let t193: f64 = t188 - t192;
-        let t194: f64 = t193 * t193;
-        let t195: f64 = t187 + t194;
-        let t196: f64 = t108 * t195;
-        let t197: f64 = wx * t1;
-        let t198: f64 = t3 * t197;
-        let t199: f64 = wy * t10;
-        let t200: f64 = wz * t15;
-        let t201: f64 = t198 + t199;
-        let t202: f64 = t200 + t201;
-        let t203: f64 = t193 * t202;
-        let t204: f64 = wdx * t2;
-        let t205: f64 = t1 * t204;
-        let t206: f64 = wdy * t38;
-        let t207: f64 = t205 - t206;
-        let t208: f64 = wdz * t24;
-        let t209: f64 = t207 - t208;
-        let t210: f64 = t203 + t209;
-        let t211: f64 = t125 * t210;
-        let t212: f64 = t140 + t211;
-        let t213: f64 = t212 - t196;
-        let t214: f64 = t143 * t213;
-        let t215: f64 = wdz * t6;
-        let t216: f64 = t1 * t215;
-        let t217: f64 = wdx * t0;
-        let t218: f64 = wdy * t5;
-        let t219: f64 = t1 * t218;
-        let t220: f64 = t217 - t219;
-        let t221: f64 = t216 + t220;
-        let t222: f64 = t186 * t202;
-        let t223: f64 = t221 - t222;
-        let t224: f64 = t147 * t223;
-        let t225: f64 = t164 * t210;
-        let t226: f64 = t224 + t225;
-        let t227: f64 = t93 * t226;
-        let t228: f64 = t172 * t223;
-        let t229: f64 = t169 * t195;
-        let t230: f64 = t228 + t229;
-        let t231: f64 = t160 - t230;
-        let t232: f64 = t54 * t231;
-        let t233: f64 = t227 + t232;
-        let t234: f64 = t72 * t233;
-        let t235: f64 = t214 + t234;
-        let t236: f64 = t179 * t235;
-        let t237: f64 = -t236;
-        let t238: f64 = t221 + t222;
-        let t239: f64 = t108 * t238;
-        let t240: f64 = wdz * t15;
-        let t241: f64 = wdx * t1;
-        let t242: f64 = t3 * t241;
-        let t243: f64 = wdy * t10;
-        let t244: f64 = t242 + t243;
-        let t245: f64 = t240 + t244;
-        let t246: f64 = t186 * t193;
-        let t247: f64 = t245 - t246;
-        let t248: f64 = t125 * t247;
-        let t249: f64 = t239 - t248;
-        let t250: f64 = t143 * t249;
-        let t251: f64 = t202 * t202;
-        let t252: f64 = t194 + t251;
-        let t253: f64 = t147 * t252;
-        let t254: f64 = t164 * t247;
-        let t255: f64 = t140 + t253;
-        let t256: f64 = t255 - t254;
-        let t257: f64 = t93 * t256;
-        let t258: f64 = t169 * t238;
-        let t259: f64 = t172 * t252;
-        let t260: f64 = t121 + t259;
-        let t261: f64 = t260 - t258;
-        let t262: f64 = t54 * t261;
-        let t263: f64 = t257 - t262;
-        let t264: f64 = t72 * t263;
-        let t265: f64 = t250 + t264;
-        let t266: f64 = t179 * t265;
-        let t267: f64 = t187 + t251;
-        let t268: f64 = t125 * t267;
-        let t269: f64 = t209 - t203;
-        let t270: f64 = t108 * t269;
-        let t271: f64 = t268 + t270;
-        let t272: f64 = t121 + t271;
-        let t273: f64 = t143 * t272;
-        let t274: f64 = t164 * t267;
-        let t275: f64 = t245 + t246;
-        let t276: f64 = t147 * t275;
-        let t277: f64 = t274 + t276;
-        let t278: f64 = t160 + t277;
-        let t279: f64 = t93 * t278;
-        let t280: f64 = t169 * t269;
-        let t281: f64 = t172 * t275;
-        let t282: f64 = t280 - t281;
-        let t283: f64 = t54 * t282;
-        let t284: f64 = t279 + t283;
-        let t285: f64 = t72 * t284;
-        let t286: f64 = t273 + t285;
-        let t287: f64 = t179 * t286;
-        let t288: f64 = t72 * t245;
-        let t289: f64 = t93 * t288;
-        let t290: f64 = t54 * t222;
-        let t291: f64 = t72 * t290;
-        let t292: f64 = t93 * t202;
-        let t293: f64 = t101 * t292;
-        let t294: f64 = t193 * t293;
-        let t295: f64 = t289 + t291;
-        let t296: f64 = t294 + t295;
-        let t297: f64 = t179 * t296;
-        let t298: f64 = t143 * t247;
-        let t299: f64 = t93 * t210;
-        let t300: f64 = t187 - t251;
-        let t301: f64 = t54 * t300;
+        let t4: f64 = t1 * t3;
+        let t5: f64 = 1.0 / t4;
+        let t6: f64 = t1 * t2;
+        let (t7, t8): (f64, f64) = sin_cos(alpha);
+        let t9: f64 = t2 * t8;
+        let t10: f64 = t0 * t7;
+        let t11: f64 = t3 * t10;
+        let t12: f64 = t9 + t11;
+        let t13: f64 = yc * t12;
+        let t14: f64 = t2 * t7;
+        let t15: f64 = t0 * t8;
+        let t16: f64 = t3 * t15;
+        let t17: f64 = t14 - t16;
+        let t18: f64 = zc - half_spacing;
+        let t19: f64 = t17 * t18;
+        let t20: f64 = t13 + t19;
+        let t21: f64 = t5 * t6;
+        let t22: f64 = t20 * t21;
+        let t23: f64 = t3 * t8;
+        let t24: f64 = t2 * t10;
+        let t25: f64 = t23 - t24;
+        let t26: f64 = yc * t25;
+        let t27: f64 = t3 * t7;
+        let t28: f64 = t0 * t2;
+        let t29: f64 = t8 * t28;
+        let t30: f64 = t27 + t29;
+        let t31: f64 = t18 * t30;
+        let t32: f64 = t22 + t26;
+        let t33: f64 = t31 + t32;
+        let t34: f64 = zc + half_spacing;
+        let t35: f64 = t17 * t34;
+        let t36: f64 = t13 + t35;
+        let t37: f64 = t21 * t36;
+        let t38: f64 = t30 * t34;
+        let t39: f64 = t26 + t37;
+        let t40: f64 = t38 + t39;
+        let t41: f64 = t33 - t40;
+        let t42: f64 = xc - half_spacing;
+        let t43: f64 = t0 * t42;
+        let t44: f64 = 1.0 / t25;
+        let t45: f64 = t1 * t7;
+        let t46: f64 = t6 * t42;
+        let t47: f64 = zc * t30;
+        let t48: f64 = t46 - t47;
+        let t49: f64 = t44 * t45;
+        let t50: f64 = t48 * t49;
+        let t51: f64 = t1 * t8;
+        let t52: f64 = zc * t51;
+        let t53: f64 = t43 + t52;
+        let t54: f64 = t53 - t50;
+        let t55: f64 = xc + half_spacing;
+        let t56: f64 = t0 * t55;
+        let t57: f64 = t6 * t55;
+        let t58: f64 = t47 - t57;
+        let t59: f64 = t49 * t58;
+        let t60: f64 = t52 + t56;
+        let t61: f64 = t59 + t60;
+        let t62: f64 = t54 - t61;
+        let t63: f64 = xc * t4;
+        let t64: f64 = yc - half_spacing;
+        let t65: f64 = t12 * t64;
+        let t66: f64 = 1.0 / t51;
+        let t67: f64 = xc * t0;
+        let t68: f64 = t45 * t64;
+        let t69: f64 = t67 - t68;
+        let t70: f64 = t17 * t66;
+        let t71: f64 = t69 * t70;
+        let t72: f64 = t63 + t65;
+        let t73: f64 = t72 - t71;
+        let t74: f64 = yc + half_spacing;
+        let t75: f64 = t12 * t74;
+        let t76: f64 = t45 * t74;
+        let t77: f64 = t67 - t76;
+        let t78: f64 = t70 * t77;
+        let t79: f64 = t63 + t75;
+        let t80: f64 = t79 - t78;
+        let t81: f64 = t73 - t80;
+        let t82: f64 = t41 * t62;
+        let t83: f64 = t81 * t82;
+        let t84: f64 = t0 * t5;
+        let t85: f64 = t20 * t84;
+        let t86: f64 = yc * t45;
+        let t87: f64 = t18 * t51;
+        let t88: f64 = t85 + t86;
+        let t89: f64 = t88 - t87;
+        let t90: f64 = t36 * t84;
+        let t91: f64 = t34 * t51;
+        let t92: f64 = t86 + t90;
+        let t93: f64 = t92 - t91;
+        let t94: f64 = t89 - t93;
+        let t95: f64 = xc * t6;
+        let t96: f64 = t25 * t64;
+        let t97: f64 = t30 * t66;
+        let t98: f64 = t69 * t97;
+        let t99: f64 = t95 + t98;
+        let t100: f64 = t99 - t96;
+        let t101: f64 = t25 * t74;
+        let t102: f64 = t77 * t97;
+        let t103: f64 = t95 + t102;
+        let t104: f64 = t103 - t101;
+        let t105: f64 = t100 - t104;
+        let t106: f64 = t4 * t42;
+        let t107: f64 = t12 * t44;
+        let t108: f64 = t48 * t107;
+        let t109: f64 = zc * t17;
+        let t110: f64 = t106 + t108;
+        let t111: f64 = t109 + t110;
+        let t112: f64 = t4 * t55;
+        let t113: f64 = t58 * t107;
+        let t114: f64 = t109 + t112;
+        let t115: f64 = t114 - t113;
+        let t116: f64 = t111 - t115;
+        let t117: f64 = t94 * t105;
+        let t118: f64 = t116 * t117;
+        let t119: f64 = t83 - t118;
+        let t120: f64 = 1.0 / t119;
+        let t121: f64 = ax * t4;
+        let t122: f64 = ay * t12;
+        let t123: f64 = az * t17;
+        let t124: f64 = t121 + t122;
+        let t125: f64 = t123 + t124;
+        let t126: f64 = gravity_z * t17;
+        let t127: f64 = gravity_x * t4;
+        let t128: f64 = gravity_y * t12;
+        let t129: f64 = t127 + t128;
+        let t130: f64 = t126 + t129;
+        let t131: f64 = t125 - t130;
+        let t132: f64 = t93 * t131;
+        let t133: f64 = ax * t0;
+        let t134: f64 = ay * t45;
+        let t135: f64 = az * t51;
+        let t136: f64 = t133 + t135;
+        let t137: f64 = t136 - t134;
+        let t138: f64 = gravity_y * t45;
+        let t139: f64 = gravity_x * t0;
+        let t140: f64 = t138 - t139;
+        let t141: f64 = gravity_z * t51;
+        let t142: f64 = t140 - t141;
+        let t143: f64 = t137 + t142;
+        let t144: f64 = t80 * t143;
+        let t145: f64 = t132 + t144;
+        let t146: f64 = t105 * t116;
+        let t147: f64 = t145 * t146;
+        let t148: f64 = ax * t6;
+        let t149: f64 = ay * t25;
+        let t150: f64 = az * t30;
+        let t151: f64 = t149 + t150;
+        let t152: f64 = t148 - t151;
+        let t153: f64 = gravity_z * t30;
+        let t154: f64 = gravity_y * t25;
+        let t155: f64 = gravity_x * t6;
+        let t156: f64 = t154 - t155;
+        let t157: f64 = t153 + t156;
+        let t158: f64 = t152 + t157;
+        let t159: f64 = t61 * t158;
+        let t160: f64 = t104 * t143;
+        let t161: f64 = t159 - t160;
+        let t162: f64 = t116 * t161;
+        let t163: f64 = t40 * t131;
+        let t164: f64 = t115 * t158;
+        let t165: f64 = t163 + t164;
+        let t166: f64 = t62 * t165;
+        let t167: f64 = t162 - t166;
+        let t168: f64 = t81 * t167;
+        let t169: f64 = t147 + t168;
+        let t170: f64 = t4 * t120;
+        let t171: f64 = t169 * t170;
+        let t172: f64 = wx * t6;
+        let t173: f64 = wy * t25;
+        let t174: f64 = wz * t30;
+        let t175: f64 = t173 + t174;
+        let t176: f64 = t172 - t175;
+        let t177: f64 = t176 * t176;
+        let t178: f64 = wx * t0;
+        let t179: f64 = wy * t45;
+        let t180: f64 = wz * t51;
+        let t181: f64 = t178 + t180;
+        let t182: f64 = t181 - t179;
+        let t183: f64 = t182 * t182;
+        let t184: f64 = t177 + t183;
+        let t185: f64 = t93 * t184;
+        let t186: f64 = wdx * t6;
+        let t187: f64 = wdy * t25;
+        let t188: f64 = wdz * t30;
+        let t189: f64 = t187 + t188;
+        let t190: f64 = t186 - t189;
+        let t191: f64 = wx * t4;
+        let t192: f64 = wy * t12;
+        let t193: f64 = wz * t17;
+        let t194: f64 = t191 + t192;
+        let t195: f64 = t193 + t194;
+        let t196: f64 = t182 * t195;
+        let t197: f64 = t190 + t196;
+        let t198: f64 = t80 * t197;
+        let t199: f64 = t143 + t198;
+        let t200: f64 = t199 - t185;
+        let t201: f64 = t146 * t200;
+        let t202: f64 = wdx * t0;
+        let t203: f64 = wdy * t45;
+        let t204: f64 = wdz * t51;
+        let t205: f64 = t202 + t204;
+        let t206: f64 = t205 - t203;
+        let t207: f64 = t176 * t195;
+        let t208: f64 = t206 - t207;
+        let t209: f64 = t61 * t208;
+        let t210: f64 = t104 * t197;
+        let t211: f64 = t209 + t210;
+        let t212: f64 = t116 * t211;
+        let t213: f64 = t40 * t184;
+        let t214: f64 = t115 * t208;
+        let t215: f64 = t213 + t214;
+        let t216: f64 = t158 - t215;
+        let t217: f64 = t62 * t216;
+        let t218: f64 = t212 + t217;
+        let t219: f64 = t81 * t218;
+        let t220: f64 = t219 - t201;
+        let t221: f64 = t170 * t220;
+        let t222: f64 = -t221;
+        let t223: f64 = t206 + t207;
+        let t224: f64 = t93 * t223;
+        let t225: f64 = wdx * t4;
+        let t226: f64 = wdy * t12;
+        let t227: f64 = wdz * t17;
+        let t228: f64 = t225 + t226;
+        let t229: f64 = t227 + t228;
+        let t230: f64 = t176 * t182;
+        let t231: f64 = t229 - t230;
+        let t232: f64 = t80 * t231;
+        let t233: f64 = t224 - t232;
+        let t234: f64 = t146 * t233;
+        let t235: f64 = t195 * t195;
+        let t236: f64 = t183 + t235;
+        let t237: f64 = t61 * t236;
+        let t238: f64 = t104 * t231;
+        let t239: f64 = t143 + t237;
+        let t240: f64 = t239 - t238;
+        let t241: f64 = t116 * t240;
+        let t242: f64 = t40 * t223;
+        let t243: f64 = t115 * t236;
+        let t244: f64 = t131 + t243;
+        let t245: f64 = t244 - t242;
+        let t246: f64 = t62 * t245;
+        let t247: f64 = t241 - t246;
+        let t248: f64 = t81 * t247;
+        let t249: f64 = t248 - t234;
+        let t250: f64 = t170 * t249;
+        let t251: f64 = t190 - t196;
+        let t252: f64 = t93 * t251;
+        let t253: f64 = t177 + t235;
+        let t254: f64 = t80 * t253;
+        let t255: f64 = t252 + t254;
+        let t256: f64 = t131 + t255;
+        let t257: f64 = t146 * t256;
+        let t258: f64 = t229 + t230;
+        let t259: f64 = t61 * t258;
+        let t260: f64 = t104 * t253;
+        let t261: f64 = t259 + t260;
+        let t262: f64 = t158 + t261;
+        let t263: f64 = t116 * t262;
+        let t264: f64 = t40 * t251;
+        let t265: f64 = t115 * t258;
+        let t266: f64 = t264 - t265;
+        let t267: f64 = t62 * t266;
+        let t268: f64 = t263 + t267;
+        let t269: f64 = t81 * t268;
+        let t270: f64 = t269 - t257;
+        let t271: f64 = t170 * t270;
+        let t272: f64 = t81 * t229;
+        let t273: f64 = t116 * t272;
+        let t274: f64 = t105 * t196;
+        let t275: f64 = t116 * t274;
+        let t276: f64 = t62 * t207;
+        let t277: f64 = t81 * t276;
+        let t278: f64 = t273 + t277;
+        let t279: f64 = t278 - t275;
+        let t280: f64 = t170 * t279;
+        let t281: f64 = t146 * t231;
+        let t282: f64 = t116 * t197;
+        let t283: f64 = t177 - t235;
+        let t284: f64 = t62 * t283;
+        let t285: f64 = t282 + t284;
+        let t286: f64 = t81 * t285;
+        let t287: f64 = t281 + t286;
+        let t288: f64 = t170 * t287;
+        let t289: f64 = -t288;
+        let t290: f64 = t183 - t235;
+        let t291: f64 = t146 * t290;
+        let t292: f64 = t116 * t208;
+        let t293: f64 = t62 * t258;
+        let t294: f64 = t292 + t293;
+        let t295: f64 = t81 * t294;
+        let t296: f64 = t295 - t291;
+        let t297: f64 = t170 * t296;
+        let t298: f64 = t81 * t230;
+        let t299: f64 = t116 * t298;
+        let t300: f64 = t105 * t190;
+        let t301: f64 = t116 * t300;
         let t302: f64 = t299 + t301;
-        let t303: f64 = t72 * t302;
-        let t304: f64 = t303 - t298;
-        let t305: f64 = t179 * t304;
-        let t306: f64 = -t305;
-        let t307: f64 = t194 - t251;
-        let t308: f64 = t143 * t307;
-        let t309: f64 = t93 * t223;
-        let t310: f64 = t54 * t275;
-        let t311: f64 = t309 + t310;
-        let t312: f64 = t72 * t311;
-        let t313: f64 = t308 + t312;
-        let t314: f64 = t179 * t313;
-        let t315: f64 = t93 * t209;
-        let t316: f64 = t101 * t315;
-        let t317: f64 = t72 * t186;
-        let t318: f64 = t93 * t317;
-        let t319: f64 = t193 * t318;
-        let t320: f64 = t291 + t316;
-        let t321: f64 = t320 - t319;
-        let t322: f64 = t179 * t321;
-        let t323: f64 = -t322;
-        let t324: f64 = t143 * t238;
-        let t325: f64 = t187 - t194;
-        let t326: f64 = t93 * t325;
-        let t327: f64 = t54 * t269;
-        let t328: f64 = t326 - t327;
-        let t329: f64 = t72 * t328;
-        let t330: f64 = t324 + t329;
-        let t331: f64 = t179 * t330;
-        let t332: f64 = t54 * t221;
-        let t333: f64 = t72 * t332;
-        let t334: f64 = t294 + t319;
-        let t335: f64 = t334 - t333;
-        let t336: f64 = t179 * t335;
-        let t337: f64 = -t336;
-        let t338: f64 = t26 + t168;
-        let t339: f64 = t221 * t338;
-        let t340: f64 = t80 + t107;
-        let t341: f64 = t209 * t340;
-        let t342: f64 = t339 - t341;
-        let t343: f64 = t202 * t338;
-        let t344: f64 = t186 * t340;
-        let t345: f64 = t193 * t338;
-        let t346: f64 = vz * t15;
-        let t347: f64 = vx * t1;
-        let t348: f64 = t3 * t347;
-        let t349: f64 = vy * t10;
-        let t350: f64 = t348 + t349;
-        let t351: f64 = t346 + t350;
-        let t352: f64 = t345 + t351;
-        let t353: f64 = t352 - t344;
-        let t354: f64 = t76 * t353;
-        let t355: f64 = vz * t6;
-        let t356: f64 = t1 * t355;
-        let t357: f64 = vx * t0;
-        let t358: f64 = vy * t5;
-        let t359: f64 = t1 * t358;
-        let t360: f64 = t357 - t359;
-        let t361: f64 = t356 + t360;
-        let t362: f64 = t361 - t354;
-        let t363: f64 = t362 * 2.0;
-        let t364: f64 = t363 - t343;
-        let t365: f64 = t186 * t364;
-        let t366: f64 = t202 * t340;
-        let t367: f64 = t19 * t353;
-        let t368: f64 = vx * t2;
-        let t369: f64 = t1 * t368;
-        let t370: f64 = vy * t38;
-        let t371: f64 = t369 - t370;
-        let t372: f64 = vz * t24;
-        let t373: f64 = t371 - t372;
-        let t374: f64 = t373 - t367;
-        let t375: f64 = t374 * 2.0;
-        let t376: f64 = t366 + t375;
-        let t377: f64 = t193 * t376;
-        let t378: f64 = t365 - t377;
-        let t379: f64 = t342 + t378;
-        let t380: f64 = t114 + t379;
-        let t381: f64 = t4 * t58;
-        let t382: f64 = t380 * t381;
-        let t383: f64 = t382 - gravity_x;
-        let t384: f64 = t76 * t380;
-        let t385: f64 = t132 + t384;
-        let t386: f64 = -t385;
-        let t387: f64 = t143 * t386;
-        let t388: f64 = t19 * t380;
-        let t389: f64 = t153 + t388;
-        let t390: f64 = -t389;
-        let t391: f64 = t54 * t72;
-        let t392: f64 = t390 * t391;
-        let t393: f64 = t387 + t392;
-        let t394: f64 = t179 * t393;
-        let t395: f64 = t0 * t210;
-        let t396: f64 = t40 * t223;
-        let t397: f64 = t85 * t195;
-        let t398: f64 = t396 + t397;
-        let t399: f64 = t395 - t398;
-        let t400: f64 = t394 + t399;
-        let t401: f64 = t93 * t386;
-        let t402: f64 = t121 + t379;
-        let t403: f64 = t54 * t402;
-        let t404: f64 = t401 + t403;
-        let t405: f64 = t72 * t85;
-        let t406: f64 = t105 * t405;
-        let t407: f64 = t404 * t406;
-        let t408: f64 = t0 * t247;
-        let t409: f64 = t40 * t252;
-        let t410: f64 = t85 * t238;
-        let t411: f64 = t409 - t410;
-        let t412: f64 = t408 + t411;
-        let t413: f64 = t412 - t407;
-        let t414: f64 = t72 * t390;
-        let t415: f64 = t101 * t402;
-        let t416: f64 = t414 - t415;
-        let t417: f64 = t85 * t93;
-        let t418: f64 = t105 * t417;
-        let t419: f64 = t416 * t418;
-        let t420: f64 = t40 * t275;
-        let t421: f64 = t0 * t267;
-        let t422: f64 = t85 * t269;
-        let t423: f64 = t421 + t422;
-        let t424: f64 = t420 - t423;
-        let t425: f64 = t424 - t419;
-        let t426: f64 = t169 * t221;
-        let t427: f64 = t108 * t209;
-        let t428: f64 = t426 - t427;
-        let t429: f64 = t169 * t202;
-        let t430: f64 = t108 * t186;
-        let t431: f64 = t169 * t193;
-        let t432: f64 = t351 + t431;
-        let t433: f64 = t432 - t430;
-        let t434: f64 = t76 * t433;
-        let t435: f64 = t361 - t434;
-        let t436: f64 = t435 * 2.0;
-        let t437: f64 = t436 - t429;
-        let t438: f64 = t186 * t437;
-        let t439: f64 = t108 * t202;
-        let t440: f64 = t19 * t433;
-        let t441: f64 = t373 - t440;
-        let t442: f64 = t441 * 2.0;
-        let t443: f64 = t439 + t442;
-        let t444: f64 = t193 * t443;
-        let t445: f64 = t438 - t444;
-        let t446: f64 = t428 + t445;
-        let t447: f64 = t114 + t446;
-        let t448: f64 = t76 * t447;
-        let t449: f64 = t132 + t448;
-        let t450: f64 = -t449;
-        let t451: f64 = t143 * t450;
-        let t452: f64 = t19 * t447;
-        let t453: f64 = t153 + t452;
-        let t454: f64 = -t453;
-        let t455: f64 = t391 * t454;
-        let t456: f64 = t451 + t455;
-        let t457: f64 = t179 * t456;
-        let t458: f64 = t93 * t450;
-        let t459: f64 = t121 + t446;
-        let t460: f64 = t54 * t459;
-        let t461: f64 = t458 + t460;
-        let t462: f64 = t406 * t461;
-        let t463: f64 = -t462;
-        let t464: f64 = t72 * t454;
-        let t465: f64 = t101 * t459;
-        let t466: f64 = t464 - t465;
-        let t467: f64 = t418 * t466;
-        let t468: f64 = -t467;
-        let t469: f64 = t89 + t171;
-        let t470: f64 = t221 * t469;
-        let t471: f64 = t47 + t146;
-        let t472: f64 = t245 * t471;
-        let t473: f64 = t470 - t472;
-        let t474: f64 = t186 * t471;
-        let t475: f64 = t202 * t471;
-        let t476: f64 = t193 * t469;
-        let t477: f64 = t373 + t476;
-        let t478: f64 = t477 - t475;
-        let t479: f64 = t87 * t478;
-        let t480: f64 = t351 + t479;
-        let t481: f64 = t480 * 2.0;
-        let t482: f64 = t474 + t481;
-        let t483: f64 = t193 * t482;
-        let t484: f64 = t186 * t469;
-        let t485: f64 = t45 * t478;
-        let t486: f64 = t361 - t485;
-        let t487: f64 = t486 * 2.0;
-        let t488: f64 = t487 - t484;
-        let t489: f64 = t202 * t488;
-        let t490: f64 = t483 - t489;
-        let t491: f64 = t473 + t490;
-        let t492: f64 = t159 + t491;
-        let t493: f64 = t45 * t492;
-        let t494: f64 = t132 + t493;
-        let t495: f64 = -t494;
-        let t496: f64 = t143 * t495;
-        let t497: f64 = t160 + t491;
-        let t498: f64 = t391 * t497;
-        let t499: f64 = t496 - t498;
-        let t500: f64 = t179 * t499;
-        let t501: f64 = t93 * t495;
-        let t502: f64 = t87 * t492;
-        let t503: f64 = t120 + t502;
-        let t504: f64 = t54 * t503;
-        let t505: f64 = t501 - t504;
-        let t506: f64 = t406 * t505;
-        let t507: f64 = -t506;
-        let t508: f64 = t72 * t497;
-        let t509: f64 = t101 * t503;
-        let t510: f64 = t508 - t509;
-        let t511: f64 = t418 * t510;
-        let t512: f64 = t172 * t221;
-        let t513: f64 = t147 * t245;
-        let t514: f64 = t512 - t513;
-        let t515: f64 = t147 * t186;
-        let t516: f64 = t147 * t202;
-        let t517: f64 = t172 * t193;
-        let t518: f64 = t373 + t517;
-        let t519: f64 = t518 - t516;
-        let t520: f64 = t87 * t519;
-        let t521: f64 = t351 + t520;
-        let t522: f64 = t521 * 2.0;
-        let t523: f64 = t515 + t522;
-        let t524: f64 = t193 * t523;
-        let t525: f64 = t172 * t186;
-        let t526: f64 = t45 * t519;
-        let t527: f64 = t361 - t526;
-        let t528: f64 = t527 * 2.0;
-        let t529: f64 = t528 - t525;
-        let t530: f64 = t202 * t529;
-        let t531: f64 = t524 - t530;
-        let t532: f64 = t514 + t531;
-        let t533: f64 = t159 + t532;
-        let t534: f64 = t45 * t533;
-        let t535: f64 = t132 + t534;
-        let t536: f64 = -t535;
-        let t537: f64 = t143 * t536;
-        let t538: f64 = t160 + t532;
-        let t539: f64 = t391 * t538;
-        let t540: f64 = t537 - t539;
-        let t541: f64 = t179 * t540;
-        let t542: f64 = t93 * t536;
-        let t543: f64 = t87 * t533;
-        let t544: f64 = t120 + t543;
-        let t545: f64 = t54 * t544;
-        let t546: f64 = t542 - t545;
-        let t547: f64 = t406 * t546;
-        let t548: f64 = -t547;
-        let t549: f64 = t72 * t538;
-        let t550: f64 = t101 * t544;
-        let t551: f64 = t549 - t550;
-        let t552: f64 = t418 * t551;
-        let t553: f64 = t163 - t97;
-        let t554: f64 = t245 * t553;
-        let t555: f64 = t65 + t124;
-        let t556: f64 = t209 * t555;
-        let t557: f64 = t554 - t556;
-        let t558: f64 = t202 * t553;
-        let t559: f64 = t186 * t555;
-        let t560: f64 = t361 + t558;
-        let t561: f64 = t560 - t559;
-        let t562: f64 = t95 * t561;
-        let t563: f64 = t193 * t555;
-        let t564: f64 = t373 + t562;
-        let t565: f64 = t564 * 2.0;
-        let t566: f64 = t563 + t565;
-        let t567: f64 = t202 * t566;
-        let t568: f64 = t63 * t561;
-        let t569: f64 = t193 * t553;
-        let t570: f64 = t351 - t568;
-        let t571: f64 = t570 * 2.0;
-        let t572: f64 = t571 - t569;
-        let t573: f64 = t186 * t572;
-        let t574: f64 = t567 - t573;
-        let t575: f64 = t557 + t574;
-        let t576: f64 = t140 + t575;
-        let t577: f64 = t143 * t576;
-        let t578: f64 = t139 + t575;
-        let t579: f64 = t95 * t578;
-        let t580: f64 = t579 - t153;
-        let t581: f64 = t391 * t580;
-        let t582: f64 = t577 - t581;
-        let t583: f64 = t179 * t582;
-        let t584: f64 = -t583;
-        let t585: f64 = t93 * t576;
-        let t586: f64 = t63 * t578;
-        let t587: f64 = t120 - t586;
-        let t588: f64 = t54 * t587;
-        let t589: f64 = t585 + t588;
-        let t590: f64 = t406 * t589;
-        let t591: f64 = t72 * t580;
-        let t592: f64 = t101 * t587;
-        let t593: f64 = t591 + t592;
-        let t594: f64 = t418 * t593;
-        let t595: f64 = -t594;
-        let t596: f64 = t164 * t245;
-        let t597: f64 = t125 * t209;
-        let t598: f64 = t596 - t597;
-        let t599: f64 = t164 * t202;
-        let t600: f64 = t125 * t186;
-        let t601: f64 = t361 + t599;
-        let t602: f64 = t601 - t600;
-        let t603: f64 = t95 * t602;
-        let t604: f64 = t125 * t193;
-        let t605: f64 = t373 + t603;
-        let t606: f64 = t605 * 2.0;
-        let t607: f64 = t604 + t606;
-        let t608: f64 = t202 * t607;
-        let t609: f64 = t63 * t602;
-        let t610: f64 = t164 * t193;
-        let t611: f64 = t351 - t609;
-        let t612: f64 = t611 * 2.0;
-        let t613: f64 = t612 - t610;
-        let t614: f64 = t186 * t613;
-        let t615: f64 = t608 - t614;
-        let t616: f64 = t598 + t615;
-        let t617: f64 = t140 + t616;
-        let t618: f64 = t143 * t617;
-        let t619: f64 = t139 + t616;
-        let t620: f64 = t95 * t619;
-        let t621: f64 = t620 - t153;
-        let t622: f64 = t391 * t621;
-        let t623: f64 = t618 - t622;
-        let t624: f64 = t179 * t623;
-        let t625: f64 = -t624;
-        let t626: f64 = t93 * t617;
-        let t627: f64 = t63 * t619;
-        let t628: f64 = t120 - t627;
-        let t629: f64 = t54 * t628;
-        let t630: f64 = t626 + t629;
-        let t631: f64 = t406 * t630;
-        let t632: f64 = t72 * t621;
-        let t633: f64 = t101 * t628;
-        let t634: f64 = t632 + t633;
-        let t635: f64 = t418 * t634;
-        let t636: f64 = -t635;
-        let t637: f64 = t353 * t381;
-        let t638: f64 = ((t637 > 0.0) as i8 - (t637 < 0.0) as i8) as f64;
-        let t639: f64 = t105 * t178;
-        let t640: f64 = t121 - t639;
-        let t641: f64 = t85 * t640;
-        let t642: f64 = t105 * t235;
-        let t643: f64 = t195 - t642;
-        let t644: f64 = t85 * t643;
-        let t645: f64 = -t644;
-        let t646: f64 = t105 * t265;
-        let t647: f64 = t238 + t646;
-        let t648: f64 = t85 * t647;
-        let t649: f64 = -t648;
-        let t650: f64 = t105 * t286;
-        let t651: f64 = t269 + t650;
-        let t652: f64 = t85 * t651;
-        let t653: f64 = -t652;
-        let t654: f64 = -t297;
-        let t655: f64 = -t314;
-        let t656: f64 = -t331;
-        let t657: f64 = -t394;
-        let t658: f64 = t381 * t447;
-        let t659: f64 = t658 - gravity_x;
-        let t660: f64 = t399 - t457;
-        let t661: f64 = t412 + t462;
-        let t662: f64 = t424 + t467;
-        let t663: f64 = -t500;
-        let t664: f64 = -t511;
-        let t665: f64 = -t541;
-        let t666: f64 = -t552;
-        let t667: f64 = -t590;
-        let t668: f64 = -t631;
-        let t669: f64 = t381 * t433;
-        let t670: f64 = ((t669 > 0.0) as i8 - (t669 < 0.0) as i8) as f64;
-        let t671: f64 = t84 * t101;
-        let t672: f64 = t174 * t671;
-        let t673: f64 = t72 * t166;
-        let t674: f64 = t101 * t142;
-        let t675: f64 = t673 - t674;
-        let t676: f64 = t33 * t675;
-        let t677: f64 = t672 + t676;
-        let t678: f64 = t38 * t105;
-        let t679: f64 = t677 * t678;
-        let t680: f64 = t231 * t671;
-        let t681: f64 = t72 * t226;
-        let t682: f64 = t101 * t213;
-        let t683: f64 = t681 + t682;
-        let t684: f64 = t33 * t683;
-        let t685: f64 = t684 - t680;
-        let t686: f64 = t678 * t685;
-        let t687: f64 = -t686;
-        let t688: f64 = t261 * t671;
-        let t689: f64 = t72 * t256;
-        let t690: f64 = t101 * t249;
-        let t691: f64 = t689 + t690;
-        let t692: f64 = t33 * t691;
-        let t693: f64 = t688 + t692;
-        let t694: f64 = t678 * t693;
-        let t695: f64 = t282 * t671;
-        let t696: f64 = t72 * t278;
-        let t697: f64 = t101 * t272;
-        let t698: f64 = t696 + t697;
-        let t699: f64 = t33 * t698;
-        let t700: f64 = t699 - t695;
-        let t701: f64 = t678 * t700;
-        let t702: f64 = t33 * t245;
-        let t703: f64 = t72 * t702;
-        let t704: f64 = t84 * t222;
-        let t705: f64 = t101 * t704;
-        let t706: f64 = t33 * t202;
-        let t707: f64 = t101 * t706;
-        let t708: f64 = t193 * t707;
-        let t709: f64 = t703 + t708;
-        let t710: f64 = t709 - t705;
-        let t711: f64 = t678 * t710;
-        let t712: f64 = t300 * t671;
-        let t713: f64 = t72 * t210;
-        let t714: f64 = t101 * t247;
-        let t715: f64 = t713 - t714;
-        let t716: f64 = t33 * t715;
-        let t717: f64 = t716 - t712;
-        let t718: f64 = t678 * t717;
-        let t719: f64 = -t718;
-        let t720: f64 = t275 * t671;
-        let t721: f64 = t72 * t223;
-        let t722: f64 = t101 * t307;
-        let t723: f64 = t721 + t722;
-        let t724: f64 = t33 * t723;
-        let t725: f64 = t724 - t720;
-        let t726: f64 = t678 * t725;
-        let t727: f64 = t33 * t209;
-        let t728: f64 = t101 * t727;
-        let t729: f64 = t33 * t186;
-        let t730: f64 = t72 * t729;
-        let t731: f64 = t193 * t730;
-        let t732: f64 = t705 + t731;
-        let t733: f64 = t732 - t728;
-        let t734: f64 = t678 * t733;
-        let t735: f64 = t269 * t671;
-        let t736: f64 = t72 * t325;
-        let t737: f64 = t101 * t238;
-        let t738: f64 = t736 + t737;
-        let t739: f64 = t33 * t738;
-        let t740: f64 = t735 + t739;
-        let t741: f64 = t678 * t740;
-        let t742: f64 = t84 * t221;
-        let t743: f64 = t101 * t742;
-        let t744: f64 = t708 + t743;
-        let t745: f64 = t731 + t744;
-        let t746: f64 = t678 * t745;
-        let t747: f64 = -t746;
-        let t748: f64 = t33 * t386;
-        let t749: f64 = t84 * t390;
-        let t750: f64 = t748 - t749;
-        let t751: f64 = t38 * t101;
-        let t752: f64 = t105 * t751;
-        let t753: f64 = t750 * t752;
-        let t754: f64 = t33 * t72;
-        let t755: f64 = t386 * t754;
-        let t756: f64 = t402 * t671;
-        let t757: f64 = t755 - t756;
-        let t758: f64 = t678 * t757;
+        let t303: f64 = t277 - t302;
+        let t304: f64 = t170 * t303;
+        let t305: f64 = -t304;
+        let t306: f64 = t146 * t223;
+        let t307: f64 = t177 - t183;
+        let t308: f64 = t116 * t307;
+        let t309: f64 = t62 * t251;
+        let t310: f64 = t308 - t309;
+        let t311: f64 = t81 * t310;
+        let t312: f64 = t311 - t306;
+        let t313: f64 = t170 * t312;
+        let t314: f64 = t62 * t206;
+        let t315: f64 = t81 * t314;
+        let t316: f64 = t275 + t315;
+        let t317: f64 = t316 - t299;
+        let t318: f64 = t170 * t317;
+        let t319: f64 = t33 * t206;
+        let t320: f64 = t89 * t190;
+        let t321: f64 = t319 - t320;
+        let t322: f64 = vx * t0;
+        let t323: f64 = vy * t45;
+        let t324: f64 = vz * t51;
+        let t325: f64 = t322 + t324;
+        let t326: f64 = t325 - t323;
+        let t327: f64 = vx * t4;
+        let t328: f64 = vy * t12;
+        let t329: f64 = vz * t17;
+        let t330: f64 = t327 + t328;
+        let t331: f64 = t329 + t330;
+        let t332: f64 = t89 * t176;
+        let t333: f64 = t33 * t182;
+        let t334: f64 = t331 + t333;
+        let t335: f64 = t334 - t332;
+        let t336: f64 = t84 * t335;
+        let t337: f64 = t33 * t195;
+        let t338: f64 = t326 - t336;
+        let t339: f64 = t338 * 2.0;
+        let t340: f64 = t339 - t337;
+        let t341: f64 = t176 * t340;
+        let t342: f64 = vx * t6;
+        let t343: f64 = vy * t25;
+        let t344: f64 = vz * t30;
+        let t345: f64 = t343 + t344;
+        let t346: f64 = t342 - t345;
+        let t347: f64 = t21 * t335;
+        let t348: f64 = t89 * t195;
+        let t349: f64 = t346 - t347;
+        let t350: f64 = t349 * 2.0;
+        let t351: f64 = t348 + t350;
+        let t352: f64 = t182 * t351;
+        let t353: f64 = t341 - t352;
+        let t354: f64 = t321 + t353;
+        let t355: f64 = t125 + t354;
+        let t356: f64 = t5 * t355;
+        let t357: f64 = t356 - gravity_x;
+        let t358: f64 = t84 * t355;
+        let t359: f64 = t142 + t358;
+        let t360: f64 = -t359;
+        let t361: f64 = t105 * t360;
+        let t362: f64 = t116 * t361;
+        let t363: f64 = t21 * t355;
+        let t364: f64 = t157 + t363;
+        let t365: f64 = -t364;
+        let t366: f64 = t62 * t365;
+        let t367: f64 = t81 * t366;
+        let t368: f64 = t362 - t367;
+        let t369: f64 = t170 * t368;
+        let t370: f64 = t0 * t197;
+        let t371: f64 = t4 * t184;
+        let t372: f64 = t6 * t208;
+        let t373: f64 = t371 + t372;
+        let t374: f64 = t370 - t373;
+        let t375: f64 = t374 - t369;
+        let t376: f64 = t116 * t360;
+        let t377: f64 = t131 + t354;
+        let t378: f64 = t62 * t377;
+        let t379: f64 = t376 + t378;
+        let t380: f64 = t4 * t81;
+        let t381: f64 = t120 * t380;
+        let t382: f64 = t379 * t381;
+        let t383: f64 = t0 * t231;
+        let t384: f64 = t6 * t236;
+        let t385: f64 = t4 * t223;
+        let t386: f64 = t384 - t385;
+        let t387: f64 = t383 + t386;
+        let t388: f64 = t387 - t382;
+        let t389: f64 = t81 * t365;
+        let t390: f64 = t105 * t377;
+        let t391: f64 = t389 + t390;
+        let t392: f64 = t4 * t116;
+        let t393: f64 = t120 * t392;
+        let t394: f64 = t391 * t393;
+        let t395: f64 = t6 * t258;
+        let t396: f64 = t4 * t251;
+        let t397: f64 = t395 - t396;
+        let t398: f64 = t0 * t253;
+        let t399: f64 = t397 - t398;
+        let t400: f64 = t399 - t394;
+        let t401: f64 = t40 * t206;
+        let t402: f64 = t93 * t190;
+        let t403: f64 = t401 - t402;
+        let t404: f64 = t93 * t176;
+        let t405: f64 = t40 * t182;
+        let t406: f64 = t331 + t405;
+        let t407: f64 = t406 - t404;
+        let t408: f64 = t84 * t407;
+        let t409: f64 = t40 * t195;
+        let t410: f64 = t326 - t408;
+        let t411: f64 = t410 * 2.0;
+        let t412: f64 = t411 - t409;
+        let t413: f64 = t176 * t412;
+        let t414: f64 = t21 * t407;
+        let t415: f64 = t93 * t195;
+        let t416: f64 = t346 - t414;
+        let t417: f64 = t416 * 2.0;
+        let t418: f64 = t415 + t417;
+        let t419: f64 = t182 * t418;
+        let t420: f64 = t413 - t419;
+        let t421: f64 = t403 + t420;
+        let t422: f64 = t125 + t421;
+        let t423: f64 = t84 * t422;
+        let t424: f64 = t142 + t423;
+        let t425: f64 = -t424;
+        let t426: f64 = t105 * t425;
+        let t427: f64 = t116 * t426;
+        let t428: f64 = t21 * t422;
+        let t429: f64 = t157 + t428;
+        let t430: f64 = -t429;
+        let t431: f64 = t62 * t430;
+        let t432: f64 = t81 * t431;
+        let t433: f64 = t427 - t432;
+        let t434: f64 = t170 * t433;
+        let t435: f64 = -t434;
+        let t436: f64 = t116 * t425;
+        let t437: f64 = t131 + t421;
+        let t438: f64 = t62 * t437;
+        let t439: f64 = t436 + t438;
+        let t440: f64 = t381 * t439;
+        let t441: f64 = -t440;
+        let t442: f64 = t81 * t430;
+        let t443: f64 = t105 * t437;
+        let t444: f64 = t442 + t443;
+        let t445: f64 = t393 * t444;
+        let t446: f64 = -t445;
+        let t447: f64 = t111 * t206;
+        let t448: f64 = t54 * t229;
+        let t449: f64 = t447 - t448;
+        let t450: f64 = t54 * t195;
+        let t451: f64 = t111 * t182;
+        let t452: f64 = t346 + t451;
+        let t453: f64 = t452 - t450;
+        let t454: f64 = t107 * t453;
+        let t455: f64 = t54 * t176;
+        let t456: f64 = t331 + t454;
+        let t457: f64 = t456 * 2.0;
+        let t458: f64 = t455 + t457;
+        let t459: f64 = t182 * t458;
+        let t460: f64 = t49 * t453;
+        let t461: f64 = t111 * t176;
+        let t462: f64 = t326 - t460;
+        let t463: f64 = t462 * 2.0;
+        let t464: f64 = t463 - t461;
+        let t465: f64 = t195 * t464;
+        let t466: f64 = t459 - t465;
+        let t467: f64 = t449 + t466;
+        let t468: f64 = t152 + t467;
+        let t469: f64 = t49 * t468;
+        let t470: f64 = t142 + t469;
+        let t471: f64 = -t470;
+        let t472: f64 = t105 * t471;
+        let t473: f64 = t116 * t472;
+        let t474: f64 = t158 + t467;
+        let t475: f64 = t62 * t474;
+        let t476: f64 = t81 * t475;
+        let t477: f64 = t473 + t476;
+        let t478: f64 = t170 * t477;
+        let t479: f64 = -t478;
+        let t480: f64 = t116 * t471;
+        let t481: f64 = t107 * t468;
+        let t482: f64 = t130 + t481;
+        let t483: f64 = t62 * t482;
+        let t484: f64 = t480 - t483;
+        let t485: f64 = t381 * t484;
+        let t486: f64 = -t485;
+        let t487: f64 = t81 * t474;
+        let t488: f64 = t105 * t482;
+        let t489: f64 = t487 + t488;
+        let t490: f64 = t393 * t489;
+        let t491: f64 = t115 * t206;
+        let t492: f64 = t61 * t229;
+        let t493: f64 = t491 - t492;
+        let t494: f64 = t61 * t195;
+        let t495: f64 = t115 * t182;
+        let t496: f64 = t346 + t495;
+        let t497: f64 = t496 - t494;
+        let t498: f64 = t107 * t497;
+        let t499: f64 = t61 * t176;
+        let t500: f64 = t331 + t498;
+        let t501: f64 = t500 * 2.0;
+        let t502: f64 = t499 + t501;
+        let t503: f64 = t182 * t502;
+        let t504: f64 = t49 * t497;
+        let t505: f64 = t115 * t176;
+        let t506: f64 = t326 - t504;
+        let t507: f64 = t506 * 2.0;
+        let t508: f64 = t507 - t505;
+        let t509: f64 = t195 * t508;
+        let t510: f64 = t503 - t509;
+        let t511: f64 = t493 + t510;
+        let t512: f64 = t152 + t511;
+        let t513: f64 = t49 * t512;
+        let t514: f64 = t142 + t513;
+        let t515: f64 = -t514;
+        let t516: f64 = t105 * t515;
+        let t517: f64 = t116 * t516;
+        let t518: f64 = t158 + t511;
+        let t519: f64 = t62 * t518;
+        let t520: f64 = t81 * t519;
+        let t521: f64 = t517 + t520;
+        let t522: f64 = t170 * t521;
+        let t523: f64 = -t522;
+        let t524: f64 = t116 * t515;
+        let t525: f64 = t107 * t512;
+        let t526: f64 = t130 + t525;
+        let t527: f64 = t62 * t526;
+        let t528: f64 = t524 - t527;
+        let t529: f64 = t381 * t528;
+        let t530: f64 = -t529;
+        let t531: f64 = t81 * t518;
+        let t532: f64 = t105 * t526;
+        let t533: f64 = t531 + t532;
+        let t534: f64 = t393 * t533;
+        let t535: f64 = t100 * t229;
+        let t536: f64 = t73 * t190;
+        let t537: f64 = t535 - t536;
+        let t538: f64 = t100 * t195;
+        let t539: f64 = t73 * t176;
+        let t540: f64 = t326 + t538;
+        let t541: f64 = t540 - t539;
+        let t542: f64 = t97 * t541;
+        let t543: f64 = t73 * t182;
+        let t544: f64 = t346 + t542;
+        let t545: f64 = t544 * 2.0;
+        let t546: f64 = t543 + t545;
+        let t547: f64 = t195 * t546;
+        let t548: f64 = t70 * t541;
+        let t549: f64 = t100 * t182;
+        let t550: f64 = t331 - t548;
+        let t551: f64 = t550 * 2.0;
+        let t552: f64 = t551 - t549;
+        let t553: f64 = t176 * t552;
+        let t554: f64 = t547 - t553;
+        let t555: f64 = t537 + t554;
+        let t556: f64 = t143 + t555;
+        let t557: f64 = t105 * t556;
+        let t558: f64 = t116 * t557;
+        let t559: f64 = t137 + t555;
+        let t560: f64 = t97 * t559;
+        let t561: f64 = t560 - t157;
+        let t562: f64 = t62 * t561;
+        let t563: f64 = t81 * t562;
+        let t564: f64 = t558 + t563;
+        let t565: f64 = t170 * t564;
+        let t566: f64 = t116 * t556;
+        let t567: f64 = t70 * t559;
+        let t568: f64 = t130 - t567;
+        let t569: f64 = t62 * t568;
+        let t570: f64 = t566 + t569;
+        let t571: f64 = t381 * t570;
+        let t572: f64 = t81 * t561;
+        let t573: f64 = t105 * t568;
+        let t574: f64 = t572 - t573;
+        let t575: f64 = t393 * t574;
+        let t576: f64 = -t575;
+        let t577: f64 = t104 * t229;
+        let t578: f64 = t80 * t190;
+        let t579: f64 = t577 - t578;
+        let t580: f64 = t104 * t195;
+        let t581: f64 = t80 * t176;
+        let t582: f64 = t326 + t580;
+        let t583: f64 = t582 - t581;
+        let t584: f64 = t97 * t583;
+        let t585: f64 = t80 * t182;
+        let t586: f64 = t346 + t584;
+        let t587: f64 = t586 * 2.0;
+        let t588: f64 = t585 + t587;
+        let t589: f64 = t195 * t588;
+        let t590: f64 = t70 * t583;
+        let t591: f64 = t104 * t182;
+        let t592: f64 = t331 - t590;
+        let t593: f64 = t592 * 2.0;
+        let t594: f64 = t593 - t591;
+        let t595: f64 = t176 * t594;
+        let t596: f64 = t589 - t595;
+        let t597: f64 = t579 + t596;
+        let t598: f64 = t143 + t597;
+        let t599: f64 = t105 * t598;
+        let t600: f64 = t116 * t599;
+        let t601: f64 = t137 + t597;
+        let t602: f64 = t97 * t601;
+        let t603: f64 = t602 - t157;
+        let t604: f64 = t62 * t603;
+        let t605: f64 = t81 * t604;
+        let t606: f64 = t600 + t605;
+        let t607: f64 = t170 * t606;
+        let t608: f64 = t116 * t598;
+        let t609: f64 = t70 * t601;
+        let t610: f64 = t130 - t609;
+        let t611: f64 = t62 * t610;
+        let t612: f64 = t608 + t611;
+        let t613: f64 = t381 * t612;
+        let t614: f64 = t81 * t603;
+        let t615: f64 = t105 * t610;
+        let t616: f64 = t614 - t615;
+        let t617: f64 = t393 * t616;
+        let t618: f64 = -t617;
+        let t619: f64 = t5 * t335;
+        let t620: f64 = ((t619 > 0.0) as i8 - (t619 < 0.0) as i8) as f64;
+        let t621: f64 = t120 * t169;
+        let t622: f64 = t131 - t621;
+        let t623: f64 = t4 * t622;
+        let t624: f64 = t120 * t220;
+        let t625: f64 = t184 - t624;
+        let t626: f64 = t4 * t625;
+        let t627: f64 = -t626;
+        let t628: f64 = t120 * t249;
+        let t629: f64 = t223 + t628;
+        let t630: f64 = t4 * t629;
+        let t631: f64 = -t630;
+        let t632: f64 = t120 * t270;
+        let t633: f64 = t251 + t632;
+        let t634: f64 = t4 * t633;
+        let t635: f64 = -t634;
+        let t636: f64 = -t280;
+        let t637: f64 = -t297;
+        let t638: f64 = -t313;
+        let t639: f64 = -t318;
+        let t640: f64 = t5 * t422;
+        let t641: f64 = t640 - gravity_x;
+        let t642: f64 = t374 + t434;
+        let t643: f64 = t387 + t440;
+        let t644: f64 = t399 + t445;
+        let t645: f64 = -t490;
+        let t646: f64 = -t534;
+        let t647: f64 = -t565;
+        let t648: f64 = -t571;
+        let t649: f64 = -t607;
+        let t650: f64 = -t613;
+        let t651: f64 = t5 * t407;
+        let t652: f64 = ((t651 > 0.0) as i8 - (t651 < 0.0) as i8) as f64;
+        let t653: f64 = t117 * t165;
+        let t654: f64 = t81 * t161;
+        let t655: f64 = t105 * t145;
+        let t656: f64 = t654 + t655;
+        let t657: f64 = t41 * t656;
+        let t658: f64 = t657 - t653;
+        let t659: f64 = t25 * t120;
+        let t660: f64 = t658 * t659;
+        let t661: f64 = t117 * t216;
+        let t662: f64 = t81 * t211;
+        let t663: f64 = t105 * t200;
+        let t664: f64 = t662 - t663;
+        let t665: f64 = t41 * t664;
+        let t666: f64 = t661 + t665;
+        let t667: f64 = t659 * t666;
+        let t668: f64 = -t667;
+        let t669: f64 = t117 * t245;
+        let t670: f64 = t81 * t240;
+        let t671: f64 = t105 * t233;
+        let t672: f64 = t670 - t671;
+        let t673: f64 = t41 * t672;
+        let t674: f64 = t673 - t669;
+        let t675: f64 = t659 * t674;
+        let t676: f64 = t117 * t266;
+        let t677: f64 = t81 * t262;
+        let t678: f64 = t105 * t256;
+        let t679: f64 = t677 - t678;
+        let t680: f64 = t41 * t679;
+        let t681: f64 = t676 + t680;
+        let t682: f64 = t659 * t681;
+        let t683: f64 = t41 * t229;
+        let t684: f64 = t81 * t683;
+        let t685: f64 = t41 * t196;
+        let t686: f64 = t105 * t685;
+        let t687: f64 = t94 * t207;
+        let t688: f64 = t105 * t687;
+        let t689: f64 = t684 + t688;
+        let t690: f64 = t689 - t686;
+        let t691: f64 = t659 * t690;
+        let t692: f64 = t117 * t283;
+        let t693: f64 = t81 * t197;
+        let t694: f64 = t105 * t231;
+        let t695: f64 = t693 + t694;
+        let t696: f64 = t41 * t695;
+        let t697: f64 = t692 + t696;
+        let t698: f64 = t659 * t697;
+        let t699: f64 = -t698;
+        let t700: f64 = t117 * t258;
+        let t701: f64 = t81 * t208;
+        let t702: f64 = t105 * t290;
+        let t703: f64 = t701 - t702;
+        let t704: f64 = t41 * t703;
+        let t705: f64 = t700 + t704;
+        let t706: f64 = t659 * t705;
+        let t707: f64 = t41 * t230;
+        let t708: f64 = t81 * t707;
+        let t709: f64 = t41 * t190;
+        let t710: f64 = t105 * t709;
+        let t711: f64 = t708 + t710;
+        let t712: f64 = t688 - t711;
+        let t713: f64 = t659 * t712;
+        let t714: f64 = -t713;
+        let t715: f64 = t117 * t251;
+        let t716: f64 = t81 * t307;
+        let t717: f64 = t105 * t223;
+        let t718: f64 = t716 - t717;
+        let t719: f64 = t41 * t718;
+        let t720: f64 = t719 - t715;
+        let t721: f64 = t659 * t720;
+        let t722: f64 = t94 * t206;
+        let t723: f64 = t105 * t722;
+        let t724: f64 = t686 + t723;
+        let t725: f64 = t724 - t708;
+        let t726: f64 = t659 * t725;
+        let t727: f64 = t41 * t360;
+        let t728: f64 = t94 * t365;
+        let t729: f64 = t727 - t728;
+        let t730: f64 = t25 * t105;
+        let t731: f64 = t120 * t730;
+        let t732: f64 = t729 * t731;
+        let t733: f64 = -t732;
+        let t734: f64 = t81 * t727;
+        let t735: f64 = t94 * t377;
+        let t736: f64 = t105 * t735;
+        let t737: f64 = t734 + t736;
+        let t738: f64 = t659 * t737;
+        let t739: f64 = -t738;
+        let t740: f64 = t25 * t41;
+        let t741: f64 = t120 * t740;
+        let t742: f64 = t391 * t741;
+        let t743: f64 = -t742;
+        let t744: f64 = t41 * t425;
+        let t745: f64 = t94 * t430;
+        let t746: f64 = t744 - t745;
+        let t747: f64 = t731 * t746;
+        let t748: f64 = -t747;
+        let t749: f64 = t81 * t744;
+        let t750: f64 = t94 * t437;
+        let t751: f64 = t105 * t750;
+        let t752: f64 = t749 + t751;
+        let t753: f64 = t659 * t752;
+        let t754: f64 = -t753;
+        let t755: f64 = t444 * t741;
+        let t756: f64 = -t755;
+        let t757: f64 = t44 * t468;
+        let t758: f64 = gravity_y + t757;
         let t759: f64 = -t758;
-        let t760: f64 = t33 * t38;
-        let t761: f64 = t105 * t760;
-        let t762: f64 = t416 * t761;
-        let t763: f64 = -t762;
-        let t764: f64 = t33 * t450;
-        let t765: f64 = t84 * t454;
+        let t760: f64 = t41 * t471;
+        let t761: f64 = t94 * t474;
+        let t762: f64 = t760 + t761;
+        let t763: f64 = t731 * t762;
+        let t764: f64 = t25 * t208;
+        let t765: f64 = t12 * t184;
         let t766: f64 = t764 - t765;
-        let t767: f64 = t752 * t766;
-        let t768: f64 = t450 * t754;
-        let t769: f64 = t459 * t671;
-        let t770: f64 = t768 - t769;
-        let t771: f64 = t678 * t770;
-        let t772: f64 = -t771;
-        let t773: f64 = t466 * t761;
-        let t774: f64 = -t773;
-        let t775: f64 = t39 * t492;
-        let t776: f64 = gravity_y + t775;
-        let t777: f64 = -t776;
-        let t778: f64 = t33 * t495;
-        let t779: f64 = t84 * t497;
-        let t780: f64 = t778 + t779;
-        let t781: f64 = t752 * t780;
-        let t782: f64 = t38 * t223;
-        let t783: f64 = t10 * t195;
-        let t784: f64 = t782 - t783;
-        let t785: f64 = t44 * t210;
-        let t786: f64 = t784 - t785;
-        let t787: f64 = t781 + t786;
-        let t788: f64 = t495 * t754;
-        let t789: f64 = t503 * t671;
-        let t790: f64 = t788 + t789;
-        let t791: f64 = t678 * t790;
-        let t792: f64 = t44 * t247;
-        let t793: f64 = t10 * t238;
-        let t794: f64 = t38 * t252;
-        let t795: f64 = t793 + t794;
-        let t796: f64 = t792 + t795;
-        let t797: f64 = t791 + t796;
-        let t798: f64 = -t797;
-        let t799: f64 = t510 * t761;
-        let t800: f64 = t44 * t267;
-        let t801: f64 = t10 * t269;
-        let t802: f64 = t800 - t801;
-        let t803: f64 = t38 * t275;
-        let t804: f64 = t802 - t803;
-        let t805: f64 = t799 + t804;
-        let t806: f64 = t33 * t536;
-        let t807: f64 = t84 * t538;
-        let t808: f64 = t806 + t807;
-        let t809: f64 = t752 * t808;
-        let t810: f64 = t536 * t754;
-        let t811: f64 = t544 * t671;
-        let t812: f64 = t810 + t811;
-        let t813: f64 = t678 * t812;
-        let t814: f64 = -t813;
-        let t815: f64 = t551 * t761;
-        let t816: f64 = t33 * t576;
-        let t817: f64 = t84 * t580;
-        let t818: f64 = t816 + t817;
-        let t819: f64 = t752 * t818;
-        let t820: f64 = -t819;
-        let t821: f64 = t576 * t754;
-        let t822: f64 = t587 * t671;
-        let t823: f64 = t821 - t822;
-        let t824: f64 = t678 * t823;
-        let t825: f64 = t593 * t761;
-        let t826: f64 = -t825;
-        let t827: f64 = t33 * t617;
-        let t828: f64 = t84 * t621;
-        let t829: f64 = t827 + t828;
-        let t830: f64 = t752 * t829;
-        let t831: f64 = -t830;
-        let t832: f64 = t617 * t754;
-        let t833: f64 = t628 * t671;
-        let t834: f64 = t832 - t833;
-        let t835: f64 = t678 * t834;
-        let t836: f64 = t634 * t761;
-        let t837: f64 = -t836;
-        let t838: f64 = t39 * t478;
-        let t839: f64 = -t838;
-        let t840: f64 = ((t839 > 0.0) as i8 - (t839 < 0.0) as i8) as f64;
-        let t841: f64 = t105 * t677;
-        let t842: f64 = t160 + t841;
-        let t843: f64 = t38 * t842;
-        let t844: f64 = -t843;
-        let t845: f64 = t105 * t685;
-        let t846: f64 = t223 + t845;
-        let t847: f64 = t38 * t846;
-        let t848: f64 = t105 * t693;
-        let t849: f64 = t252 + t848;
-        let t850: f64 = t38 * t849;
-        let t851: f64 = -t850;
-        let t852: f64 = t105 * t700;
-        let t853: f64 = t275 + t852;
-        let t854: f64 = t38 * t853;
-        let t855: f64 = -t854;
-        let t856: f64 = -t711;
-        let t857: f64 = -t726;
-        let t858: f64 = -t734;
-        let t859: f64 = -t741;
-        let t860: f64 = -t753;
-        let t861: f64 = -t767;
-        let t862: f64 = -t781;
-        let t863: f64 = -t799;
-        let t864: f64 = t39 * t533;
-        let t865: f64 = gravity_y + t864;
-        let t866: f64 = -t865;
-        let t867: f64 = t786 - t809;
-        let t868: f64 = t813 - t796;
-        let t869: f64 = t804 - t815;
-        let t870: f64 = -t824;
-        let t871: f64 = -t835;
-        let t872: f64 = t39 * t519;
+        let t767: f64 = t45 * t197;
+        let t768: f64 = t766 - t767;
+        let t769: f64 = t768 - t763;
+        let t770: f64 = t81 * t760;
+        let t771: f64 = t94 * t482;
+        let t772: f64 = t105 * t771;
+        let t773: f64 = t770 - t772;
+        let t774: f64 = t659 * t773;
+        let t775: f64 = t45 * t231;
+        let t776: f64 = t12 * t223;
+        let t777: f64 = t25 * t236;
+        let t778: f64 = t776 + t777;
+        let t779: f64 = t775 + t778;
+        let t780: f64 = t774 + t779;
+        let t781: f64 = -t780;
+        let t782: f64 = t489 * t741;
+        let t783: f64 = t45 * t253;
+        let t784: f64 = t12 * t251;
+        let t785: f64 = t25 * t258;
+        let t786: f64 = t784 + t785;
+        let t787: f64 = t783 - t786;
+        let t788: f64 = t782 + t787;
+        let t789: f64 = t41 * t515;
+        let t790: f64 = t94 * t518;
+        let t791: f64 = t789 + t790;
+        let t792: f64 = t731 * t791;
+        let t793: f64 = -t792;
+        let t794: f64 = t81 * t789;
+        let t795: f64 = t94 * t526;
+        let t796: f64 = t105 * t795;
+        let t797: f64 = t794 - t796;
+        let t798: f64 = t659 * t797;
+        let t799: f64 = -t798;
+        let t800: f64 = t533 * t741;
+        let t801: f64 = t41 * t556;
+        let t802: f64 = t94 * t561;
+        let t803: f64 = t801 + t802;
+        let t804: f64 = t731 * t803;
+        let t805: f64 = t81 * t801;
+        let t806: f64 = t94 * t568;
+        let t807: f64 = t105 * t806;
+        let t808: f64 = t805 + t807;
+        let t809: f64 = t659 * t808;
+        let t810: f64 = t574 * t741;
+        let t811: f64 = -t810;
+        let t812: f64 = t41 * t598;
+        let t813: f64 = t94 * t603;
+        let t814: f64 = t812 + t813;
+        let t815: f64 = t731 * t814;
+        let t816: f64 = t81 * t812;
+        let t817: f64 = t94 * t610;
+        let t818: f64 = t105 * t817;
+        let t819: f64 = t816 + t818;
+        let t820: f64 = t659 * t819;
+        let t821: f64 = t616 * t741;
+        let t822: f64 = -t821;
+        let t823: f64 = t44 * t453;
+        let t824: f64 = -t823;
+        let t825: f64 = ((t824 > 0.0) as i8 - (t824 < 0.0) as i8) as f64;
+        let t826: f64 = t120 * t658;
+        let t827: f64 = t158 + t826;
+        let t828: f64 = t25 * t827;
+        let t829: f64 = -t828;
+        let t830: f64 = t120 * t666;
+        let t831: f64 = t208 + t830;
+        let t832: f64 = t25 * t831;
+        let t833: f64 = t120 * t674;
+        let t834: f64 = t236 + t833;
+        let t835: f64 = t25 * t834;
+        let t836: f64 = -t835;
+        let t837: f64 = t120 * t681;
+        let t838: f64 = t258 + t837;
+        let t839: f64 = t25 * t838;
+        let t840: f64 = -t839;
+        let t841: f64 = -t691;
+        let t842: f64 = -t706;
+        let t843: f64 = -t721;
+        let t844: f64 = -t726;
+        let t845: f64 = -t782;
+        let t846: f64 = t44 * t512;
+        let t847: f64 = gravity_y + t846;
+        let t848: f64 = -t847;
+        let t849: f64 = t768 + t792;
+        let t850: f64 = t798 - t779;
+        let t851: f64 = t787 - t800;
+        let t852: f64 = -t804;
+        let t853: f64 = -t809;
+        let t854: f64 = -t815;
+        let t855: f64 = -t820;
+        let t856: f64 = t44 * t497;
+        let t857: f64 = -t856;
+        let t858: f64 = ((t857 > 0.0) as i8 - (t857 < 0.0) as i8) as f64;
+        let t859: f64 = t82 * t145;
+        let t860: f64 = t94 * t167;
+        let t861: f64 = t859 + t860;
+        let t862: f64 = t51 * t120;
+        let t863: f64 = t861 * t862;
+        let t864: f64 = -t863;
+        let t865: f64 = t82 * t200;
+        let t866: f64 = t94 * t218;
+        let t867: f64 = t866 - t865;
+        let t868: f64 = t862 * t867;
+        let t869: f64 = t82 * t233;
+        let t870: f64 = t94 * t247;
+        let t871: f64 = t870 - t869;
+        let t872: f64 = t862 * t871;
         let t873: f64 = -t872;
-        let t874: f64 = ((t873 > 0.0) as i8 - (t873 < 0.0) as i8) as f64;
-        let t875: f64 = t73 * t142;
-        let t876: f64 = t84 * t176;
-        let t877: f64 = t875 + t876;
-        let t878: f64 = t78 * t105;
-        let t879: f64 = t877 * t878;
-        let t880: f64 = -t879;
-        let t881: f64 = t73 * t213;
-        let t882: f64 = t84 * t233;
-        let t883: f64 = t882 - t881;
-        let t884: f64 = t878 * t883;
-        let t885: f64 = t73 * t249;
-        let t886: f64 = t84 * t263;
-        let t887: f64 = t886 - t885;
-        let t888: f64 = t878 * t887;
-        let t889: f64 = -t888;
-        let t890: f64 = t73 * t272;
-        let t891: f64 = t84 * t284;
-        let t892: f64 = t891 - t890;
-        let t893: f64 = t878 * t892;
-        let t894: f64 = -t893;
-        let t895: f64 = t84 * t245;
-        let t896: f64 = t93 * t895;
-        let t897: f64 = t54 * t704;
-        let t898: f64 = t54 * t706;
-        let t899: f64 = t193 * t898;
-        let t900: f64 = t896 + t897;
-        let t901: f64 = t900 - t899;
-        let t902: f64 = t878 * t901;
-        let t903: f64 = -t902;
-        let t904: f64 = t73 * t247;
-        let t905: f64 = t84 * t302;
-        let t906: f64 = t904 + t905;
-        let t907: f64 = t878 * t906;
-        let t908: f64 = t73 * t307;
-        let t909: f64 = t84 * t311;
-        let t910: f64 = t909 - t908;
-        let t911: f64 = t878 * t910;
-        let t912: f64 = -t911;
-        let t913: f64 = t54 * t727;
-        let t914: f64 = t84 * t186;
-        let t915: f64 = t93 * t914;
-        let t916: f64 = t193 * t915;
-        let t917: f64 = t913 + t916;
-        let t918: f64 = t897 - t917;
-        let t919: f64 = t878 * t918;
-        let t920: f64 = t73 * t238;
-        let t921: f64 = t84 * t328;
-        let t922: f64 = t921 - t920;
-        let t923: f64 = t878 * t922;
-        let t924: f64 = -t923;
-        let t925: f64 = t54 * t742;
-        let t926: f64 = t899 + t925;
-        let t927: f64 = t926 - t916;
-        let t928: f64 = t878 * t927;
-        let t929: f64 = -t928;
-        let t930: f64 = t54 * t78;
-        let t931: f64 = t105 * t930;
-        let t932: f64 = t750 * t931;
-        let t933: f64 = t78 * t84;
-        let t934: f64 = t105 * t933;
-        let t935: f64 = t404 * t934;
-        let t936: f64 = t102 * t390;
-        let t937: f64 = t73 * t402;
-        let t938: f64 = t936 + t937;
-        let t939: f64 = t878 * t938;
-        let t940: f64 = t766 * t931;
-        let t941: f64 = t461 * t934;
-        let t942: f64 = t102 * t454;
-        let t943: f64 = t73 * t459;
-        let t944: f64 = t942 + t943;
-        let t945: f64 = t878 * t944;
-        let t946: f64 = t780 * t931;
-        let t947: f64 = t505 * t934;
-        let t948: f64 = t102 * t497;
-        let t949: f64 = t73 * t503;
-        let t950: f64 = t948 + t949;
-        let t951: f64 = t878 * t950;
-        let t952: f64 = -t951;
-        let t953: f64 = t808 * t931;
-        let t954: f64 = t546 * t934;
-        let t955: f64 = t102 * t538;
-        let t956: f64 = t73 * t544;
-        let t957: f64 = t955 + t956;
-        let t958: f64 = t878 * t957;
-        let t959: f64 = -t958;
-        let t960: f64 = t62 * t578;
-        let t961: f64 = t960 - gravity_z;
-        let t962: f64 = t818 * t931;
-        let t963: f64 = t78 * t210;
-        let t964: f64 = t24 * t223;
-        let t965: f64 = t15 * t195;
-        let t966: f64 = t964 - t965;
-        let t967: f64 = t963 + t966;
-        let t968: f64 = t967 - t962;
-        let t969: f64 = t589 * t934;
-        let t970: f64 = t78 * t247;
-        let t971: f64 = t15 * t238;
-        let t972: f64 = t24 * t252;
-        let t973: f64 = t971 + t972;
-        let t974: f64 = t970 - t973;
-        let t975: f64 = t974 - t969;
-        let t976: f64 = t102 * t580;
-        let t977: f64 = t73 * t587;
-        let t978: f64 = t976 - t977;
-        let t979: f64 = t878 * t978;
-        let t980: f64 = t24 * t275;
-        let t981: f64 = t78 * t267;
-        let t982: f64 = t15 * t269;
-        let t983: f64 = t981 + t982;
-        let t984: f64 = t980 + t983;
-        let t985: f64 = t979 - t984;
-        let t986: f64 = t829 * t931;
-        let t987: f64 = -t986;
-        let t988: f64 = t630 * t934;
-        let t989: f64 = -t988;
-        let t990: f64 = t102 * t621;
-        let t991: f64 = t73 * t628;
-        let t992: f64 = t990 - t991;
-        let t993: f64 = t878 * t992;
-        let t994: f64 = t62 * t561;
-        let t995: f64 = ((t994 > 0.0) as i8 - (t994 < 0.0) as i8) as f64;
-        let t996: f64 = t105 * t877;
-        let t997: f64 = t140 + t996;
-        let t998: f64 = t78 * t997;
-        let t999: f64 = t105 * t883;
-        let t1000: f64 = t210 - t999;
-        let t1001: f64 = t78 * t1000;
-        let t1002: f64 = t105 * t887;
+        let t874: f64 = t82 * t256;
+        let t875: f64 = t94 * t268;
+        let t876: f64 = t875 - t874;
+        let t877: f64 = t862 * t876;
+        let t878: f64 = -t877;
+        let t879: f64 = t94 * t229;
+        let t880: f64 = t116 * t879;
+        let t881: f64 = t62 * t685;
+        let t882: f64 = t62 * t687;
+        let t883: f64 = t880 + t882;
+        let t884: f64 = t883 - t881;
+        let t885: f64 = t862 * t884;
+        let t886: f64 = -t885;
+        let t887: f64 = t82 * t231;
+        let t888: f64 = t94 * t285;
+        let t889: f64 = t887 + t888;
+        let t890: f64 = t862 * t889;
+        let t891: f64 = t82 * t290;
+        let t892: f64 = t94 * t294;
+        let t893: f64 = t892 - t891;
+        let t894: f64 = t862 * t893;
+        let t895: f64 = -t894;
+        let t896: f64 = t94 * t230;
+        let t897: f64 = t116 * t896;
+        let t898: f64 = t62 * t709;
+        let t899: f64 = t897 + t898;
+        let t900: f64 = t882 - t899;
+        let t901: f64 = t862 * t900;
+        let t902: f64 = t82 * t223;
+        let t903: f64 = t94 * t310;
+        let t904: f64 = t903 - t902;
+        let t905: f64 = t862 * t904;
+        let t906: f64 = -t905;
+        let t907: f64 = t62 * t722;
+        let t908: f64 = t881 + t907;
+        let t909: f64 = t908 - t897;
+        let t910: f64 = t862 * t909;
+        let t911: f64 = -t910;
+        let t912: f64 = t51 * t62;
+        let t913: f64 = t120 * t912;
+        let t914: f64 = t729 * t913;
+        let t915: f64 = t51 * t94;
+        let t916: f64 = t120 * t915;
+        let t917: f64 = t379 * t916;
+        let t918: f64 = t116 * t728;
+        let t919: f64 = t41 * t377;
+        let t920: f64 = t62 * t919;
+        let t921: f64 = t918 + t920;
+        let t922: f64 = t862 * t921;
+        let t923: f64 = t746 * t913;
+        let t924: f64 = t439 * t916;
+        let t925: f64 = t116 * t745;
+        let t926: f64 = t41 * t437;
+        let t927: f64 = t62 * t926;
+        let t928: f64 = t925 + t927;
+        let t929: f64 = t862 * t928;
+        let t930: f64 = t762 * t913;
+        let t931: f64 = t484 * t916;
+        let t932: f64 = t116 * t761;
+        let t933: f64 = t41 * t482;
+        let t934: f64 = t62 * t933;
+        let t935: f64 = t932 + t934;
+        let t936: f64 = t862 * t935;
+        let t937: f64 = -t936;
+        let t938: f64 = t791 * t913;
+        let t939: f64 = t528 * t916;
+        let t940: f64 = t116 * t790;
+        let t941: f64 = t41 * t526;
+        let t942: f64 = t62 * t941;
+        let t943: f64 = t940 + t942;
+        let t944: f64 = t862 * t943;
+        let t945: f64 = -t944;
+        let t946: f64 = t66 * t559;
+        let t947: f64 = t946 - gravity_z;
+        let t948: f64 = t803 * t913;
+        let t949: f64 = t51 * t197;
+        let t950: f64 = t30 * t208;
+        let t951: f64 = t17 * t184;
+        let t952: f64 = t950 - t951;
+        let t953: f64 = t949 + t952;
+        let t954: f64 = t953 - t948;
+        let t955: f64 = t570 * t916;
+        let t956: f64 = t51 * t231;
+        let t957: f64 = t17 * t223;
+        let t958: f64 = t30 * t236;
+        let t959: f64 = t957 + t958;
+        let t960: f64 = t956 - t959;
+        let t961: f64 = t960 - t955;
+        let t962: f64 = t116 * t802;
+        let t963: f64 = t41 * t568;
+        let t964: f64 = t62 * t963;
+        let t965: f64 = t962 - t964;
+        let t966: f64 = t862 * t965;
+        let t967: f64 = t51 * t253;
+        let t968: f64 = t17 * t251;
+        let t969: f64 = t30 * t258;
+        let t970: f64 = t968 + t969;
+        let t971: f64 = t967 + t970;
+        let t972: f64 = t966 - t971;
+        let t973: f64 = t814 * t913;
+        let t974: f64 = -t973;
+        let t975: f64 = t612 * t916;
+        let t976: f64 = -t975;
+        let t977: f64 = t116 * t813;
+        let t978: f64 = t41 * t610;
+        let t979: f64 = t62 * t978;
+        let t980: f64 = t977 - t979;
+        let t981: f64 = t862 * t980;
+        let t982: f64 = t66 * t541;
+        let t983: f64 = ((t982 > 0.0) as i8 - (t982 < 0.0) as i8) as f64;
+        let t984: f64 = t120 * t861;
+        let t985: f64 = t143 + t984;
+        let t986: f64 = t51 * t985;
+        let t987: f64 = t120 * t867;
+        let t988: f64 = t197 - t987;
+        let t989: f64 = t51 * t988;
+        let t990: f64 = t120 * t871;
+        let t991: f64 = t231 + t990;
+        let t992: f64 = t51 * t991;
+        let t993: f64 = t120 * t876;
+        let t994: f64 = t253 - t993;
+        let t995: f64 = t51 * t994;
+        let t996: f64 = -t995;
+        let t997: f64 = -t890;
+        let t998: f64 = -t901;
+        let t999: f64 = -t914;
+        let t1000: f64 = -t917;
+        let t1001: f64 = -t922;
+        let t1002: f64 = -t923;
         (
-            t38,
-            t62,
-            t78,
-            t85,
-            t105,
-            t180,
-            t237,
-            t247,
-            t266,
-            t267,
-            t287,
+            t4,
+            t25,
+            t51,
+            t66,
+            t171,
+            t222,
+            t250,
+            t271,
+            t280,
+            t288,
+            t289,
             t297,
+            t304,
             t305,
-            t306,
-            t314,
-            t322,
-            t323,
-            t331,
-            t336,
-            t337,
-            t383,
+            t313,
+            t318,
+            t357,
+            t369,
+            t375,
+            t382,
+            t388,
+            t394,
             t400,
-            t407,
-            t413,
-            t419,
-            t425,
-            t457,
-            t463,
-            t468,
-            t500,
-            t506,
-            t507,
-            t511,
-            t541,
-            t547,
-            t548,
-            t552,
+            t435,
+            t441,
+            t446,
+            t478,
+            t479,
+            t485,
+            t486,
+            t490,
+            t522,
+            t523,
+            t529,
+            t530,
+            t534,
+            t565,
+            t571,
+            t575,
+            t576,
             t583,
-            t584,
-            t590,
-            t594,
-            t595,
-            t602,
+            t601,
+            t607,
+            t613,
+            t617,
+            t618,
             t619,
-            t624,
-            t625,
+            t620,
+            t623,
+            t627,
             t631,
             t635,
             t636,
             t637,
             t638,
+            t639,
             t641,
+            t642,
+            t643,
+            t644,
             t645,
+            t646,
+            t647,
+            t648,
             t649,
-            t653,
-            t654,
-            t655,
-            t656,
-            t657,
-            t659,
+            t650,
+            t651,
+            t652,
             t660,
-            t661,
-            t662,
-            t663,
-            t664,
-            t665,
-            t666,
-            t667,
             t668,
-            t669,
-            t670,
-            t679,
-            t687,
-            t694,
-            t701,
-            t711,
-            t718,
-            t719,
+            t675,
+            t682,
+            t691,
+            t698,
+            t699,
+            t706,
+            t713,
+            t714,
+            t721,
             t726,
-            t734,
-            t741,
-            t746,
+            t732,
+            t733,
+            t738,
+            t739,
+            t742,
+            t743,
             t747,
+            t748,
             t753,
-            t758,
+            t754,
+            t755,
+            t756,
             t759,
-            t762,
             t763,
-            t767,
-            t771,
-            t772,
-            t773,
+            t769,
             t774,
-            t777,
-            t787,
-            t791,
-            t798,
-            t805,
+            t781,
+            t788,
+            t793,
+            t799,
+            t800,
+            t804,
             t809,
-            t814,
+            t810,
+            t811,
             t815,
-            t819,
             t820,
+            t821,
+            t822,
             t824,
             t825,
-            t826,
-            t830,
-            t831,
-            t835,
+            t829,
+            t832,
             t836,
-            t837,
-            t839,
             t840,
+            t841,
+            t842,
+            t843,
             t844,
-            t847,
+            t845,
+            t848,
+            t849,
+            t850,
             t851,
+            t852,
+            t853,
+            t854,
             t855,
-            t856,
             t857,
             t858,
-            t859,
-            t860,
-            t861,
-            t862,
-            t863,
-            t866,
-            t867,
+            t864,
             t868,
-            t869,
-            t870,
-            t871,
             t873,
-            t874,
-            t880,
-            t884,
-            t889,
-            t892,
+            t878,
+            t885,
+            t886,
+            t890,
             t894,
-            t902,
-            t903,
-            t907,
+            t895,
+            t901,
+            t905,
+            t906,
+            t910,
             t911,
-            t912,
-            t919,
+            t914,
+            t917,
+            t922,
             t923,
             t924,
-            t928,
             t929,
-            t932,
-            t935,
+            t930,
+            t931,
+            t936,
+            t937,
+            t938,
             t939,
-            t940,
-            t941,
+            t944,
             t945,
-            t946,
             t947,
-            t951,
-            t952,
+            t948,
             t953,
             t954,
-            t958,
-            t959,
+            t955,
+            t960,
             t961,
-            t962,
-            t967,
-            t968,
-            t969,
+            t966,
+            t971,
+            t972,
+            t973,
             t974,
             t975,
-            t979,
-            t984,
-            t985,
+            t976,
+            t981,
+            t982,
+            t983,
             t986,
-            t987,
-            t988,
             t989,
-            t993,
-            t994,
-            t995,
+            t992,
+            t996,
+            t997,
             t998,
+            t999,
+            t1000,
             t1001,
             t1002,
         )
     };
     let (
+        t1003,
         t1004,
+        t1005,
+        t1006,
+        t1007,
         t1008,
         t1009,
-        t1010,
         t1011,
         t1012,
         t1013,
-        t1014,
         t1015,
         t1016,
         t1017,
-        t1018,
-        t1019,
-        t1020,
-        t1021,
-        t1023,
-        t1024,
-        t1025,
-        t1027,
-        t1028,
-        t1029,
     ) = {
-        let t1003: f64 = t247 + t1002;
-        let t1004: f64 = t78 * t1003;
-        let t1005: f64 = t105 * t892;
-        let t1006: f64 = t267 - t1005;
-        let t1007: f64 = t78 * t1006;
-        let t1008: f64 = -t1007;
-        let t1009: f64 = -t907;
-        let t1010: f64 = -t919;
-        let t1011: f64 = -t932;
-        let t1012: f64 = -t935;
-        let t1013: f64 = -t939;
-        let t1014: f64 = -t940;
-        let t1015: f64 = -t941;
-        let t1016: f64 = -t945;
-        let t1017: f64 = -t946;
-        let t1018: f64 = -t947;
-        let t1019: f64 = -t953;
-        let t1020: f64 = -t954;
-        let t1021: f64 = -t979;
-        let t1022: f64 = t62 * t619;
-        let t1023: f64 = t1022 - gravity_z;
-        let t1024: f64 = t967 + t986;
-        let t1025: f64 = t974 + t988;
-        let t1026: f64 = t984 + t993;
-        let t1027: f64 = -t1026;
-        let t1028: f64 = t62 * t602;
-        let t1029: f64 = ((t1028 > 0.0) as i8 - (t1028 < 0.0) as i8) as f64;
+        let t1003: f64 = -t924;
+        let t1004: f64 = -t929;
+        let t1005: f64 = -t930;
+        let t1006: f64 = -t931;
+        let t1007: f64 = -t938;
+        let t1008: f64 = -t939;
+        let t1009: f64 = -t966;
+        let t1010: f64 = t66 * t601;
+        let t1011: f64 = t1010 - gravity_z;
+        let t1012: f64 = t953 + t973;
+        let t1013: f64 = t960 + t975;
+        let t1014: f64 = t971 + t981;
+        let t1015: f64 = -t1014;
+        let t1016: f64 = t66 * t583;
+        let t1017: f64 = ((t1016 > 0.0) as i8 - (t1016 < 0.0) as i8) as f64;
         (
+            t1003,
             t1004,
+            t1005,
+            t1006,
+            t1007,
             t1008,
             t1009,
-            t1010,
             t1011,
             t1012,
             t1013,
-            t1014,
             t1015,
             t1016,
             t1017,
-            t1018,
-            t1019,
-            t1020,
-            t1021,
-            t1023,
-            t1024,
-            t1025,
-            t1027,
-            t1028,
-            t1029,
         )
     };
     (
         [
             [
-                t180,
-                t237,
-                t266,
-                t287,
+                t171,
+                t222,
+                t250,
+                t271,
+                t280,
+                t289,
                 t297,
-                t306,
-                t314,
-                t323,
-                t331,
-                t337,
-                t383,
-                t400,
-                t413,
-                t425,
-                0.0,
-                t457,
-                t463,
-                t468,
-                0.0,
-                t500,
-                t507,
-                t511,
-                0.0,
-                t541,
-                t548,
-                t552,
-                0.0,
-                t584,
-                t590,
-                t595,
-                0.0,
-                t625,
-                t631,
-                t636,
-                t637,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t638,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                t641,
-                t645,
-                t649,
-                t653,
-                t654,
                 t305,
-                t655,
-                t322,
-                t656,
-                t336,
+                t313,
+                t318,
+                t357,
+                t375,
+                t388,
+                t400,
                 0.0,
-                t657,
-                t407,
-                t419,
-                t659,
-                t660,
-                t661,
-                t662,
+                t435,
+                t441,
+                t446,
                 0.0,
-                t663,
-                t506,
-                t664,
+                t479,
+                t486,
+                t490,
                 0.0,
-                t665,
-                t547,
-                t666,
+                t523,
+                t530,
+                t534,
                 0.0,
-                t583,
-                t667,
-                t594,
+                t565,
+                t571,
+                t576,
                 0.0,
-                t624,
-                t668,
+                t607,
+                t613,
+                t618,
+                t619,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t620,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                t623,
+                t627,
+                t631,
                 t635,
+                t636,
+                t288,
+                t637,
+                t304,
+                t638,
+                t639,
                 0.0,
-                t669,
+                t369,
+                t382,
+                t394,
+                t641,
+                t642,
+                t643,
+                t644,
+                0.0,
+                t478,
+                t485,
+                t645,
+                0.0,
+                t522,
+                t529,
+                t646,
+                0.0,
+                t647,
+                t648,
+                t575,
+                0.0,
+                t649,
+                t650,
+                t617,
+                0.0,
+                t651,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t670,
+                t652,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
             ],
             [
-                t679,
-                t687,
-                t694,
-                t701,
-                t711,
-                t719,
+                t660,
+                t668,
+                t675,
+                t682,
+                t691,
+                t699,
+                t706,
+                t714,
+                t721,
                 t726,
-                t734,
-                t741,
-                t747,
                 0.0,
-                t753,
+                t733,
+                t739,
+                t743,
+                0.0,
+                t748,
+                t754,
+                t756,
                 t759,
-                t763,
+                t769,
+                t781,
+                t788,
                 0.0,
-                t767,
-                t772,
-                t774,
-                t777,
-                t787,
-                t798,
-                t805,
+                t793,
+                t799,
+                t800,
                 0.0,
+                t804,
                 t809,
-                t814,
+                t811,
+                0.0,
                 t815,
-                0.0,
                 t820,
+                t822,
+                0.0,
+                0.0,
                 t824,
-                t826,
-                0.0,
-                t831,
-                t835,
-                t837,
-                0.0,
-                0.0,
-                t839,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t840,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                t844,
-                t847,
-                t851,
-                t855,
-                t856,
-                t718,
-                t857,
-                t858,
-                t859,
-                t746,
-                0.0,
-                t860,
-                t758,
-                t762,
-                0.0,
-                t861,
-                t771,
-                t773,
-                0.0,
-                t862,
-                t791,
-                t863,
-                t866,
-                t867,
-                t868,
-                t869,
-                0.0,
-                t819,
-                t870,
                 t825,
                 0.0,
-                t830,
-                t871,
-                t836,
-                0.0,
-                0.0,
-                0.0,
-                t873,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t874,
                 0.0,
                 0.0,
             ],
             [
-                t880,
-                t884,
-                t889,
-                t894,
-                t903,
-                t907,
-                t912,
-                t919,
+                t829,
+                t832,
+                t836,
+                t840,
+                t841,
+                t698,
+                t842,
+                t713,
+                t843,
+                t844,
+                0.0,
+                t732,
+                t738,
+                t742,
+                0.0,
+                t747,
+                t753,
+                t755,
+                0.0,
+                t763,
+                t774,
+                t845,
+                t848,
+                t849,
+                t850,
+                t851,
+                0.0,
+                t852,
+                t853,
+                t810,
+                0.0,
+                t854,
+                t855,
+                t821,
+                0.0,
+                0.0,
+                0.0,
+                t857,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t858,
+                0.0,
+                0.0,
+            ],
+            [
+                t864,
+                t868,
+                t873,
+                t878,
+                t886,
+                t890,
+                t895,
+                t901,
+                t906,
+                t911,
+                0.0,
+                t914,
+                t917,
+                t922,
+                0.0,
+                t923,
                 t924,
                 t929,
                 0.0,
-                t932,
-                t935,
+                t930,
+                t931,
+                t937,
+                0.0,
+                t938,
                 t939,
-                0.0,
-                t940,
-                t941,
                 t945,
-                0.0,
-                t946,
                 t947,
-                t952,
-                0.0,
-                t953,
                 t954,
-                t959,
                 t961,
-                t968,
-                t975,
-                t985,
+                t972,
                 0.0,
-                t987,
-                t989,
-                t993,
+                t974,
+                t976,
+                t981,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t994,
+                t982,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t995,
+                t983,
                 0.0,
             ],
             [
+                t986,
+                t989,
+                t992,
+                t996,
+                t885,
+                t997,
+                t894,
                 t998,
-                t1001,
-                t1004,
-                t1008,
-                t902,
-                t1009,
-                t911,
-                t1010,
-                t923,
-                t928,
+                t905,
+                t910,
                 0.0,
+                t999,
+                t1000,
+                t1001,
+                0.0,
+                t1002,
+                t1003,
+                t1004,
+                0.0,
+                t1005,
+                t1006,
+                t936,
+                0.0,
+                t1007,
+                t1008,
+                t944,
+                0.0,
+                t948,
+                t955,
+                t1009,
                 t1011,
                 t1012,
                 t1013,
-                0.0,
-                t1014,
                 t1015,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
                 t1016,
                 0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
                 t1017,
-                t1018,
-                t951,
-                0.0,
-                t1019,
-                t1020,
-                t958,
-                0.0,
-                t962,
-                t969,
-                t1021,
-                t1023,
-                t1024,
-                t1025,
-                t1027,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1028,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1029,
             ],
         ],
-        [t85, t38, t78],
+        [t4, t25, t51],
     )
 }
 /// The standard parameters, the columns of [`regressor`]: ten per body (mass, first moment `m c`, inertia about the reference point; the platform about `C` in its frame, each rod about `B_i` in the base frame, each body 2 about `B_i` in the platform frame), then viscous and Coulomb friction per actuator.

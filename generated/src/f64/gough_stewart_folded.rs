@@ -8,11 +8,11 @@
 //   joint_velocities                   145   12   129    5  3 sin_cos, 12 sqrt
 //   joint_accelerations                295    6   237    5  3 sin_cos, 12 sqrt
 //   leg_wrench                         874   12   567   19  3 sin_cos, 12 sqrt
-//   platform_wrench                    106    0    51    0  3 sin_cos
-//   task_inertia                       768   12   573   11  3 sin_cos, 12 sqrt
-//   task_bias                          893   12   543   19  3 sin_cos, 12 sqrt
-//   forward_dynamics                  1930   29  1386   36  3 sin_cos, 12 sqrt
-//   inverse_dynamics                  1206   24   793   39  3 sin_cos, 12 sqrt
+//   platform_wrench                    100    0    47    0  3 sin_cos
+//   task_inertia                       767   12   573   11  3 sin_cos, 12 sqrt
+//   task_bias                          884   12   537   19  3 sin_cos, 12 sqrt
+//   forward_dynamics                  1923   29  1380   35  3 sin_cos, 12 sqrt
+//   inverse_dynamics                  1200   24   789   39  3 sin_cos, 12 sqrt
 //   singularity_terms                  342   17   227   15  3 sin_cos, 12 sqrt
 //   forward_kinematics_step            607   12   363    7  3 sin_cos, 12 sqrt
 //
@@ -5100,7 +5100,7 @@ pub fn leg_wrench_separate(
 ///
 /// - `f`: `F_{N+1} = (n; f)` (N·m, N), base frame
 ///
-/// Operations: 106 mul, 0 div, 51 add, 0 neg, 3 sin_cos (chapter convention: 106m + 51a).
+/// Operations: 100 mul, 0 div, 47 add, 0 neg, 3 sin_cos (chapter convention: 100m + 47a).
 #[inline]
 pub fn platform_wrench(pose: &[f64; 6], twist: &[f64; 6], accel: &[f64; 6]) -> [f64; 6] {
     #[cfg(all(feature = "fma", any(target_arch = "x86", target_arch = "x86_64")))]
@@ -5123,164 +5123,154 @@ pub fn platform_wrench_separate(
     let (t0, t1): (f64, f64) = sin_cos(beta);
     let t2: f64 = wdx * t0;
     let (t3, t4): (f64, f64) = sin_cos(alpha);
-    let (t5, t6): (f64, f64) = sin_cos(gamma);
-    let t7 = product(t3, t5);
-    let t8: f64 = t0 * t4;
-    let t9: f64 = t6 * t8;
-    let t10: f64 = t7.minus(t9);
-    let t11 = product(wz, t10);
-    let t12: f64 = wx * t1;
-    let t13 = product(t6, t12);
-    let t14 = product(t4, t5);
-    let t15: f64 = t0 * t3;
-    let t16: f64 = t6 * t15;
-    let t17: f64 = t14.plus(t16);
-    let t18: f64 = wy * t17;
-    let t19: f64 = t13.plus(t18);
-    let t20: f64 = t11.plus(t19);
-    let t21: f64 = wx * t5;
-    let t22 = product(t1, t21);
-    let t23 = product(t4, t6);
-    let t24: f64 = t5 * t15;
-    let t25: f64 = t23.minus(t24);
-    let t26: f64 = wy * t25;
-    let t27: f64 = t22.minus(t26);
-    let t28 = product(t3, t6);
-    let t29: f64 = t0 * t5;
-    let t30: f64 = t4 * t29;
-    let t31: f64 = t28.plus(t30);
-    let t32 = product(wz, t31);
-    let t33: f64 = t32.subtracted_from(t27);
-    let t34: f64 = t33 * 0.4108;
-    let t35 = product(t20, t34);
-    let t36: f64 = t20 * 0.4108;
-    let t37 = product(t33, t36);
-    let t38 = product(wdy, t3);
-    let t39: f64 = wdz * t4;
-    let t40: f64 = t38.minus(t39);
-    let t41: f64 = t40 * 0.7;
-    let t42: f64 = t1 * t41;
-    let t43: f64 = t2 * 0.7;
-    let t44: f64 = t37.plus(t43);
-    let t45: f64 = t35.plus(t42);
-    let t46: f64 = t44 - t45;
-    let t47 = product(t0, t46);
-    let t48: f64 = wdx * t1;
-    let t49 = product(t6, t48);
-    let t50: f64 = wdy * t17;
-    let t51 = product(wdz, t10);
-    let t52: f64 = wz * t4;
-    let t53 = product(t1, t52);
-    let t54 = product(wx, t0);
-    let t55: f64 = wy * t3;
-    let t56: f64 = t1 * t55;
-    let t57: f64 = t54.minus(t56);
-    let t58: f64 = t53.plus(t57);
-    let t59: f64 = t58 * 0.7;
-    let t60 = product(t33, t59);
-    let t61 = product(t34, t58);
-    let t62: f64 = t49.plus(t50);
-    let t63: f64 = t51.plus(t62);
-    let t64: f64 = t63 * 0.4108;
-    let t65: f64 = t61.plus(t64);
-    let t66: f64 = t60.subtracted_from(t65);
-    let t67 = product(t6, t66);
-    let t68: f64 = wdx * t5;
-    let t69 = product(t1, t68);
-    let t70 = product(wdy, t25);
-    let t71: f64 = wdz * t31;
-    let t72 = product(t36, t58);
-    let t73 = product(t20, t59);
-    let t74: f64 = t70.plus(t71);
-    let t75: f64 = t69.minus(t74);
-    let t76: f64 = t75 * 0.4108;
-    let t77: f64 = t73.plus(t76);
-    let t78: f64 = t72.subtracted_from(t77);
-    let t79: f64 = t5 * t78;
-    let t80: f64 = az + 9.81;
-    let t81 = product(t3, t80);
-    let t82: f64 = ay * t4;
-    let t83: f64 = t81.plus(t82);
-    let t84 = product(t83, 0.36);
-    let t85: f64 = t67.plus(t79);
-    let t86: f64 = t84.subtracted_from(t85);
-    let t87: f64 = t1 * t86;
-    let t88: f64 = t47.plus(t87);
-    let t89 = product(t17, t66);
-    let t90 = product(t25, t78);
-    let t91: f64 = t0 * t80;
-    let t92 = product(t3, t46);
-    let t93: f64 = ax * t4;
-    let t94: f64 = t93 * 0.36;
-    let t95: f64 = t92.minus(t94);
-    let t96: f64 = t1 * t95;
-    let t97 = product(t91, 0.36);
-    let t98: f64 = t90.plus(t96);
-    let t99: f64 = t97.plus(t98);
-    let t100: f64 = t89.minus(t99);
-    let t101 = product(t10, t66);
-    let t102 = product(t31, t78);
-    let t103: f64 = ay * t0;
-    let t104 = product(t4, t46);
-    let t105: f64 = ax * t3;
-    let t106: f64 = t105 * 0.36;
-    let t107: f64 = t104.plus(t106);
-    let t108: f64 = t1 * t107;
-    let t109 = product(t103, 0.36);
-    let t110: f64 = t101.plus(t108);
-    let t111: f64 = t109.plus(t110);
-    let t112: f64 = t102.subtracted_from(t111);
-    let t113: f64 = wx * t3;
-    let t114 = product(t1, t113);
-    let t115: f64 = wy * t0;
-    let t116: f64 = t114.plus(t115);
-    let t117: f64 = t116 * 0.36;
-    let t118 = product(wy, t117);
-    let t119 = product(wz, t0);
-    let t120: f64 = wx * t4;
-    let t121: f64 = t1 * t120;
-    let t122: f64 = t119.minus(t121);
-    let t123: f64 = t122 * 0.36;
-    let t124: f64 = wz * t123;
-    let t125 = product(wdy, t4);
-    let t126: f64 = wdz * t3;
-    let t127: f64 = t125.plus(t126);
-    let t128: f64 = t127 * 0.36;
-    let t129 = product(t1, t128);
-    let t130: f64 = ax * 12.0;
-    let t131: f64 = t129.plus(t130);
-    let t132: f64 = t118.plus(t124);
-    let t133: f64 = t131 - t132;
-    let t134: f64 = wdz * t0;
-    let t135 = product(wx, t117);
-    let t136: f64 = wdx * t4;
-    let t137 = product(wy, t4);
-    let t138: f64 = wz * t3;
-    let t139: f64 = t137.plus(t138);
-    let t140: f64 = t139 * 0.36;
-    let t141 = product(wz, t140);
-    let t142: f64 = t136 * 0.36;
-    let t143: f64 = t141.subtracted_from(t142);
-    let t144 = product(t1, t143);
-    let t145 = product(ay, 12.0);
-    let t146: f64 = t134 * 0.36;
-    let t147: f64 = t145.plus(t146);
-    let t148: f64 = t135.plus(t147);
-    let t149: f64 = t144.subtracted_from(t148);
-    let t150: f64 = wdy * t0;
-    let t151 = product(wx, t123);
-    let t152: f64 = wdx * t3;
-    let t153 = product(wy, t140);
-    let t154: f64 = t152 * 0.36;
-    let t155: f64 = t153.plus(t154);
-    let t156 = product(t1, t155);
-    let t157: f64 = az * 12.0;
-    let t158: f64 = t150 * 0.36;
-    let t159: f64 = t151.plus(t157);
-    let t160: f64 = t159 + 117.72;
-    let t161: f64 = t156.plus(t158);
-    let t162: f64 = t160 - t161;
-    [t88, t100, t112, t133, t149, t162]
+    let t5 = product(wdy, t3);
+    let t6: f64 = wdz * t4;
+    let t7: f64 = t5.minus(t6);
+    let t8: f64 = t7 * 0.7;
+    let t9 = product(t1, t8);
+    let t10: f64 = t2 * 0.7;
+    let t11: f64 = t9.subtracted_from(t10);
+    let t12 = product(t0, t11);
+    let (t13, t14): (f64, f64) = sin_cos(gamma);
+    let t15: f64 = wdx * t1;
+    let t16 = product(t14, t15);
+    let t17 = product(t4, t13);
+    let t18: f64 = t0 * t3;
+    let t19: f64 = t14 * t18;
+    let t20: f64 = t17.plus(t19);
+    let t21: f64 = wdy * t20;
+    let t22 = product(t3, t13);
+    let t23: f64 = t0 * t4;
+    let t24: f64 = t14 * t23;
+    let t25: f64 = t22.minus(t24);
+    let t26 = product(wdz, t25);
+    let t27: f64 = wx * t13;
+    let t28 = product(t1, t27);
+    let t29 = product(t4, t14);
+    let t30: f64 = t13 * t18;
+    let t31: f64 = t29.minus(t30);
+    let t32 = product(wy, t31);
+    let t33 = product(t3, t14);
+    let t34: f64 = t0 * t13;
+    let t35: f64 = t4 * t34;
+    let t36: f64 = t33.plus(t35);
+    let t37: f64 = wz * t36;
+    let t38: f64 = t32.plus(t37);
+    let t39: f64 = t28.minus(t38);
+    let t40 = product(wx, t0);
+    let t41 = product(wy, t3);
+    let t42: f64 = wz * t4;
+    let t43: f64 = t41.minus(t42);
+    let t44: f64 = t1 * t43;
+    let t45: f64 = t40.minus(t44);
+    let t46: f64 = t39 * t45;
+    let t47: f64 = t16.plus(t21);
+    let t48: f64 = t26.plus(t47);
+    let t49 = product(t48, 0.4108);
+    let t50: f64 = t46 * 0.28919999999999996;
+    let t51: f64 = t49.minus(t50);
+    let t52 = product(t14, t51);
+    let t53: f64 = wdx * t13;
+    let t54 = product(t1, t53);
+    let t55 = product(wdy, t31);
+    let t56: f64 = wdz * t36;
+    let t57: f64 = wx * t1;
+    let t58 = product(t14, t57);
+    let t59: f64 = wy * t20;
+    let t60 = product(wz, t25);
+    let t61: f64 = t58.plus(t59);
+    let t62: f64 = t60.plus(t61);
+    let t63: f64 = t45 * t62;
+    let t64: f64 = t55.plus(t56);
+    let t65: f64 = t54.minus(t64);
+    let t66 = product(t65, 0.4108);
+    let t67: f64 = t63 * 0.28919999999999996;
+    let t68: f64 = t66.plus(t67);
+    let t69: f64 = t13 * t68;
+    let t70: f64 = az + 9.81;
+    let t71 = product(t3, t70);
+    let t72: f64 = ay * t4;
+    let t73: f64 = t71.plus(t72);
+    let t74 = product(t73, 0.36);
+    let t75: f64 = t52.plus(t69);
+    let t76: f64 = t74.subtracted_from(t75);
+    let t77: f64 = t1 * t76;
+    let t78: f64 = t12.plus(t77);
+    let t79: f64 = t0 * t70;
+    let t80 = product(t20, t51);
+    let t81 = product(t31, t68);
+    let t82 = product(t3, t11);
+    let t83: f64 = ax * t4;
+    let t84: f64 = t83 * 0.36;
+    let t85: f64 = t82.minus(t84);
+    let t86 = product(t1, t85);
+    let t87: f64 = t79 * 0.36;
+    let t88: f64 = t81.plus(t87);
+    let t89: f64 = t86.plus(t88);
+    let t90: f64 = t80.minus(t89);
+    let t91: f64 = ay * t0;
+    let t92 = product(t25, t51);
+    let t93 = product(t36, t68);
+    let t94 = product(t4, t11);
+    let t95: f64 = ax * t3;
+    let t96: f64 = t95 * 0.36;
+    let t97: f64 = t94.plus(t96);
+    let t98 = product(t1, t97);
+    let t99: f64 = t91 * 0.36;
+    let t100: f64 = t92.plus(t99);
+    let t101: f64 = t98.plus(t100);
+    let t102: f64 = t93.subtracted_from(t101);
+    let t103: f64 = wx * t3;
+    let t104 = product(t1, t103);
+    let t105: f64 = wy * t0;
+    let t106: f64 = t104.plus(t105);
+    let t107: f64 = t106 * 0.36;
+    let t108 = product(wy, t107);
+    let t109 = product(wz, t0);
+    let t110: f64 = wx * t4;
+    let t111: f64 = t1 * t110;
+    let t112: f64 = t109.minus(t111);
+    let t113: f64 = t112 * 0.36;
+    let t114: f64 = wz * t113;
+    let t115 = product(wdy, t4);
+    let t116: f64 = wdz * t3;
+    let t117: f64 = t115.plus(t116);
+    let t118: f64 = t117 * 0.36;
+    let t119 = product(t1, t118);
+    let t120: f64 = ax * 12.0;
+    let t121: f64 = t119.plus(t120);
+    let t122: f64 = t108.plus(t114);
+    let t123: f64 = t121 - t122;
+    let t124: f64 = wdz * t0;
+    let t125 = product(wx, t107);
+    let t126: f64 = wdx * t4;
+    let t127 = product(wy, t4);
+    let t128: f64 = wz * t3;
+    let t129: f64 = t127.plus(t128);
+    let t130: f64 = t129 * 0.36;
+    let t131 = product(wz, t130);
+    let t132: f64 = t126 * 0.36;
+    let t133: f64 = t131.subtracted_from(t132);
+    let t134 = product(t1, t133);
+    let t135 = product(ay, 12.0);
+    let t136: f64 = t124 * 0.36;
+    let t137: f64 = t135.plus(t136);
+    let t138: f64 = t125.plus(t137);
+    let t139: f64 = t134.subtracted_from(t138);
+    let t140: f64 = wdy * t0;
+    let t141 = product(wx, t113);
+    let t142: f64 = wdx * t3;
+    let t143 = product(wy, t130);
+    let t144: f64 = t142 * 0.36;
+    let t145: f64 = t143.plus(t144);
+    let t146 = product(t1, t145);
+    let t147: f64 = az * 12.0;
+    let t148: f64 = t140 * 0.36;
+    let t149: f64 = t141.plus(t147);
+    let t150: f64 = t149 + 117.72;
+    let t151: f64 = t146.plus(t148);
+    let t152: f64 = t150 - t151;
+    [t78, t90, t102, t123, t139, t152]
 }
 /// Task-space inertia `M_x` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: symmetric positive definite.
 ///
@@ -5301,7 +5291,7 @@ pub fn platform_wrench_separate(
 /// - `m`: `M_x` (kg, kg·m, kg·m²), rows and columns `[ωx ωy ωz vx vy vz]`, base frame
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 768 mul, 12 div, 573 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 780m + 573a).
+/// Operations: 767 mul, 12 div, 573 add, 11 neg, 3 sin_cos, 12 sqrt (chapter convention: 779m + 573a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -5322,6 +5312,8 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
         t4,
         t10,
         t14,
+        t21,
+        t24,
         t27,
         t34,
         t44,
@@ -5424,12 +5416,12 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
         t962,
         t963,
         t964,
-        t965,
         t966,
-        t968,
-        t994,
-        t997,
-        t998,
+        t992,
+        t995,
+        t996,
+        t999,
+        t1000,
         t1001,
         t1002,
     ) = {
@@ -6393,52 +6385,54 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
         let t960: f64 = t353 + t674;
         let t961: f64 = t959 - t960;
         let t962: f64 = -t961;
-        let t963: f64 = t21 * 0.4108;
-        let t964 = product(t21, t963);
-        let t965: f64 = t24 * 0.4108;
-        let t966: f64 = t24 * t965;
-        let t967: f64 = t3 * t3;
-        let t968: f64 = t676 * t967;
-        let t969: f64 = t44 * t699;
-        let t970 = product(t969, 0.3);
-        let t971: f64 = t970.subtracted_from(t699);
-        let t972 = product(t699, t971);
-        let t973: f64 = t44 * t83;
-        let t974 = product(t973, 0.3);
-        let t975: f64 = t974.subtracted_from(t83);
-        let t976: f64 = t83 * t975;
-        let t977 = product(t80, t80);
-        let t978 = product(t699, 0.3);
-        let t979: f64 = t969 * 0.295;
-        let t980: f64 = t978.minus(t979);
-        let t981 = product(t699, t980);
-        let t982: f64 = t44 * t67;
-        let t983: f64 = t83 * t982;
-        let t984 = product(t83, 0.3);
-        let t985 = product(t973, 0.295);
-        let t986: f64 = t983 * 0.003;
-        let t987: f64 = t985.plus(t986);
-        let t988: f64 = t984.minus(t987);
-        let t989: f64 = t83 * t988;
-        let t990: f64 = t981.plus(t989);
-        let t991 = product(t44, t990);
-        let t992: f64 = t972.plus(t976);
-        let t993: f64 = t977.plus(t992);
-        let t994: f64 = t991.subtracted_from(t993);
-        let t995 = product(t17, t994);
-        let t996: f64 = t34 * t723;
-        let t997: f64 = t995.minus(t996);
-        let t998 = product(t17, t997);
-        let t999 = product(t17, t723);
-        let t1000: f64 = t34 * t133;
-        let t1001: f64 = t999.minus(t1000);
-        let t1002 = product(t34, t1001);
+        let t963 = product(t21, t21);
+        let t964: f64 = t24 * t24;
+        let t965: f64 = t3 * t3;
+        let t966: f64 = t676 * t965;
+        let t967: f64 = t44 * t699;
+        let t968 = product(t967, 0.3);
+        let t969: f64 = t968.subtracted_from(t699);
+        let t970 = product(t699, t969);
+        let t971: f64 = t44 * t83;
+        let t972 = product(t971, 0.3);
+        let t973: f64 = t972.subtracted_from(t83);
+        let t974: f64 = t83 * t973;
+        let t975 = product(t80, t80);
+        let t976 = product(t699, 0.3);
+        let t977: f64 = t967 * 0.295;
+        let t978: f64 = t976.minus(t977);
+        let t979 = product(t699, t978);
+        let t980: f64 = t44 * t67;
+        let t981: f64 = t83 * t980;
+        let t982 = product(t83, 0.3);
+        let t983 = product(t971, 0.295);
+        let t984: f64 = t981 * 0.003;
+        let t985: f64 = t983.plus(t984);
+        let t986: f64 = t982.minus(t985);
+        let t987: f64 = t83 * t986;
+        let t988: f64 = t979.plus(t987);
+        let t989 = product(t44, t988);
+        let t990: f64 = t970.plus(t974);
+        let t991: f64 = t975.plus(t990);
+        let t992: f64 = t989.subtracted_from(t991);
+        let t993 = product(t17, t992);
+        let t994: f64 = t34 * t723;
+        let t995: f64 = t993.minus(t994);
+        let t996 = product(t17, t995);
+        let t997 = product(t17, t723);
+        let t998: f64 = t34 * t133;
+        let t999: f64 = t997.minus(t998);
+        let t1000 = product(t34, t999);
+        let t1001: f64 = t151 * t731;
+        let t1002 = product(t1001, 0.3);
         (
             t0,
             t3,
             t4,
             t10,
             t14,
+            t21,
+            t24,
             t27,
             t34,
             t44,
@@ -6541,452 +6535,451 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
             t962,
             t963,
             t964,
-            t965,
             t966,
-            t968,
-            t994,
-            t997,
-            t998,
+            t992,
+            t995,
+            t996,
+            t999,
+            t1000,
             t1001,
             t1002,
         )
     };
     let (
-        t1187,
+        t1186,
         t1230,
         t1236,
         t1241,
         t1249,
-        t1318,
-        t1324,
-        t1330,
-        t1342,
-        t1348,
-        t1353,
-        t1358,
-        t1364,
-        t1369,
+        t1317,
+        t1323,
+        t1329,
+        t1341,
+        t1347,
+        t1352,
+        t1357,
+        t1363,
+        t1368,
+        t1374,
         t1375,
         t1376,
         t1377,
         t1378,
         t1379,
         t1380,
-        t1381,
     ) = {
-        let t1003: f64 = t151 * t731;
-        let t1004 = product(t1003, 0.3);
-        let t1005: f64 = t1004.subtracted_from(t731);
-        let t1006 = product(t731, t1005);
-        let t1007: f64 = t151 * t189;
-        let t1008 = product(t1007, 0.3);
-        let t1009: f64 = t1008.subtracted_from(t189);
-        let t1010: f64 = t189 * t1009;
-        let t1011 = product(t186, t186);
-        let t1012 = product(t731, 0.3);
-        let t1013: f64 = t1003 * 0.295;
-        let t1014: f64 = t1012.minus(t1013);
-        let t1015 = product(t731, t1014);
-        let t1016: f64 = t151 * t173;
-        let t1017: f64 = t189 * t1016;
-        let t1018 = product(t189, 0.3);
-        let t1019 = product(t1007, 0.295);
-        let t1020: f64 = t1017 * 0.003;
-        let t1021: f64 = t1019.plus(t1020);
-        let t1022: f64 = t1018.minus(t1021);
-        let t1023: f64 = t189 * t1022;
-        let t1024: f64 = t1015.plus(t1023);
-        let t1025 = product(t151, t1024);
-        let t1026: f64 = t1006.plus(t1010);
-        let t1027: f64 = t1011.plus(t1026);
-        let t1028: f64 = t1025.subtracted_from(t1027);
-        let t1029 = product(t137, t1028);
-        let t1030: f64 = t141 * t755;
-        let t1031: f64 = t1029.minus(t1030);
-        let t1032: f64 = t137 * t1031;
-        let t1033 = product(t137, t755);
-        let t1034: f64 = t141 * t239;
-        let t1035: f64 = t1033.minus(t1034);
-        let t1036: f64 = t141 * t1035;
-        let t1037: f64 = t263 * t763;
-        let t1038 = product(t1037, 0.3);
-        let t1039: f64 = t1038.subtracted_from(t763);
-        let t1040 = product(t763, t1039);
-        let t1041: f64 = t263 * t301;
-        let t1042 = product(t1041, 0.3);
-        let t1043: f64 = t1042.subtracted_from(t301);
-        let t1044: f64 = t301 * t1043;
-        let t1045 = product(t298, t298);
-        let t1046 = product(t763, 0.3);
-        let t1047: f64 = t1037 * 0.295;
-        let t1048: f64 = t1046.minus(t1047);
-        let t1049 = product(t763, t1048);
-        let t1050: f64 = t263 * t285;
-        let t1051: f64 = t301 * t1050;
-        let t1052 = product(t301, 0.3);
-        let t1053 = product(t1041, 0.295);
-        let t1054: f64 = t1051 * 0.003;
-        let t1055: f64 = t1053.plus(t1054);
-        let t1056: f64 = t1052.minus(t1055);
-        let t1057: f64 = t301 * t1056;
-        let t1058: f64 = t1049.plus(t1057);
-        let t1059 = product(t263, t1058);
-        let t1060: f64 = t1040.plus(t1044);
-        let t1061: f64 = t1045.plus(t1060);
-        let t1062: f64 = t1059.subtracted_from(t1061);
-        let t1063 = product(t245, t1062);
-        let t1064: f64 = t253 * t787;
-        let t1065: f64 = t1063.minus(t1064);
-        let t1066 = product(t245, t1065);
-        let t1067 = product(t245, t787);
-        let t1068: f64 = t253 * t351;
-        let t1069: f64 = t1067.minus(t1068);
-        let t1070 = product(t253, t1069);
-        let t1071: f64 = t375 * t795;
-        let t1072 = product(t1071, 0.3);
-        let t1073: f64 = t1072.subtracted_from(t795);
-        let t1074 = product(t795, t1073);
-        let t1075: f64 = t375 * t413;
-        let t1076 = product(t1075, 0.3);
-        let t1077: f64 = t1076.subtracted_from(t413);
-        let t1078: f64 = t413 * t1077;
-        let t1079 = product(t410, t410);
-        let t1080 = product(t795, 0.3);
-        let t1081: f64 = t1071 * 0.295;
-        let t1082: f64 = t1080.minus(t1081);
-        let t1083 = product(t795, t1082);
-        let t1084: f64 = t375 * t397;
-        let t1085: f64 = t413 * t1084;
-        let t1086 = product(t413, 0.3);
-        let t1087 = product(t1075, 0.295);
-        let t1088: f64 = t1085 * 0.003;
-        let t1089: f64 = t1087.plus(t1088);
-        let t1090: f64 = t1086.minus(t1089);
-        let t1091: f64 = t413 * t1090;
-        let t1092: f64 = t1083.plus(t1091);
-        let t1093 = product(t375, t1092);
-        let t1094: f64 = t1074.plus(t1078);
-        let t1095: f64 = t1079.plus(t1094);
-        let t1096: f64 = t1093.subtracted_from(t1095);
-        let t1097 = product(t357, t1096);
-        let t1098: f64 = t365 * t819;
-        let t1099: f64 = t1097.minus(t1098);
-        let t1100: f64 = t357 * t1099;
-        let t1101 = product(t357, t819);
-        let t1102: f64 = t365 * t463;
-        let t1103: f64 = t1101.minus(t1102);
-        let t1104: f64 = t365 * t1103;
-        let t1105: f64 = t481 * t827;
-        let t1106 = product(t1105, 0.3);
-        let t1107: f64 = t1106.subtracted_from(t827);
-        let t1108 = product(t827, t1107);
-        let t1109: f64 = t481 * t518;
-        let t1110 = product(t1109, 0.3);
-        let t1111: f64 = t1110.subtracted_from(t518);
-        let t1112: f64 = t518 * t1111;
-        let t1113 = product(t515, t515);
-        let t1114 = product(t827, 0.3);
-        let t1115: f64 = t1105 * 0.295;
-        let t1116: f64 = t1114.minus(t1115);
-        let t1117 = product(t827, t1116);
-        let t1118: f64 = t481 * t502;
-        let t1119: f64 = t518 * t1118;
-        let t1120 = product(t518, 0.3);
-        let t1121 = product(t1109, 0.295);
-        let t1122: f64 = t1119 * 0.003;
-        let t1123: f64 = t1121.plus(t1122);
-        let t1124: f64 = t1120.minus(t1123);
-        let t1125: f64 = t518 * t1124;
-        let t1126: f64 = t1117.plus(t1125);
-        let t1127 = product(t481, t1126);
-        let t1128: f64 = t1108.plus(t1112);
-        let t1129: f64 = t1113.plus(t1128);
-        let t1130: f64 = t1127.subtracted_from(t1129);
-        let t1131 = product(t467, t1130);
-        let t1132: f64 = t471 * t851;
-        let t1133: f64 = t1131.minus(t1132);
-        let t1134 = product(t467, t1133);
-        let t1135 = product(t467, t851);
-        let t1136: f64 = t471 * t568;
-        let t1137: f64 = t1135.minus(t1136);
-        let t1138 = product(t471, t1137);
-        let t1139: f64 = t585 * t859;
-        let t1140 = product(t1139, 0.3);
-        let t1141: f64 = t1140.subtracted_from(t859);
-        let t1142 = product(t859, t1141);
-        let t1143: f64 = t585 * t622;
-        let t1144 = product(t1143, 0.3);
-        let t1145: f64 = t1144.subtracted_from(t622);
-        let t1146: f64 = t622 * t1145;
-        let t1147 = product(t619, t619);
-        let t1148 = product(t859, 0.3);
-        let t1149: f64 = t1139 * 0.295;
-        let t1150: f64 = t1148.minus(t1149);
-        let t1151 = product(t859, t1150);
-        let t1152: f64 = t585 * t606;
-        let t1153: f64 = t622 * t1152;
-        let t1154 = product(t622, 0.3);
-        let t1155 = product(t1143, 0.295);
-        let t1156: f64 = t1153 * 0.003;
-        let t1157: f64 = t1155.plus(t1156);
-        let t1158: f64 = t1154.minus(t1157);
-        let t1159: f64 = t622 * t1158;
-        let t1160: f64 = t1151.plus(t1159);
-        let t1161 = product(t585, t1160);
-        let t1162: f64 = t1142.plus(t1146);
-        let t1163: f64 = t1147.plus(t1162);
-        let t1164: f64 = t1161.subtracted_from(t1163);
-        let t1165 = product(t572, t1164);
-        let t1166: f64 = t576 * t883;
-        let t1167: f64 = t1165.minus(t1166);
-        let t1168: f64 = t572 * t1167;
-        let t1169 = product(t572, t883);
-        let t1170: f64 = t576 * t672;
-        let t1171: f64 = t1169.minus(t1170);
-        let t1172: f64 = t576 * t1171;
-        let t1173 = product(t968, 0.7);
-        let t1174: f64 = t964.plus(t966);
-        let t1175: f64 = t998.plus(t1032);
-        let t1176: f64 = t1066.plus(t1100);
-        let t1177: f64 = t1134.plus(t1168);
+        let t1003: f64 = t1002.subtracted_from(t731);
+        let t1004 = product(t731, t1003);
+        let t1005: f64 = t151 * t189;
+        let t1006 = product(t1005, 0.3);
+        let t1007: f64 = t1006.subtracted_from(t189);
+        let t1008: f64 = t189 * t1007;
+        let t1009 = product(t186, t186);
+        let t1010 = product(t731, 0.3);
+        let t1011: f64 = t1001 * 0.295;
+        let t1012: f64 = t1010.minus(t1011);
+        let t1013 = product(t731, t1012);
+        let t1014: f64 = t151 * t173;
+        let t1015: f64 = t189 * t1014;
+        let t1016 = product(t189, 0.3);
+        let t1017 = product(t1005, 0.295);
+        let t1018: f64 = t1015 * 0.003;
+        let t1019: f64 = t1017.plus(t1018);
+        let t1020: f64 = t1016.minus(t1019);
+        let t1021: f64 = t189 * t1020;
+        let t1022: f64 = t1013.plus(t1021);
+        let t1023 = product(t151, t1022);
+        let t1024: f64 = t1004.plus(t1008);
+        let t1025: f64 = t1009.plus(t1024);
+        let t1026: f64 = t1023.subtracted_from(t1025);
+        let t1027 = product(t137, t1026);
+        let t1028: f64 = t141 * t755;
+        let t1029: f64 = t1027.minus(t1028);
+        let t1030: f64 = t137 * t1029;
+        let t1031 = product(t137, t755);
+        let t1032: f64 = t141 * t239;
+        let t1033: f64 = t1031.minus(t1032);
+        let t1034: f64 = t141 * t1033;
+        let t1035: f64 = t263 * t763;
+        let t1036 = product(t1035, 0.3);
+        let t1037: f64 = t1036.subtracted_from(t763);
+        let t1038 = product(t763, t1037);
+        let t1039: f64 = t263 * t301;
+        let t1040 = product(t1039, 0.3);
+        let t1041: f64 = t1040.subtracted_from(t301);
+        let t1042: f64 = t301 * t1041;
+        let t1043 = product(t298, t298);
+        let t1044 = product(t763, 0.3);
+        let t1045: f64 = t1035 * 0.295;
+        let t1046: f64 = t1044.minus(t1045);
+        let t1047 = product(t763, t1046);
+        let t1048: f64 = t263 * t285;
+        let t1049: f64 = t301 * t1048;
+        let t1050 = product(t301, 0.3);
+        let t1051 = product(t1039, 0.295);
+        let t1052: f64 = t1049 * 0.003;
+        let t1053: f64 = t1051.plus(t1052);
+        let t1054: f64 = t1050.minus(t1053);
+        let t1055: f64 = t301 * t1054;
+        let t1056: f64 = t1047.plus(t1055);
+        let t1057 = product(t263, t1056);
+        let t1058: f64 = t1038.plus(t1042);
+        let t1059: f64 = t1043.plus(t1058);
+        let t1060: f64 = t1057.subtracted_from(t1059);
+        let t1061 = product(t245, t1060);
+        let t1062: f64 = t253 * t787;
+        let t1063: f64 = t1061.minus(t1062);
+        let t1064 = product(t245, t1063);
+        let t1065 = product(t245, t787);
+        let t1066: f64 = t253 * t351;
+        let t1067: f64 = t1065.minus(t1066);
+        let t1068 = product(t253, t1067);
+        let t1069: f64 = t375 * t795;
+        let t1070 = product(t1069, 0.3);
+        let t1071: f64 = t1070.subtracted_from(t795);
+        let t1072 = product(t795, t1071);
+        let t1073: f64 = t375 * t413;
+        let t1074 = product(t1073, 0.3);
+        let t1075: f64 = t1074.subtracted_from(t413);
+        let t1076: f64 = t413 * t1075;
+        let t1077 = product(t410, t410);
+        let t1078 = product(t795, 0.3);
+        let t1079: f64 = t1069 * 0.295;
+        let t1080: f64 = t1078.minus(t1079);
+        let t1081 = product(t795, t1080);
+        let t1082: f64 = t375 * t397;
+        let t1083: f64 = t413 * t1082;
+        let t1084 = product(t413, 0.3);
+        let t1085 = product(t1073, 0.295);
+        let t1086: f64 = t1083 * 0.003;
+        let t1087: f64 = t1085.plus(t1086);
+        let t1088: f64 = t1084.minus(t1087);
+        let t1089: f64 = t413 * t1088;
+        let t1090: f64 = t1081.plus(t1089);
+        let t1091 = product(t375, t1090);
+        let t1092: f64 = t1072.plus(t1076);
+        let t1093: f64 = t1077.plus(t1092);
+        let t1094: f64 = t1091.subtracted_from(t1093);
+        let t1095 = product(t357, t1094);
+        let t1096: f64 = t365 * t819;
+        let t1097: f64 = t1095.minus(t1096);
+        let t1098: f64 = t357 * t1097;
+        let t1099 = product(t357, t819);
+        let t1100: f64 = t365 * t463;
+        let t1101: f64 = t1099.minus(t1100);
+        let t1102: f64 = t365 * t1101;
+        let t1103: f64 = t481 * t827;
+        let t1104 = product(t1103, 0.3);
+        let t1105: f64 = t1104.subtracted_from(t827);
+        let t1106 = product(t827, t1105);
+        let t1107: f64 = t481 * t518;
+        let t1108 = product(t1107, 0.3);
+        let t1109: f64 = t1108.subtracted_from(t518);
+        let t1110: f64 = t518 * t1109;
+        let t1111 = product(t515, t515);
+        let t1112 = product(t827, 0.3);
+        let t1113: f64 = t1103 * 0.295;
+        let t1114: f64 = t1112.minus(t1113);
+        let t1115 = product(t827, t1114);
+        let t1116: f64 = t481 * t502;
+        let t1117: f64 = t518 * t1116;
+        let t1118 = product(t518, 0.3);
+        let t1119 = product(t1107, 0.295);
+        let t1120: f64 = t1117 * 0.003;
+        let t1121: f64 = t1119.plus(t1120);
+        let t1122: f64 = t1118.minus(t1121);
+        let t1123: f64 = t518 * t1122;
+        let t1124: f64 = t1115.plus(t1123);
+        let t1125 = product(t481, t1124);
+        let t1126: f64 = t1106.plus(t1110);
+        let t1127: f64 = t1111.plus(t1126);
+        let t1128: f64 = t1125.subtracted_from(t1127);
+        let t1129 = product(t467, t1128);
+        let t1130: f64 = t471 * t851;
+        let t1131: f64 = t1129.minus(t1130);
+        let t1132 = product(t467, t1131);
+        let t1133 = product(t467, t851);
+        let t1134: f64 = t471 * t568;
+        let t1135: f64 = t1133.minus(t1134);
+        let t1136 = product(t471, t1135);
+        let t1137: f64 = t585 * t859;
+        let t1138 = product(t1137, 0.3);
+        let t1139: f64 = t1138.subtracted_from(t859);
+        let t1140 = product(t859, t1139);
+        let t1141: f64 = t585 * t622;
+        let t1142 = product(t1141, 0.3);
+        let t1143: f64 = t1142.subtracted_from(t622);
+        let t1144: f64 = t622 * t1143;
+        let t1145 = product(t619, t619);
+        let t1146 = product(t859, 0.3);
+        let t1147: f64 = t1137 * 0.295;
+        let t1148: f64 = t1146.minus(t1147);
+        let t1149 = product(t859, t1148);
+        let t1150: f64 = t585 * t606;
+        let t1151: f64 = t622 * t1150;
+        let t1152 = product(t622, 0.3);
+        let t1153 = product(t1141, 0.295);
+        let t1154: f64 = t1151 * 0.003;
+        let t1155: f64 = t1153.plus(t1154);
+        let t1156: f64 = t1152.minus(t1155);
+        let t1157: f64 = t622 * t1156;
+        let t1158: f64 = t1149.plus(t1157);
+        let t1159 = product(t585, t1158);
+        let t1160: f64 = t1140.plus(t1144);
+        let t1161: f64 = t1145.plus(t1160);
+        let t1162: f64 = t1159.subtracted_from(t1161);
+        let t1163 = product(t572, t1162);
+        let t1164: f64 = t576 * t883;
+        let t1165: f64 = t1163.minus(t1164);
+        let t1166: f64 = t572 * t1165;
+        let t1167 = product(t572, t883);
+        let t1168: f64 = t576 * t672;
+        let t1169: f64 = t1167.minus(t1168);
+        let t1170: f64 = t576 * t1169;
+        let t1171: f64 = t963.plus(t964);
+        let t1172 = product(t1171, 0.4108);
+        let t1173: f64 = t966 * 0.7;
+        let t1174: f64 = t1172.plus(t1173);
+        let t1175: f64 = t996.plus(t1030);
+        let t1176: f64 = t1064.plus(t1098);
+        let t1177: f64 = t1132.plus(t1166);
         let t1178: f64 = t1174 + t1175;
         let t1179: f64 = t1176 + t1177;
         let t1180: f64 = t1178 + t1179;
-        let t1181: f64 = t1173.plus(t1180);
-        let t1182: f64 = t1002.plus(t1036);
-        let t1183: f64 = t1070.plus(t1104);
-        let t1184: f64 = t1138.plus(t1172);
-        let t1185: f64 = t1182 + t1183;
-        let t1186: f64 = t1184 + t1185;
-        let t1187: f64 = t1181 - t1186;
-        let t1188 = product(t10, t963);
-        let t1189: f64 = t14 * t965;
-        let t1190: f64 = t3 * t4;
-        let t1191: f64 = t676 * t1190;
-        let t1192 = product(t27, t997);
-        let t1193: f64 = t34 * t124;
-        let t1194: f64 = t711 - t1193;
-        let t1195 = product(t34, t1194);
-        let t1196: f64 = t138 * t1031;
-        let t1197: f64 = t141 * t230;
-        let t1198: f64 = t743 - t1197;
-        let t1199: f64 = t141 * t1198;
-        let t1200 = product(t248, t1065);
-        let t1201: f64 = t253 * t342;
-        let t1202: f64 = t775 - t1201;
-        let t1203 = product(t253, t1202);
-        let t1204: f64 = t360 * t1099;
-        let t1205: f64 = t365 * t454;
-        let t1206: f64 = t807 - t1205;
-        let t1207: f64 = t365 * t1206;
-        let t1208 = product(t468, t1133);
-        let t1209: f64 = t471 * t559;
-        let t1210: f64 = t839 - t1209;
-        let t1211 = product(t471, t1210);
-        let t1212: f64 = t573 * t1167;
-        let t1213: f64 = t576 * t663;
-        let t1214: f64 = t871 - t1213;
-        let t1215: f64 = t576 * t1214;
-        let t1216 = product(t1191, 0.7);
-        let t1217: f64 = t1188.plus(t1189);
-        let t1218: f64 = t1195.plus(t1199);
-        let t1219: f64 = t1203.plus(t1207);
-        let t1220: f64 = t1211.plus(t1215);
-        let t1221: f64 = t1217 + t1218;
-        let t1222: f64 = t1219 + t1220;
+        let t1181: f64 = t1000.plus(t1034);
+        let t1182: f64 = t1068.plus(t1102);
+        let t1183: f64 = t1136.plus(t1170);
+        let t1184: f64 = t1181 + t1182;
+        let t1185: f64 = t1183 + t1184;
+        let t1186: f64 = t1180 - t1185;
+        let t1187 = product(t10, t21);
+        let t1188: f64 = t14 * t24;
+        let t1189: f64 = t3 * t4;
+        let t1190: f64 = t676 * t1189;
+        let t1191 = product(t27, t995);
+        let t1192: f64 = t34 * t124;
+        let t1193: f64 = t711 - t1192;
+        let t1194 = product(t34, t1193);
+        let t1195 = product(t138, t1029);
+        let t1196: f64 = t141 * t230;
+        let t1197: f64 = t743 - t1196;
+        let t1198 = product(t141, t1197);
+        let t1199: f64 = t248 * t1063;
+        let t1200: f64 = t253 * t342;
+        let t1201: f64 = t775 - t1200;
+        let t1202: f64 = t253 * t1201;
+        let t1203 = product(t360, t1097);
+        let t1204: f64 = t365 * t454;
+        let t1205: f64 = t807 - t1204;
+        let t1206 = product(t365, t1205);
+        let t1207: f64 = t468 * t1131;
+        let t1208: f64 = t471 * t559;
+        let t1209: f64 = t839 - t1208;
+        let t1210: f64 = t471 * t1209;
+        let t1211 = product(t573, t1165);
+        let t1212: f64 = t576 * t663;
+        let t1213: f64 = t871 - t1212;
+        let t1214 = product(t576, t1213);
+        let t1215: f64 = t1187.plus(t1188);
+        let t1216: f64 = t1215 * 0.4108;
+        let t1217: f64 = t1190 * 0.7;
+        let t1218: f64 = t1194.plus(t1216);
+        let t1219: f64 = t1198.plus(t1202);
+        let t1220: f64 = t1206.plus(t1210);
+        let t1221: f64 = t1218 + t1219;
+        let t1222: f64 = t1214.plus(t1220);
         let t1223: f64 = t1221 + t1222;
-        let t1224: f64 = t1192.plus(t1196);
-        let t1225: f64 = t1200.plus(t1204);
-        let t1226: f64 = t1208.plus(t1212);
+        let t1224: f64 = t1191.plus(t1217);
+        let t1225: f64 = t1195.plus(t1199);
+        let t1226: f64 = t1203.plus(t1207);
         let t1227: f64 = t1224 + t1225;
-        let t1228: f64 = t1216.plus(t1226);
+        let t1228: f64 = t1211.plus(t1226);
         let t1229: f64 = t1227 + t1228;
         let t1230: f64 = t1223 - t1229;
-        let t1231: f64 = t946 + t997;
-        let t1232: f64 = t1031 + t1099;
+        let t1231: f64 = t946 + t995;
+        let t1232: f64 = t1029 + t1097;
         let t1233: f64 = t1231 + t1232;
-        let t1234: f64 = t1133 + t1233;
-        let t1235: f64 = t1065 + t1167;
+        let t1234: f64 = t1131 + t1233;
+        let t1235: f64 = t1063 + t1165;
         let t1236: f64 = t1234 - t1235;
-        let t1237: f64 = t1194 + t1198;
-        let t1238: f64 = t1206 + t1210;
+        let t1237: f64 = t1193 + t1197;
+        let t1238: f64 = t1205 + t1209;
         let t1239: f64 = t1237 + t1238;
-        let t1240: f64 = t1202 + t1214;
+        let t1240: f64 = t1201 + t1213;
         let t1241: f64 = t1239 - t1240;
         let t1242: f64 = t0 * 0.36;
-        let t1243: f64 = t1069 + t1242;
-        let t1244: f64 = t1171 + t1243;
-        let t1245: f64 = t1001 + t1035;
-        let t1246: f64 = t1103 + t1137;
+        let t1243: f64 = t1067 + t1242;
+        let t1244: f64 = t1169 + t1243;
+        let t1245: f64 = t999 + t1033;
+        let t1246: f64 = t1101 + t1135;
         let t1247: f64 = t1245 + t1246;
         let t1248: f64 = t1244 - t1247;
         let t1249: f64 = -t1248;
-        let t1250: f64 = t10 * 0.4108;
-        let t1251 = product(t10, t1250);
-        let t1252: f64 = t14 * 0.4108;
-        let t1253: f64 = t14 * t1252;
-        let t1254: f64 = t4 * t4;
-        let t1255: f64 = t676 * t1254;
-        let t1256 = product(t27, t994);
-        let t1257: f64 = t34 * t710;
-        let t1258: f64 = t1256.minus(t1257);
-        let t1259 = product(t27, t1258);
-        let t1260 = product(t27, t710);
-        let t1261: f64 = t34 * t96;
-        let t1262: f64 = t1260.minus(t1261);
-        let t1263 = product(t34, t1262);
-        let t1264 = product(t138, t1028);
-        let t1265: f64 = t141 * t742;
-        let t1266: f64 = t1264.minus(t1265);
-        let t1267: f64 = t138 * t1266;
-        let t1268 = product(t138, t742);
-        let t1269: f64 = t141 * t202;
-        let t1270: f64 = t1268.minus(t1269);
-        let t1271: f64 = t141 * t1270;
-        let t1272 = product(t248, t1062);
-        let t1273: f64 = t253 * t774;
-        let t1274: f64 = t1272.minus(t1273);
-        let t1275 = product(t248, t1274);
-        let t1276 = product(t248, t774);
-        let t1277: f64 = t253 * t314;
-        let t1278: f64 = t1276.minus(t1277);
-        let t1279 = product(t253, t1278);
-        let t1280 = product(t360, t1096);
-        let t1281: f64 = t365 * t806;
-        let t1282: f64 = t1280.minus(t1281);
-        let t1283: f64 = t360 * t1282;
-        let t1284 = product(t360, t806);
-        let t1285: f64 = t365 * t426;
-        let t1286: f64 = t1284.minus(t1285);
-        let t1287: f64 = t365 * t1286;
-        let t1288 = product(t468, t1130);
-        let t1289: f64 = t471 * t838;
-        let t1290: f64 = t1288.minus(t1289);
-        let t1291 = product(t468, t1290);
-        let t1292 = product(t468, t838);
-        let t1293: f64 = t471 * t531;
-        let t1294: f64 = t1292.minus(t1293);
-        let t1295 = product(t471, t1294);
-        let t1296 = product(t573, t1164);
-        let t1297: f64 = t576 * t870;
-        let t1298: f64 = t1296.minus(t1297);
-        let t1299: f64 = t573 * t1298;
-        let t1300 = product(t573, t870);
-        let t1301: f64 = t576 * t635;
-        let t1302: f64 = t1300.minus(t1301);
-        let t1303: f64 = t576 * t1302;
-        let t1304 = product(t1255, 0.7);
-        let t1305: f64 = t1251.plus(t1253);
-        let t1306: f64 = t1259.plus(t1267);
-        let t1307: f64 = t1275.plus(t1283);
-        let t1308: f64 = t1291.plus(t1299);
+        let t1250 = product(t10, t10);
+        let t1251: f64 = t14 * t14;
+        let t1252: f64 = t4 * t4;
+        let t1253: f64 = t676 * t1252;
+        let t1254 = product(t27, t992);
+        let t1255: f64 = t34 * t710;
+        let t1256: f64 = t1254.minus(t1255);
+        let t1257 = product(t27, t1256);
+        let t1258 = product(t27, t710);
+        let t1259: f64 = t34 * t96;
+        let t1260: f64 = t1258.minus(t1259);
+        let t1261 = product(t34, t1260);
+        let t1262 = product(t138, t1026);
+        let t1263: f64 = t141 * t742;
+        let t1264: f64 = t1262.minus(t1263);
+        let t1265: f64 = t138 * t1264;
+        let t1266 = product(t138, t742);
+        let t1267: f64 = t141 * t202;
+        let t1268: f64 = t1266.minus(t1267);
+        let t1269: f64 = t141 * t1268;
+        let t1270 = product(t248, t1060);
+        let t1271: f64 = t253 * t774;
+        let t1272: f64 = t1270.minus(t1271);
+        let t1273 = product(t248, t1272);
+        let t1274 = product(t248, t774);
+        let t1275: f64 = t253 * t314;
+        let t1276: f64 = t1274.minus(t1275);
+        let t1277 = product(t253, t1276);
+        let t1278 = product(t360, t1094);
+        let t1279: f64 = t365 * t806;
+        let t1280: f64 = t1278.minus(t1279);
+        let t1281: f64 = t360 * t1280;
+        let t1282 = product(t360, t806);
+        let t1283: f64 = t365 * t426;
+        let t1284: f64 = t1282.minus(t1283);
+        let t1285: f64 = t365 * t1284;
+        let t1286 = product(t468, t1128);
+        let t1287: f64 = t471 * t838;
+        let t1288: f64 = t1286.minus(t1287);
+        let t1289 = product(t468, t1288);
+        let t1290 = product(t468, t838);
+        let t1291: f64 = t471 * t531;
+        let t1292: f64 = t1290.minus(t1291);
+        let t1293 = product(t471, t1292);
+        let t1294 = product(t573, t1162);
+        let t1295: f64 = t576 * t870;
+        let t1296: f64 = t1294.minus(t1295);
+        let t1297: f64 = t573 * t1296;
+        let t1298 = product(t573, t870);
+        let t1299: f64 = t576 * t635;
+        let t1300: f64 = t1298.minus(t1299);
+        let t1301: f64 = t576 * t1300;
+        let t1302: f64 = t1250.plus(t1251);
+        let t1303 = product(t1302, 0.4108);
+        let t1304: f64 = t1253 * 0.7;
+        let t1305: f64 = t1303.plus(t1304);
+        let t1306: f64 = t1257.plus(t1265);
+        let t1307: f64 = t1273.plus(t1281);
+        let t1308: f64 = t1289.plus(t1297);
         let t1309: f64 = t1305 + t1306;
         let t1310: f64 = t1307 + t1308;
         let t1311: f64 = t1309 + t1310;
-        let t1312: f64 = t1304.plus(t1311);
-        let t1313: f64 = t1263.plus(t1271);
-        let t1314: f64 = t1279.plus(t1287);
-        let t1315: f64 = t1295.plus(t1303);
-        let t1316: f64 = t1313 + t1314;
-        let t1317: f64 = t1315 + t1316;
-        let t1318: f64 = t1312 - t1317;
-        let t1319: f64 = t955 + t1274;
-        let t1320: f64 = t1298 + t1319;
-        let t1321: f64 = t1258 + t1266;
-        let t1322: f64 = t1282 + t1290;
-        let t1323: f64 = t1321 + t1322;
-        let t1324: f64 = t1320 - t1323;
-        let t1325: f64 = t1242 + t1278;
-        let t1326: f64 = t1302 + t1325;
-        let t1327: f64 = t1262 + t1270;
-        let t1328: f64 = t1286 + t1294;
-        let t1329: f64 = t1327 + t1328;
-        let t1330: f64 = t1326 - t1329;
-        let t1331: f64 = t724 - t1193;
-        let t1332: f64 = t756 - t1197;
-        let t1333: f64 = t788 - t1201;
-        let t1334: f64 = t820 - t1205;
-        let t1335: f64 = t852 - t1209;
-        let t1336: f64 = t884 - t1213;
-        let t1337: f64 = t1331 + t1332;
-        let t1338: f64 = t1334 + t1335;
-        let t1339: f64 = t1337 + t1338;
-        let t1340: f64 = t1333 + t1336;
-        let t1341: f64 = t1339 - t1340;
-        let t1342: f64 = -t1341;
-        let t1343: f64 = t994 + t1028;
-        let t1344: f64 = t1062 + t1096;
-        let t1345: f64 = t1130 + t1164;
-        let t1346: f64 = t1343 + t1344;
-        let t1347: f64 = t1345 + 12.0;
-        let t1348: f64 = t1346 + t1347;
-        let t1349: f64 = t710 + t742;
-        let t1350: f64 = t774 + t806;
-        let t1351: f64 = t838 + t870;
-        let t1352: f64 = t1349 + t1350;
-        let t1353: f64 = t1351 + t1352;
-        let t1354: f64 = t723 + t755;
-        let t1355: f64 = t787 + t819;
-        let t1356: f64 = t851 + t883;
-        let t1357: f64 = t1354 + t1355;
-        let t1358: f64 = t1356 + t1357;
-        let t1359: f64 = t96 + t202;
-        let t1360: f64 = t314 + t426;
-        let t1361: f64 = t531 + t635;
-        let t1362: f64 = t1359 + t1360;
-        let t1363: f64 = t1361 + 12.0;
-        let t1364: f64 = t1362 + t1363;
-        let t1365: f64 = t124 + t230;
-        let t1366: f64 = t342 + t454;
-        let t1367: f64 = t559 + t663;
-        let t1368: f64 = t1365 + t1366;
-        let t1369: f64 = t1367 + t1368;
-        let t1370: f64 = t133 + t239;
-        let t1371: f64 = t351 + t463;
-        let t1372: f64 = t568 + t672;
-        let t1373: f64 = t1370 + t1371;
-        let t1374: f64 = t1372 + 12.0;
-        let t1375: f64 = t1373 + t1374;
-        let t1376: f64 = t44 * t59;
-        let t1377: f64 = t151 * t165;
-        let t1378: f64 = t263 * t277;
-        let t1379: f64 = t375 * t389;
-        let t1380: f64 = t481 * t494;
-        let t1381: f64 = t585 * t598;
+        let t1312: f64 = t1261.plus(t1269);
+        let t1313: f64 = t1277.plus(t1285);
+        let t1314: f64 = t1293.plus(t1301);
+        let t1315: f64 = t1312 + t1313;
+        let t1316: f64 = t1314 + t1315;
+        let t1317: f64 = t1311 - t1316;
+        let t1318: f64 = t955 + t1272;
+        let t1319: f64 = t1296 + t1318;
+        let t1320: f64 = t1256 + t1264;
+        let t1321: f64 = t1280 + t1288;
+        let t1322: f64 = t1320 + t1321;
+        let t1323: f64 = t1319 - t1322;
+        let t1324: f64 = t1242 + t1276;
+        let t1325: f64 = t1300 + t1324;
+        let t1326: f64 = t1260 + t1268;
+        let t1327: f64 = t1284 + t1292;
+        let t1328: f64 = t1326 + t1327;
+        let t1329: f64 = t1325 - t1328;
+        let t1330: f64 = t724 - t1192;
+        let t1331: f64 = t756 - t1196;
+        let t1332: f64 = t788 - t1200;
+        let t1333: f64 = t820 - t1204;
+        let t1334: f64 = t852 - t1208;
+        let t1335: f64 = t884 - t1212;
+        let t1336: f64 = t1330 + t1331;
+        let t1337: f64 = t1333 + t1334;
+        let t1338: f64 = t1336 + t1337;
+        let t1339: f64 = t1332 + t1335;
+        let t1340: f64 = t1338 - t1339;
+        let t1341: f64 = -t1340;
+        let t1342: f64 = t992 + t1026;
+        let t1343: f64 = t1060 + t1094;
+        let t1344: f64 = t1128 + t1162;
+        let t1345: f64 = t1342 + t1343;
+        let t1346: f64 = t1344 + 12.0;
+        let t1347: f64 = t1345 + t1346;
+        let t1348: f64 = t710 + t742;
+        let t1349: f64 = t774 + t806;
+        let t1350: f64 = t838 + t870;
+        let t1351: f64 = t1348 + t1349;
+        let t1352: f64 = t1350 + t1351;
+        let t1353: f64 = t723 + t755;
+        let t1354: f64 = t787 + t819;
+        let t1355: f64 = t851 + t883;
+        let t1356: f64 = t1353 + t1354;
+        let t1357: f64 = t1355 + t1356;
+        let t1358: f64 = t96 + t202;
+        let t1359: f64 = t314 + t426;
+        let t1360: f64 = t531 + t635;
+        let t1361: f64 = t1358 + t1359;
+        let t1362: f64 = t1360 + 12.0;
+        let t1363: f64 = t1361 + t1362;
+        let t1364: f64 = t124 + t230;
+        let t1365: f64 = t342 + t454;
+        let t1366: f64 = t559 + t663;
+        let t1367: f64 = t1364 + t1365;
+        let t1368: f64 = t1366 + t1367;
+        let t1369: f64 = t133 + t239;
+        let t1370: f64 = t351 + t463;
+        let t1371: f64 = t568 + t672;
+        let t1372: f64 = t1369 + t1370;
+        let t1373: f64 = t1371 + 12.0;
+        let t1374: f64 = t1372 + t1373;
+        let t1375: f64 = t44 * t59;
+        let t1376: f64 = t151 * t165;
+        let t1377: f64 = t263 * t277;
+        let t1378: f64 = t375 * t389;
+        let t1379: f64 = t481 * t494;
+        let t1380: f64 = t585 * t598;
         (
-            t1187,
+            t1186,
             t1230,
             t1236,
             t1241,
             t1249,
-            t1318,
-            t1324,
-            t1330,
-            t1342,
-            t1348,
-            t1353,
-            t1358,
-            t1364,
-            t1369,
+            t1317,
+            t1323,
+            t1329,
+            t1341,
+            t1347,
+            t1352,
+            t1357,
+            t1363,
+            t1368,
+            t1374,
             t1375,
             t1376,
             t1377,
             t1378,
             t1379,
             t1380,
-            t1381,
         )
     };
     (
         [
             [t695, t907, t938, t944, t953, t962],
-            [t907, t1187, t1230, t1236, t1241, t1249],
-            [t938, t1230, t1318, t1324, t1330, t1342],
-            [t944, t1236, t1324, t1348, t1353, t1358],
-            [t953, t1241, t1330, t1353, t1364, t1369],
-            [t962, t1249, t1342, t1358, t1369, t1375],
+            [t907, t1186, t1230, t1236, t1241, t1249],
+            [t938, t1230, t1317, t1323, t1329, t1341],
+            [t944, t1236, t1323, t1347, t1352, t1357],
+            [t953, t1241, t1329, t1352, t1363, t1368],
+            [t962, t1249, t1341, t1357, t1368, t1374],
         ],
-        [t1376, t1377, t1378, t1379, t1380, t1381],
+        [t1375, t1376, t1377, t1378, t1379, t1380],
     )
 }
 /// Task-space bias `h` of `Γ = Jᵀ (M_x (ω̇; a_C) + h)`: Coriolis, centrifugal, gravity.
@@ -7008,7 +7001,7 @@ pub fn task_inertia_separate(pose: &[f64; 6]) -> ([[f64; 6]; 6], [f64; 6]) {
 /// - `h`: `h = (n; f)` at `C`, base frame (N·m, N)
 /// - `singular`: `|u_i × a_i|`, the sine of each leg's angle with its U joint's first axis: the other results are meaningless where one is near zero
 ///
-/// Operations: 893 mul, 12 div, 543 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 905m + 543a).
+/// Operations: 884 mul, 12 div, 537 add, 19 neg, 3 sin_cos, 12 sqrt (chapter convention: 896m + 537a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -7029,1810 +7022,1771 @@ pub fn task_bias_separate(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64;
         t1,
         t2,
         t3,
-        t4,
         t5,
+        t6,
         t9,
+        t13,
         t16,
-        t19,
-        t24,
-        t30,
-        t32,
-        t33,
-        t35,
+        t28,
+        t34,
         t37,
-        t38,
-        t41,
-        t53,
+        t40,
+        t49,
         t58,
-        t67,
-        t76,
-        t86,
-        t105,
-        t107,
-        t154,
-        t157,
-        t171,
-        t177,
-        t186,
+        t68,
+        t87,
+        t89,
+        t136,
+        t139,
+        t153,
+        t159,
+        t168,
+        t191,
+        t197,
+        t202,
+        t206,
+        t208,
         t209,
-        t215,
-        t220,
+        t212,
+        t222,
         t224,
+        t225,
         t226,
-        t227,
-        t230,
-        t240,
-        t242,
-        t243,
-        t244,
-        t251,
+        t233,
+        t236,
+        t245,
         t254,
-        t263,
-        t272,
-        t282,
-        t301,
-        t303,
+        t264,
+        t283,
+        t285,
+        t332,
+        t335,
+        t340,
         t350,
-        t353,
-        t358,
-        t368,
-        t382,
+        t364,
+        t384,
+        t389,
+        t398,
         t402,
-        t407,
-        t416,
+        t404,
+        t405,
+        t408,
+        t418,
         t420,
+        t421,
         t422,
         t423,
-        t426,
+        t424,
+        t431,
+        t432,
+        t433,
+        t434,
         t436,
+        t437,
         t438,
-        t439,
-        t440,
-        t441,
-        t442,
-        t449,
-        t450,
-        t451,
-        t452,
-        t454,
-        t455,
+        t447,
         t456,
-        t465,
-        t474,
-        t484,
-        t503,
-        t505,
-        t552,
-        t555,
-        t564,
-        t575,
-        t585,
-        t594,
-        t610,
-        t618,
+        t466,
+        t485,
+        t487,
+        t534,
+        t537,
+        t546,
+        t557,
+        t567,
+        t576,
+        t592,
+        t600,
+        t603,
+        t605,
+        t606,
+        t609,
+        t619,
         t621,
-        t623,
-        t624,
-        t627,
-        t637,
+        t622,
+        t625,
+        t634,
         t639,
-        t640,
-        t643,
-        t652,
+        t648,
         t657,
-        t666,
-        t675,
-        t685,
-        t704,
-        t706,
-        t753,
-        t756,
-        t765,
-        t776,
-        t786,
-        t795,
-        t811,
-        t819,
+        t667,
+        t686,
+        t688,
+        t735,
+        t738,
+        t747,
+        t758,
+        t768,
+        t777,
+        t793,
+        t801,
+        t804,
+        t806,
+        t807,
+        t810,
+        t820,
         t822,
+        t823,
         t824,
-        t825,
-        t828,
-        t838,
-        t840,
-        t841,
+        t830,
+        t833,
         t842,
-        t848,
         t851,
-        t860,
-        t862,
-        t869,
-        t873,
-        t879,
-        t890,
-        t894,
-        t898,
-        t900,
-        t903,
-        t907,
-        t943,
-        t947,
-        t950,
-        t964,
-        t966,
-        t968,
-        t969,
-        t971,
-        t978,
-        t980,
-        t982,
-        t987,
-        t993,
+        t855,
+        t861,
+        t872,
+        t876,
+        t880,
+        t882,
+        t889,
+        t929,
+        t932,
+        t946,
+        t951,
+        t960,
+        t983,
+        t989,
         t994,
+        t998,
+        t1000,
         t1001,
         t1002,
     ) = {
-        let (t0, t1): (f64, f64) = sin_cos(beta);
-        let (t2, t3): (f64, f64) = sin_cos(alpha);
-        let (t4, t5): (f64, f64) = sin_cos(gamma);
-        let t6 = product(t2, t4);
-        let t7: f64 = t0 * t3;
-        let t8: f64 = t5 * t7;
-        let t9: f64 = t6.minus(t8);
-        let t10 = product(wz, t9);
-        let t11: f64 = wx * t1;
-        let t12 = product(t5, t11);
-        let t13 = product(t3, t4);
-        let t14: f64 = t0 * t2;
-        let t15: f64 = t5 * t14;
-        let t16: f64 = t13.plus(t15);
-        let t17: f64 = wy * t16;
-        let t18: f64 = t12.plus(t17);
-        let t19: f64 = t10.plus(t18);
-        let t20: f64 = wx * t4;
-        let t21 = product(t1, t20);
-        let t22 = product(t3, t5);
-        let t23: f64 = t4 * t14;
-        let t24: f64 = t22.minus(t23);
-        let t25: f64 = wy * t24;
-        let t26: f64 = t21.minus(t25);
-        let t27 = product(t2, t5);
-        let t28: f64 = t0 * t4;
-        let t29: f64 = t3 * t28;
-        let t30: f64 = t27.plus(t29);
-        let t31 = product(wz, t30);
-        let t32: f64 = t31.subtracted_from(t26);
-        let t33: f64 = t32 * 0.4108;
-        let t34 = product(t19, t33);
-        let t35: f64 = t19 * 0.4108;
-        let t36: f64 = t32 * t35;
-        let t37: f64 = t34.minus(t36);
-        let t38 = product(t0, t37);
-        let t39: f64 = t9 * 0.25;
-        let t40: f64 = t30 * 0.15;
-        let t41: f64 = t39 + t40;
-        let t42: f64 = zc + t41;
-        let t43: f64 = t42 * 0.1750329254309137;
-        let t44: f64 = -t43;
-        let t45: f64 = t42 * 0.9845625805478777;
-        let t46: f64 = -t45;
-        let t47 = product(t46, t46);
-        let t48: f64 = t44 * t44;
-        let t49: f64 = t1 * t5;
-        let t50: f64 = t1 * t4;
-        let t51: f64 = t49 * 0.25;
-        let t52: f64 = t50 * 0.15;
-        let t53: f64 = t51 - t52;
-        let t54: f64 = xc + t53;
-        let t55: f64 = t54 - 0.45;
-        let t56: f64 = t16 * 0.25;
-        let t57: f64 = t24 * 0.15;
-        let t58: f64 = t56 + t57;
-        let t59: f64 = yc + t58;
-        let t60: f64 = t59 - 0.08;
-        let t61 = product(t55, 0.9845625805478777);
-        let t62: f64 = t60 * 0.1750329254309137;
-        let t63: f64 = t61.plus(t62);
-        let t64 = product(t63, t63);
-        let t65: f64 = t47.plus(t48);
-        let t66: f64 = t64.plus(t65);
-        let t67: f64 = sqrt(t66);
-        let t68: f64 = 1.0 / t67;
-        let t69: f64 = t44 * t68;
-        let t70 = product(t55, t55);
-        let t71: f64 = t60 * t60;
-        let t72 = product(t42, t42);
-        let t73: f64 = t70.plus(t71);
-        let t74: f64 = t72.plus(t73);
-        let t75: f64 = sqrt(t74);
-        let t76: f64 = 1.0 / t75;
-        let t77 = product(t55, 0.1750329254309137);
-        let t78: f64 = t60 * 0.9845625805478777;
-        let t79: f64 = t77.minus(t78);
-        let t80: f64 = t68 * t79;
-        let t81: f64 = t76 * t76;
-        let t82 = product(wy, t41);
-        let t83: f64 = wz * t58;
-        let t84: f64 = t82.minus(t83);
-        let t85: f64 = vx + t84;
-        let t86: f64 = t46 * t68;
-        let t87 = product(t85, t86);
-        let t88 = product(wz, t53);
-        let t89: f64 = wx * t41;
-        let t90: f64 = t88.minus(t89);
-        let t91: f64 = vy + t90;
-        let t92: f64 = t69 * t91;
-        let t93 = product(wx, t58);
-        let t94: f64 = wy * t53;
-        let t95: f64 = t93.minus(t94);
-        let t96: f64 = vz + t95;
-        let t97: f64 = t63 * t68;
-        let t98 = product(t96, t97);
-        let t99: f64 = t87.plus(t92);
-        let t100: f64 = t98.plus(t99);
-        let t101: f64 = t42 * t76;
-        let t102 = product(t69, t101);
-        let t103: f64 = t60 * t76;
-        let t104: f64 = t97 * t103;
-        let t105: f64 = t102.minus(t104);
-        let t106 = product(t85, t105);
-        let t107: f64 = t55 * t76;
-        let t108 = product(t97, t107);
-        let t109: f64 = t86 * t101;
-        let t110: f64 = t108.minus(t109);
-        let t111: f64 = t91 * t110;
-        let t112 = product(t86, t103);
-        let t113: f64 = t69 * t107;
-        let t114: f64 = t112.minus(t113);
-        let t115 = product(t96, t114);
-        let t116: f64 = t106.plus(t111);
-        let t117: f64 = t115.plus(t116);
-        let t118: f64 = t80 * t81;
-        let t119: f64 = t100 * t118;
-        let t120 = product(t117, t119);
-        let t121 = product(t85, t107);
-        let t122: f64 = t91 * t103;
-        let t123 = product(t96, t101);
-        let t124: f64 = t121.plus(t122);
-        let t125: f64 = t123.plus(t124);
-        let t126: f64 = t76 * t125;
-        let t127: f64 = t126 * 2.0;
-        let t128: f64 = t76 * t100;
-        let t129: f64 = t127 * t128;
-        let t130: f64 = t120.plus(t129);
-        let t131 = product(t80, t130);
-        let t132: f64 = t68 * t68;
-        let t133: f64 = t74 * t76;
-        let t134: f64 = t132 * t133;
-        let t135: f64 = t100 * t134;
-        let t136 = product(t117, t135);
-        let t137 = product(wy, t95);
-        let t138: f64 = wz * t90;
-        let t139: f64 = t137.minus(t138);
-        let t140 = product(t86, t139);
-        let t141 = product(wz, t84);
-        let t142: f64 = wx * t95;
-        let t143: f64 = t141.minus(t142);
-        let t144: f64 = t69 * t143;
-        let t145 = product(wx, t90);
-        let t146: f64 = wy * t84;
-        let t147: f64 = t145.minus(t146);
-        let t148 = product(t97, t147);
-        let t149: f64 = t140.plus(t144);
-        let t150: f64 = t148.plus(t149);
-        let t151: f64 = t80 * t150;
-        let t152: f64 = t136.minus(t151);
-        let t153: f64 = t76 * t152;
-        let t154: f64 = t131.plus(t153);
-        let t155: f64 = t69 * t76;
-        let t156: f64 = t80 * t155;
-        let t157: f64 = t154 * t156;
-        let t158: f64 = t101 * 9.81;
-        let t159: f64 = -t158;
-        let t160 = product(t107, t139);
-        let t161: f64 = t103 * t143;
-        let t162 = product(t101, t147);
-        let t163: f64 = t160.plus(t161);
-        let t164: f64 = t162.plus(t163);
-        let t165 = product(t128, t128);
-        let t166: f64 = t76 * t117;
-        let t167: f64 = t166 * t166;
-        let t168: f64 = t165.plus(t167);
-        let t169 = product(t168, 0.3);
-        let t170: f64 = t169.added_to(t164);
-        let t171: f64 = t159 - t170;
-        let t172 = product(t103, t171);
-        let t173: f64 = t97 * 9.81;
-        let t174: f64 = -t173;
-        let t175 = product(t76, t150);
-        let t176: f64 = t175.subtracted_from(t130);
-        let t177: f64 = t76 * t80;
-        let t178: f64 = t100 * t177;
-        let t179: f64 = t166 * t178;
-        let t180 = product(t174, 0.2);
-        let t181: f64 = t150 * 0.3;
-        let t182 = product(t176, 0.295);
-        let t183 = product(t179, 0.292);
-        let t184: f64 = t180.plus(t181);
-        let t185: f64 = t182.plus(t184);
-        let t186: f64 = t183.subtracted_from(t185);
-        let t187: f64 = t155 * t186;
-        let t188: f64 = t172.plus(t187);
-        let t189: f64 = t114 * 9.81;
-        let t190: f64 = -t189;
-        let t191 = product(t114, t147);
-        let t192 = product(t105, t139);
-        let t193: f64 = t110 * t143;
-        let t194: f64 = t192.plus(t193);
-        let t195: f64 = t191.plus(t194);
-        let t196: f64 = t100 * t100;
-        let t197 = product(t177, t196);
-        let t198 = product(t117, t127);
-        let t199: f64 = t197.added_to(t195);
-        let t200: f64 = t198.subtracted_from(t199);
-        let t201: f64 = t76 * t200;
-        let t202: f64 = t128 * t178;
-        let t203 = product(t190, 0.2);
-        let t204: f64 = t195 * 0.3;
-        let t205 = product(t201, 0.295);
-        let t206 = product(t202, 0.292);
-        let t207: f64 = t203.plus(t204);
-        let t208: f64 = t206.plus(t207);
-        let t209: f64 = t205.minus(t208);
-        let t210: f64 = t76 * t110;
-        let t211 = product(t209, t210);
-        let t212: f64 = t201 - t202;
-        let t213 = product(t212, 0.3);
-        let t214: f64 = t213.added_to(t190);
-        let t215: f64 = t214 - t195;
-        let t216 = product(t110, t215);
-        let t217: f64 = t176 - t179;
-        let t218 = product(t217, 0.3);
-        let t219: f64 = t218.added_to(t150);
-        let t220: f64 = t219 - t174;
-        let t221: f64 = t69 * t220;
-        let t222: f64 = t216.minus(t221);
-        let t223: f64 = t211.minus(t222);
-        let t224: f64 = t188 - t223;
-        let t225 = product(t157, 0.003);
-        let t226: f64 = t225.added_to(t224);
-        let t227 = product(t41, t226);
-        let t228: f64 = t76 * t97;
-        let t229: f64 = t80 * t228;
-        let t230: f64 = t154 * t229;
-        let t231 = product(t101, t171);
-        let t232: f64 = t186 * t228;
-        let t233: f64 = t231.plus(t232);
-        let t234: f64 = t76 * t114;
-        let t235 = product(t209, t234);
-        let t236 = product(t114, t215);
-        let t237: f64 = t97 * t220;
-        let t238: f64 = t236.minus(t237);
-        let t239: f64 = t235.minus(t238);
-        let t240: f64 = t233 - t239;
-        let t241 = product(t230, 0.003);
-        let t242: f64 = t241.added_to(t240);
-        let t243: f64 = t58 * t242;
-        let t244: f64 = t39 - t40;
-        let t245: f64 = zc + t244;
-        let t246: f64 = t245 * 0.1750329254309137;
-        let t247: f64 = t245 * 0.9845625805478777;
-        let t248: f64 = -t247;
-        let t249 = product(t248, t248);
-        let t250: f64 = t246 * t246;
-        let t251: f64 = t51 + t52;
-        let t252: f64 = xc + t251;
-        let t253: f64 = t252 - 0.45;
-        let t254: f64 = t56 - t57;
-        let t255: f64 = yc + t254;
-        let t256: f64 = t255 + 0.08;
-        let t257 = product(t253, 0.9845625805478777);
-        let t258: f64 = t256 * 0.1750329254309137;
-        let t259: f64 = t257.minus(t258);
-        let t260 = product(t259, t259);
-        let t261: f64 = t249.plus(t250);
-        let t262: f64 = t260.plus(t261);
-        let t263: f64 = sqrt(t262);
-        let t264: f64 = 1.0 / t263;
-        let t265: f64 = t246 * t264;
-        let t266 = product(t253, t253);
-        let t267: f64 = t256 * t256;
-        let t268 = product(t245, t245);
-        let t269: f64 = t266.plus(t267);
-        let t270: f64 = t268.plus(t269);
-        let t271: f64 = sqrt(t270);
-        let t272: f64 = 1.0 / t271;
-        let t273 = product(t253, 0.1750329254309137);
-        let t274: f64 = t256 * 0.9845625805478777;
-        let t275: f64 = t273.plus(t274);
-        let t276: f64 = t264 * t275;
-        let t277: f64 = t272 * t272;
-        let t278 = product(wy, t244);
-        let t279: f64 = wz * t254;
-        let t280: f64 = t278.minus(t279);
-        let t281: f64 = vx + t280;
-        let t282: f64 = t248 * t264;
-        let t283 = product(t281, t282);
-        let t284 = product(wz, t251);
-        let t285: f64 = wx * t244;
-        let t286: f64 = t284.minus(t285);
-        let t287: f64 = vy + t286;
-        let t288: f64 = t265 * t287;
-        let t289 = product(wx, t254);
-        let t290: f64 = wy * t251;
-        let t291: f64 = t289.minus(t290);
-        let t292: f64 = vz + t291;
-        let t293: f64 = t259 * t264;
-        let t294 = product(t292, t293);
-        let t295: f64 = t283.plus(t288);
-        let t296: f64 = t294.plus(t295);
-        let t297: f64 = t245 * t272;
-        let t298 = product(t265, t297);
-        let t299: f64 = t256 * t272;
-        let t300: f64 = t293 * t299;
-        let t301: f64 = t298.minus(t300);
-        let t302 = product(t281, t301);
-        let t303: f64 = t253 * t272;
-        let t304 = product(t293, t303);
-        let t305: f64 = t282 * t297;
-        let t306: f64 = t304.minus(t305);
-        let t307: f64 = t287 * t306;
-        let t308 = product(t282, t299);
-        let t309: f64 = t265 * t303;
-        let t310: f64 = t308.minus(t309);
-        let t311 = product(t292, t310);
-        let t312: f64 = t302.plus(t307);
-        let t313: f64 = t311.plus(t312);
-        let t314: f64 = t276 * t277;
-        let t315: f64 = t296 * t314;
-        let t316 = product(t313, t315);
-        let t317 = product(t281, t303);
-        let t318: f64 = t287 * t299;
-        let t319 = product(t292, t297);
-        let t320: f64 = t317.plus(t318);
-        let t321: f64 = t319.plus(t320);
-        let t322: f64 = t272 * t321;
-        let t323: f64 = t322 * 2.0;
-        let t324: f64 = t272 * t296;
-        let t325: f64 = t323 * t324;
-        let t326: f64 = t316.minus(t325);
-        let t327 = product(t276, t326);
-        let t328: f64 = t264 * t264;
-        let t329: f64 = t270 * t272;
-        let t330: f64 = t328 * t329;
-        let t331: f64 = t296 * t330;
-        let t332 = product(t313, t331);
-        let t333 = product(wy, t291);
-        let t334: f64 = wz * t286;
-        let t335: f64 = t333.minus(t334);
-        let t336 = product(t282, t335);
-        let t337 = product(wz, t280);
-        let t338: f64 = wx * t291;
-        let t339: f64 = t337.minus(t338);
-        let t340: f64 = t265 * t339;
-        let t341 = product(wx, t286);
-        let t342: f64 = wy * t280;
-        let t343: f64 = t341.minus(t342);
-        let t344 = product(t293, t343);
-        let t345: f64 = t336.plus(t340);
-        let t346: f64 = t344.plus(t345);
-        let t347: f64 = t276 * t346;
-        let t348: f64 = t332.plus(t347);
-        let t349: f64 = t272 * t348;
-        let t350: f64 = t327.plus(t349);
-        let t351: f64 = t265 * t272;
-        let t352: f64 = t276 * t351;
-        let t353: f64 = t350 * t352;
-        let t354: f64 = t293 * 9.81;
-        let t355: f64 = -t354;
-        let t356 = product(t272, t346);
-        let t357: f64 = t356.added_to(t326);
-        let t358: f64 = t272 * t276;
-        let t359: f64 = t296 * t358;
-        let t360: f64 = t272 * t313;
-        let t361: f64 = t359 * t360;
-        let t362 = product(t355, 0.2);
-        let t363: f64 = t346 * 0.3;
-        let t364 = product(t357, 0.295);
-        let t365 = product(t361, 0.292);
-        let t366: f64 = t362.plus(t363);
-        let t367: f64 = t365.plus(t366);
-        let t368: f64 = t364.minus(t367);
-        let t369 = product(t351, t368);
-        let t370: f64 = t297 * 9.81;
-        let t371: f64 = -t370;
-        let t372 = product(t303, t335);
-        let t373: f64 = t299 * t339;
-        let t374 = product(t297, t343);
-        let t375: f64 = t372.plus(t373);
-        let t376: f64 = t374.plus(t375);
-        let t377 = product(t324, t324);
-        let t378: f64 = t360 * t360;
-        let t379: f64 = t377.plus(t378);
-        let t380 = product(t379, 0.3);
-        let t381: f64 = t380.added_to(t376);
-        let t382: f64 = t371 - t381;
-        let t383: f64 = t299 * t382;
-        let t384: f64 = t369.minus(t383);
-        let t385: f64 = t310 * 9.81;
-        let t386: f64 = -t385;
-        let t387 = product(t310, t343);
-        let t388 = product(t301, t335);
-        let t389: f64 = t306 * t339;
-        let t390: f64 = t388.plus(t389);
-        let t391: f64 = t387.plus(t390);
-        let t392: f64 = t296 * t296;
-        let t393 = product(t358, t392);
-        let t394: f64 = t313 * t323;
-        let t395: f64 = t393.plus(t394);
-        let t396: f64 = t391 - t395;
-        let t397: f64 = t272 * t396;
-        let t398: f64 = t324 * t359;
-        let t399: f64 = t397 + t398;
-        let t400 = product(t399, 0.3);
-        let t401: f64 = t400.added_to(t386);
-        let t402: f64 = t391 - t401;
-        let t403 = product(t306, t402);
-        let t404: f64 = t357 - t361;
-        let t405 = product(t404, 0.3);
-        let t406: f64 = t405.added_to(t355);
-        let t407: f64 = t406 - t346;
-        let t408: f64 = t265 * t407;
-        let t409: f64 = t403.minus(t408);
-        let t410 = product(t386, 0.2);
-        let t411: f64 = t391 * 0.3;
-        let t412 = product(t397, 0.295);
-        let t413: f64 = t398 * 0.292;
-        let t414: f64 = t410.plus(t411);
-        let t415: f64 = t412.plus(t413);
-        let t416: f64 = t414 - t415;
-        let t417: f64 = t272 * t306;
-        let t418 = product(t416, t417);
-        let t419: f64 = t418.subtracted_from(t409);
-        let t420: f64 = t384 + t419;
-        let t421 = product(t353, 0.003);
-        let t422: f64 = t421.added_to(t420);
-        let t423 = product(t244, t422);
-        let t424: f64 = t272 * t293;
-        let t425: f64 = t276 * t424;
-        let t426: f64 = t350 * t425;
-        let t427 = product(t368, t424);
-        let t428: f64 = t297 * t382;
-        let t429: f64 = t427.minus(t428);
-        let t430 = product(t310, t402);
-        let t431: f64 = t293 * t407;
-        let t432: f64 = t430.minus(t431);
-        let t433: f64 = t272 * t310;
-        let t434 = product(t416, t433);
-        let t435: f64 = t434.subtracted_from(t432);
-        let t436: f64 = t429 + t435;
-        let t437 = product(t426, 0.003);
-        let t438: f64 = t437.added_to(t436);
-        let t439: f64 = t254 * t438;
-        let t440: f64 = t9 * 0.254904;
-        let t441: f64 = t30 * 0.141506;
-        let t442: f64 = t440 - t441;
-        let t443: f64 = zc - t442;
-        let t444: f64 = t443 * 0.7651390659756491;
-        let t445: f64 = -t444;
-        let t446: f64 = t443 * 0.6438650555185546;
-        let t447 = product(t446, t446);
-        let t448: f64 = t445 * t445;
-        let t449: f64 = t49 * 0.254904;
-        let t450: f64 = t50 * 0.141506;
-        let t451: f64 = t449 + t450;
-        let t452: f64 = xc + 0.294282;
-        let t453: f64 = t452 - t451;
-        let t454: f64 = t16 * 0.254904;
-        let t455: f64 = t24 * 0.141506;
-        let t456: f64 = t454 - t455;
-        let t457: f64 = t456 + 0.349711;
-        let t458: f64 = yc - t457;
-        let t459 = product(t453, 0.6438650555185546);
-        let t460: f64 = t458 * 0.7651390659756491;
-        let t461: f64 = t459.minus(t460);
-        let t462 = product(t461, t461);
-        let t463: f64 = t447.plus(t448);
-        let t464: f64 = t462.plus(t463);
-        let t465: f64 = sqrt(t464);
-        let t466: f64 = 1.0 / t465;
-        let t467: f64 = t445 * t466;
-        let t468 = product(t453, t453);
-        let t469: f64 = t458 * t458;
-        let t470 = product(t443, t443);
-        let t471: f64 = t468.plus(t469);
-        let t472: f64 = t470.plus(t471);
-        let t473: f64 = sqrt(t472);
-        let t474: f64 = 1.0 / t473;
-        let t475 = product(t453, 0.7651390659756491);
-        let t476: f64 = t458 * 0.6438650555185546;
-        let t477: f64 = t475.plus(t476);
-        let t478: f64 = t466 * t477;
-        let t479: f64 = t474 * t474;
-        let t480 = product(wy, t442);
-        let t481: f64 = wz * t456;
-        let t482: f64 = t480.minus(t481);
-        let t483: f64 = vx - t482;
-        let t484: f64 = t446 * t466;
-        let t485 = product(t483, t484);
-        let t486 = product(wz, t451);
-        let t487: f64 = wx * t442;
-        let t488: f64 = t486.minus(t487);
-        let t489: f64 = vy - t488;
-        let t490: f64 = t467 * t489;
-        let t491 = product(wx, t456);
-        let t492: f64 = wy * t451;
-        let t493: f64 = t491.minus(t492);
-        let t494: f64 = vz - t493;
-        let t495: f64 = t461 * t466;
-        let t496 = product(t494, t495);
-        let t497: f64 = t485.plus(t490);
-        let t498: f64 = t496.subtracted_from(t497);
-        let t499: f64 = t443 * t474;
-        let t500 = product(t467, t499);
-        let t501: f64 = t458 * t474;
-        let t502: f64 = t495 * t501;
-        let t503: f64 = t500.plus(t502);
-        let t504 = product(t483, t503);
-        let t505: f64 = t453 * t474;
-        let t506 = product(t495, t505);
-        let t507: f64 = t484 * t499;
-        let t508: f64 = t506.plus(t507);
-        let t509 = product(t489, t508);
-        let t510 = product(t484, t501);
-        let t511: f64 = t467 * t505;
-        let t512: f64 = t510.minus(t511);
-        let t513: f64 = t494 * t512;
-        let t514: f64 = t504.plus(t513);
-        let t515: f64 = t509.subtracted_from(t514);
-        let t516: f64 = t478 * t479;
-        let t517: f64 = t498 * t516;
-        let t518 = product(t515, t517);
-        let t519 = product(t483, t505);
-        let t520: f64 = t489 * t501;
-        let t521 = product(t494, t499);
-        let t522: f64 = t519.plus(t520);
-        let t523: f64 = t521.plus(t522);
-        let t524: f64 = t474 * t523;
-        let t525: f64 = t524 * 2.0;
-        let t526: f64 = t474 * t498;
-        let t527: f64 = t525 * t526;
-        let t528: f64 = t518.plus(t527);
-        let t529 = product(t478, t528);
-        let t530: f64 = t466 * t466;
-        let t531: f64 = t472 * t474;
-        let t532: f64 = t530 * t531;
-        let t533: f64 = t498 * t532;
-        let t534 = product(t515, t533);
-        let t535 = product(wy, t493);
-        let t536: f64 = wz * t488;
-        let t537: f64 = t535.minus(t536);
-        let t538 = product(t484, t537);
-        let t539 = product(wz, t482);
-        let t540: f64 = wx * t493;
-        let t541: f64 = t539.minus(t540);
-        let t542: f64 = t467 * t541;
-        let t543 = product(wx, t488);
-        let t544: f64 = wy * t482;
-        let t545: f64 = t543.minus(t544);
-        let t546 = product(t495, t545);
-        let t547: f64 = t538.plus(t542);
-        let t548: f64 = t546.subtracted_from(t547);
-        let t549: f64 = t478 * t548;
-        let t550: f64 = t534.plus(t549);
-        let t551: f64 = t474 * t550;
-        let t552: f64 = t529.plus(t551);
-        let t553: f64 = t467 * t474;
-        let t554: f64 = t478 * t553;
-        let t555: f64 = t552 * t554;
-        let t556: f64 = t512 * 9.81;
-        let t557: f64 = -t556;
-        let t558 = product(t512, t545);
-        let t559 = product(t503, t537);
-        let t560: f64 = t508 * t541;
-        let t561: f64 = t559.minus(t560);
-        let t562: f64 = t558.plus(t561);
-        let t563: f64 = t498 * t498;
-        let t564: f64 = t474 * t478;
-        let t565 = product(t563, t564);
-        let t566 = product(t515, t525);
-        let t567: f64 = t566.added_to(t562);
-        let t568: f64 = t565.subtracted_from(t567);
-        let t569: f64 = t474 * t568;
-        let t570: f64 = t498 * t564;
-        let t571: f64 = t526 * t570;
-        let t572: f64 = t569 + t571;
-        let t573 = product(t572, 0.3);
-        let t574: f64 = t557 + t562;
-        let t575: f64 = t573.subtracted_from(t574);
-        let t576 = product(t508, t575);
-        let t577: f64 = t495 * 9.81;
-        let t578 = product(t474, t548);
-        let t579: f64 = t578.added_to(t528);
-        let t580: f64 = t474 * t515;
-        let t581: f64 = t570 * t580;
-        let t582: f64 = t579 - t581;
-        let t583 = product(t582, 0.3);
-        let t584: f64 = t548 + t577;
-        let t585: f64 = t583.minus(t584);
-        let t586: f64 = t467 * t585;
-        let t587: f64 = t576.plus(t586);
-        let t588 = product(t557, 0.2);
-        let t589 = product(t562, 0.3);
-        let t590: f64 = t569 * 0.295;
-        let t591 = product(t571, 0.292);
-        let t592: f64 = t588.plus(t590);
-        let t593: f64 = t591.plus(t592);
-        let t594: f64 = t589.minus(t593);
-        let t595: f64 = t474 * t508;
-        let t596 = product(t594, t595);
-        let t597: f64 = t596.subtracted_from(t587);
-        let t598: f64 = t499 * 9.81;
-        let t599: f64 = -t598;
-        let t600 = product(t505, t537);
-        let t601: f64 = t501 * t541;
-        let t602 = product(t499, t545);
-        let t603: f64 = t600.plus(t601);
-        let t604: f64 = t602.plus(t603);
-        let t605 = product(t526, t526);
-        let t606: f64 = t580 * t580;
-        let t607: f64 = t605.plus(t606);
-        let t608 = product(t607, 0.3);
-        let t609: f64 = t599 + t604;
-        let t610: f64 = t608.subtracted_from(t609);
-        let t611 = product(t501, t610);
-        let t612 = product(t577, 0.2);
-        let t613 = product(t548, 0.3);
-        let t614: f64 = t579 * 0.295;
-        let t615: f64 = t581 * 0.292;
-        let t616: f64 = t612.plus(t614);
-        let t617: f64 = t613.plus(t615);
-        let t618: f64 = t616 - t617;
-        let t619: f64 = t553 * t618;
-        let t620: f64 = t611.plus(t619);
-        let t621: f64 = t597 - t620;
-        let t622 = product(t555, 0.003);
-        let t623: f64 = t622.subtracted_from(t621);
-        let t624 = product(t442, t623);
-        let t625: f64 = t474 * t495;
-        let t626: f64 = t478 * t625;
-        let t627: f64 = t552 * t626;
-        let t628 = product(t499, t610);
-        let t629: f64 = t618 * t625;
-        let t630: f64 = t628.minus(t629);
-        let t631: f64 = t474 * t512;
-        let t632 = product(t594, t631);
-        let t633 = product(t512, t575);
-        let t634: f64 = t495 * t585;
-        let t635: f64 = t633.plus(t634);
-        let t636: f64 = t632.minus(t635);
-        let t637: f64 = t630 - t636;
-        let t638 = product(t627, 0.003);
-        let t639: f64 = t638.subtracted_from(t637);
-        let t640: f64 = t456 * t639;
-        let t641: f64 = t9 * 0.004904;
-        let t642: f64 = t30 * 0.291506;
-        let t643: f64 = t641 + t642;
-        let t644: f64 = zc + t643;
-        let t645: f64 = t644 * 0.9401728133131936;
-        let t646: f64 = -t645;
-        let t647: f64 = t644 * 0.3406979323488107;
-        let t648 = product(t647, t647);
-        let t649: f64 = t646 * t646;
-        let t650: f64 = t49 * 0.004904;
-        let t651: f64 = t50 * 0.291506;
-        let t652: f64 = t650 - t651;
-        let t653: f64 = xc + t652;
-        let t654: f64 = t653 + 0.155718;
-        let t655: f64 = t16 * 0.004904;
-        let t656: f64 = t24 * 0.291506;
-        let t657: f64 = t655 + t656;
-        let t658: f64 = yc + t657;
-        let t659: f64 = t658 - 0.429711;
-        let t660 = product(t654, 0.3406979323488107);
-        let t661: f64 = t659 * 0.9401728133131936;
-        let t662: f64 = t660.minus(t661);
-        let t663 = product(t662, t662);
-        let t664: f64 = t648.plus(t649);
-        let t665: f64 = t663.plus(t664);
-        let t666: f64 = sqrt(t665);
-        let t667: f64 = 1.0 / t666;
-        let t668: f64 = t646 * t667;
-        let t669 = product(t654, t654);
-        let t670: f64 = t659 * t659;
-        let t671 = product(t644, t644);
-        let t672: f64 = t669.plus(t670);
-        let t673: f64 = t671.plus(t672);
-        let t674: f64 = sqrt(t673);
-        let t675: f64 = 1.0 / t674;
-        let t676 = product(t654, 0.9401728133131936);
-        let t677: f64 = t659 * 0.3406979323488107;
-        let t678: f64 = t676.plus(t677);
-        let t679: f64 = t667 * t678;
-        let t680: f64 = t675 * t675;
-        let t681 = product(wy, t643);
-        let t682: f64 = wz * t657;
-        let t683: f64 = t681.minus(t682);
-        let t684: f64 = vx + t683;
-        let t685: f64 = t647 * t667;
-        let t686 = product(t684, t685);
-        let t687 = product(wz, t652);
-        let t688: f64 = wx * t643;
-        let t689: f64 = t687.minus(t688);
-        let t690: f64 = vy + t689;
-        let t691: f64 = t668 * t690;
-        let t692 = product(wx, t657);
-        let t693: f64 = wy * t652;
-        let t694: f64 = t692.minus(t693);
-        let t695: f64 = vz + t694;
-        let t696: f64 = t662 * t667;
-        let t697 = product(t695, t696);
-        let t698: f64 = t686.plus(t691);
-        let t699: f64 = t697.subtracted_from(t698);
-        let t700: f64 = t644 * t675;
-        let t701 = product(t668, t700);
-        let t702: f64 = t659 * t675;
-        let t703: f64 = t696 * t702;
-        let t704: f64 = t701.plus(t703);
-        let t705 = product(t684, t704);
-        let t706: f64 = t654 * t675;
-        let t707 = product(t696, t706);
-        let t708: f64 = t685 * t700;
-        let t709: f64 = t707.plus(t708);
-        let t710 = product(t690, t709);
-        let t711 = product(t685, t702);
-        let t712: f64 = t668 * t706;
-        let t713: f64 = t711.minus(t712);
-        let t714: f64 = t695 * t713;
-        let t715: f64 = t705.plus(t714);
-        let t716: f64 = t710.subtracted_from(t715);
-        let t717: f64 = t679 * t680;
-        let t718: f64 = t699 * t717;
-        let t719 = product(t716, t718);
-        let t720 = product(t684, t706);
-        let t721: f64 = t690 * t702;
-        let t722 = product(t695, t700);
-        let t723: f64 = t720.plus(t721);
-        let t724: f64 = t722.plus(t723);
-        let t725: f64 = t675 * t724;
-        let t726: f64 = t725 * 2.0;
-        let t727: f64 = t675 * t699;
-        let t728: f64 = t726 * t727;
-        let t729: f64 = t719.plus(t728);
-        let t730 = product(t679, t729);
-        let t731: f64 = t667 * t667;
-        let t732: f64 = t673 * t675;
-        let t733: f64 = t731 * t732;
-        let t734: f64 = t699 * t733;
-        let t735 = product(t716, t734);
-        let t736 = product(wy, t694);
-        let t737: f64 = wz * t689;
-        let t738: f64 = t736.minus(t737);
-        let t739 = product(t685, t738);
-        let t740 = product(wz, t683);
-        let t741: f64 = wx * t694;
-        let t742: f64 = t740.minus(t741);
-        let t743: f64 = t668 * t742;
-        let t744 = product(wx, t689);
-        let t745: f64 = wy * t683;
-        let t746: f64 = t744.minus(t745);
-        let t747 = product(t696, t746);
-        let t748: f64 = t739.plus(t743);
-        let t749: f64 = t747.subtracted_from(t748);
-        let t750: f64 = t679 * t749;
-        let t751: f64 = t735.minus(t750);
-        let t752: f64 = t675 * t751;
-        let t753: f64 = t730.plus(t752);
-        let t754: f64 = t668 * t675;
-        let t755: f64 = t679 * t754;
-        let t756: f64 = t753 * t755;
-        let t757: f64 = t713 * 9.81;
-        let t758: f64 = -t757;
-        let t759 = product(t713, t746);
-        let t760 = product(t704, t738);
-        let t761: f64 = t709 * t742;
-        let t762: f64 = t760.minus(t761);
-        let t763: f64 = t759.plus(t762);
-        let t764: f64 = t699 * t699;
-        let t765: f64 = t675 * t679;
-        let t766 = product(t764, t765);
-        let t767 = product(t716, t726);
-        let t768: f64 = t766.added_to(t763);
-        let t769: f64 = t767.subtracted_from(t768);
-        let t770: f64 = t675 * t769;
-        let t771: f64 = t699 * t765;
-        let t772: f64 = t727 * t771;
-        let t773: f64 = t770 - t772;
-        let t774 = product(t773, 0.3);
-        let t775: f64 = t774.added_to(t758);
-        let t776: f64 = t775 - t763;
-        let t777 = product(t709, t776);
-        let t778: f64 = t696 * 9.81;
-        let t779 = product(t675, t749);
-        let t780: f64 = t779.subtracted_from(t729);
-        let t781: f64 = t675 * t716;
-        let t782: f64 = t771 * t781;
-        let t783: f64 = t780 - t782;
-        let t784 = product(t783, 0.3);
-        let t785: f64 = t784.added_to(t749);
-        let t786: f64 = t785 - t778;
-        let t787: f64 = t668 * t786;
-        let t788: f64 = t777.plus(t787);
-        let t789 = product(t758, 0.2);
-        let t790: f64 = t763 * 0.3;
-        let t791 = product(t770, 0.295);
-        let t792 = product(t772, 0.292);
-        let t793: f64 = t789.plus(t790);
-        let t794: f64 = t792.plus(t793);
-        let t795: f64 = t791.minus(t794);
-        let t796: f64 = t675 * t709;
-        let t797 = product(t795, t796);
-        let t798: f64 = t797.subtracted_from(t788);
-        let t799: f64 = t700 * 9.81;
-        let t800: f64 = -t799;
-        let t801 = product(t706, t738);
-        let t802: f64 = t702 * t742;
-        let t803 = product(t700, t746);
-        let t804: f64 = t801.plus(t802);
-        let t805: f64 = t803.plus(t804);
-        let t806 = product(t727, t727);
-        let t807: f64 = t781 * t781;
-        let t808: f64 = t806.plus(t807);
-        let t809 = product(t808, 0.3);
-        let t810: f64 = t809.added_to(t805);
-        let t811: f64 = t800 - t810;
-        let t812 = product(t702, t811);
-        let t813 = product(t778, 0.2);
-        let t814: f64 = t749 * 0.3;
-        let t815 = product(t780, 0.295);
-        let t816 = product(t782, 0.292);
-        let t817: f64 = t813.plus(t814);
-        let t818: f64 = t815.plus(t817);
-        let t819: f64 = t816.subtracted_from(t818);
-        let t820: f64 = t754 * t819;
-        let t821: f64 = t812.plus(t820);
-        let t822: f64 = t798 - t821;
-        let t823 = product(t756, 0.003);
-        let t824: f64 = t823.subtracted_from(t822);
-        let t825: f64 = t643 * t824;
-        let t826: f64 = t675 * t696;
-        let t827: f64 = t679 * t826;
-        let t828: f64 = t753 * t827;
-        let t829 = product(t700, t811);
-        let t830: f64 = t819 * t826;
-        let t831: f64 = t829.minus(t830);
-        let t832: f64 = t675 * t713;
-        let t833 = product(t795, t832);
-        let t834 = product(t713, t776);
-        let t835: f64 = t696 * t786;
-        let t836: f64 = t834.plus(t835);
-        let t837: f64 = t833.minus(t836);
-        let t838: f64 = t831 - t837;
-        let t839 = product(t828, 0.003);
-        let t840: f64 = t839.subtracted_from(t838);
-        let t841 = product(t657, t840);
-        let t842: f64 = t641 - t642;
-        let t843: f64 = zc + t842;
-        let t844: f64 = t843 * 0.9401728133131936;
-        let t845: f64 = t843 * 0.3406979323488107;
-        let t846 = product(t845, t845);
-        let t847: f64 = t844 * t844;
-        let t848: f64 = t650 + t651;
-        let t849: f64 = xc + t848;
-        let t850: f64 = t849 + 0.155718;
-        let t851: f64 = t655 - t656;
-        let t852: f64 = yc + t851;
-        let t853: f64 = t852 + 0.429711;
-        let t854 = product(t850, 0.3406979323488107);
-        let t855: f64 = t853 * 0.9401728133131936;
-        let t856: f64 = t854.plus(t855);
-        let t857 = product(t856, t856);
-        let t858: f64 = t846.plus(t847);
-        let t859: f64 = t857.plus(t858);
-        let t860: f64 = sqrt(t859);
-        let t861: f64 = 1.0 / t860;
-        let t862: f64 = t844 * t861;
-        let t863 = product(t850, t850);
-        let t864: f64 = t853 * t853;
-        let t865 = product(t843, t843);
-        let t866: f64 = t863.plus(t864);
-        let t867: f64 = t865.plus(t866);
-        let t868: f64 = sqrt(t867);
-        let t869: f64 = 1.0 / t868;
-        let t870 = product(t850, 0.9401728133131936);
-        let t871: f64 = t853 * 0.3406979323488107;
-        let t872: f64 = t870.minus(t871);
-        let t873: f64 = t861 * t872;
-        let t874: f64 = t869 * t869;
-        let t875 = product(wy, t842);
-        let t876: f64 = wz * t851;
-        let t877: f64 = t875.minus(t876);
-        let t878: f64 = vx + t877;
-        let t879: f64 = t845 * t861;
-        let t880 = product(t878, t879);
-        let t881 = product(wz, t848);
-        let t882: f64 = wx * t842;
-        let t883: f64 = t881.minus(t882);
-        let t884: f64 = vy + t883;
-        let t885: f64 = t862 * t884;
-        let t886 = product(wx, t851);
-        let t887: f64 = wy * t848;
-        let t888: f64 = t886.minus(t887);
-        let t889: f64 = vz + t888;
-        let t890: f64 = t856 * t861;
-        let t891 = product(t889, t890);
-        let t892: f64 = t880.plus(t885);
-        let t893: f64 = t891.subtracted_from(t892);
-        let t894: f64 = t843 * t869;
-        let t895 = product(t862, t894);
-        let t896: f64 = t853 * t869;
-        let t897: f64 = t890 * t896;
-        let t898: f64 = t895.plus(t897);
-        let t899 = product(t878, t898);
-        let t900: f64 = t850 * t869;
-        let t901 = product(t890, t900);
-        let t902: f64 = t879 * t894;
-        let t903: f64 = t901.plus(t902);
-        let t904 = product(t884, t903);
-        let t905 = product(t879, t896);
-        let t906: f64 = t862 * t900;
-        let t907: f64 = t905.minus(t906);
-        let t908: f64 = t889 * t907;
-        let t909: f64 = t899.plus(t908);
-        let t910: f64 = t904.subtracted_from(t909);
-        let t911: f64 = t873 * t874;
-        let t912: f64 = t893 * t911;
-        let t913 = product(t910, t912);
-        let t914 = product(t878, t900);
-        let t915: f64 = t884 * t896;
-        let t916 = product(t889, t894);
-        let t917: f64 = t914.plus(t915);
-        let t918: f64 = t916.plus(t917);
-        let t919: f64 = t869 * t918;
-        let t920: f64 = t919 * 2.0;
-        let t921: f64 = t869 * t893;
-        let t922: f64 = t920 * t921;
-        let t923: f64 = t913.minus(t922);
-        let t924 = product(t873, t923);
-        let t925: f64 = t861 * t861;
-        let t926: f64 = t867 * t869;
-        let t927: f64 = t925 * t926;
-        let t928: f64 = t893 * t927;
-        let t929 = product(t910, t928);
-        let t930 = product(wy, t888);
-        let t931: f64 = wz * t883;
-        let t932: f64 = t930.minus(t931);
-        let t933 = product(t879, t932);
-        let t934 = product(wz, t877);
-        let t935: f64 = wx * t888;
-        let t936: f64 = t934.minus(t935);
-        let t937: f64 = t862 * t936;
-        let t938 = product(wx, t883);
-        let t939: f64 = wy * t877;
-        let t940: f64 = t938.minus(t939);
-        let t941 = product(t890, t940);
-        let t942: f64 = t933.plus(t937);
-        let t943: f64 = t941.subtracted_from(t942);
-        let t944: f64 = t873 * t943;
-        let t945: f64 = t929.plus(t944);
-        let t946: f64 = t869 * t945;
-        let t947: f64 = t924.plus(t946);
-        let t948: f64 = t862 * t869;
-        let t949: f64 = t873 * t948;
-        let t950: f64 = t947 * t949;
-        let t951: f64 = t894 * 9.81;
-        let t952: f64 = -t951;
-        let t953 = product(t900, t932);
-        let t954: f64 = t896 * t936;
-        let t955 = product(t894, t940);
-        let t956: f64 = t953.plus(t954);
-        let t957: f64 = t955.plus(t956);
-        let t958 = product(t921, t921);
-        let t959: f64 = t869 * t910;
-        let t960: f64 = t959 * t959;
-        let t961: f64 = t958.plus(t960);
-        let t962 = product(t961, 0.3);
-        let t963: f64 = t962.added_to(t957);
-        let t964: f64 = t952 - t963;
-        let t965 = product(t896, t964);
-        let t966: f64 = t890 * 9.81;
-        let t967 = product(t869, t943);
-        let t968: f64 = t967.added_to(t923);
-        let t969: f64 = t869 * t873;
-        let t970: f64 = t893 * t969;
-        let t971: f64 = t959 * t970;
-        let t972 = product(t966, 0.2);
-        let t973: f64 = t943 * 0.3;
-        let t974 = product(t968, 0.295);
-        let t975 = product(t971, 0.292);
-        let t976: f64 = t972.plus(t973);
-        let t977: f64 = t975.plus(t976);
-        let t978: f64 = t974.minus(t977);
-        let t979: f64 = t948 * t978;
-        let t980: f64 = t965.minus(t979);
-        let t981: f64 = t907 * 9.81;
-        let t982: f64 = -t981;
-        let t983 = product(t907, t940);
-        let t984 = product(t898, t932);
-        let t985: f64 = t903 * t936;
-        let t986: f64 = t984.minus(t985);
-        let t987: f64 = t983.plus(t986);
-        let t988: f64 = t893 * t893;
-        let t989 = product(t969, t988);
-        let t990: f64 = t910 * t920;
-        let t991: f64 = t989.plus(t990);
-        let t992: f64 = t987 - t991;
-        let t993: f64 = t869 * t992;
-        let t994: f64 = t921 * t970;
-        let t995 = product(t982, 0.2);
-        let t996: f64 = t987 * 0.3;
-        let t997 = product(t993, 0.295);
-        let t998: f64 = t994 * 0.292;
-        let t999: f64 = t995.plus(t996);
-        let t1000: f64 = t997.plus(t998);
-        let t1001: f64 = t999 - t1000;
-        let t1002: f64 = t869 * t903;
+        let (t0, t1): (f64, f64) = sin_cos(alpha);
+        let (t2, t3): (f64, f64) = sin_cos(gamma);
+        let t4 = product(t0, t2);
+        let (t5, t6): (f64, f64) = sin_cos(beta);
+        let t7: f64 = t1 * t5;
+        let t8: f64 = t3 * t7;
+        let t9: f64 = t4.minus(t8);
+        let t10 = product(t0, t3);
+        let t11: f64 = t2 * t5;
+        let t12: f64 = t1 * t11;
+        let t13: f64 = t10.plus(t12);
+        let t14: f64 = t9 * 0.25;
+        let t15: f64 = t13 * 0.15;
+        let t16: f64 = t14 + t15;
+        let t17: f64 = zc + t16;
+        let t18: f64 = t17 * 0.1750329254309137;
+        let t19: f64 = -t18;
+        let t20: f64 = t17 * 0.9845625805478777;
+        let t21: f64 = -t20;
+        let t22 = product(t21, t21);
+        let t23: f64 = t19 * t19;
+        let t24: f64 = t3 * t6;
+        let t25: f64 = t2 * t6;
+        let t26: f64 = t24 * 0.25;
+        let t27: f64 = t25 * 0.15;
+        let t28: f64 = t26 - t27;
+        let t29: f64 = xc + t28;
+        let t30: f64 = t29 - 0.45;
+        let t31 = product(t1, t2);
+        let t32: f64 = t0 * t5;
+        let t33: f64 = t3 * t32;
+        let t34: f64 = t31.plus(t33);
+        let t35 = product(t1, t3);
+        let t36: f64 = t2 * t32;
+        let t37: f64 = t35.minus(t36);
+        let t38: f64 = t34 * 0.25;
+        let t39: f64 = t37 * 0.15;
+        let t40: f64 = t38 + t39;
+        let t41: f64 = yc + t40;
+        let t42: f64 = t41 - 0.08;
+        let t43 = product(t30, 0.9845625805478777);
+        let t44: f64 = t42 * 0.1750329254309137;
+        let t45: f64 = t43.plus(t44);
+        let t46 = product(t45, t45);
+        let t47: f64 = t22.plus(t23);
+        let t48: f64 = t46.plus(t47);
+        let t49: f64 = sqrt(t48);
+        let t50: f64 = 1.0 / t49;
+        let t51: f64 = t19 * t50;
+        let t52 = product(t30, t30);
+        let t53: f64 = t42 * t42;
+        let t54 = product(t17, t17);
+        let t55: f64 = t52.plus(t53);
+        let t56: f64 = t54.plus(t55);
+        let t57: f64 = sqrt(t56);
+        let t58: f64 = 1.0 / t57;
+        let t59 = product(t30, 0.1750329254309137);
+        let t60: f64 = t42 * 0.9845625805478777;
+        let t61: f64 = t59.minus(t60);
+        let t62: f64 = t50 * t61;
+        let t63: f64 = t58 * t58;
+        let t64 = product(wy, t16);
+        let t65: f64 = wz * t40;
+        let t66: f64 = t64.minus(t65);
+        let t67: f64 = vx + t66;
+        let t68: f64 = t21 * t50;
+        let t69 = product(t67, t68);
+        let t70 = product(wz, t28);
+        let t71: f64 = wx * t16;
+        let t72: f64 = t70.minus(t71);
+        let t73: f64 = vy + t72;
+        let t74: f64 = t51 * t73;
+        let t75 = product(wx, t40);
+        let t76: f64 = wy * t28;
+        let t77: f64 = t75.minus(t76);
+        let t78: f64 = vz + t77;
+        let t79: f64 = t45 * t50;
+        let t80 = product(t78, t79);
+        let t81: f64 = t69.plus(t74);
+        let t82: f64 = t80.plus(t81);
+        let t83: f64 = t17 * t58;
+        let t84 = product(t51, t83);
+        let t85: f64 = t42 * t58;
+        let t86: f64 = t79 * t85;
+        let t87: f64 = t84.minus(t86);
+        let t88 = product(t67, t87);
+        let t89: f64 = t30 * t58;
+        let t90 = product(t79, t89);
+        let t91: f64 = t68 * t83;
+        let t92: f64 = t90.minus(t91);
+        let t93: f64 = t73 * t92;
+        let t94 = product(t68, t85);
+        let t95: f64 = t51 * t89;
+        let t96: f64 = t94.minus(t95);
+        let t97 = product(t78, t96);
+        let t98: f64 = t88.plus(t93);
+        let t99: f64 = t97.plus(t98);
+        let t100: f64 = t62 * t63;
+        let t101: f64 = t82 * t100;
+        let t102 = product(t99, t101);
+        let t103 = product(t67, t89);
+        let t104: f64 = t73 * t85;
+        let t105 = product(t78, t83);
+        let t106: f64 = t103.plus(t104);
+        let t107: f64 = t105.plus(t106);
+        let t108: f64 = t58 * t107;
+        let t109: f64 = t108 * 2.0;
+        let t110: f64 = t58 * t82;
+        let t111: f64 = t109 * t110;
+        let t112: f64 = t102.plus(t111);
+        let t113 = product(t62, t112);
+        let t114: f64 = t50 * t50;
+        let t115: f64 = t56 * t58;
+        let t116: f64 = t114 * t115;
+        let t117: f64 = t82 * t116;
+        let t118 = product(t99, t117);
+        let t119 = product(wy, t77);
+        let t120: f64 = wz * t72;
+        let t121: f64 = t119.minus(t120);
+        let t122 = product(t68, t121);
+        let t123 = product(wz, t66);
+        let t124: f64 = wx * t77;
+        let t125: f64 = t123.minus(t124);
+        let t126: f64 = t51 * t125;
+        let t127 = product(wx, t72);
+        let t128: f64 = wy * t66;
+        let t129: f64 = t127.minus(t128);
+        let t130 = product(t79, t129);
+        let t131: f64 = t122.plus(t126);
+        let t132: f64 = t130.plus(t131);
+        let t133: f64 = t62 * t132;
+        let t134: f64 = t118.minus(t133);
+        let t135: f64 = t58 * t134;
+        let t136: f64 = t113.plus(t135);
+        let t137: f64 = t51 * t58;
+        let t138: f64 = t62 * t137;
+        let t139: f64 = t136 * t138;
+        let t140: f64 = t83 * 9.81;
+        let t141: f64 = -t140;
+        let t142 = product(t89, t121);
+        let t143: f64 = t85 * t125;
+        let t144 = product(t83, t129);
+        let t145: f64 = t142.plus(t143);
+        let t146: f64 = t144.plus(t145);
+        let t147 = product(t110, t110);
+        let t148: f64 = t58 * t99;
+        let t149: f64 = t148 * t148;
+        let t150: f64 = t147.plus(t149);
+        let t151 = product(t150, 0.3);
+        let t152: f64 = t151.added_to(t146);
+        let t153: f64 = t141 - t152;
+        let t154 = product(t85, t153);
+        let t155: f64 = t79 * 9.81;
+        let t156: f64 = -t155;
+        let t157 = product(t58, t132);
+        let t158: f64 = t157.subtracted_from(t112);
+        let t159: f64 = t58 * t62;
+        let t160: f64 = t82 * t159;
+        let t161: f64 = t148 * t160;
+        let t162 = product(t156, 0.2);
+        let t163: f64 = t132 * 0.3;
+        let t164 = product(t158, 0.295);
+        let t165 = product(t161, 0.292);
+        let t166: f64 = t162.plus(t163);
+        let t167: f64 = t164.plus(t166);
+        let t168: f64 = t165.subtracted_from(t167);
+        let t169: f64 = t137 * t168;
+        let t170: f64 = t154.plus(t169);
+        let t171: f64 = t96 * 9.81;
+        let t172: f64 = -t171;
+        let t173 = product(t96, t129);
+        let t174 = product(t87, t121);
+        let t175: f64 = t92 * t125;
+        let t176: f64 = t174.plus(t175);
+        let t177: f64 = t173.plus(t176);
+        let t178: f64 = t82 * t82;
+        let t179 = product(t159, t178);
+        let t180 = product(t99, t109);
+        let t181: f64 = t179.added_to(t177);
+        let t182: f64 = t180.subtracted_from(t181);
+        let t183: f64 = t58 * t182;
+        let t184: f64 = t110 * t160;
+        let t185 = product(t172, 0.2);
+        let t186: f64 = t177 * 0.3;
+        let t187 = product(t183, 0.295);
+        let t188 = product(t184, 0.292);
+        let t189: f64 = t185.plus(t186);
+        let t190: f64 = t188.plus(t189);
+        let t191: f64 = t187.minus(t190);
+        let t192: f64 = t58 * t92;
+        let t193 = product(t191, t192);
+        let t194: f64 = t183 - t184;
+        let t195 = product(t194, 0.3);
+        let t196: f64 = t195.added_to(t172);
+        let t197: f64 = t196 - t177;
+        let t198 = product(t92, t197);
+        let t199: f64 = t158 - t161;
+        let t200 = product(t199, 0.3);
+        let t201: f64 = t200.added_to(t132);
+        let t202: f64 = t201 - t156;
+        let t203: f64 = t51 * t202;
+        let t204: f64 = t198.minus(t203);
+        let t205: f64 = t193.minus(t204);
+        let t206: f64 = t170 - t205;
+        let t207 = product(t139, 0.003);
+        let t208: f64 = t207.added_to(t206);
+        let t209 = product(t16, t208);
+        let t210: f64 = t58 * t79;
+        let t211: f64 = t62 * t210;
+        let t212: f64 = t136 * t211;
+        let t213 = product(t83, t153);
+        let t214: f64 = t168 * t210;
+        let t215: f64 = t213.plus(t214);
+        let t216: f64 = t58 * t96;
+        let t217 = product(t191, t216);
+        let t218 = product(t96, t197);
+        let t219: f64 = t79 * t202;
+        let t220: f64 = t218.minus(t219);
+        let t221: f64 = t217.minus(t220);
+        let t222: f64 = t215 - t221;
+        let t223 = product(t212, 0.003);
+        let t224: f64 = t223.added_to(t222);
+        let t225 = product(t40, t224);
+        let t226: f64 = t14 - t15;
+        let t227: f64 = zc + t226;
+        let t228: f64 = t227 * 0.1750329254309137;
+        let t229: f64 = t227 * 0.9845625805478777;
+        let t230: f64 = -t229;
+        let t231 = product(t230, t230);
+        let t232: f64 = t228 * t228;
+        let t233: f64 = t26 + t27;
+        let t234: f64 = xc + t233;
+        let t235: f64 = t234 - 0.45;
+        let t236: f64 = t38 - t39;
+        let t237: f64 = yc + t236;
+        let t238: f64 = t237 + 0.08;
+        let t239 = product(t235, 0.9845625805478777);
+        let t240: f64 = t238 * 0.1750329254309137;
+        let t241: f64 = t239.minus(t240);
+        let t242 = product(t241, t241);
+        let t243: f64 = t231.plus(t232);
+        let t244: f64 = t242.plus(t243);
+        let t245: f64 = sqrt(t244);
+        let t246: f64 = 1.0 / t245;
+        let t247: f64 = t228 * t246;
+        let t248 = product(t235, t235);
+        let t249: f64 = t238 * t238;
+        let t250 = product(t227, t227);
+        let t251: f64 = t248.plus(t249);
+        let t252: f64 = t250.plus(t251);
+        let t253: f64 = sqrt(t252);
+        let t254: f64 = 1.0 / t253;
+        let t255 = product(t235, 0.1750329254309137);
+        let t256: f64 = t238 * 0.9845625805478777;
+        let t257: f64 = t255.plus(t256);
+        let t258: f64 = t246 * t257;
+        let t259: f64 = t254 * t254;
+        let t260 = product(wy, t226);
+        let t261: f64 = wz * t236;
+        let t262: f64 = t260.minus(t261);
+        let t263: f64 = vx + t262;
+        let t264: f64 = t230 * t246;
+        let t265 = product(t263, t264);
+        let t266 = product(wz, t233);
+        let t267: f64 = wx * t226;
+        let t268: f64 = t266.minus(t267);
+        let t269: f64 = vy + t268;
+        let t270: f64 = t247 * t269;
+        let t271 = product(wx, t236);
+        let t272: f64 = wy * t233;
+        let t273: f64 = t271.minus(t272);
+        let t274: f64 = vz + t273;
+        let t275: f64 = t241 * t246;
+        let t276 = product(t274, t275);
+        let t277: f64 = t265.plus(t270);
+        let t278: f64 = t276.plus(t277);
+        let t279: f64 = t227 * t254;
+        let t280 = product(t247, t279);
+        let t281: f64 = t238 * t254;
+        let t282: f64 = t275 * t281;
+        let t283: f64 = t280.minus(t282);
+        let t284 = product(t263, t283);
+        let t285: f64 = t235 * t254;
+        let t286 = product(t275, t285);
+        let t287: f64 = t264 * t279;
+        let t288: f64 = t286.minus(t287);
+        let t289: f64 = t269 * t288;
+        let t290 = product(t264, t281);
+        let t291: f64 = t247 * t285;
+        let t292: f64 = t290.minus(t291);
+        let t293 = product(t274, t292);
+        let t294: f64 = t284.plus(t289);
+        let t295: f64 = t293.plus(t294);
+        let t296: f64 = t258 * t259;
+        let t297: f64 = t278 * t296;
+        let t298 = product(t295, t297);
+        let t299 = product(t263, t285);
+        let t300: f64 = t269 * t281;
+        let t301 = product(t274, t279);
+        let t302: f64 = t299.plus(t300);
+        let t303: f64 = t301.plus(t302);
+        let t304: f64 = t254 * t303;
+        let t305: f64 = t304 * 2.0;
+        let t306: f64 = t254 * t278;
+        let t307: f64 = t305 * t306;
+        let t308: f64 = t298.minus(t307);
+        let t309 = product(t258, t308);
+        let t310: f64 = t246 * t246;
+        let t311: f64 = t252 * t254;
+        let t312: f64 = t310 * t311;
+        let t313: f64 = t278 * t312;
+        let t314 = product(t295, t313);
+        let t315 = product(wy, t273);
+        let t316: f64 = wz * t268;
+        let t317: f64 = t315.minus(t316);
+        let t318 = product(t264, t317);
+        let t319 = product(wz, t262);
+        let t320: f64 = wx * t273;
+        let t321: f64 = t319.minus(t320);
+        let t322: f64 = t247 * t321;
+        let t323 = product(wx, t268);
+        let t324: f64 = wy * t262;
+        let t325: f64 = t323.minus(t324);
+        let t326 = product(t275, t325);
+        let t327: f64 = t318.plus(t322);
+        let t328: f64 = t326.plus(t327);
+        let t329: f64 = t258 * t328;
+        let t330: f64 = t314.plus(t329);
+        let t331: f64 = t254 * t330;
+        let t332: f64 = t309.plus(t331);
+        let t333: f64 = t247 * t254;
+        let t334: f64 = t258 * t333;
+        let t335: f64 = t332 * t334;
+        let t336: f64 = t275 * 9.81;
+        let t337: f64 = -t336;
+        let t338 = product(t254, t328);
+        let t339: f64 = t338.added_to(t308);
+        let t340: f64 = t254 * t258;
+        let t341: f64 = t278 * t340;
+        let t342: f64 = t254 * t295;
+        let t343: f64 = t341 * t342;
+        let t344 = product(t337, 0.2);
+        let t345: f64 = t328 * 0.3;
+        let t346 = product(t339, 0.295);
+        let t347 = product(t343, 0.292);
+        let t348: f64 = t344.plus(t345);
+        let t349: f64 = t347.plus(t348);
+        let t350: f64 = t346.minus(t349);
+        let t351 = product(t333, t350);
+        let t352: f64 = t279 * 9.81;
+        let t353: f64 = -t352;
+        let t354 = product(t285, t317);
+        let t355: f64 = t281 * t321;
+        let t356 = product(t279, t325);
+        let t357: f64 = t354.plus(t355);
+        let t358: f64 = t356.plus(t357);
+        let t359 = product(t306, t306);
+        let t360: f64 = t342 * t342;
+        let t361: f64 = t359.plus(t360);
+        let t362 = product(t361, 0.3);
+        let t363: f64 = t362.added_to(t358);
+        let t364: f64 = t353 - t363;
+        let t365: f64 = t281 * t364;
+        let t366: f64 = t351.minus(t365);
+        let t367: f64 = t292 * 9.81;
+        let t368: f64 = -t367;
+        let t369 = product(t292, t325);
+        let t370 = product(t283, t317);
+        let t371: f64 = t288 * t321;
+        let t372: f64 = t370.plus(t371);
+        let t373: f64 = t369.plus(t372);
+        let t374: f64 = t278 * t278;
+        let t375 = product(t340, t374);
+        let t376: f64 = t295 * t305;
+        let t377: f64 = t375.plus(t376);
+        let t378: f64 = t373 - t377;
+        let t379: f64 = t254 * t378;
+        let t380: f64 = t306 * t341;
+        let t381: f64 = t379 + t380;
+        let t382 = product(t381, 0.3);
+        let t383: f64 = t382.added_to(t368);
+        let t384: f64 = t373 - t383;
+        let t385 = product(t288, t384);
+        let t386: f64 = t339 - t343;
+        let t387 = product(t386, 0.3);
+        let t388: f64 = t387.added_to(t337);
+        let t389: f64 = t388 - t328;
+        let t390: f64 = t247 * t389;
+        let t391: f64 = t385.minus(t390);
+        let t392 = product(t368, 0.2);
+        let t393: f64 = t373 * 0.3;
+        let t394 = product(t379, 0.295);
+        let t395: f64 = t380 * 0.292;
+        let t396: f64 = t392.plus(t393);
+        let t397: f64 = t394.plus(t395);
+        let t398: f64 = t396 - t397;
+        let t399: f64 = t254 * t288;
+        let t400 = product(t398, t399);
+        let t401: f64 = t400.subtracted_from(t391);
+        let t402: f64 = t366 + t401;
+        let t403 = product(t335, 0.003);
+        let t404: f64 = t403.added_to(t402);
+        let t405: f64 = t226 * t404;
+        let t406: f64 = t254 * t275;
+        let t407: f64 = t258 * t406;
+        let t408: f64 = t332 * t407;
+        let t409 = product(t350, t406);
+        let t410: f64 = t279 * t364;
+        let t411: f64 = t409.minus(t410);
+        let t412 = product(t292, t384);
+        let t413: f64 = t275 * t389;
+        let t414: f64 = t412.minus(t413);
+        let t415: f64 = t254 * t292;
+        let t416 = product(t398, t415);
+        let t417: f64 = t416.subtracted_from(t414);
+        let t418: f64 = t411 + t417;
+        let t419 = product(t408, 0.003);
+        let t420: f64 = t419.added_to(t418);
+        let t421: f64 = t236 * t420;
+        let t422: f64 = t9 * 0.254904;
+        let t423: f64 = t13 * 0.141506;
+        let t424: f64 = t422 - t423;
+        let t425: f64 = zc - t424;
+        let t426: f64 = t425 * 0.7651390659756491;
+        let t427: f64 = -t426;
+        let t428: f64 = t425 * 0.6438650555185546;
+        let t429 = product(t428, t428);
+        let t430: f64 = t427 * t427;
+        let t431: f64 = t24 * 0.254904;
+        let t432: f64 = t25 * 0.141506;
+        let t433: f64 = t431 + t432;
+        let t434: f64 = xc + 0.294282;
+        let t435: f64 = t434 - t433;
+        let t436: f64 = t34 * 0.254904;
+        let t437: f64 = t37 * 0.141506;
+        let t438: f64 = t436 - t437;
+        let t439: f64 = t438 + 0.349711;
+        let t440: f64 = yc - t439;
+        let t441 = product(t435, 0.6438650555185546);
+        let t442: f64 = t440 * 0.7651390659756491;
+        let t443: f64 = t441.minus(t442);
+        let t444 = product(t443, t443);
+        let t445: f64 = t429.plus(t430);
+        let t446: f64 = t444.plus(t445);
+        let t447: f64 = sqrt(t446);
+        let t448: f64 = 1.0 / t447;
+        let t449: f64 = t427 * t448;
+        let t450 = product(t435, t435);
+        let t451: f64 = t440 * t440;
+        let t452 = product(t425, t425);
+        let t453: f64 = t450.plus(t451);
+        let t454: f64 = t452.plus(t453);
+        let t455: f64 = sqrt(t454);
+        let t456: f64 = 1.0 / t455;
+        let t457 = product(t435, 0.7651390659756491);
+        let t458: f64 = t440 * 0.6438650555185546;
+        let t459: f64 = t457.plus(t458);
+        let t460: f64 = t448 * t459;
+        let t461: f64 = t456 * t456;
+        let t462 = product(wy, t424);
+        let t463: f64 = wz * t438;
+        let t464: f64 = t462.minus(t463);
+        let t465: f64 = vx - t464;
+        let t466: f64 = t428 * t448;
+        let t467 = product(t465, t466);
+        let t468 = product(wz, t433);
+        let t469: f64 = wx * t424;
+        let t470: f64 = t468.minus(t469);
+        let t471: f64 = vy - t470;
+        let t472: f64 = t449 * t471;
+        let t473 = product(wx, t438);
+        let t474: f64 = wy * t433;
+        let t475: f64 = t473.minus(t474);
+        let t476: f64 = vz - t475;
+        let t477: f64 = t443 * t448;
+        let t478 = product(t476, t477);
+        let t479: f64 = t467.plus(t472);
+        let t480: f64 = t478.subtracted_from(t479);
+        let t481: f64 = t425 * t456;
+        let t482 = product(t449, t481);
+        let t483: f64 = t440 * t456;
+        let t484: f64 = t477 * t483;
+        let t485: f64 = t482.plus(t484);
+        let t486 = product(t465, t485);
+        let t487: f64 = t435 * t456;
+        let t488 = product(t477, t487);
+        let t489: f64 = t466 * t481;
+        let t490: f64 = t488.plus(t489);
+        let t491 = product(t471, t490);
+        let t492 = product(t466, t483);
+        let t493: f64 = t449 * t487;
+        let t494: f64 = t492.minus(t493);
+        let t495: f64 = t476 * t494;
+        let t496: f64 = t486.plus(t495);
+        let t497: f64 = t491.subtracted_from(t496);
+        let t498: f64 = t460 * t461;
+        let t499: f64 = t480 * t498;
+        let t500 = product(t497, t499);
+        let t501 = product(t465, t487);
+        let t502: f64 = t471 * t483;
+        let t503 = product(t476, t481);
+        let t504: f64 = t501.plus(t502);
+        let t505: f64 = t503.plus(t504);
+        let t506: f64 = t456 * t505;
+        let t507: f64 = t506 * 2.0;
+        let t508: f64 = t456 * t480;
+        let t509: f64 = t507 * t508;
+        let t510: f64 = t500.plus(t509);
+        let t511 = product(t460, t510);
+        let t512: f64 = t448 * t448;
+        let t513: f64 = t454 * t456;
+        let t514: f64 = t512 * t513;
+        let t515: f64 = t480 * t514;
+        let t516 = product(t497, t515);
+        let t517 = product(wy, t475);
+        let t518: f64 = wz * t470;
+        let t519: f64 = t517.minus(t518);
+        let t520 = product(t466, t519);
+        let t521 = product(wz, t464);
+        let t522: f64 = wx * t475;
+        let t523: f64 = t521.minus(t522);
+        let t524: f64 = t449 * t523;
+        let t525 = product(wx, t470);
+        let t526: f64 = wy * t464;
+        let t527: f64 = t525.minus(t526);
+        let t528 = product(t477, t527);
+        let t529: f64 = t520.plus(t524);
+        let t530: f64 = t528.subtracted_from(t529);
+        let t531: f64 = t460 * t530;
+        let t532: f64 = t516.plus(t531);
+        let t533: f64 = t456 * t532;
+        let t534: f64 = t511.plus(t533);
+        let t535: f64 = t449 * t456;
+        let t536: f64 = t460 * t535;
+        let t537: f64 = t534 * t536;
+        let t538: f64 = t494 * 9.81;
+        let t539: f64 = -t538;
+        let t540 = product(t494, t527);
+        let t541 = product(t485, t519);
+        let t542: f64 = t490 * t523;
+        let t543: f64 = t541.minus(t542);
+        let t544: f64 = t540.plus(t543);
+        let t545: f64 = t480 * t480;
+        let t546: f64 = t456 * t460;
+        let t547 = product(t545, t546);
+        let t548 = product(t497, t507);
+        let t549: f64 = t548.added_to(t544);
+        let t550: f64 = t547.subtracted_from(t549);
+        let t551: f64 = t456 * t550;
+        let t552: f64 = t480 * t546;
+        let t553: f64 = t508 * t552;
+        let t554: f64 = t551 + t553;
+        let t555 = product(t554, 0.3);
+        let t556: f64 = t539 + t544;
+        let t557: f64 = t555.subtracted_from(t556);
+        let t558 = product(t490, t557);
+        let t559: f64 = t477 * 9.81;
+        let t560 = product(t456, t530);
+        let t561: f64 = t560.added_to(t510);
+        let t562: f64 = t456 * t497;
+        let t563: f64 = t552 * t562;
+        let t564: f64 = t561 - t563;
+        let t565 = product(t564, 0.3);
+        let t566: f64 = t530 + t559;
+        let t567: f64 = t565.minus(t566);
+        let t568: f64 = t449 * t567;
+        let t569: f64 = t558.plus(t568);
+        let t570 = product(t539, 0.2);
+        let t571 = product(t544, 0.3);
+        let t572: f64 = t551 * 0.295;
+        let t573 = product(t553, 0.292);
+        let t574: f64 = t570.plus(t572);
+        let t575: f64 = t573.plus(t574);
+        let t576: f64 = t571.minus(t575);
+        let t577: f64 = t456 * t490;
+        let t578 = product(t576, t577);
+        let t579: f64 = t578.subtracted_from(t569);
+        let t580: f64 = t481 * 9.81;
+        let t581: f64 = -t580;
+        let t582 = product(t487, t519);
+        let t583: f64 = t483 * t523;
+        let t584 = product(t481, t527);
+        let t585: f64 = t582.plus(t583);
+        let t586: f64 = t584.plus(t585);
+        let t587 = product(t508, t508);
+        let t588: f64 = t562 * t562;
+        let t589: f64 = t587.plus(t588);
+        let t590 = product(t589, 0.3);
+        let t591: f64 = t581 + t586;
+        let t592: f64 = t590.subtracted_from(t591);
+        let t593 = product(t483, t592);
+        let t594 = product(t559, 0.2);
+        let t595 = product(t530, 0.3);
+        let t596: f64 = t561 * 0.295;
+        let t597: f64 = t563 * 0.292;
+        let t598: f64 = t594.plus(t596);
+        let t599: f64 = t595.plus(t597);
+        let t600: f64 = t598 - t599;
+        let t601: f64 = t535 * t600;
+        let t602: f64 = t593.plus(t601);
+        let t603: f64 = t579 - t602;
+        let t604 = product(t537, 0.003);
+        let t605: f64 = t604.subtracted_from(t603);
+        let t606 = product(t424, t605);
+        let t607: f64 = t456 * t477;
+        let t608: f64 = t460 * t607;
+        let t609: f64 = t534 * t608;
+        let t610 = product(t481, t592);
+        let t611: f64 = t600 * t607;
+        let t612: f64 = t610.minus(t611);
+        let t613: f64 = t456 * t494;
+        let t614 = product(t576, t613);
+        let t615 = product(t494, t557);
+        let t616: f64 = t477 * t567;
+        let t617: f64 = t615.plus(t616);
+        let t618: f64 = t614.minus(t617);
+        let t619: f64 = t612 - t618;
+        let t620 = product(t609, 0.003);
+        let t621: f64 = t620.subtracted_from(t619);
+        let t622: f64 = t438 * t621;
+        let t623: f64 = t9 * 0.004904;
+        let t624: f64 = t13 * 0.291506;
+        let t625: f64 = t623 + t624;
+        let t626: f64 = zc + t625;
+        let t627: f64 = t626 * 0.9401728133131936;
+        let t628: f64 = -t627;
+        let t629: f64 = t626 * 0.3406979323488107;
+        let t630 = product(t629, t629);
+        let t631: f64 = t628 * t628;
+        let t632: f64 = t24 * 0.004904;
+        let t633: f64 = t25 * 0.291506;
+        let t634: f64 = t632 - t633;
+        let t635: f64 = xc + t634;
+        let t636: f64 = t635 + 0.155718;
+        let t637: f64 = t34 * 0.004904;
+        let t638: f64 = t37 * 0.291506;
+        let t639: f64 = t637 + t638;
+        let t640: f64 = yc + t639;
+        let t641: f64 = t640 - 0.429711;
+        let t642 = product(t636, 0.3406979323488107);
+        let t643: f64 = t641 * 0.9401728133131936;
+        let t644: f64 = t642.minus(t643);
+        let t645 = product(t644, t644);
+        let t646: f64 = t630.plus(t631);
+        let t647: f64 = t645.plus(t646);
+        let t648: f64 = sqrt(t647);
+        let t649: f64 = 1.0 / t648;
+        let t650: f64 = t628 * t649;
+        let t651 = product(t636, t636);
+        let t652: f64 = t641 * t641;
+        let t653 = product(t626, t626);
+        let t654: f64 = t651.plus(t652);
+        let t655: f64 = t653.plus(t654);
+        let t656: f64 = sqrt(t655);
+        let t657: f64 = 1.0 / t656;
+        let t658 = product(t636, 0.9401728133131936);
+        let t659: f64 = t641 * 0.3406979323488107;
+        let t660: f64 = t658.plus(t659);
+        let t661: f64 = t649 * t660;
+        let t662: f64 = t657 * t657;
+        let t663 = product(wy, t625);
+        let t664: f64 = wz * t639;
+        let t665: f64 = t663.minus(t664);
+        let t666: f64 = vx + t665;
+        let t667: f64 = t629 * t649;
+        let t668 = product(t666, t667);
+        let t669 = product(wz, t634);
+        let t670: f64 = wx * t625;
+        let t671: f64 = t669.minus(t670);
+        let t672: f64 = vy + t671;
+        let t673: f64 = t650 * t672;
+        let t674 = product(wx, t639);
+        let t675: f64 = wy * t634;
+        let t676: f64 = t674.minus(t675);
+        let t677: f64 = vz + t676;
+        let t678: f64 = t644 * t649;
+        let t679 = product(t677, t678);
+        let t680: f64 = t668.plus(t673);
+        let t681: f64 = t679.subtracted_from(t680);
+        let t682: f64 = t626 * t657;
+        let t683 = product(t650, t682);
+        let t684: f64 = t641 * t657;
+        let t685: f64 = t678 * t684;
+        let t686: f64 = t683.plus(t685);
+        let t687 = product(t666, t686);
+        let t688: f64 = t636 * t657;
+        let t689 = product(t678, t688);
+        let t690: f64 = t667 * t682;
+        let t691: f64 = t689.plus(t690);
+        let t692 = product(t672, t691);
+        let t693 = product(t667, t684);
+        let t694: f64 = t650 * t688;
+        let t695: f64 = t693.minus(t694);
+        let t696: f64 = t677 * t695;
+        let t697: f64 = t687.plus(t696);
+        let t698: f64 = t692.subtracted_from(t697);
+        let t699: f64 = t661 * t662;
+        let t700: f64 = t681 * t699;
+        let t701 = product(t698, t700);
+        let t702 = product(t666, t688);
+        let t703: f64 = t672 * t684;
+        let t704 = product(t677, t682);
+        let t705: f64 = t702.plus(t703);
+        let t706: f64 = t704.plus(t705);
+        let t707: f64 = t657 * t706;
+        let t708: f64 = t707 * 2.0;
+        let t709: f64 = t657 * t681;
+        let t710: f64 = t708 * t709;
+        let t711: f64 = t701.plus(t710);
+        let t712 = product(t661, t711);
+        let t713: f64 = t649 * t649;
+        let t714: f64 = t655 * t657;
+        let t715: f64 = t713 * t714;
+        let t716: f64 = t681 * t715;
+        let t717 = product(t698, t716);
+        let t718 = product(wy, t676);
+        let t719: f64 = wz * t671;
+        let t720: f64 = t718.minus(t719);
+        let t721 = product(t667, t720);
+        let t722 = product(wz, t665);
+        let t723: f64 = wx * t676;
+        let t724: f64 = t722.minus(t723);
+        let t725: f64 = t650 * t724;
+        let t726 = product(wx, t671);
+        let t727: f64 = wy * t665;
+        let t728: f64 = t726.minus(t727);
+        let t729 = product(t678, t728);
+        let t730: f64 = t721.plus(t725);
+        let t731: f64 = t729.subtracted_from(t730);
+        let t732: f64 = t661 * t731;
+        let t733: f64 = t717.minus(t732);
+        let t734: f64 = t657 * t733;
+        let t735: f64 = t712.plus(t734);
+        let t736: f64 = t650 * t657;
+        let t737: f64 = t661 * t736;
+        let t738: f64 = t735 * t737;
+        let t739: f64 = t695 * 9.81;
+        let t740: f64 = -t739;
+        let t741 = product(t695, t728);
+        let t742 = product(t686, t720);
+        let t743: f64 = t691 * t724;
+        let t744: f64 = t742.minus(t743);
+        let t745: f64 = t741.plus(t744);
+        let t746: f64 = t681 * t681;
+        let t747: f64 = t657 * t661;
+        let t748 = product(t746, t747);
+        let t749 = product(t698, t708);
+        let t750: f64 = t748.added_to(t745);
+        let t751: f64 = t749.subtracted_from(t750);
+        let t752: f64 = t657 * t751;
+        let t753: f64 = t681 * t747;
+        let t754: f64 = t709 * t753;
+        let t755: f64 = t752 - t754;
+        let t756 = product(t755, 0.3);
+        let t757: f64 = t756.added_to(t740);
+        let t758: f64 = t757 - t745;
+        let t759 = product(t691, t758);
+        let t760: f64 = t678 * 9.81;
+        let t761 = product(t657, t731);
+        let t762: f64 = t761.subtracted_from(t711);
+        let t763: f64 = t657 * t698;
+        let t764: f64 = t753 * t763;
+        let t765: f64 = t762 - t764;
+        let t766 = product(t765, 0.3);
+        let t767: f64 = t766.added_to(t731);
+        let t768: f64 = t767 - t760;
+        let t769: f64 = t650 * t768;
+        let t770: f64 = t759.plus(t769);
+        let t771 = product(t740, 0.2);
+        let t772: f64 = t745 * 0.3;
+        let t773 = product(t752, 0.295);
+        let t774 = product(t754, 0.292);
+        let t775: f64 = t771.plus(t772);
+        let t776: f64 = t774.plus(t775);
+        let t777: f64 = t773.minus(t776);
+        let t778: f64 = t657 * t691;
+        let t779 = product(t777, t778);
+        let t780: f64 = t779.subtracted_from(t770);
+        let t781: f64 = t682 * 9.81;
+        let t782: f64 = -t781;
+        let t783 = product(t688, t720);
+        let t784: f64 = t684 * t724;
+        let t785 = product(t682, t728);
+        let t786: f64 = t783.plus(t784);
+        let t787: f64 = t785.plus(t786);
+        let t788 = product(t709, t709);
+        let t789: f64 = t763 * t763;
+        let t790: f64 = t788.plus(t789);
+        let t791 = product(t790, 0.3);
+        let t792: f64 = t791.added_to(t787);
+        let t793: f64 = t782 - t792;
+        let t794 = product(t684, t793);
+        let t795 = product(t760, 0.2);
+        let t796: f64 = t731 * 0.3;
+        let t797 = product(t762, 0.295);
+        let t798 = product(t764, 0.292);
+        let t799: f64 = t795.plus(t796);
+        let t800: f64 = t797.plus(t799);
+        let t801: f64 = t798.subtracted_from(t800);
+        let t802: f64 = t736 * t801;
+        let t803: f64 = t794.plus(t802);
+        let t804: f64 = t780 - t803;
+        let t805 = product(t738, 0.003);
+        let t806: f64 = t805.subtracted_from(t804);
+        let t807 = product(t625, t806);
+        let t808: f64 = t657 * t678;
+        let t809: f64 = t661 * t808;
+        let t810: f64 = t735 * t809;
+        let t811 = product(t682, t793);
+        let t812: f64 = t801 * t808;
+        let t813: f64 = t811.minus(t812);
+        let t814: f64 = t657 * t695;
+        let t815 = product(t777, t814);
+        let t816 = product(t695, t758);
+        let t817: f64 = t678 * t768;
+        let t818: f64 = t816.plus(t817);
+        let t819: f64 = t815.minus(t818);
+        let t820: f64 = t813 - t819;
+        let t821 = product(t810, 0.003);
+        let t822: f64 = t821.subtracted_from(t820);
+        let t823: f64 = t639 * t822;
+        let t824: f64 = t623 - t624;
+        let t825: f64 = zc + t824;
+        let t826: f64 = t825 * 0.9401728133131936;
+        let t827: f64 = t825 * 0.3406979323488107;
+        let t828 = product(t827, t827);
+        let t829: f64 = t826 * t826;
+        let t830: f64 = t632 + t633;
+        let t831: f64 = xc + t830;
+        let t832: f64 = t831 + 0.155718;
+        let t833: f64 = t637 - t638;
+        let t834: f64 = yc + t833;
+        let t835: f64 = t834 + 0.429711;
+        let t836 = product(t832, 0.3406979323488107);
+        let t837: f64 = t835 * 0.9401728133131936;
+        let t838: f64 = t836.plus(t837);
+        let t839 = product(t838, t838);
+        let t840: f64 = t828.plus(t829);
+        let t841: f64 = t839.plus(t840);
+        let t842: f64 = sqrt(t841);
+        let t843: f64 = 1.0 / t842;
+        let t844: f64 = t826 * t843;
+        let t845 = product(t832, t832);
+        let t846: f64 = t835 * t835;
+        let t847 = product(t825, t825);
+        let t848: f64 = t845.plus(t846);
+        let t849: f64 = t847.plus(t848);
+        let t850: f64 = sqrt(t849);
+        let t851: f64 = 1.0 / t850;
+        let t852 = product(t832, 0.9401728133131936);
+        let t853: f64 = t835 * 0.3406979323488107;
+        let t854: f64 = t852.minus(t853);
+        let t855: f64 = t843 * t854;
+        let t856: f64 = t851 * t851;
+        let t857 = product(wy, t824);
+        let t858: f64 = wz * t833;
+        let t859: f64 = t857.minus(t858);
+        let t860: f64 = vx + t859;
+        let t861: f64 = t827 * t843;
+        let t862 = product(t860, t861);
+        let t863 = product(wz, t830);
+        let t864: f64 = wx * t824;
+        let t865: f64 = t863.minus(t864);
+        let t866: f64 = vy + t865;
+        let t867: f64 = t844 * t866;
+        let t868 = product(wx, t833);
+        let t869: f64 = wy * t830;
+        let t870: f64 = t868.minus(t869);
+        let t871: f64 = vz + t870;
+        let t872: f64 = t838 * t843;
+        let t873 = product(t871, t872);
+        let t874: f64 = t862.plus(t867);
+        let t875: f64 = t873.subtracted_from(t874);
+        let t876: f64 = t825 * t851;
+        let t877 = product(t844, t876);
+        let t878: f64 = t835 * t851;
+        let t879: f64 = t872 * t878;
+        let t880: f64 = t877.plus(t879);
+        let t881 = product(t860, t880);
+        let t882: f64 = t832 * t851;
+        let t883 = product(t872, t882);
+        let t884: f64 = t861 * t876;
+        let t885: f64 = t883.plus(t884);
+        let t886 = product(t866, t885);
+        let t887 = product(t861, t878);
+        let t888: f64 = t844 * t882;
+        let t889: f64 = t887.minus(t888);
+        let t890: f64 = t871 * t889;
+        let t891: f64 = t881.plus(t890);
+        let t892: f64 = t886.subtracted_from(t891);
+        let t893: f64 = t855 * t856;
+        let t894: f64 = t875 * t893;
+        let t895 = product(t892, t894);
+        let t896 = product(t860, t882);
+        let t897: f64 = t866 * t878;
+        let t898 = product(t871, t876);
+        let t899: f64 = t896.plus(t897);
+        let t900: f64 = t898.plus(t899);
+        let t901: f64 = t851 * t900;
+        let t902: f64 = t901 * 2.0;
+        let t903: f64 = t851 * t875;
+        let t904: f64 = t902 * t903;
+        let t905: f64 = t895.minus(t904);
+        let t906 = product(t855, t905);
+        let t907: f64 = t843 * t843;
+        let t908: f64 = t849 * t851;
+        let t909: f64 = t907 * t908;
+        let t910: f64 = t875 * t909;
+        let t911 = product(t892, t910);
+        let t912 = product(wy, t870);
+        let t913: f64 = wz * t865;
+        let t914: f64 = t912.minus(t913);
+        let t915 = product(t861, t914);
+        let t916 = product(wz, t859);
+        let t917: f64 = wx * t870;
+        let t918: f64 = t916.minus(t917);
+        let t919: f64 = t844 * t918;
+        let t920 = product(wx, t865);
+        let t921: f64 = wy * t859;
+        let t922: f64 = t920.minus(t921);
+        let t923 = product(t872, t922);
+        let t924: f64 = t915.plus(t919);
+        let t925: f64 = t923.subtracted_from(t924);
+        let t926: f64 = t855 * t925;
+        let t927: f64 = t911.plus(t926);
+        let t928: f64 = t851 * t927;
+        let t929: f64 = t906.plus(t928);
+        let t930: f64 = t844 * t851;
+        let t931: f64 = t855 * t930;
+        let t932: f64 = t929 * t931;
+        let t933: f64 = t876 * 9.81;
+        let t934: f64 = -t933;
+        let t935 = product(t882, t914);
+        let t936: f64 = t878 * t918;
+        let t937 = product(t876, t922);
+        let t938: f64 = t935.plus(t936);
+        let t939: f64 = t937.plus(t938);
+        let t940 = product(t903, t903);
+        let t941: f64 = t851 * t892;
+        let t942: f64 = t941 * t941;
+        let t943: f64 = t940.plus(t942);
+        let t944 = product(t943, 0.3);
+        let t945: f64 = t944.added_to(t939);
+        let t946: f64 = t934 - t945;
+        let t947 = product(t878, t946);
+        let t948: f64 = t872 * 9.81;
+        let t949 = product(t851, t925);
+        let t950: f64 = t949.added_to(t905);
+        let t951: f64 = t851 * t855;
+        let t952: f64 = t875 * t951;
+        let t953: f64 = t941 * t952;
+        let t954 = product(t948, 0.2);
+        let t955: f64 = t925 * 0.3;
+        let t956 = product(t950, 0.295);
+        let t957 = product(t953, 0.292);
+        let t958: f64 = t954.plus(t955);
+        let t959: f64 = t957.plus(t958);
+        let t960: f64 = t956.minus(t959);
+        let t961: f64 = t930 * t960;
+        let t962: f64 = t947.minus(t961);
+        let t963: f64 = t889 * 9.81;
+        let t964: f64 = -t963;
+        let t965 = product(t889, t922);
+        let t966 = product(t880, t914);
+        let t967: f64 = t885 * t918;
+        let t968: f64 = t966.minus(t967);
+        let t969: f64 = t965.plus(t968);
+        let t970: f64 = t875 * t875;
+        let t971 = product(t951, t970);
+        let t972: f64 = t892 * t902;
+        let t973: f64 = t971.plus(t972);
+        let t974: f64 = t969 - t973;
+        let t975: f64 = t851 * t974;
+        let t976: f64 = t903 * t952;
+        let t977 = product(t964, 0.2);
+        let t978: f64 = t969 * 0.3;
+        let t979 = product(t975, 0.295);
+        let t980: f64 = t976 * 0.292;
+        let t981: f64 = t977.plus(t978);
+        let t982: f64 = t979.plus(t980);
+        let t983: f64 = t981 - t982;
+        let t984: f64 = t851 * t885;
+        let t985 = product(t983, t984);
+        let t986: f64 = t975 + t976;
+        let t987 = product(t986, 0.3);
+        let t988: f64 = t987.added_to(t964);
+        let t989: f64 = t969 - t988;
+        let t990 = product(t885, t989);
+        let t991: f64 = t950 - t953;
+        let t992 = product(t991, 0.3);
+        let t993: f64 = t992.added_to(t948);
+        let t994: f64 = t993 - t925;
+        let t995: f64 = t844 * t994;
+        let t996: f64 = t990.plus(t995);
+        let t997: f64 = t985.minus(t996);
+        let t998: f64 = t962 - t997;
+        let t999 = product(t932, 0.003);
+        let t1000: f64 = t999.subtracted_from(t998);
+        let t1001 = product(t824, t1000);
+        let t1002: f64 = t851 * t872;
         (
             t0,
             t1,
             t2,
             t3,
-            t4,
             t5,
+            t6,
             t9,
+            t13,
             t16,
-            t19,
-            t24,
-            t30,
-            t32,
-            t33,
-            t35,
+            t28,
+            t34,
             t37,
-            t38,
-            t41,
-            t53,
+            t40,
+            t49,
             t58,
-            t67,
-            t76,
-            t86,
-            t105,
-            t107,
-            t154,
-            t157,
-            t171,
-            t177,
-            t186,
+            t68,
+            t87,
+            t89,
+            t136,
+            t139,
+            t153,
+            t159,
+            t168,
+            t191,
+            t197,
+            t202,
+            t206,
+            t208,
             t209,
-            t215,
-            t220,
+            t212,
+            t222,
             t224,
+            t225,
             t226,
-            t227,
-            t230,
-            t240,
-            t242,
-            t243,
-            t244,
-            t251,
+            t233,
+            t236,
+            t245,
             t254,
-            t263,
-            t272,
-            t282,
-            t301,
-            t303,
+            t264,
+            t283,
+            t285,
+            t332,
+            t335,
+            t340,
             t350,
-            t353,
-            t358,
-            t368,
-            t382,
+            t364,
+            t384,
+            t389,
+            t398,
             t402,
-            t407,
-            t416,
+            t404,
+            t405,
+            t408,
+            t418,
             t420,
+            t421,
             t422,
             t423,
-            t426,
+            t424,
+            t431,
+            t432,
+            t433,
+            t434,
             t436,
+            t437,
             t438,
-            t439,
-            t440,
-            t441,
-            t442,
-            t449,
-            t450,
-            t451,
-            t452,
-            t454,
-            t455,
+            t447,
             t456,
-            t465,
-            t474,
-            t484,
-            t503,
-            t505,
-            t552,
-            t555,
-            t564,
-            t575,
-            t585,
-            t594,
-            t610,
-            t618,
+            t466,
+            t485,
+            t487,
+            t534,
+            t537,
+            t546,
+            t557,
+            t567,
+            t576,
+            t592,
+            t600,
+            t603,
+            t605,
+            t606,
+            t609,
+            t619,
             t621,
-            t623,
-            t624,
-            t627,
-            t637,
+            t622,
+            t625,
+            t634,
             t639,
-            t640,
-            t643,
-            t652,
+            t648,
             t657,
-            t666,
-            t675,
-            t685,
-            t704,
-            t706,
-            t753,
-            t756,
-            t765,
-            t776,
-            t786,
-            t795,
-            t811,
-            t819,
+            t667,
+            t686,
+            t688,
+            t735,
+            t738,
+            t747,
+            t758,
+            t768,
+            t777,
+            t793,
+            t801,
+            t804,
+            t806,
+            t807,
+            t810,
+            t820,
             t822,
+            t823,
             t824,
-            t825,
-            t828,
-            t838,
-            t840,
-            t841,
+            t830,
+            t833,
             t842,
-            t848,
             t851,
-            t860,
-            t862,
-            t869,
-            t873,
-            t879,
-            t890,
-            t894,
-            t898,
-            t900,
-            t903,
-            t907,
-            t943,
-            t947,
-            t950,
-            t964,
-            t966,
-            t968,
-            t969,
-            t971,
-            t978,
-            t980,
-            t982,
-            t987,
-            t993,
+            t855,
+            t861,
+            t872,
+            t876,
+            t880,
+            t882,
+            t889,
+            t929,
+            t932,
+            t946,
+            t951,
+            t960,
+            t983,
+            t989,
             t994,
+            t998,
+            t1000,
             t1001,
             t1002,
         )
     };
     let (
-        t1261,
-        t1383,
-        t1413,
-        t1439,
-        t1460,
-        t1478,
-        t1479,
-        t1480,
-        t1481,
-        t1482,
-        t1483,
-        t1484,
+        t1248,
+        t1369,
+        t1398,
+        t1424,
+        t1445,
+        t1463,
+        t1464,
+        t1465,
+        t1466,
+        t1467,
+        t1468,
+        t1469,
     ) = {
-        let t1003 = product(t1001, t1002);
-        let t1004: f64 = t993 + t994;
-        let t1005 = product(t1004, 0.3);
-        let t1006: f64 = t1005.added_to(t982);
-        let t1007: f64 = t987 - t1006;
-        let t1008 = product(t903, t1007);
-        let t1009: f64 = t968 - t971;
-        let t1010 = product(t1009, 0.3);
-        let t1011: f64 = t1010.added_to(t966);
-        let t1012: f64 = t1011 - t943;
-        let t1013: f64 = t862 * t1012;
-        let t1014: f64 = t1008.plus(t1013);
-        let t1015: f64 = t1003.minus(t1014);
-        let t1016: f64 = t980 - t1015;
-        let t1017 = product(t950, 0.003);
-        let t1018: f64 = t1017.subtracted_from(t1016);
-        let t1019 = product(t842, t1018);
-        let t1020: f64 = t869 * t890;
-        let t1021: f64 = t873 * t1020;
-        let t1022: f64 = t947 * t1021;
-        let t1023 = product(t907, t1007);
-        let t1024: f64 = t890 * t1012;
-        let t1025: f64 = t1023.plus(t1024);
-        let t1026: f64 = t869 * t907;
-        let t1027 = product(t1001, t1026);
-        let t1028: f64 = t1027.subtracted_from(t1025);
-        let t1029 = product(t894, t964);
-        let t1030: f64 = t978 * t1020;
+        let t1003: f64 = t855 * t1002;
+        let t1004: f64 = t929 * t1003;
+        let t1005 = product(t889, t989);
+        let t1006: f64 = t872 * t994;
+        let t1007: f64 = t1005.plus(t1006);
+        let t1008: f64 = t851 * t889;
+        let t1009 = product(t983, t1008);
+        let t1010: f64 = t1009.subtracted_from(t1007);
+        let t1011 = product(t876, t946);
+        let t1012: f64 = t960 * t1002;
+        let t1013: f64 = t1011.plus(t1012);
+        let t1014: f64 = t1010 - t1013;
+        let t1015 = product(t1004, 0.003);
+        let t1016: f64 = t1015.subtracted_from(t1014);
+        let t1017: f64 = t833 * t1016;
+        let t1018: f64 = t422 + t423;
+        let t1019: f64 = zc - t1018;
+        let t1020: f64 = t1019 * 0.7651390659756491;
+        let t1021: f64 = t1019 * 0.6438650555185546;
+        let t1022 = product(t1021, t1021);
+        let t1023: f64 = t1020 * t1020;
+        let t1024: f64 = t431 - t432;
+        let t1025: f64 = t434 - t1024;
+        let t1026: f64 = t436 + t437;
+        let t1027: f64 = yc + 0.349711;
+        let t1028: f64 = t1027 - t1026;
+        let t1029 = product(t1025, 0.6438650555185546);
+        let t1030: f64 = t1028 * 0.7651390659756491;
         let t1031: f64 = t1029.plus(t1030);
-        let t1032: f64 = t1028 - t1031;
-        let t1033 = product(t1022, 0.003);
-        let t1034: f64 = t1033.subtracted_from(t1032);
-        let t1035: f64 = t851 * t1034;
-        let t1036: f64 = t440 + t441;
-        let t1037: f64 = zc - t1036;
-        let t1038: f64 = t1037 * 0.7651390659756491;
-        let t1039: f64 = t1037 * 0.6438650555185546;
-        let t1040 = product(t1039, t1039);
-        let t1041: f64 = t1038 * t1038;
-        let t1042: f64 = t449 - t450;
-        let t1043: f64 = t452 - t1042;
-        let t1044: f64 = t454 + t455;
-        let t1045: f64 = yc + 0.349711;
-        let t1046: f64 = t1045 - t1044;
-        let t1047 = product(t1043, 0.6438650555185546);
-        let t1048: f64 = t1046 * 0.7651390659756491;
-        let t1049: f64 = t1047.plus(t1048);
-        let t1050 = product(t1049, t1049);
-        let t1051: f64 = t1040.plus(t1041);
-        let t1052: f64 = t1050.plus(t1051);
-        let t1053: f64 = sqrt(t1052);
-        let t1054: f64 = 1.0 / t1053;
-        let t1055: f64 = t1038 * t1054;
-        let t1056 = product(t1043, t1043);
-        let t1057: f64 = t1046 * t1046;
-        let t1058 = product(t1037, t1037);
-        let t1059: f64 = t1056.plus(t1057);
-        let t1060: f64 = t1058.plus(t1059);
-        let t1061: f64 = sqrt(t1060);
-        let t1062: f64 = 1.0 / t1061;
-        let t1063 = product(t1043, 0.7651390659756491);
-        let t1064: f64 = t1046 * 0.6438650555185546;
-        let t1065: f64 = t1063.minus(t1064);
-        let t1066: f64 = t1054 * t1065;
-        let t1067: f64 = t1062 * t1062;
-        let t1068 = product(wy, t1036);
-        let t1069: f64 = wz * t1044;
-        let t1070: f64 = t1068.minus(t1069);
-        let t1071: f64 = vx - t1070;
-        let t1072: f64 = t1039 * t1054;
-        let t1073 = product(t1071, t1072);
-        let t1074 = product(wz, t1042);
-        let t1075: f64 = wx * t1036;
-        let t1076: f64 = t1074.minus(t1075);
-        let t1077: f64 = vy - t1076;
-        let t1078: f64 = t1055 * t1077;
-        let t1079 = product(wx, t1044);
-        let t1080: f64 = wy * t1042;
-        let t1081: f64 = t1079.minus(t1080);
-        let t1082: f64 = vz - t1081;
-        let t1083: f64 = t1049 * t1054;
-        let t1084 = product(t1082, t1083);
-        let t1085: f64 = t1073.plus(t1078);
-        let t1086: f64 = t1084.subtracted_from(t1085);
-        let t1087: f64 = t1037 * t1062;
-        let t1088 = product(t1055, t1087);
-        let t1089: f64 = t1046 * t1062;
-        let t1090: f64 = t1083 * t1089;
-        let t1091: f64 = t1088.plus(t1090);
-        let t1092 = product(t1071, t1091);
-        let t1093: f64 = t1043 * t1062;
-        let t1094 = product(t1083, t1093);
-        let t1095: f64 = t1072 * t1087;
-        let t1096: f64 = t1094.plus(t1095);
-        let t1097 = product(t1077, t1096);
-        let t1098 = product(t1072, t1089);
-        let t1099: f64 = t1055 * t1093;
-        let t1100: f64 = t1098.minus(t1099);
-        let t1101: f64 = t1082 * t1100;
-        let t1102: f64 = t1092.plus(t1101);
-        let t1103: f64 = t1097.subtracted_from(t1102);
-        let t1104: f64 = t1066 * t1067;
-        let t1105: f64 = t1086 * t1104;
-        let t1106 = product(t1103, t1105);
-        let t1107 = product(t1071, t1093);
-        let t1108: f64 = t1077 * t1089;
-        let t1109 = product(t1082, t1087);
-        let t1110: f64 = t1107.plus(t1108);
-        let t1111: f64 = t1109.plus(t1110);
-        let t1112: f64 = t1062 * t1111;
-        let t1113: f64 = t1112 * 2.0;
-        let t1114: f64 = t1062 * t1086;
-        let t1115: f64 = t1113 * t1114;
-        let t1116: f64 = t1106.minus(t1115);
-        let t1117 = product(t1066, t1116);
-        let t1118: f64 = t1054 * t1054;
-        let t1119: f64 = t1060 * t1062;
-        let t1120: f64 = t1118 * t1119;
-        let t1121: f64 = t1086 * t1120;
-        let t1122 = product(t1103, t1121);
-        let t1123 = product(wy, t1081);
-        let t1124: f64 = wz * t1076;
-        let t1125: f64 = t1123.minus(t1124);
-        let t1126 = product(t1072, t1125);
-        let t1127 = product(wz, t1070);
-        let t1128: f64 = wx * t1081;
-        let t1129: f64 = t1127.minus(t1128);
-        let t1130: f64 = t1055 * t1129;
-        let t1131 = product(wx, t1076);
-        let t1132: f64 = wy * t1070;
-        let t1133: f64 = t1131.minus(t1132);
-        let t1134 = product(t1083, t1133);
-        let t1135: f64 = t1126.plus(t1130);
-        let t1136: f64 = t1134.subtracted_from(t1135);
-        let t1137: f64 = t1066 * t1136;
-        let t1138: f64 = t1122.minus(t1137);
-        let t1139: f64 = t1062 * t1138;
-        let t1140: f64 = t1117.plus(t1139);
-        let t1141: f64 = t1055 * t1062;
-        let t1142: f64 = t1066 * t1141;
-        let t1143: f64 = t1140 * t1142;
-        let t1144: f64 = t1087 * 9.81;
-        let t1145: f64 = -t1144;
-        let t1146 = product(t1093, t1125);
-        let t1147: f64 = t1089 * t1129;
-        let t1148 = product(t1087, t1133);
-        let t1149: f64 = t1146.plus(t1147);
-        let t1150: f64 = t1148.plus(t1149);
-        let t1151 = product(t1114, t1114);
-        let t1152: f64 = t1062 * t1103;
-        let t1153: f64 = t1152 * t1152;
-        let t1154: f64 = t1151.plus(t1153);
-        let t1155 = product(t1154, 0.3);
-        let t1156: f64 = t1145 + t1150;
-        let t1157: f64 = t1155.subtracted_from(t1156);
-        let t1158 = product(t1089, t1157);
-        let t1159: f64 = t1083 * 9.81;
-        let t1160 = product(t1062, t1136);
-        let t1161: f64 = t1160.subtracted_from(t1116);
-        let t1162: f64 = t1062 * t1066;
-        let t1163: f64 = t1086 * t1162;
-        let t1164: f64 = t1152 * t1163;
-        let t1165 = product(t1159, 0.2);
-        let t1166 = product(t1136, 0.3);
-        let t1167: f64 = t1161 * 0.295;
-        let t1168: f64 = t1164 * 0.292;
-        let t1169: f64 = t1166.plus(t1167);
-        let t1170: f64 = t1165.plus(t1168);
-        let t1171: f64 = t1169 - t1170;
-        let t1172: f64 = t1141 * t1171;
-        let t1173: f64 = t1158.minus(t1172);
-        let t1174: f64 = t1100 * 9.81;
-        let t1175: f64 = -t1174;
-        let t1176 = product(t1100, t1133);
-        let t1177 = product(t1091, t1125);
-        let t1178: f64 = t1096 * t1129;
-        let t1179: f64 = t1177.minus(t1178);
-        let t1180: f64 = t1176.plus(t1179);
-        let t1181: f64 = t1086 * t1086;
-        let t1182 = product(t1162, t1181);
-        let t1183: f64 = t1103 * t1113;
-        let t1184: f64 = t1182.plus(t1183);
-        let t1185: f64 = t1180 + t1184;
-        let t1186: f64 = t1062 * t1185;
-        let t1187: f64 = t1114 * t1163;
-        let t1188 = product(t1175, 0.2);
-        let t1189 = product(t1180, 0.3);
-        let t1190: f64 = t1186 * 0.295;
-        let t1191: f64 = t1187 * 0.292;
-        let t1192: f64 = t1188.plus(t1190);
-        let t1193: f64 = t1189.plus(t1191);
-        let t1194: f64 = t1192 - t1193;
-        let t1195: f64 = t1062 * t1096;
-        let t1196 = product(t1194, t1195);
-        let t1197: f64 = t1186 - t1187;
-        let t1198 = product(t1197, 0.3);
-        let t1199: f64 = t1175 + t1180;
-        let t1200: f64 = t1198.minus(t1199);
-        let t1201 = product(t1096, t1200);
-        let t1202: f64 = t1161 - t1164;
-        let t1203 = product(t1202, 0.3);
-        let t1204: f64 = t1136 + t1159;
-        let t1205: f64 = t1203.plus(t1204);
-        let t1206: f64 = t1055 * t1205;
-        let t1207: f64 = t1201.plus(t1206);
-        let t1208: f64 = t1196.minus(t1207);
-        let t1209: f64 = t1173 - t1208;
-        let t1210 = product(t1143, 0.003);
-        let t1211: f64 = t1210.subtracted_from(t1209);
-        let t1212: f64 = t1036 * t1211;
-        let t1213: f64 = t1062 * t1083;
-        let t1214: f64 = t1066 * t1213;
-        let t1215: f64 = t1140 * t1214;
-        let t1216 = product(t1100, t1200);
-        let t1217: f64 = t1083 * t1205;
-        let t1218: f64 = t1216.plus(t1217);
-        let t1219: f64 = t1062 * t1100;
-        let t1220 = product(t1194, t1219);
-        let t1221: f64 = t1220.subtracted_from(t1218);
-        let t1222 = product(t1087, t1157);
-        let t1223: f64 = t1171 * t1213;
-        let t1224: f64 = t1222.plus(t1223);
-        let t1225: f64 = t1221 - t1224;
-        let t1226 = product(t1215, 0.003);
-        let t1227: f64 = t1226.subtracted_from(t1225);
-        let t1228 = product(t1044, t1227);
-        let t1229: f64 = wz * t3;
-        let t1230 = product(t1, t1229);
-        let t1231 = product(wx, t0);
-        let t1232: f64 = wy * t2;
-        let t1233: f64 = t1 * t1232;
-        let t1234: f64 = t1231.minus(t1233);
-        let t1235: f64 = t1230.plus(t1234);
-        let t1236: f64 = t1235 * 0.7;
-        let t1237 = product(t32, t1236);
-        let t1238: f64 = t33 * t1235;
-        let t1239: f64 = t1237.minus(t1238);
-        let t1240 = product(t5, t1239);
-        let t1241 = product(t35, t1235);
-        let t1242: f64 = t19 * t1236;
-        let t1243: f64 = t1241.minus(t1242);
-        let t1244 = product(t4, t1243);
-        let t1245: f64 = t2 * 3.5316;
-        let t1246: f64 = t1240.plus(t1245);
-        let t1247: f64 = t1244.plus(t1246);
-        let t1248: f64 = t1 * t1247;
-        let t1249: f64 = t227.plus(t439);
-        let t1250: f64 = t624.plus(t640);
-        let t1251: f64 = t1019.plus(t1035);
-        let t1252: f64 = t1249 + t1250;
-        let t1253: f64 = t1251 + t1252;
-        let t1254: f64 = t38.plus(t243);
-        let t1255: f64 = t423.plus(t825);
-        let t1256: f64 = t841.plus(t1212);
-        let t1257: f64 = t1228.plus(t1248);
-        let t1258: f64 = t1254 + t1255;
-        let t1259: f64 = t1256 + t1257;
-        let t1260: f64 = t1258 + t1259;
-        let t1261: f64 = t1253 - t1260;
-        let t1262 = product(t16, t1239);
-        let t1263 = product(t24, t1243);
-        let t1264: f64 = t1 * t2;
-        let t1265: f64 = t37 * t1264;
-        let t1266: f64 = t86 * t177;
-        let t1267: f64 = t154 * t1266;
-        let t1268 = product(t107, t171);
-        let t1269: f64 = t76 * t86;
-        let t1270: f64 = t186 * t1269;
-        let t1271: f64 = t1268.plus(t1270);
-        let t1272: f64 = t76 * t105;
-        let t1273 = product(t209, t1272);
-        let t1274 = product(t105, t215);
-        let t1275: f64 = t86 * t220;
-        let t1276: f64 = t1274.minus(t1275);
-        let t1277: f64 = t1273.minus(t1276);
-        let t1278: f64 = t1271 - t1277;
+        let t1032 = product(t1031, t1031);
+        let t1033: f64 = t1022.plus(t1023);
+        let t1034: f64 = t1032.plus(t1033);
+        let t1035: f64 = sqrt(t1034);
+        let t1036: f64 = 1.0 / t1035;
+        let t1037: f64 = t1020 * t1036;
+        let t1038 = product(t1025, t1025);
+        let t1039: f64 = t1028 * t1028;
+        let t1040 = product(t1019, t1019);
+        let t1041: f64 = t1038.plus(t1039);
+        let t1042: f64 = t1040.plus(t1041);
+        let t1043: f64 = sqrt(t1042);
+        let t1044: f64 = 1.0 / t1043;
+        let t1045 = product(t1025, 0.7651390659756491);
+        let t1046: f64 = t1028 * 0.6438650555185546;
+        let t1047: f64 = t1045.minus(t1046);
+        let t1048: f64 = t1036 * t1047;
+        let t1049: f64 = t1044 * t1044;
+        let t1050 = product(wy, t1018);
+        let t1051: f64 = wz * t1026;
+        let t1052: f64 = t1050.minus(t1051);
+        let t1053: f64 = vx - t1052;
+        let t1054: f64 = t1021 * t1036;
+        let t1055 = product(t1053, t1054);
+        let t1056 = product(wz, t1024);
+        let t1057: f64 = wx * t1018;
+        let t1058: f64 = t1056.minus(t1057);
+        let t1059: f64 = vy - t1058;
+        let t1060: f64 = t1037 * t1059;
+        let t1061 = product(wx, t1026);
+        let t1062: f64 = wy * t1024;
+        let t1063: f64 = t1061.minus(t1062);
+        let t1064: f64 = vz - t1063;
+        let t1065: f64 = t1031 * t1036;
+        let t1066 = product(t1064, t1065);
+        let t1067: f64 = t1055.plus(t1060);
+        let t1068: f64 = t1066.subtracted_from(t1067);
+        let t1069: f64 = t1019 * t1044;
+        let t1070 = product(t1037, t1069);
+        let t1071: f64 = t1028 * t1044;
+        let t1072: f64 = t1065 * t1071;
+        let t1073: f64 = t1070.plus(t1072);
+        let t1074 = product(t1053, t1073);
+        let t1075: f64 = t1025 * t1044;
+        let t1076 = product(t1065, t1075);
+        let t1077: f64 = t1054 * t1069;
+        let t1078: f64 = t1076.plus(t1077);
+        let t1079 = product(t1059, t1078);
+        let t1080 = product(t1054, t1071);
+        let t1081: f64 = t1037 * t1075;
+        let t1082: f64 = t1080.minus(t1081);
+        let t1083: f64 = t1064 * t1082;
+        let t1084: f64 = t1074.plus(t1083);
+        let t1085: f64 = t1079.subtracted_from(t1084);
+        let t1086: f64 = t1048 * t1049;
+        let t1087: f64 = t1068 * t1086;
+        let t1088 = product(t1085, t1087);
+        let t1089 = product(t1053, t1075);
+        let t1090: f64 = t1059 * t1071;
+        let t1091 = product(t1064, t1069);
+        let t1092: f64 = t1089.plus(t1090);
+        let t1093: f64 = t1091.plus(t1092);
+        let t1094: f64 = t1044 * t1093;
+        let t1095: f64 = t1094 * 2.0;
+        let t1096: f64 = t1044 * t1068;
+        let t1097: f64 = t1095 * t1096;
+        let t1098: f64 = t1088.minus(t1097);
+        let t1099 = product(t1048, t1098);
+        let t1100: f64 = t1036 * t1036;
+        let t1101: f64 = t1042 * t1044;
+        let t1102: f64 = t1100 * t1101;
+        let t1103: f64 = t1068 * t1102;
+        let t1104 = product(t1085, t1103);
+        let t1105 = product(wy, t1063);
+        let t1106: f64 = wz * t1058;
+        let t1107: f64 = t1105.minus(t1106);
+        let t1108 = product(t1054, t1107);
+        let t1109 = product(wz, t1052);
+        let t1110: f64 = wx * t1063;
+        let t1111: f64 = t1109.minus(t1110);
+        let t1112: f64 = t1037 * t1111;
+        let t1113 = product(wx, t1058);
+        let t1114: f64 = wy * t1052;
+        let t1115: f64 = t1113.minus(t1114);
+        let t1116 = product(t1065, t1115);
+        let t1117: f64 = t1108.plus(t1112);
+        let t1118: f64 = t1116.subtracted_from(t1117);
+        let t1119: f64 = t1048 * t1118;
+        let t1120: f64 = t1104.minus(t1119);
+        let t1121: f64 = t1044 * t1120;
+        let t1122: f64 = t1099.plus(t1121);
+        let t1123: f64 = t1037 * t1044;
+        let t1124: f64 = t1048 * t1123;
+        let t1125: f64 = t1122 * t1124;
+        let t1126: f64 = t1069 * 9.81;
+        let t1127: f64 = -t1126;
+        let t1128 = product(t1075, t1107);
+        let t1129: f64 = t1071 * t1111;
+        let t1130 = product(t1069, t1115);
+        let t1131: f64 = t1128.plus(t1129);
+        let t1132: f64 = t1130.plus(t1131);
+        let t1133 = product(t1096, t1096);
+        let t1134: f64 = t1044 * t1085;
+        let t1135: f64 = t1134 * t1134;
+        let t1136: f64 = t1133.plus(t1135);
+        let t1137 = product(t1136, 0.3);
+        let t1138: f64 = t1127 + t1132;
+        let t1139: f64 = t1137.subtracted_from(t1138);
+        let t1140 = product(t1071, t1139);
+        let t1141: f64 = t1065 * 9.81;
+        let t1142 = product(t1044, t1118);
+        let t1143: f64 = t1142.subtracted_from(t1098);
+        let t1144: f64 = t1044 * t1048;
+        let t1145: f64 = t1068 * t1144;
+        let t1146: f64 = t1134 * t1145;
+        let t1147 = product(t1141, 0.2);
+        let t1148 = product(t1118, 0.3);
+        let t1149: f64 = t1143 * 0.295;
+        let t1150: f64 = t1146 * 0.292;
+        let t1151: f64 = t1148.plus(t1149);
+        let t1152: f64 = t1147.plus(t1150);
+        let t1153: f64 = t1151 - t1152;
+        let t1154: f64 = t1123 * t1153;
+        let t1155: f64 = t1140.minus(t1154);
+        let t1156: f64 = t1082 * 9.81;
+        let t1157: f64 = -t1156;
+        let t1158 = product(t1082, t1115);
+        let t1159 = product(t1073, t1107);
+        let t1160: f64 = t1078 * t1111;
+        let t1161: f64 = t1159.minus(t1160);
+        let t1162: f64 = t1158.plus(t1161);
+        let t1163: f64 = t1068 * t1068;
+        let t1164 = product(t1144, t1163);
+        let t1165: f64 = t1085 * t1095;
+        let t1166: f64 = t1164.plus(t1165);
+        let t1167: f64 = t1162 + t1166;
+        let t1168: f64 = t1044 * t1167;
+        let t1169: f64 = t1096 * t1145;
+        let t1170 = product(t1157, 0.2);
+        let t1171 = product(t1162, 0.3);
+        let t1172: f64 = t1168 * 0.295;
+        let t1173: f64 = t1169 * 0.292;
+        let t1174: f64 = t1170.plus(t1172);
+        let t1175: f64 = t1171.plus(t1173);
+        let t1176: f64 = t1174 - t1175;
+        let t1177: f64 = t1044 * t1078;
+        let t1178 = product(t1176, t1177);
+        let t1179: f64 = t1168 - t1169;
+        let t1180 = product(t1179, 0.3);
+        let t1181: f64 = t1157 + t1162;
+        let t1182: f64 = t1180.minus(t1181);
+        let t1183 = product(t1078, t1182);
+        let t1184: f64 = t1143 - t1146;
+        let t1185 = product(t1184, 0.3);
+        let t1186: f64 = t1118 + t1141;
+        let t1187: f64 = t1185.plus(t1186);
+        let t1188: f64 = t1037 * t1187;
+        let t1189: f64 = t1183.plus(t1188);
+        let t1190: f64 = t1178.minus(t1189);
+        let t1191: f64 = t1155 - t1190;
+        let t1192 = product(t1125, 0.003);
+        let t1193: f64 = t1192.subtracted_from(t1191);
+        let t1194 = product(t1018, t1193);
+        let t1195: f64 = t1044 * t1065;
+        let t1196: f64 = t1048 * t1195;
+        let t1197: f64 = t1122 * t1196;
+        let t1198 = product(t1082, t1182);
+        let t1199: f64 = t1065 * t1187;
+        let t1200: f64 = t1198.plus(t1199);
+        let t1201: f64 = t1044 * t1082;
+        let t1202 = product(t1176, t1201);
+        let t1203: f64 = t1202.subtracted_from(t1200);
+        let t1204 = product(t1069, t1139);
+        let t1205: f64 = t1153 * t1195;
+        let t1206: f64 = t1204.plus(t1205);
+        let t1207: f64 = t1203 - t1206;
+        let t1208 = product(t1197, 0.003);
+        let t1209: f64 = t1208.subtracted_from(t1207);
+        let t1210: f64 = t1026 * t1209;
+        let t1211 = product(wx, t5);
+        let t1212 = product(wy, t0);
+        let t1213: f64 = wz * t1;
+        let t1214: f64 = t1212.minus(t1213);
+        let t1215: f64 = t6 * t1214;
+        let t1216: f64 = t1211.minus(t1215);
+        let t1217: f64 = wx * t2;
+        let t1218 = product(t6, t1217);
+        let t1219 = product(wy, t37);
+        let t1220: f64 = wz * t13;
+        let t1221: f64 = t1219.plus(t1220);
+        let t1222: f64 = t1218.minus(t1221);
+        let t1223 = product(t3, t1222);
+        let t1224: f64 = wx * t6;
+        let t1225 = product(t3, t1224);
+        let t1226: f64 = wy * t34;
+        let t1227 = product(wz, t9);
+        let t1228: f64 = t1225.plus(t1226);
+        let t1229: f64 = t1227.plus(t1228);
+        let t1230: f64 = t2 * t1229;
+        let t1231: f64 = t1223.minus(t1230);
+        let t1232: f64 = t1231 * 0.28919999999999996;
+        let t1233 = product(t1216, t1232);
+        let t1234: f64 = t0 * 3.5316;
+        let t1235: f64 = t1233.plus(t1234);
+        let t1236 = product(t6, t1235);
+        let t1237: f64 = t209.plus(t421);
+        let t1238: f64 = t606.plus(t622);
+        let t1239: f64 = t1001.plus(t1017);
+        let t1240: f64 = t1237 + t1238;
+        let t1241: f64 = t1239 + t1240;
+        let t1242: f64 = t225.plus(t405);
+        let t1243: f64 = t807.plus(t823);
+        let t1244: f64 = t1194.plus(t1210);
+        let t1245: f64 = t1242 + t1243;
+        let t1246: f64 = t1236.plus(t1244);
+        let t1247: f64 = t1245 + t1246;
+        let t1248: f64 = t1241 - t1247;
+        let t1249: f64 = t68 * t159;
+        let t1250: f64 = t136 * t1249;
+        let t1251 = product(t89, t153);
+        let t1252: f64 = t58 * t68;
+        let t1253: f64 = t168 * t1252;
+        let t1254: f64 = t1251.plus(t1253);
+        let t1255: f64 = t58 * t87;
+        let t1256 = product(t191, t1255);
+        let t1257 = product(t87, t197);
+        let t1258: f64 = t68 * t202;
+        let t1259: f64 = t1257.minus(t1258);
+        let t1260: f64 = t1256.minus(t1259);
+        let t1261: f64 = t1254 - t1260;
+        let t1262 = product(t1250, 0.003);
+        let t1263: f64 = t1262.added_to(t1261);
+        let t1264 = product(t16, t1263);
+        let t1265 = product(t28, t224);
+        let t1266: f64 = t264 * t340;
+        let t1267: f64 = t332 * t1266;
+        let t1268: f64 = t254 * t264;
+        let t1269 = product(t350, t1268);
+        let t1270: f64 = t285 * t364;
+        let t1271: f64 = t1269.minus(t1270);
+        let t1272 = product(t283, t384);
+        let t1273: f64 = t264 * t389;
+        let t1274: f64 = t1272.minus(t1273);
+        let t1275: f64 = t254 * t283;
+        let t1276 = product(t398, t1275);
+        let t1277: f64 = t1276.subtracted_from(t1274);
+        let t1278: f64 = t1271 + t1277;
         let t1279 = product(t1267, 0.003);
         let t1280: f64 = t1279.added_to(t1278);
-        let t1281 = product(t41, t1280);
-        let t1282 = product(t53, t242);
-        let t1283: f64 = t282 * t358;
-        let t1284: f64 = t350 * t1283;
-        let t1285: f64 = t272 * t282;
-        let t1286 = product(t368, t1285);
-        let t1287: f64 = t303 * t382;
-        let t1288: f64 = t1286.minus(t1287);
-        let t1289 = product(t301, t402);
-        let t1290: f64 = t282 * t407;
-        let t1291: f64 = t1289.minus(t1290);
-        let t1292: f64 = t272 * t301;
-        let t1293 = product(t416, t1292);
-        let t1294: f64 = t1293.subtracted_from(t1291);
-        let t1295: f64 = t1288 + t1294;
+        let t1281: f64 = t226 * t1280;
+        let t1282 = product(t233, t420);
+        let t1283: f64 = t466 * t546;
+        let t1284: f64 = t534 * t1283;
+        let t1285 = product(t487, t592);
+        let t1286: f64 = t456 * t466;
+        let t1287: f64 = t600 * t1286;
+        let t1288: f64 = t1285.plus(t1287);
+        let t1289: f64 = t456 * t485;
+        let t1290 = product(t576, t1289);
+        let t1291 = product(t485, t557);
+        let t1292: f64 = t466 * t567;
+        let t1293: f64 = t1291.minus(t1292);
+        let t1294: f64 = t1290.minus(t1293);
+        let t1295: f64 = t1288 - t1294;
         let t1296 = product(t1284, 0.003);
         let t1297: f64 = t1296.added_to(t1295);
-        let t1298: f64 = t244 * t1297;
-        let t1299: f64 = t251 * t438;
-        let t1300: f64 = t484 * t564;
-        let t1301: f64 = t552 * t1300;
-        let t1302 = product(t505, t610);
-        let t1303: f64 = t474 * t484;
-        let t1304: f64 = t618 * t1303;
+        let t1298 = product(t424, t1297);
+        let t1299: f64 = t433 * t621;
+        let t1300: f64 = t667 * t747;
+        let t1301: f64 = t735 * t1300;
+        let t1302 = product(t688, t793);
+        let t1303: f64 = t657 * t667;
+        let t1304: f64 = t801 * t1303;
         let t1305: f64 = t1302.plus(t1304);
-        let t1306: f64 = t474 * t503;
-        let t1307 = product(t594, t1306);
-        let t1308 = product(t503, t575);
-        let t1309: f64 = t484 * t585;
+        let t1306: f64 = t657 * t686;
+        let t1307 = product(t777, t1306);
+        let t1308 = product(t686, t758);
+        let t1309: f64 = t667 * t768;
         let t1310: f64 = t1308.minus(t1309);
         let t1311: f64 = t1307.minus(t1310);
         let t1312: f64 = t1305 - t1311;
         let t1313 = product(t1301, 0.003);
         let t1314: f64 = t1313.added_to(t1312);
-        let t1315 = product(t442, t1314);
-        let t1316 = product(t451, t639);
-        let t1317: f64 = t685 * t765;
-        let t1318: f64 = t753 * t1317;
-        let t1319 = product(t706, t811);
-        let t1320: f64 = t675 * t685;
-        let t1321: f64 = t819 * t1320;
-        let t1322: f64 = t1319.plus(t1321);
-        let t1323: f64 = t675 * t704;
-        let t1324 = product(t795, t1323);
-        let t1325 = product(t704, t776);
-        let t1326: f64 = t685 * t786;
-        let t1327: f64 = t1325.minus(t1326);
-        let t1328: f64 = t1324.minus(t1327);
-        let t1329: f64 = t1322 - t1328;
+        let t1315 = product(t625, t1314);
+        let t1316: f64 = t634 * t822;
+        let t1317: f64 = t861 * t951;
+        let t1318: f64 = t929 * t1317;
+        let t1319: f64 = t851 * t861;
+        let t1320 = product(t960, t1319);
+        let t1321: f64 = t882 * t946;
+        let t1322: f64 = t1320.minus(t1321);
+        let t1323 = product(t880, t989);
+        let t1324: f64 = t861 * t994;
+        let t1325: f64 = t1323.minus(t1324);
+        let t1326: f64 = t851 * t880;
+        let t1327 = product(t983, t1326);
+        let t1328: f64 = t1327.subtracted_from(t1325);
+        let t1329: f64 = t1322 + t1328;
         let t1330 = product(t1318, 0.003);
         let t1331: f64 = t1330.added_to(t1329);
-        let t1332: f64 = t643 * t1331;
-        let t1333: f64 = t652 * t840;
-        let t1334: f64 = t879 * t969;
-        let t1335: f64 = t947 * t1334;
-        let t1336: f64 = t869 * t879;
-        let t1337 = product(t978, t1336);
-        let t1338: f64 = t900 * t964;
+        let t1332 = product(t824, t1331);
+        let t1333: f64 = t830 * t1016;
+        let t1334: f64 = t1054 * t1144;
+        let t1335: f64 = t1122 * t1334;
+        let t1336: f64 = t1044 * t1054;
+        let t1337 = product(t1153, t1336);
+        let t1338: f64 = t1075 * t1139;
         let t1339: f64 = t1337.minus(t1338);
-        let t1340 = product(t898, t1007);
-        let t1341: f64 = t879 * t1012;
+        let t1340 = product(t1073, t1182);
+        let t1341: f64 = t1054 * t1187;
         let t1342: f64 = t1340.minus(t1341);
-        let t1343: f64 = t869 * t898;
-        let t1344 = product(t1001, t1343);
+        let t1343: f64 = t1044 * t1073;
+        let t1344 = product(t1176, t1343);
         let t1345: f64 = t1344.subtracted_from(t1342);
         let t1346: f64 = t1339 + t1345;
         let t1347 = product(t1335, 0.003);
         let t1348: f64 = t1347.added_to(t1346);
-        let t1349 = product(t842, t1348);
-        let t1350 = product(t848, t1034);
-        let t1351: f64 = t1072 * t1162;
-        let t1352: f64 = t1140 * t1351;
-        let t1353: f64 = t1062 * t1072;
-        let t1354 = product(t1171, t1353);
-        let t1355: f64 = t1093 * t1157;
-        let t1356: f64 = t1354.minus(t1355);
-        let t1357 = product(t1091, t1200);
-        let t1358: f64 = t1072 * t1205;
-        let t1359: f64 = t1357.minus(t1358);
-        let t1360: f64 = t1062 * t1091;
-        let t1361 = product(t1194, t1360);
-        let t1362: f64 = t1361.subtracted_from(t1359);
-        let t1363: f64 = t1356 + t1362;
-        let t1364 = product(t1352, 0.003);
-        let t1365: f64 = t1364.added_to(t1363);
-        let t1366: f64 = t1036 * t1365;
-        let t1367: f64 = t1042 * t1227;
-        let t1368: f64 = t0 * 3.5316;
-        let t1369: f64 = t1263.plus(t1265);
-        let t1370: f64 = t1282.plus(t1298);
-        let t1371: f64 = t1315.plus(t1333);
-        let t1372: f64 = t1349.plus(t1367);
-        let t1373: f64 = t1369 + t1370;
-        let t1374: f64 = t1371 + t1372;
-        let t1375: f64 = t1373 + t1374;
-        let t1376: f64 = t1262.plus(t1368);
-        let t1377: f64 = t1281.plus(t1299);
-        let t1378: f64 = t1316.plus(t1332);
-        let t1379: f64 = t1350.plus(t1366);
-        let t1380: f64 = t1376 + t1377;
-        let t1381: f64 = t1378 + t1379;
-        let t1382: f64 = t1380 + t1381;
-        let t1383: f64 = t1375 - t1382;
-        let t1384 = product(t9, t1239);
-        let t1385 = product(t30, t1243);
-        let t1386: f64 = t1 * t3;
-        let t1387: f64 = t37 * t1386;
-        let t1388: f64 = t58 * t1280;
-        let t1389 = product(t53, t226);
-        let t1390: f64 = t254 * t1297;
-        let t1391 = product(t251, t422);
-        let t1392 = product(t456, t1314);
-        let t1393: f64 = t451 * t623;
-        let t1394: f64 = t657 * t1331;
-        let t1395 = product(t652, t824);
-        let t1396 = product(t851, t1348);
-        let t1397: f64 = t848 * t1018;
-        let t1398: f64 = t1044 * t1365;
-        let t1399 = product(t1042, t1211);
-        let t1400: f64 = t1385.plus(t1388);
-        let t1401: f64 = t1391.plus(t1394);
-        let t1402: f64 = t1395.plus(t1398);
-        let t1403: f64 = t1400 + t1401;
-        let t1404: f64 = t1399.plus(t1402);
-        let t1405: f64 = t1403 + t1404;
-        let t1406: f64 = t1384.plus(t1387);
-        let t1407: f64 = t1389.plus(t1390);
-        let t1408: f64 = t1392.plus(t1393);
-        let t1409: f64 = t1396.plus(t1397);
-        let t1410: f64 = t1406 + t1407;
-        let t1411: f64 = t1408 + t1409;
-        let t1412: f64 = t1410 + t1411;
-        let t1413: f64 = t1405 - t1412;
-        let t1414: f64 = wx * t2;
-        let t1415 = product(t1, t1414);
-        let t1416: f64 = wy * t0;
-        let t1417: f64 = t1415.plus(t1416);
-        let t1418: f64 = t1417 * 0.36;
-        let t1419 = product(wy, t1418);
-        let t1420 = product(wz, t0);
-        let t1421: f64 = wx * t3;
-        let t1422: f64 = t1 * t1421;
-        let t1423: f64 = t1420.minus(t1422);
-        let t1424: f64 = t1423 * 0.36;
-        let t1425: f64 = wz * t1424;
-        let t1426: f64 = t1284 + t1335;
-        let t1427: f64 = t1352 + t1426;
-        let t1428: f64 = t1267 + t1301;
-        let t1429: f64 = t1318 + t1428;
-        let t1430: f64 = t1427 - t1429;
-        let t1431 = product(t1430, 0.003);
-        let t1432: f64 = t1295 + t1346;
-        let t1433: f64 = t1431.added_to(t1363);
-        let t1434: f64 = t1432 + t1433;
-        let t1435: f64 = t1419.plus(t1425);
-        let t1436: f64 = t1278 + t1312;
-        let t1437: f64 = t1435 + t1436;
-        let t1438: f64 = t1329 + t1437;
-        let t1439: f64 = t1434 - t1438;
-        let t1440 = product(wx, t1418);
-        let t1441 = product(wy, t3);
-        let t1442: f64 = wz * t2;
-        let t1443: f64 = t1441.plus(t1442);
-        let t1444: f64 = t1443 * 0.36;
-        let t1445: f64 = wz * t1;
-        let t1446: f64 = t1444 * t1445;
-        let t1447: f64 = t353 + t950;
-        let t1448: f64 = t1143 + t1447;
-        let t1449: f64 = t157 + t555;
-        let t1450: f64 = t756 + t1449;
-        let t1451: f64 = t1448 - t1450;
-        let t1452 = product(t1451, 0.003);
-        let t1453: f64 = t1440.plus(t1446);
-        let t1454: f64 = t420 + t621;
-        let t1455: f64 = t1452.added_to(t822);
-        let t1456: f64 = t1453 + t1454;
-        let t1457: f64 = t1455 + t1456;
-        let t1458: f64 = t224 + t1016;
-        let t1459: f64 = t1209 + t1458;
-        let t1460: f64 = t1457 - t1459;
-        let t1461 = product(wx, t1424);
-        let t1462: f64 = wy * t1;
-        let t1463 = product(t1444, t1462);
-        let t1464: f64 = t426 + t627;
-        let t1465: f64 = t828 + t1464;
-        let t1466: f64 = t230 + t1022;
-        let t1467: f64 = t1215 + t1466;
-        let t1468: f64 = t1465 - t1467;
-        let t1469 = product(t1468, 0.003);
-        let t1470: f64 = t1461.added_to(t436);
-        let t1471: f64 = t1032 + t1225;
-        let t1472: f64 = t1469.plus(117.72);
-        let t1473: f64 = t1470 + t1471;
-        let t1474: f64 = t1472 + t1473;
-        let t1475: f64 = t1463.added_to(t240);
-        let t1476: f64 = t637 + t838;
-        let t1477: f64 = t1475 + t1476;
-        let t1478: f64 = t1474 - t1477;
-        let t1479: f64 = t67 * t76;
-        let t1480: f64 = t263 * t272;
-        let t1481: f64 = t465 * t474;
-        let t1482: f64 = t666 * t675;
-        let t1483: f64 = t860 * t869;
-        let t1484: f64 = t1053 * t1062;
+        let t1349 = product(t1018, t1348);
+        let t1350: f64 = t1024 * t1209;
+        let t1351 = product(t34, t1222);
+        let t1352: f64 = t37 * t1229;
+        let t1353: f64 = t1351.plus(t1352);
+        let t1354: f64 = t1353 * 0.28919999999999996;
+        let t1355: f64 = t1216 * t1354;
+        let t1356: f64 = t5 * 3.5316;
+        let t1357: f64 = t1265.plus(t1281);
+        let t1358: f64 = t1298.plus(t1316);
+        let t1359: f64 = t1332.plus(t1350);
+        let t1360: f64 = t1357 + t1358;
+        let t1361: f64 = t1359 + t1360;
+        let t1362: f64 = t1264.plus(t1356);
+        let t1363: f64 = t1282.plus(t1299);
+        let t1364: f64 = t1315.plus(t1333);
+        let t1365: f64 = t1349.plus(t1355);
+        let t1366: f64 = t1362 + t1363;
+        let t1367: f64 = t1364 + t1365;
+        let t1368: f64 = t1366 + t1367;
+        let t1369: f64 = t1361 - t1368;
+        let t1370 = product(t40, t1263);
+        let t1371 = product(t28, t208);
+        let t1372: f64 = t236 * t1280;
+        let t1373: f64 = t233 * t404;
+        let t1374 = product(t438, t1297);
+        let t1375: f64 = t433 * t605;
+        let t1376 = product(t639, t1314);
+        let t1377: f64 = t634 * t806;
+        let t1378 = product(t833, t1331);
+        let t1379: f64 = t830 * t1000;
+        let t1380 = product(t1026, t1348);
+        let t1381: f64 = t1024 * t1193;
+        let t1382 = product(t9, t1222);
+        let t1383: f64 = t13 * t1229;
+        let t1384: f64 = t1382.plus(t1383);
+        let t1385: f64 = t1384 * 0.28919999999999996;
+        let t1386 = product(t1216, t1385);
+        let t1387: f64 = t1370.plus(t1373);
+        let t1388: f64 = t1376.plus(t1377);
+        let t1389: f64 = t1380.plus(t1381);
+        let t1390: f64 = t1387 + t1388;
+        let t1391: f64 = t1389 + t1390;
+        let t1392: f64 = t1371.plus(t1372);
+        let t1393: f64 = t1374.plus(t1375);
+        let t1394: f64 = t1378.plus(t1379);
+        let t1395: f64 = t1392 + t1393;
+        let t1396: f64 = t1386.plus(t1394);
+        let t1397: f64 = t1395 + t1396;
+        let t1398: f64 = t1391 - t1397;
+        let t1399: f64 = wx * t0;
+        let t1400 = product(t6, t1399);
+        let t1401: f64 = wy * t5;
+        let t1402: f64 = t1400.plus(t1401);
+        let t1403: f64 = t1402 * 0.36;
+        let t1404 = product(wy, t1403);
+        let t1405 = product(wz, t5);
+        let t1406: f64 = wx * t1;
+        let t1407: f64 = t6 * t1406;
+        let t1408: f64 = t1405.minus(t1407);
+        let t1409: f64 = t1408 * 0.36;
+        let t1410: f64 = wz * t1409;
+        let t1411: f64 = t1267 + t1318;
+        let t1412: f64 = t1335 + t1411;
+        let t1413: f64 = t1250 + t1284;
+        let t1414: f64 = t1301 + t1413;
+        let t1415: f64 = t1412 - t1414;
+        let t1416 = product(t1415, 0.003);
+        let t1417: f64 = t1278 + t1329;
+        let t1418: f64 = t1416.added_to(t1346);
+        let t1419: f64 = t1417 + t1418;
+        let t1420: f64 = t1404.plus(t1410);
+        let t1421: f64 = t1261 + t1295;
+        let t1422: f64 = t1420 + t1421;
+        let t1423: f64 = t1312 + t1422;
+        let t1424: f64 = t1419 - t1423;
+        let t1425 = product(wx, t1403);
+        let t1426 = product(wy, t1);
+        let t1427: f64 = wz * t0;
+        let t1428: f64 = t1426.plus(t1427);
+        let t1429: f64 = t1428 * 0.36;
+        let t1430: f64 = wz * t6;
+        let t1431: f64 = t1429 * t1430;
+        let t1432: f64 = t335 + t932;
+        let t1433: f64 = t1125 + t1432;
+        let t1434: f64 = t139 + t537;
+        let t1435: f64 = t738 + t1434;
+        let t1436: f64 = t1433 - t1435;
+        let t1437 = product(t1436, 0.003);
+        let t1438: f64 = t1425.plus(t1431);
+        let t1439: f64 = t402 + t603;
+        let t1440: f64 = t1437.added_to(t804);
+        let t1441: f64 = t1438 + t1439;
+        let t1442: f64 = t1440 + t1441;
+        let t1443: f64 = t206 + t998;
+        let t1444: f64 = t1191 + t1443;
+        let t1445: f64 = t1442 - t1444;
+        let t1446 = product(wx, t1409);
+        let t1447: f64 = wy * t6;
+        let t1448 = product(t1429, t1447);
+        let t1449: f64 = t408 + t609;
+        let t1450: f64 = t810 + t1449;
+        let t1451: f64 = t212 + t1004;
+        let t1452: f64 = t1197 + t1451;
+        let t1453: f64 = t1450 - t1452;
+        let t1454 = product(t1453, 0.003);
+        let t1455: f64 = t1446.added_to(t418);
+        let t1456: f64 = t1014 + t1207;
+        let t1457: f64 = t1454.plus(117.72);
+        let t1458: f64 = t1455 + t1456;
+        let t1459: f64 = t1457 + t1458;
+        let t1460: f64 = t1448.added_to(t222);
+        let t1461: f64 = t619 + t820;
+        let t1462: f64 = t1460 + t1461;
+        let t1463: f64 = t1459 - t1462;
+        let t1464: f64 = t49 * t58;
+        let t1465: f64 = t245 * t254;
+        let t1466: f64 = t447 * t456;
+        let t1467: f64 = t648 * t657;
+        let t1468: f64 = t842 * t851;
+        let t1469: f64 = t1035 * t1044;
         (
-            t1261,
-            t1383,
-            t1413,
-            t1439,
-            t1460,
-            t1478,
-            t1479,
-            t1480,
-            t1481,
-            t1482,
-            t1483,
-            t1484,
+            t1248,
+            t1369,
+            t1398,
+            t1424,
+            t1445,
+            t1463,
+            t1464,
+            t1465,
+            t1466,
+            t1467,
+            t1468,
+            t1469,
         )
     };
     (
-        [t1261, t1383, t1413, t1439, t1460, t1478],
-        [t1479, t1480, t1481, t1482, t1483, t1484],
+        [t1248, t1369, t1398, t1424, t1445, t1463],
+        [t1464, t1465, t1466, t1467, t1468, t1469],
     )
 }
 /// Forward dynamics: the platform's acceleration `(ω̇; a_C)` under actuator forces `Γ`.
@@ -8856,7 +8810,7 @@ pub fn task_bias_separate(pose: &[f64; 6], twist: &[f64; 6]) -> ([f64; 6], [f64;
 /// - `accel`: classical platform acceleration `(ω̇; a_C)` (rad/s², m/s²), base frame
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 1930 mul, 29 div, 1386 add, 36 neg, 3 sin_cos, 12 sqrt (chapter convention: 1959m + 1386a).
+/// Operations: 1923 mul, 29 div, 1380 add, 35 neg, 3 sin_cos, 12 sqrt (chapter convention: 1952m + 1380a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -9106,29 +9060,26 @@ pub fn forward_dynamics_separate(
         t908,
         t909,
         t910,
-        t911,
         t912,
-        t914,
-        t915,
-        t919,
-        t940,
-        t943,
-        t944,
+        t913,
+        t917,
+        t938,
+        t941,
+        t942,
+        t945,
+        t946,
         t947,
-        t948,
-        t949,
-        t953,
-        t974,
-        t977,
-        t978,
+        t951,
+        t972,
+        t975,
+        t976,
+        t979,
+        t980,
         t981,
-        t982,
-        t983,
-        t986,
-        t987,
-        t990,
-        t991,
-        t995,
+        t984,
+        t985,
+        t988,
+        t989,
         t1002,
     ) = {
         let (t0, t1): (f64, f64) = sin_cos(beta);
@@ -10037,100 +9988,100 @@ pub fn forward_dynamics_separate(
         let t906: f64 = t903 + t904;
         let t907: f64 = t905 + t906;
         let t908: f64 = t902 - t907;
-        let t909: f64 = t21 * 0.4108;
-        let t910 = product(t21, t909);
-        let t911: f64 = t24 * 0.4108;
-        let t912: f64 = t24 * t911;
-        let t913: f64 = t3 * t3;
-        let t914: f64 = t676 * t913;
-        let t915: f64 = t44 * t701;
-        let t916 = product(t915, 0.3);
-        let t917: f64 = t916.subtracted_from(t701);
-        let t918 = product(t701, t917);
-        let t919: f64 = t44 * t83;
-        let t920 = product(t919, 0.3);
-        let t921: f64 = t920.subtracted_from(t83);
-        let t922: f64 = t83 * t921;
-        let t923 = product(t80, t80);
-        let t924 = product(t701, 0.3);
-        let t925: f64 = t915 * 0.295;
-        let t926: f64 = t924.minus(t925);
-        let t927 = product(t701, t926);
-        let t928: f64 = t44 * t67;
-        let t929: f64 = t83 * t928;
-        let t930 = product(t83, 0.3);
-        let t931 = product(t919, 0.295);
-        let t932: f64 = t929 * 0.003;
-        let t933: f64 = t931.plus(t932);
-        let t934: f64 = t930.minus(t933);
-        let t935: f64 = t83 * t934;
-        let t936: f64 = t927.plus(t935);
-        let t937 = product(t44, t936);
-        let t938: f64 = t918.plus(t922);
-        let t939: f64 = t923.plus(t938);
-        let t940: f64 = t937.subtracted_from(t939);
-        let t941 = product(t17, t940);
-        let t942: f64 = t34 * t725;
-        let t943: f64 = t941.minus(t942);
-        let t944 = product(t17, t943);
-        let t945 = product(t17, t725);
-        let t946: f64 = t34 * t133;
-        let t947: f64 = t945.minus(t946);
-        let t948 = product(t34, t947);
-        let t949: f64 = t151 * t733;
-        let t950 = product(t949, 0.3);
-        let t951: f64 = t950.subtracted_from(t733);
-        let t952 = product(t733, t951);
-        let t953: f64 = t151 * t189;
-        let t954 = product(t953, 0.3);
-        let t955: f64 = t954.subtracted_from(t189);
-        let t956: f64 = t189 * t955;
-        let t957 = product(t186, t186);
-        let t958 = product(t733, 0.3);
-        let t959: f64 = t949 * 0.295;
-        let t960: f64 = t958.minus(t959);
-        let t961 = product(t733, t960);
-        let t962: f64 = t151 * t173;
-        let t963: f64 = t189 * t962;
-        let t964 = product(t189, 0.3);
-        let t965 = product(t953, 0.295);
-        let t966: f64 = t963 * 0.003;
-        let t967: f64 = t965.plus(t966);
-        let t968: f64 = t964.minus(t967);
-        let t969: f64 = t189 * t968;
-        let t970: f64 = t961.plus(t969);
-        let t971 = product(t151, t970);
-        let t972: f64 = t952.plus(t956);
-        let t973: f64 = t957.plus(t972);
-        let t974: f64 = t971.subtracted_from(t973);
-        let t975 = product(t137, t974);
-        let t976: f64 = t141 * t757;
-        let t977: f64 = t975.minus(t976);
-        let t978: f64 = t137 * t977;
-        let t979 = product(t137, t757);
-        let t980: f64 = t141 * t239;
-        let t981: f64 = t979.minus(t980);
-        let t982: f64 = t141 * t981;
-        let t983: f64 = t263 * t765;
-        let t984 = product(t983, 0.3);
-        let t985: f64 = t984.subtracted_from(t765);
-        let t986 = product(t765, t985);
-        let t987: f64 = t263 * t301;
-        let t988 = product(t987, 0.3);
-        let t989: f64 = t988.subtracted_from(t301);
-        let t990: f64 = t301 * t989;
-        let t991 = product(t298, t298);
-        let t992 = product(t765, 0.3);
-        let t993: f64 = t983 * 0.295;
-        let t994: f64 = t992.minus(t993);
-        let t995 = product(t765, t994);
-        let t996: f64 = t263 * t285;
-        let t997: f64 = t301 * t996;
-        let t998 = product(t301, 0.3);
-        let t999 = product(t987, 0.295);
-        let t1000: f64 = t997 * 0.003;
-        let t1001: f64 = t999.plus(t1000);
-        let t1002: f64 = t998.minus(t1001);
+        let t909 = product(t21, t21);
+        let t910: f64 = t24 * t24;
+        let t911: f64 = t3 * t3;
+        let t912: f64 = t676 * t911;
+        let t913: f64 = t44 * t701;
+        let t914 = product(t913, 0.3);
+        let t915: f64 = t914.subtracted_from(t701);
+        let t916 = product(t701, t915);
+        let t917: f64 = t44 * t83;
+        let t918 = product(t917, 0.3);
+        let t919: f64 = t918.subtracted_from(t83);
+        let t920: f64 = t83 * t919;
+        let t921 = product(t80, t80);
+        let t922 = product(t701, 0.3);
+        let t923: f64 = t913 * 0.295;
+        let t924: f64 = t922.minus(t923);
+        let t925 = product(t701, t924);
+        let t926: f64 = t44 * t67;
+        let t927: f64 = t83 * t926;
+        let t928 = product(t83, 0.3);
+        let t929 = product(t917, 0.295);
+        let t930: f64 = t927 * 0.003;
+        let t931: f64 = t929.plus(t930);
+        let t932: f64 = t928.minus(t931);
+        let t933: f64 = t83 * t932;
+        let t934: f64 = t925.plus(t933);
+        let t935 = product(t44, t934);
+        let t936: f64 = t916.plus(t920);
+        let t937: f64 = t921.plus(t936);
+        let t938: f64 = t935.subtracted_from(t937);
+        let t939 = product(t17, t938);
+        let t940: f64 = t34 * t725;
+        let t941: f64 = t939.minus(t940);
+        let t942 = product(t17, t941);
+        let t943 = product(t17, t725);
+        let t944: f64 = t34 * t133;
+        let t945: f64 = t943.minus(t944);
+        let t946 = product(t34, t945);
+        let t947: f64 = t151 * t733;
+        let t948 = product(t947, 0.3);
+        let t949: f64 = t948.subtracted_from(t733);
+        let t950 = product(t733, t949);
+        let t951: f64 = t151 * t189;
+        let t952 = product(t951, 0.3);
+        let t953: f64 = t952.subtracted_from(t189);
+        let t954: f64 = t189 * t953;
+        let t955 = product(t186, t186);
+        let t956 = product(t733, 0.3);
+        let t957: f64 = t947 * 0.295;
+        let t958: f64 = t956.minus(t957);
+        let t959 = product(t733, t958);
+        let t960: f64 = t151 * t173;
+        let t961: f64 = t189 * t960;
+        let t962 = product(t189, 0.3);
+        let t963 = product(t951, 0.295);
+        let t964: f64 = t961 * 0.003;
+        let t965: f64 = t963.plus(t964);
+        let t966: f64 = t962.minus(t965);
+        let t967: f64 = t189 * t966;
+        let t968: f64 = t959.plus(t967);
+        let t969 = product(t151, t968);
+        let t970: f64 = t950.plus(t954);
+        let t971: f64 = t955.plus(t970);
+        let t972: f64 = t969.subtracted_from(t971);
+        let t973 = product(t137, t972);
+        let t974: f64 = t141 * t757;
+        let t975: f64 = t973.minus(t974);
+        let t976: f64 = t137 * t975;
+        let t977 = product(t137, t757);
+        let t978: f64 = t141 * t239;
+        let t979: f64 = t977.minus(t978);
+        let t980: f64 = t141 * t979;
+        let t981: f64 = t263 * t765;
+        let t982 = product(t981, 0.3);
+        let t983: f64 = t982.subtracted_from(t765);
+        let t984 = product(t765, t983);
+        let t985: f64 = t263 * t301;
+        let t986 = product(t985, 0.3);
+        let t987: f64 = t986.subtracted_from(t301);
+        let t988: f64 = t301 * t987;
+        let t989 = product(t298, t298);
+        let t990 = product(t765, 0.3);
+        let t991: f64 = t981 * 0.295;
+        let t992: f64 = t990.minus(t991);
+        let t993 = product(t765, t992);
+        let t994: f64 = t263 * t285;
+        let t995: f64 = t301 * t994;
+        let t996 = product(t301, 0.3);
+        let t997 = product(t985, 0.295);
+        let t998: f64 = t995 * 0.003;
+        let t999: f64 = t997.plus(t998);
+        let t1000: f64 = t996.minus(t999);
+        let t1001: f64 = t301 * t1000;
+        let t1002: f64 = t993.plus(t1001);
         (
             t0,
             t1,
@@ -10356,2852 +10307,2815 @@ pub fn forward_dynamics_separate(
             t908,
             t909,
             t910,
-            t911,
             t912,
-            t914,
-            t915,
-            t919,
-            t940,
-            t943,
-            t944,
+            t913,
+            t917,
+            t938,
+            t941,
+            t942,
+            t945,
+            t946,
             t947,
-            t948,
-            t949,
-            t953,
-            t974,
-            t977,
-            t978,
+            t951,
+            t972,
+            t975,
+            t976,
+            t979,
+            t980,
             t981,
-            t982,
-            t983,
-            t986,
-            t987,
-            t990,
-            t991,
-            t995,
+            t984,
+            t985,
+            t988,
+            t989,
             t1002,
         )
     };
     let (
-        t1008,
-        t1017,
-        t1021,
-        t1042,
-        t1051,
-        t1055,
-        t1076,
-        t1085,
-        t1089,
-        t1110,
-        t1137,
-        t1138,
+        t1006,
+        t1015,
+        t1019,
+        t1040,
+        t1049,
+        t1053,
+        t1074,
+        t1083,
+        t1087,
+        t1108,
+        t1136,
+        t1149,
         t1150,
-        t1151,
-        t1153,
-        t1263,
-        t1311,
-        t1316,
-        t1324,
-        t1326,
-        t1329,
-        t1335,
+        t1152,
+        t1261,
+        t1310,
+        t1315,
+        t1323,
+        t1325,
+        t1328,
+        t1334,
+        t1345,
         t1346,
-        t1347,
+        t1354,
         t1355,
-        t1356,
+        t1367,
         t1368,
-        t1369,
-        t1373,
-        t1392,
+        t1372,
+        t1391,
+        t1402,
         t1403,
-        t1404,
+        t1412,
         t1413,
-        t1414,
+        t1429,
         t1430,
-        t1431,
+        t1442,
         t1443,
-        t1444,
-        t1449,
-        t1471,
-        t1488,
-        t1492,
-        t1493,
+        t1448,
+        t1470,
+        t1476,
+        t1482,
+        t1489,
+        t1497,
         t1498,
-        t1499,
+        t1502,
         t1503,
-        t1504,
+        t1509,
         t1510,
-        t1511,
-        t1523,
-        t1527,
-        t1534,
-        t1535,
-        t1539,
-        t1540,
-        t1544,
-        t1575,
+        t1514,
+        t1515,
+        t1520,
+        t1521,
+        t1525,
+        t1526,
+        t1530,
+        t1561,
+        t1565,
+        t1570,
+        t1574,
+        t1577,
         t1579,
-        t1584,
-        t1588,
-        t1591,
-        t1593,
-        t1594,
-        t1613,
-        t1616,
-        t1619,
-        t1621,
-        t1624,
+        t1580,
+        t1599,
+        t1602,
+        t1605,
+        t1607,
+        t1610,
+        t1615,
+        t1626,
         t1629,
-        t1640,
-        t1643,
-        t1647,
-        t1648,
-        t1656,
-        t1659,
-        t1660,
-        t1694,
+        t1633,
+        t1634,
+        t1642,
+        t1645,
+        t1646,
+        t1680,
+        t1684,
+        t1689,
+        t1693,
+        t1696,
         t1698,
-        t1703,
-        t1707,
-        t1710,
-        t1712,
-        t1713,
-        t1732,
-        t1735,
-        t1739,
-        t1744,
-        t1752,
-        t1759,
-        t1760,
-        t1763,
-        t1767,
-        t1768,
-        t1776,
-        t1779,
-        t1780,
-        t1783,
-        t1814,
+        t1699,
+        t1718,
+        t1721,
+        t1725,
+        t1730,
+        t1738,
+        t1745,
+        t1746,
+        t1749,
+        t1753,
+        t1754,
+        t1762,
+        t1765,
+        t1766,
+        t1769,
+        t1800,
+        t1804,
+        t1809,
+        t1813,
+        t1816,
         t1818,
-        t1823,
-        t1827,
-        t1830,
+        t1819,
         t1832,
-        t1833,
-        t1846,
-        t1854,
-        t1861,
-        t1862,
-        t1865,
+        t1840,
+        t1847,
+        t1848,
+        t1851,
+        t1856,
+        t1867,
         t1870,
-        t1881,
-        t1884,
-        t1888,
+        t1874,
+        t1875,
+        t1883,
+        t1886,
+        t1887,
         t1889,
-        t1897,
-        t1900,
-        t1901,
-        t1903,
-        t1934,
+        t1920,
+        t1924,
+        t1929,
+        t1933,
+        t1936,
         t1938,
-        t1943,
-        t1947,
-        t1950,
-        t1952,
-        t1953,
-        t1972,
-        t1975,
-        t1977,
-        t1978,
+        t1939,
+        t1958,
+        t1961,
+        t1965,
+        t1976,
         t1979,
-        t1990,
+        t1982,
+        t1984,
+        t1987,
+        t1991,
+        t1992,
         t1993,
-        t1996,
-        t1998,
+        t2000,
         t2001,
         t2002,
     ) = {
-        let t1003: f64 = t301 * t1002;
-        let t1004: f64 = t995.plus(t1003);
-        let t1005 = product(t263, t1004);
-        let t1006: f64 = t986.plus(t990);
-        let t1007: f64 = t991.plus(t1006);
-        let t1008: f64 = t1005.subtracted_from(t1007);
-        let t1009 = product(t245, t1008);
-        let t1010: f64 = t253 * t789;
-        let t1011: f64 = t1009.minus(t1010);
-        let t1012 = product(t245, t1011);
-        let t1013 = product(t245, t789);
-        let t1014: f64 = t253 * t351;
-        let t1015: f64 = t1013.minus(t1014);
-        let t1016 = product(t253, t1015);
-        let t1017: f64 = t375 * t797;
-        let t1018 = product(t1017, 0.3);
-        let t1019: f64 = t1018.subtracted_from(t797);
-        let t1020 = product(t797, t1019);
-        let t1021: f64 = t375 * t413;
-        let t1022 = product(t1021, 0.3);
-        let t1023: f64 = t1022.subtracted_from(t413);
-        let t1024: f64 = t413 * t1023;
-        let t1025 = product(t410, t410);
-        let t1026 = product(t797, 0.3);
-        let t1027: f64 = t1017 * 0.295;
-        let t1028: f64 = t1026.minus(t1027);
-        let t1029 = product(t797, t1028);
-        let t1030: f64 = t375 * t397;
-        let t1031: f64 = t413 * t1030;
-        let t1032 = product(t413, 0.3);
-        let t1033 = product(t1021, 0.295);
-        let t1034: f64 = t1031 * 0.003;
-        let t1035: f64 = t1033.plus(t1034);
-        let t1036: f64 = t1032.minus(t1035);
-        let t1037: f64 = t413 * t1036;
-        let t1038: f64 = t1029.plus(t1037);
-        let t1039 = product(t375, t1038);
-        let t1040: f64 = t1020.plus(t1024);
-        let t1041: f64 = t1025.plus(t1040);
-        let t1042: f64 = t1039.subtracted_from(t1041);
-        let t1043 = product(t357, t1042);
-        let t1044: f64 = t365 * t821;
-        let t1045: f64 = t1043.minus(t1044);
-        let t1046: f64 = t357 * t1045;
-        let t1047 = product(t357, t821);
-        let t1048: f64 = t365 * t463;
-        let t1049: f64 = t1047.minus(t1048);
-        let t1050: f64 = t365 * t1049;
-        let t1051: f64 = t481 * t829;
-        let t1052 = product(t1051, 0.3);
-        let t1053: f64 = t1052.subtracted_from(t829);
-        let t1054 = product(t829, t1053);
-        let t1055: f64 = t481 * t518;
-        let t1056 = product(t1055, 0.3);
-        let t1057: f64 = t1056.subtracted_from(t518);
-        let t1058: f64 = t518 * t1057;
-        let t1059 = product(t515, t515);
-        let t1060 = product(t829, 0.3);
-        let t1061: f64 = t1051 * 0.295;
-        let t1062: f64 = t1060.minus(t1061);
-        let t1063 = product(t829, t1062);
-        let t1064: f64 = t481 * t502;
-        let t1065: f64 = t518 * t1064;
-        let t1066 = product(t518, 0.3);
-        let t1067 = product(t1055, 0.295);
-        let t1068: f64 = t1065 * 0.003;
-        let t1069: f64 = t1067.plus(t1068);
-        let t1070: f64 = t1066.minus(t1069);
-        let t1071: f64 = t518 * t1070;
-        let t1072: f64 = t1063.plus(t1071);
-        let t1073 = product(t481, t1072);
-        let t1074: f64 = t1054.plus(t1058);
-        let t1075: f64 = t1059.plus(t1074);
-        let t1076: f64 = t1073.subtracted_from(t1075);
-        let t1077 = product(t467, t1076);
-        let t1078: f64 = t471 * t853;
-        let t1079: f64 = t1077.minus(t1078);
-        let t1080 = product(t467, t1079);
-        let t1081 = product(t467, t853);
-        let t1082: f64 = t471 * t568;
-        let t1083: f64 = t1081.minus(t1082);
-        let t1084 = product(t471, t1083);
-        let t1085: f64 = t585 * t861;
-        let t1086 = product(t1085, 0.3);
-        let t1087: f64 = t1086.subtracted_from(t861);
-        let t1088 = product(t861, t1087);
-        let t1089: f64 = t585 * t622;
-        let t1090 = product(t1089, 0.3);
-        let t1091: f64 = t1090.subtracted_from(t622);
-        let t1092: f64 = t622 * t1091;
-        let t1093 = product(t619, t619);
-        let t1094 = product(t861, 0.3);
-        let t1095: f64 = t1085 * 0.295;
-        let t1096: f64 = t1094.minus(t1095);
-        let t1097 = product(t861, t1096);
-        let t1098: f64 = t585 * t606;
-        let t1099: f64 = t622 * t1098;
-        let t1100 = product(t622, 0.3);
-        let t1101 = product(t1089, 0.295);
-        let t1102: f64 = t1099 * 0.003;
-        let t1103: f64 = t1101.plus(t1102);
-        let t1104: f64 = t1100.minus(t1103);
-        let t1105: f64 = t622 * t1104;
-        let t1106: f64 = t1097.plus(t1105);
-        let t1107 = product(t585, t1106);
-        let t1108: f64 = t1088.plus(t1092);
-        let t1109: f64 = t1093.plus(t1108);
-        let t1110: f64 = t1107.subtracted_from(t1109);
-        let t1111 = product(t572, t1110);
-        let t1112: f64 = t576 * t885;
-        let t1113: f64 = t1111.minus(t1112);
-        let t1114: f64 = t572 * t1113;
-        let t1115 = product(t572, t885);
-        let t1116: f64 = t576 * t672;
-        let t1117: f64 = t1115.minus(t1116);
-        let t1118: f64 = t576 * t1117;
-        let t1119 = product(t914, 0.7);
-        let t1120: f64 = t910.plus(t912);
-        let t1121: f64 = t944.plus(t978);
-        let t1122: f64 = t1012.plus(t1046);
-        let t1123: f64 = t1080.plus(t1114);
+        let t1003 = product(t263, t1002);
+        let t1004: f64 = t984.plus(t988);
+        let t1005: f64 = t989.plus(t1004);
+        let t1006: f64 = t1003.subtracted_from(t1005);
+        let t1007 = product(t245, t1006);
+        let t1008: f64 = t253 * t789;
+        let t1009: f64 = t1007.minus(t1008);
+        let t1010 = product(t245, t1009);
+        let t1011 = product(t245, t789);
+        let t1012: f64 = t253 * t351;
+        let t1013: f64 = t1011.minus(t1012);
+        let t1014 = product(t253, t1013);
+        let t1015: f64 = t375 * t797;
+        let t1016 = product(t1015, 0.3);
+        let t1017: f64 = t1016.subtracted_from(t797);
+        let t1018 = product(t797, t1017);
+        let t1019: f64 = t375 * t413;
+        let t1020 = product(t1019, 0.3);
+        let t1021: f64 = t1020.subtracted_from(t413);
+        let t1022: f64 = t413 * t1021;
+        let t1023 = product(t410, t410);
+        let t1024 = product(t797, 0.3);
+        let t1025: f64 = t1015 * 0.295;
+        let t1026: f64 = t1024.minus(t1025);
+        let t1027 = product(t797, t1026);
+        let t1028: f64 = t375 * t397;
+        let t1029: f64 = t413 * t1028;
+        let t1030 = product(t413, 0.3);
+        let t1031 = product(t1019, 0.295);
+        let t1032: f64 = t1029 * 0.003;
+        let t1033: f64 = t1031.plus(t1032);
+        let t1034: f64 = t1030.minus(t1033);
+        let t1035: f64 = t413 * t1034;
+        let t1036: f64 = t1027.plus(t1035);
+        let t1037 = product(t375, t1036);
+        let t1038: f64 = t1018.plus(t1022);
+        let t1039: f64 = t1023.plus(t1038);
+        let t1040: f64 = t1037.subtracted_from(t1039);
+        let t1041 = product(t357, t1040);
+        let t1042: f64 = t365 * t821;
+        let t1043: f64 = t1041.minus(t1042);
+        let t1044: f64 = t357 * t1043;
+        let t1045 = product(t357, t821);
+        let t1046: f64 = t365 * t463;
+        let t1047: f64 = t1045.minus(t1046);
+        let t1048: f64 = t365 * t1047;
+        let t1049: f64 = t481 * t829;
+        let t1050 = product(t1049, 0.3);
+        let t1051: f64 = t1050.subtracted_from(t829);
+        let t1052 = product(t829, t1051);
+        let t1053: f64 = t481 * t518;
+        let t1054 = product(t1053, 0.3);
+        let t1055: f64 = t1054.subtracted_from(t518);
+        let t1056: f64 = t518 * t1055;
+        let t1057 = product(t515, t515);
+        let t1058 = product(t829, 0.3);
+        let t1059: f64 = t1049 * 0.295;
+        let t1060: f64 = t1058.minus(t1059);
+        let t1061 = product(t829, t1060);
+        let t1062: f64 = t481 * t502;
+        let t1063: f64 = t518 * t1062;
+        let t1064 = product(t518, 0.3);
+        let t1065 = product(t1053, 0.295);
+        let t1066: f64 = t1063 * 0.003;
+        let t1067: f64 = t1065.plus(t1066);
+        let t1068: f64 = t1064.minus(t1067);
+        let t1069: f64 = t518 * t1068;
+        let t1070: f64 = t1061.plus(t1069);
+        let t1071 = product(t481, t1070);
+        let t1072: f64 = t1052.plus(t1056);
+        let t1073: f64 = t1057.plus(t1072);
+        let t1074: f64 = t1071.subtracted_from(t1073);
+        let t1075 = product(t467, t1074);
+        let t1076: f64 = t471 * t853;
+        let t1077: f64 = t1075.minus(t1076);
+        let t1078 = product(t467, t1077);
+        let t1079 = product(t467, t853);
+        let t1080: f64 = t471 * t568;
+        let t1081: f64 = t1079.minus(t1080);
+        let t1082 = product(t471, t1081);
+        let t1083: f64 = t585 * t861;
+        let t1084 = product(t1083, 0.3);
+        let t1085: f64 = t1084.subtracted_from(t861);
+        let t1086 = product(t861, t1085);
+        let t1087: f64 = t585 * t622;
+        let t1088 = product(t1087, 0.3);
+        let t1089: f64 = t1088.subtracted_from(t622);
+        let t1090: f64 = t622 * t1089;
+        let t1091 = product(t619, t619);
+        let t1092 = product(t861, 0.3);
+        let t1093: f64 = t1083 * 0.295;
+        let t1094: f64 = t1092.minus(t1093);
+        let t1095 = product(t861, t1094);
+        let t1096: f64 = t585 * t606;
+        let t1097: f64 = t622 * t1096;
+        let t1098 = product(t622, 0.3);
+        let t1099 = product(t1087, 0.295);
+        let t1100: f64 = t1097 * 0.003;
+        let t1101: f64 = t1099.plus(t1100);
+        let t1102: f64 = t1098.minus(t1101);
+        let t1103: f64 = t622 * t1102;
+        let t1104: f64 = t1095.plus(t1103);
+        let t1105 = product(t585, t1104);
+        let t1106: f64 = t1086.plus(t1090);
+        let t1107: f64 = t1091.plus(t1106);
+        let t1108: f64 = t1105.subtracted_from(t1107);
+        let t1109 = product(t572, t1108);
+        let t1110: f64 = t576 * t885;
+        let t1111: f64 = t1109.minus(t1110);
+        let t1112: f64 = t572 * t1111;
+        let t1113 = product(t572, t885);
+        let t1114: f64 = t576 * t672;
+        let t1115: f64 = t1113.minus(t1114);
+        let t1116: f64 = t576 * t1115;
+        let t1117: f64 = t909.plus(t910);
+        let t1118 = product(t1117, 0.4108);
+        let t1119: f64 = t912 * 0.7;
+        let t1120: f64 = t1118.plus(t1119);
+        let t1121: f64 = t942.plus(t976);
+        let t1122: f64 = t1010.plus(t1044);
+        let t1123: f64 = t1078.plus(t1112);
         let t1124: f64 = t1120 + t1121;
         let t1125: f64 = t1122 + t1123;
         let t1126: f64 = t1124 + t1125;
-        let t1127: f64 = t1119.plus(t1126);
-        let t1128: f64 = t948.plus(t982);
-        let t1129: f64 = t1016.plus(t1050);
-        let t1130: f64 = t1084.plus(t1118);
-        let t1131: f64 = t1128 + t1129;
-        let t1132: f64 = t1130 + t1131;
-        let t1133: f64 = t1127 - t1132;
-        let t1134: f64 = t908 * t908;
-        let t1135 = product(t696, t1134);
-        let t1136: f64 = t1135.subtracted_from(t1133);
-        let t1137: f64 = 1.0 / t1136;
-        let t1138: f64 = t1 * t4;
-        let t1139: f64 = t1138 * 0.36;
-        let t1140: f64 = t943 + t1139;
-        let t1141: f64 = t977 + t1045;
-        let t1142: f64 = t1140 + t1141;
-        let t1143: f64 = t1079 + t1142;
-        let t1144: f64 = t1011 + t1113;
-        let t1145: f64 = t1143 - t1144;
-        let t1146: f64 = t727 + t759;
-        let t1147: f64 = t823 + t855;
-        let t1148: f64 = t1146 + t1147;
-        let t1149: f64 = t791 + t887;
-        let t1150: f64 = t1148 - t1149;
-        let t1151: f64 = t696 * t908;
-        let t1152 = product(t1150, t1151);
-        let t1153: f64 = t1152.subtracted_from(t1145);
-        let t1154: f64 = t940 + t974;
-        let t1155: f64 = t1008 + t1042;
-        let t1156: f64 = t1076 + t1110;
-        let t1157: f64 = t1154 + t1155;
-        let t1158: f64 = t1156 + 12.0;
-        let t1159: f64 = t1157 + t1158;
-        let t1160: f64 = t1150 * t1150;
-        let t1161 = product(t696, t1160);
-        let t1162: f64 = t1153 * t1153;
-        let t1163: f64 = t1137 * t1162;
-        let t1164: f64 = t10 * 0.4108;
-        let t1165 = product(t10, t1164);
-        let t1166: f64 = t14 * 0.4108;
-        let t1167: f64 = t14 * t1166;
-        let t1168: f64 = t4 * t4;
-        let t1169: f64 = t676 * t1168;
-        let t1170 = product(t27, t940);
-        let t1171: f64 = t34 * t712;
-        let t1172: f64 = t1170.minus(t1171);
-        let t1173 = product(t27, t1172);
-        let t1174 = product(t27, t712);
-        let t1175: f64 = t34 * t96;
-        let t1176: f64 = t1174.minus(t1175);
-        let t1177 = product(t34, t1176);
-        let t1178 = product(t138, t974);
-        let t1179: f64 = t141 * t744;
-        let t1180: f64 = t1178.minus(t1179);
-        let t1181: f64 = t138 * t1180;
-        let t1182 = product(t138, t744);
-        let t1183: f64 = t141 * t202;
-        let t1184: f64 = t1182.minus(t1183);
-        let t1185: f64 = t141 * t1184;
-        let t1186 = product(t248, t1008);
-        let t1187: f64 = t253 * t776;
-        let t1188: f64 = t1186.minus(t1187);
-        let t1189 = product(t248, t1188);
-        let t1190 = product(t248, t776);
-        let t1191: f64 = t253 * t314;
-        let t1192: f64 = t1190.minus(t1191);
-        let t1193 = product(t253, t1192);
-        let t1194 = product(t360, t1042);
-        let t1195: f64 = t365 * t808;
-        let t1196: f64 = t1194.minus(t1195);
-        let t1197: f64 = t360 * t1196;
-        let t1198 = product(t360, t808);
-        let t1199: f64 = t365 * t426;
-        let t1200: f64 = t1198.minus(t1199);
-        let t1201: f64 = t365 * t1200;
-        let t1202 = product(t468, t1076);
-        let t1203: f64 = t471 * t840;
-        let t1204: f64 = t1202.minus(t1203);
-        let t1205 = product(t468, t1204);
-        let t1206 = product(t468, t840);
-        let t1207: f64 = t471 * t531;
-        let t1208: f64 = t1206.minus(t1207);
-        let t1209 = product(t471, t1208);
-        let t1210 = product(t573, t1110);
-        let t1211: f64 = t576 * t872;
-        let t1212: f64 = t1210.minus(t1211);
-        let t1213: f64 = t573 * t1212;
-        let t1214 = product(t573, t872);
-        let t1215: f64 = t576 * t635;
-        let t1216: f64 = t1214.minus(t1215);
-        let t1217: f64 = t576 * t1216;
-        let t1218 = product(t1169, 0.7);
-        let t1219: f64 = t1165.plus(t1167);
-        let t1220: f64 = t1173.plus(t1181);
-        let t1221: f64 = t1189.plus(t1197);
-        let t1222: f64 = t1205.plus(t1213);
-        let t1223: f64 = t1219 + t1220;
-        let t1224: f64 = t1221 + t1222;
-        let t1225: f64 = t1223 + t1224;
-        let t1226: f64 = t1218.plus(t1225);
-        let t1227: f64 = t1177.plus(t1185);
-        let t1228: f64 = t1193.plus(t1201);
-        let t1229: f64 = t1209.plus(t1217);
-        let t1230: f64 = t1227 + t1228;
-        let t1231: f64 = t1229 + t1230;
-        let t1232: f64 = t1226 - t1231;
-        let t1233 = product(t27, t727);
-        let t1234 = product(t34, t126);
-        let t1235: f64 = t138 * t759;
-        let t1236: f64 = t141 * t232;
-        let t1237 = product(t248, t791);
-        let t1238 = product(t253, t344);
-        let t1239: f64 = t360 * t823;
-        let t1240: f64 = t365 * t456;
-        let t1241 = product(t468, t855);
-        let t1242 = product(t471, t561);
-        let t1243: f64 = t573 * t887;
-        let t1244: f64 = t576 * t665;
-        let t1245 = product(t6, t10);
-        let t1246: f64 = t5 * t14;
-        let t1247 = product(t8, 0.7);
-        let t1248: f64 = t1245.minus(t1246);
-        let t1249: f64 = t1248 * 0.4108;
-        let t1250: f64 = t1247.plus(t1249);
-        let t1251 = product(t1, t1250);
-        let t1252: f64 = t1233.plus(t1235);
-        let t1253: f64 = t1237.plus(t1239);
-        let t1254: f64 = t1241.plus(t1243);
-        let t1255: f64 = t1252 + t1253;
-        let t1256: f64 = t1251.plus(t1254);
-        let t1257: f64 = t1255 + t1256;
-        let t1258: f64 = t1234.plus(t1236);
-        let t1259: f64 = t1238.plus(t1240);
-        let t1260: f64 = t1242.plus(t1244);
-        let t1261: f64 = t1258 + t1259;
-        let t1262: f64 = t1260 + t1261;
-        let t1263: f64 = t1257 - t1262;
-        let t1264: f64 = t1263 * t1263;
-        let t1265 = product(t696, t1264);
-        let t1266 = product(t10, t909);
-        let t1267: f64 = t14 * t911;
-        let t1268: f64 = t3 * t4;
-        let t1269: f64 = t676 * t1268;
-        let t1270 = product(t27, t943);
-        let t1271: f64 = t34 * t124;
-        let t1272: f64 = t713 - t1271;
-        let t1273 = product(t34, t1272);
-        let t1274: f64 = t138 * t977;
-        let t1275: f64 = t141 * t230;
-        let t1276: f64 = t745 - t1275;
-        let t1277: f64 = t141 * t1276;
-        let t1278 = product(t248, t1011);
-        let t1279: f64 = t253 * t342;
-        let t1280: f64 = t777 - t1279;
-        let t1281 = product(t253, t1280);
-        let t1282: f64 = t360 * t1045;
-        let t1283: f64 = t365 * t454;
-        let t1284: f64 = t809 - t1283;
-        let t1285: f64 = t365 * t1284;
-        let t1286 = product(t468, t1079);
-        let t1287: f64 = t471 * t559;
-        let t1288: f64 = t841 - t1287;
-        let t1289 = product(t471, t1288);
-        let t1290: f64 = t573 * t1113;
-        let t1291: f64 = t576 * t663;
-        let t1292: f64 = t873 - t1291;
-        let t1293: f64 = t576 * t1292;
-        let t1294 = product(t1269, 0.7);
-        let t1295: f64 = t1266.plus(t1267);
-        let t1296: f64 = t1273.plus(t1277);
-        let t1297: f64 = t1281.plus(t1285);
-        let t1298: f64 = t1289.plus(t1293);
-        let t1299: f64 = t1295 + t1296;
-        let t1300: f64 = t1297 + t1298;
-        let t1301: f64 = t1299 + t1300;
-        let t1302: f64 = t1270.plus(t1274);
-        let t1303: f64 = t1278.plus(t1282);
-        let t1304: f64 = t1286.plus(t1290);
-        let t1305: f64 = t1302 + t1303;
-        let t1306: f64 = t1294.plus(t1304);
-        let t1307: f64 = t1305 + t1306;
-        let t1308: f64 = t1301 - t1307;
-        let t1309 = product(t1151, t1263);
-        let t1310: f64 = t1309.added_to(t1308);
-        let t1311: f64 = -t1310;
-        let t1312: f64 = t1311 * t1311;
-        let t1313: f64 = t1137 * t1312;
-        let t1314: f64 = t1265.plus(t1313);
-        let t1315: f64 = t1232 - t1314;
-        let t1316: f64 = 1.0 / t1315;
-        let t1317: f64 = t697 * 0.36;
-        let t1318: f64 = t1188 + t1317;
-        let t1319: f64 = t1212 + t1318;
-        let t1320: f64 = t1172 + t1180;
-        let t1321: f64 = t1196 + t1204;
-        let t1322: f64 = t1320 + t1321;
-        let t1323: f64 = t1319 - t1322;
-        let t1324: f64 = t696 * t1263;
-        let t1325 = product(t1150, t1324);
-        let t1326: f64 = t1137 * t1311;
-        let t1327 = product(t1153, t1326);
-        let t1328: f64 = t1325.added_to(t1323);
-        let t1329: f64 = t1327.plus(t1328);
-        let t1330: f64 = t1329 * t1329;
-        let t1331 = product(t1316, t1330);
-        let t1332: f64 = t1161.plus(t1163);
-        let t1333: f64 = t1331.plus(t1332);
-        let t1334: f64 = t1159 - t1333;
-        let t1335: f64 = 1.0 / t1334;
-        let t1336: f64 = t712 + t744;
-        let t1337: f64 = t776 + t808;
-        let t1338: f64 = t840 + t872;
-        let t1339: f64 = t1336 + t1337;
-        let t1340: f64 = t1338 + t1339;
-        let t1341: f64 = t126 + t1139;
-        let t1342: f64 = t232 + t456;
-        let t1343: f64 = t1341 + t1342;
-        let t1344: f64 = t561 + t1343;
-        let t1345: f64 = t344 + t665;
-        let t1346: f64 = t1344 - t1345;
-        let t1347: f64 = t696 * t1150;
-        let t1348 = product(t1346, t1347);
-        let t1349: f64 = t1272 + t1276;
-        let t1350: f64 = t1284 + t1288;
-        let t1351: f64 = t1349 + t1350;
-        let t1352: f64 = t1280 + t1292;
-        let t1353: f64 = t1351 - t1352;
-        let t1354 = product(t1151, t1346);
-        let t1355: f64 = t1354.subtracted_from(t1353);
-        let t1356: f64 = t1137 * t1153;
-        let t1357: f64 = t1355 * t1356;
-        let t1358: f64 = t0 * 0.36;
-        let t1359: f64 = t1192 + t1358;
-        let t1360: f64 = t1216 + t1359;
-        let t1361: f64 = t1176 + t1184;
-        let t1362: f64 = t1200 + t1208;
-        let t1363: f64 = t1361 + t1362;
-        let t1364: f64 = t1360 - t1363;
-        let t1365 = product(t1324, t1346);
-        let t1366 = product(t1326, t1355);
-        let t1367: f64 = t1365.added_to(t1364);
-        let t1368: f64 = t1366.plus(t1367);
-        let t1369: f64 = t1316 * t1329;
-        let t1370 = product(t1368, t1369);
-        let t1371: f64 = t1348.plus(t1357);
-        let t1372: f64 = t1370.plus(t1371);
-        let t1373: f64 = t1340 - t1372;
-        let t1374: f64 = t96 + t202;
-        let t1375: f64 = t314 + t426;
-        let t1376: f64 = t531 + t635;
-        let t1377: f64 = t1374 + t1375;
-        let t1378: f64 = t1376 + 12.0;
-        let t1379: f64 = t1377 + t1378;
-        let t1380: f64 = t1346 * t1346;
-        let t1381 = product(t696, t1380);
-        let t1382: f64 = t1355 * t1355;
-        let t1383: f64 = t1137 * t1382;
-        let t1384: f64 = t1368 * t1368;
-        let t1385 = product(t1316, t1384);
-        let t1386: f64 = t1373 * t1373;
-        let t1387: f64 = t1335 * t1386;
-        let t1388: f64 = t1381.plus(t1383);
-        let t1389: f64 = t1385.plus(t1387);
-        let t1390: f64 = t1388 + t1389;
-        let t1391: f64 = t1379 - t1390;
-        let t1392: f64 = 1.0 / t1391;
-        let t1393: f64 = t124 + t230;
-        let t1394: f64 = t342 + t454;
-        let t1395: f64 = t559 + t663;
-        let t1396: f64 = t1393 + t1394;
-        let t1397: f64 = t1395 + t1396;
-        let t1398: f64 = t135 + t1317;
-        let t1399: f64 = t241 + t465;
-        let t1400: f64 = t1398 + t1399;
-        let t1401: f64 = t570 + t1400;
-        let t1402: f64 = t353 + t674;
-        let t1403: f64 = t1401 - t1402;
-        let t1404: f64 = t696 * t1346;
-        let t1405 = product(t1403, t1404);
-        let t1406: f64 = t1015 + t1358;
-        let t1407: f64 = t1117 + t1406;
-        let t1408: f64 = t947 + t981;
-        let t1409: f64 = t1049 + t1083;
-        let t1410: f64 = t1408 + t1409;
-        let t1411: f64 = t1407 - t1410;
-        let t1412 = product(t1151, t1403);
-        let t1413: f64 = t1412.added_to(t1411);
-        let t1414: f64 = t1137 * t1355;
-        let t1415 = product(t1413, t1414);
-        let t1416: f64 = t726 - t1271;
-        let t1417: f64 = t758 - t1275;
-        let t1418: f64 = t790 - t1279;
-        let t1419: f64 = t822 - t1283;
-        let t1420: f64 = t854 - t1287;
-        let t1421: f64 = t886 - t1291;
-        let t1422: f64 = t1416 + t1417;
-        let t1423: f64 = t1419 + t1420;
-        let t1424: f64 = t1422 + t1423;
-        let t1425: f64 = t1418 + t1421;
-        let t1426: f64 = t1424 - t1425;
-        let t1427 = product(t1324, t1403);
-        let t1428 = product(t1326, t1413);
-        let t1429: f64 = t1428.added_to(t1426);
-        let t1430: f64 = t1427.subtracted_from(t1429);
-        let t1431: f64 = t1316 * t1368;
-        let t1432 = product(t1430, t1431);
-        let t1433: f64 = t725 + t757;
-        let t1434: f64 = t789 + t821;
-        let t1435: f64 = t853 + t885;
-        let t1436: f64 = t1433 + t1434;
-        let t1437: f64 = t1435 + t1436;
-        let t1438 = product(t1347, t1403);
-        let t1439 = product(t1356, t1413);
-        let t1440 = product(t1369, t1430);
-        let t1441: f64 = t1439.added_to(t1437);
-        let t1442: f64 = t1440.plus(t1441);
-        let t1443: f64 = t1438.subtracted_from(t1442);
-        let t1444: f64 = t1335 * t1373;
-        let t1445: f64 = t1443 * t1444;
-        let t1446: f64 = t1415.added_to(t1397);
-        let t1447: f64 = t1432.plus(t1446);
-        let t1448: f64 = t1405.plus(t1445);
-        let t1449: f64 = t1447 - t1448;
-        let t1450: f64 = t133 + t239;
-        let t1451: f64 = t351 + t463;
-        let t1452: f64 = t568 + t672;
-        let t1453: f64 = t1450 + t1451;
-        let t1454: f64 = t1452 + 12.0;
-        let t1455: f64 = t1453 + t1454;
-        let t1456: f64 = t1403 * t1403;
-        let t1457 = product(t696, t1456);
-        let t1458: f64 = t1413 * t1413;
-        let t1459: f64 = t1137 * t1458;
-        let t1460: f64 = t1430 * t1430;
-        let t1461 = product(t1316, t1460);
-        let t1462: f64 = t1443 * t1443;
-        let t1463: f64 = t1335 * t1462;
-        let t1464: f64 = t1449 * t1449;
-        let t1465 = product(t1392, t1464);
-        let t1466: f64 = t1457.plus(t1459);
-        let t1467: f64 = t1461.plus(t1463);
-        let t1468: f64 = t1466 + t1467;
-        let t1469: f64 = t1465.plus(t1468);
-        let t1470: f64 = t1455 - t1469;
-        let t1471: f64 = 1.0 / t1470;
-        let t1472 = product(wz, t10);
-        let t1473: f64 = wx * t1;
-        let t1474 = product(t6, t1473);
-        let t1475: f64 = wy * t21;
-        let t1476: f64 = t1474.plus(t1475);
-        let t1477: f64 = t1472.plus(t1476);
-        let t1478: f64 = wx * t5;
-        let t1479 = product(t1, t1478);
-        let t1480: f64 = wy * t24;
-        let t1481: f64 = t1479.minus(t1480);
-        let t1482 = product(wz, t14);
-        let t1483: f64 = t1482.subtracted_from(t1481);
-        let t1484: f64 = t1483 * 0.4108;
-        let t1485 = product(t1477, t1484);
-        let t1486: f64 = t1477 * 0.4108;
-        let t1487: f64 = t1483 * t1486;
-        let t1488: f64 = t1485.minus(t1487);
-        let t1489 = product(t0, t1488);
-        let t1490 = product(t17, t29);
-        let t1491: f64 = t27 * t39;
-        let t1492: f64 = t1490.minus(t1491);
-        let t1493: f64 = g1 * t44;
-        let t1494: f64 = t1492 * t1493;
-        let t1495: f64 = t1489.minus(t1494);
-        let t1496 = product(t245, t250);
-        let t1497: f64 = t248 * t258;
-        let t1498: f64 = t1496.minus(t1497);
-        let t1499: f64 = g3 * t263;
-        let t1500 = product(t1498, t1499);
-        let t1501 = product(t137, t140);
-        let t1502: f64 = t138 * t146;
-        let t1503: f64 = t1501.minus(t1502);
-        let t1504: f64 = g2 * t151;
-        let t1505: f64 = t1503 * t1504;
-        let t1506: f64 = t1500.minus(t1505);
-        let t1507: f64 = t1495 + t1506;
-        let t1508 = product(t572, t575);
-        let t1509: f64 = t573 * t580;
-        let t1510: f64 = t1508.minus(t1509);
-        let t1511: f64 = g6 * t585;
-        let t1512 = product(t1510, t1511);
-        let t1513: f64 = wz * t4;
-        let t1514 = product(t1, t1513);
-        let t1515 = product(wx, t0);
-        let t1516: f64 = wy * t3;
-        let t1517: f64 = t1 * t1516;
-        let t1518: f64 = t1515.minus(t1517);
-        let t1519: f64 = t1514.plus(t1518);
-        let t1520: f64 = t1519 * 0.7;
-        let t1521 = product(t1483, t1520);
-        let t1522: f64 = t1484 * t1519;
-        let t1523: f64 = t1521.minus(t1522);
-        let t1524 = product(t6, t1523);
-        let t1525 = product(t1486, t1519);
-        let t1526: f64 = t1477 * t1520;
-        let t1527: f64 = t1525.minus(t1526);
-        let t1528: f64 = t5 * t1527;
-        let t1529: f64 = t1524.plus(t1528);
-        let t1530: f64 = t1 * t1529;
-        let t1531: f64 = t1512.plus(t1530);
-        let t1532 = product(t357, t362);
-        let t1533: f64 = t360 * t370;
-        let t1534: f64 = t1532.minus(t1533);
-        let t1535: f64 = g4 * t375;
-        let t1536 = product(t1534, t1535);
-        let t1537 = product(t467, t470);
-        let t1538: f64 = t468 * t476;
-        let t1539: f64 = t1537.minus(t1538);
-        let t1540: f64 = g5 * t481;
-        let t1541: f64 = t1539 * t1540;
-        let t1542: f64 = t1536.plus(t1541);
-        let t1543: f64 = t1531 - t1542;
-        let t1544: f64 = t1507 + t1543;
-        let t1545: f64 = t82 * 9.81;
-        let t1546: f64 = -t1545;
-        let t1547 = product(wy, t17);
-        let t1548: f64 = wz * t27;
-        let t1549: f64 = t1547.minus(t1548);
-        let t1550: f64 = vx + t1549;
-        let t1551 = product(t83, t1550);
-        let t1552 = product(wz, t34);
-        let t1553: f64 = wx * t17;
-        let t1554: f64 = t1552.minus(t1553);
-        let t1555: f64 = vy + t1554;
-        let t1556: f64 = t61 * t1555;
-        let t1557 = product(wx, t27);
-        let t1558: f64 = wy * t34;
-        let t1559: f64 = t1557.minus(t1558);
-        let t1560: f64 = vz + t1559;
-        let t1561 = product(t79, t1560);
-        let t1562: f64 = t1551.plus(t1556);
-        let t1563: f64 = t1561.plus(t1562);
-        let t1564: f64 = t44 * t1563;
-        let t1565 = product(t1564, t1564);
-        let t1566 = product(t701, t1550);
-        let t1567: f64 = t85 * t1555;
-        let t1568 = product(t113, t1560);
-        let t1569: f64 = t1566.plus(t1567);
-        let t1570: f64 = t1568.plus(t1569);
-        let t1571: f64 = t44 * t1570;
-        let t1572: f64 = t1571 * t1571;
-        let t1573: f64 = t1565.plus(t1572);
-        let t1574 = product(t1573, 0.3);
-        let t1575: f64 = t1574.subtracted_from(t1546);
-        let t1576 = product(t82, t1575);
-        let t1577 = product(wy, t1559);
-        let t1578: f64 = wz * t1554;
-        let t1579: f64 = t1577.minus(t1578);
-        let t1580: f64 = t725 * t1579;
-        let t1581: f64 = t1576.minus(t1580);
-        let t1582 = product(wz, t1549);
-        let t1583: f64 = wx * t1559;
-        let t1584: f64 = t1582.minus(t1583);
-        let t1585 = product(t124, t1584);
-        let t1586 = product(wx, t1554);
-        let t1587: f64 = wy * t1549;
-        let t1588: f64 = t1586.minus(t1587);
-        let t1589: f64 = t133 * t1588;
-        let t1590: f64 = t1585.plus(t1589);
-        let t1591: f64 = t1581 - t1590;
-        let t1592: f64 = t79 * 9.81;
-        let t1593: f64 = -t1592;
-        let t1594: f64 = t44 * t66;
-        let t1595: f64 = t1563 * t1594;
-        let t1596: f64 = t1571 * t1595;
-        let t1597 = product(t80, t1550);
-        let t1598: f64 = t45 * t1555;
-        let t1599 = product(t82, t1560);
-        let t1600: f64 = t1597.plus(t1598);
-        let t1601: f64 = t1599.plus(t1600);
-        let t1602: f64 = t44 * t1601;
-        let t1603: f64 = t1602 * 2.0;
-        let t1604 = product(t1570, t1594);
-        let t1605: f64 = t1604.added_to(t1603);
-        let t1606: f64 = t1564 * t1605;
-        let t1607: f64 = t60 * t60;
-        let t1608: f64 = t42 * t44;
-        let t1609: f64 = t1607 * t1608;
-        let t1610 = product(t1570, t1609);
-        let t1611: f64 = t66 * t1605;
-        let t1612: f64 = t1610.plus(t1611);
-        let t1613: f64 = t1564 * t1612;
-        let t1614: f64 = t66 * t1613;
-        let t1615 = product(t1593, 0.2);
-        let t1616: f64 = t1596 * 0.292;
-        let t1617: f64 = t1606 * 0.295;
-        let t1618 = product(t1614, 0.003);
-        let t1619: f64 = t1615.plus(t1617);
-        let t1620: f64 = t1618.plus(t1619);
-        let t1621: f64 = t1620 - t1616;
-        let t1622 = product(t44, t1621);
-        let t1623: f64 = t1596 - t1606;
-        let t1624: f64 = t1623 * 0.3;
-        let t1625: f64 = t1622.added_to(t1593);
-        let t1626: f64 = t1624 + t1625;
-        let t1627 = product(t79, t1626);
-        let t1628: f64 = t113 * 9.81;
-        let t1629: f64 = -t1628;
-        let t1630: f64 = t1564 * t1595;
-        let t1631: f64 = t1563 * t1563;
-        let t1632 = product(t1594, t1631);
-        let t1633: f64 = t1570 * t1603;
-        let t1634: f64 = t1632.minus(t1633);
-        let t1635: f64 = t44 * t1634;
-        let t1636 = product(t1629, 0.2);
-        let t1637: f64 = t1630 * 0.292;
-        let t1638 = product(t1635, 0.295);
-        let t1639: f64 = t1636.plus(t1637);
-        let t1640: f64 = t1638.subtracted_from(t1639);
-        let t1641 = product(t44, t1640);
-        let t1642: f64 = t1635 - t1630;
-        let t1643: f64 = t1642 * 0.3;
-        let t1644: f64 = t1641.added_to(t1629);
-        let t1645: f64 = t1643 + t1644;
-        let t1646: f64 = t113 * t1645;
-        let t1647: f64 = t1627.plus(t1646);
-        let t1648: f64 = t1591 + t1647;
-        let t1649 = product(t27, t1648);
-        let t1650 = product(t45, t1575);
-        let t1651: f64 = t712 * t1579;
-        let t1652: f64 = t1650.minus(t1651);
-        let t1653 = product(t96, t1584);
-        let t1654: f64 = t124 * t1588;
-        let t1655: f64 = t1653.plus(t1654);
-        let t1656: f64 = t1652 - t1655;
-        let t1657 = product(t61, t1626);
-        let t1658: f64 = t85 * t1645;
-        let t1659: f64 = t1657.plus(t1658);
-        let t1660: f64 = t1656 + t1659;
-        let t1661: f64 = t17 * t1660;
-        let t1662: f64 = t1649.minus(t1661);
-        let t1663: f64 = t1544 + t1662;
-        let t1664: f64 = t621 * 9.81;
-        let t1665: f64 = -t1664;
-        let t1666 = product(wy, t572);
-        let t1667: f64 = wz * t573;
-        let t1668: f64 = t1666.minus(t1667);
-        let t1669: f64 = vx - t1668;
-        let t1670 = product(t622, t1669);
-        let t1671 = product(wz, t576);
-        let t1672: f64 = wx * t572;
-        let t1673: f64 = t1671.minus(t1672);
-        let t1674: f64 = vy - t1673;
-        let t1675: f64 = t600 * t1674;
-        let t1676 = product(wx, t573);
-        let t1677: f64 = wy * t576;
-        let t1678: f64 = t1676.minus(t1677);
-        let t1679: f64 = vz - t1678;
-        let t1680 = product(t618, t1679);
-        let t1681: f64 = t1670.plus(t1675);
-        let t1682: f64 = t1680.subtracted_from(t1681);
-        let t1683: f64 = t585 * t1682;
-        let t1684 = product(t1683, t1683);
-        let t1685 = product(t861, t1669);
-        let t1686 = product(t624, t1674);
-        let t1687: f64 = t652 * t1679;
-        let t1688: f64 = t1685.plus(t1687);
-        let t1689: f64 = t1686.subtracted_from(t1688);
-        let t1690: f64 = t585 * t1689;
-        let t1691: f64 = t1690 * t1690;
-        let t1692: f64 = t1684.plus(t1691);
-        let t1693 = product(t1692, 0.3);
-        let t1694: f64 = t1693.subtracted_from(t1665);
-        let t1695 = product(t586, t1694);
-        let t1696 = product(wy, t1678);
-        let t1697: f64 = wz * t1673;
-        let t1698: f64 = t1696.minus(t1697);
-        let t1699: f64 = t872 * t1698;
-        let t1700: f64 = t1695.plus(t1699);
-        let t1701 = product(wz, t1668);
-        let t1702: f64 = wx * t1678;
-        let t1703: f64 = t1701.minus(t1702);
-        let t1704 = product(t635, t1703);
-        let t1705 = product(wx, t1673);
-        let t1706: f64 = wy * t1668;
-        let t1707: f64 = t1705.minus(t1706);
-        let t1708: f64 = t663 * t1707;
-        let t1709: f64 = t1704.plus(t1708);
-        let t1710: f64 = t1700 + t1709;
-        let t1711: f64 = t652 * 9.81;
-        let t1712: f64 = -t1711;
-        let t1713: f64 = t585 * t605;
-        let t1714: f64 = t1682 * t1713;
-        let t1715: f64 = t1683 * t1714;
-        let t1716: f64 = t1682 * t1682;
-        let t1717 = product(t1713, t1716);
-        let t1718 = product(t619, t1669);
-        let t1719: f64 = t586 * t1674;
-        let t1720 = product(t621, t1679);
-        let t1721: f64 = t1718.plus(t1719);
-        let t1722: f64 = t1720.plus(t1721);
-        let t1723: f64 = t585 * t1722;
-        let t1724: f64 = t1723 * 2.0;
-        let t1725: f64 = t1689 * t1724;
-        let t1726: f64 = t1717.plus(t1725);
-        let t1727: f64 = t585 * t1726;
-        let t1728 = product(t1712, 0.2);
-        let t1729 = product(t1715, 0.292);
-        let t1730: f64 = t1727 * 0.295;
-        let t1731: f64 = t1728.plus(t1730);
-        let t1732: f64 = t1729.subtracted_from(t1731);
-        let t1733 = product(t585, t1732);
-        let t1734: f64 = t1715 - t1727;
-        let t1735: f64 = t1734 * 0.3;
-        let t1736: f64 = t1733.added_to(t1712);
-        let t1737: f64 = t1735 + t1736;
-        let t1738 = product(t624, t1737);
-        let t1739: f64 = t618 * 9.81;
-        let t1740: f64 = t1690 * t1714;
-        let t1741 = product(t1689, t1713);
-        let t1742: f64 = t1741.subtracted_from(t1724);
-        let t1743: f64 = t1683 * t1742;
-        let t1744: f64 = t585 * t585;
-        let t1745: f64 = t599 * t599;
-        let t1746: f64 = t583 * t1744;
-        let t1747: f64 = t1745 * t1746;
-        let t1748: f64 = t1682 * t1747;
-        let t1749 = product(t1689, t1748);
-        let t1750: f64 = -t1743;
-        let t1751: f64 = t605 * t1750;
-        let t1752: f64 = t1749.plus(t1751);
-        let t1753: f64 = t605 * t1752;
-        let t1754 = product(t1739, 0.2);
-        let t1755: f64 = t1740 * 0.292;
-        let t1756 = product(t1743, 0.295);
-        let t1757 = product(t1753, 0.003);
-        let t1758: f64 = t1754.plus(t1755);
-        let t1759: f64 = t1756.plus(t1758);
-        let t1760: f64 = t1757.subtracted_from(t1759);
-        let t1761 = product(t585, t1760);
-        let t1762: f64 = t1740 + t1743;
-        let t1763: f64 = t1762 * 0.3;
-        let t1764: f64 = t1761.added_to(t1739);
-        let t1765: f64 = t1764 - t1763;
-        let t1766: f64 = t600 * t1765;
-        let t1767: f64 = t1738.minus(t1766);
-        let t1768: f64 = t1767 - t1710;
-        let t1769 = product(t572, t1768);
-        let t1770 = product(t621, t1694);
-        let t1771: f64 = t885 * t1698;
-        let t1772: f64 = t1770.plus(t1771);
-        let t1773 = product(t663, t1703);
-        let t1774: f64 = t672 * t1707;
-        let t1775: f64 = t1773.plus(t1774);
-        let t1776: f64 = t1772 + t1775;
-        let t1777 = product(t652, t1737);
-        let t1778: f64 = t618 * t1765;
+        let t1127: f64 = t946.plus(t980);
+        let t1128: f64 = t1014.plus(t1048);
+        let t1129: f64 = t1082.plus(t1116);
+        let t1130: f64 = t1127 + t1128;
+        let t1131: f64 = t1129 + t1130;
+        let t1132: f64 = t1126 - t1131;
+        let t1133: f64 = t908 * t908;
+        let t1134 = product(t696, t1133);
+        let t1135: f64 = t1134.subtracted_from(t1132);
+        let t1136: f64 = 1.0 / t1135;
+        let t1137: f64 = t1 * t4;
+        let t1138: f64 = t1137 * 0.36;
+        let t1139: f64 = t941 + t1138;
+        let t1140: f64 = t975 + t1043;
+        let t1141: f64 = t1139 + t1140;
+        let t1142: f64 = t1077 + t1141;
+        let t1143: f64 = t1009 + t1111;
+        let t1144: f64 = t1142 - t1143;
+        let t1145: f64 = t727 + t759;
+        let t1146: f64 = t823 + t855;
+        let t1147: f64 = t1145 + t1146;
+        let t1148: f64 = t791 + t887;
+        let t1149: f64 = t1147 - t1148;
+        let t1150: f64 = t696 * t908;
+        let t1151 = product(t1149, t1150);
+        let t1152: f64 = t1151.subtracted_from(t1144);
+        let t1153: f64 = t938 + t972;
+        let t1154: f64 = t1006 + t1040;
+        let t1155: f64 = t1074 + t1108;
+        let t1156: f64 = t1153 + t1154;
+        let t1157: f64 = t1155 + 12.0;
+        let t1158: f64 = t1156 + t1157;
+        let t1159: f64 = t1149 * t1149;
+        let t1160 = product(t696, t1159);
+        let t1161: f64 = t1152 * t1152;
+        let t1162: f64 = t1136 * t1161;
+        let t1163 = product(t10, t10);
+        let t1164: f64 = t14 * t14;
+        let t1165: f64 = t4 * t4;
+        let t1166: f64 = t676 * t1165;
+        let t1167 = product(t27, t938);
+        let t1168: f64 = t34 * t712;
+        let t1169: f64 = t1167.minus(t1168);
+        let t1170 = product(t27, t1169);
+        let t1171 = product(t27, t712);
+        let t1172: f64 = t34 * t96;
+        let t1173: f64 = t1171.minus(t1172);
+        let t1174 = product(t34, t1173);
+        let t1175 = product(t138, t972);
+        let t1176: f64 = t141 * t744;
+        let t1177: f64 = t1175.minus(t1176);
+        let t1178: f64 = t138 * t1177;
+        let t1179 = product(t138, t744);
+        let t1180: f64 = t141 * t202;
+        let t1181: f64 = t1179.minus(t1180);
+        let t1182: f64 = t141 * t1181;
+        let t1183 = product(t248, t1006);
+        let t1184: f64 = t253 * t776;
+        let t1185: f64 = t1183.minus(t1184);
+        let t1186 = product(t248, t1185);
+        let t1187 = product(t248, t776);
+        let t1188: f64 = t253 * t314;
+        let t1189: f64 = t1187.minus(t1188);
+        let t1190 = product(t253, t1189);
+        let t1191 = product(t360, t1040);
+        let t1192: f64 = t365 * t808;
+        let t1193: f64 = t1191.minus(t1192);
+        let t1194: f64 = t360 * t1193;
+        let t1195 = product(t360, t808);
+        let t1196: f64 = t365 * t426;
+        let t1197: f64 = t1195.minus(t1196);
+        let t1198: f64 = t365 * t1197;
+        let t1199 = product(t468, t1074);
+        let t1200: f64 = t471 * t840;
+        let t1201: f64 = t1199.minus(t1200);
+        let t1202 = product(t468, t1201);
+        let t1203 = product(t468, t840);
+        let t1204: f64 = t471 * t531;
+        let t1205: f64 = t1203.minus(t1204);
+        let t1206 = product(t471, t1205);
+        let t1207 = product(t573, t1108);
+        let t1208: f64 = t576 * t872;
+        let t1209: f64 = t1207.minus(t1208);
+        let t1210: f64 = t573 * t1209;
+        let t1211 = product(t573, t872);
+        let t1212: f64 = t576 * t635;
+        let t1213: f64 = t1211.minus(t1212);
+        let t1214: f64 = t576 * t1213;
+        let t1215: f64 = t1163.plus(t1164);
+        let t1216 = product(t1215, 0.4108);
+        let t1217: f64 = t1166 * 0.7;
+        let t1218: f64 = t1216.plus(t1217);
+        let t1219: f64 = t1170.plus(t1178);
+        let t1220: f64 = t1186.plus(t1194);
+        let t1221: f64 = t1202.plus(t1210);
+        let t1222: f64 = t1218 + t1219;
+        let t1223: f64 = t1220 + t1221;
+        let t1224: f64 = t1222 + t1223;
+        let t1225: f64 = t1174.plus(t1182);
+        let t1226: f64 = t1190.plus(t1198);
+        let t1227: f64 = t1206.plus(t1214);
+        let t1228: f64 = t1225 + t1226;
+        let t1229: f64 = t1227 + t1228;
+        let t1230: f64 = t1224 - t1229;
+        let t1231 = product(t27, t727);
+        let t1232 = product(t34, t126);
+        let t1233: f64 = t138 * t759;
+        let t1234: f64 = t141 * t232;
+        let t1235 = product(t248, t791);
+        let t1236 = product(t253, t344);
+        let t1237: f64 = t360 * t823;
+        let t1238: f64 = t365 * t456;
+        let t1239 = product(t468, t855);
+        let t1240 = product(t471, t561);
+        let t1241: f64 = t573 * t887;
+        let t1242: f64 = t576 * t665;
+        let t1243 = product(t6, t10);
+        let t1244: f64 = t5 * t14;
+        let t1245 = product(t8, 0.7);
+        let t1246: f64 = t1243.minus(t1244);
+        let t1247: f64 = t1246 * 0.4108;
+        let t1248: f64 = t1245.plus(t1247);
+        let t1249 = product(t1, t1248);
+        let t1250: f64 = t1231.plus(t1233);
+        let t1251: f64 = t1235.plus(t1237);
+        let t1252: f64 = t1239.plus(t1241);
+        let t1253: f64 = t1250 + t1251;
+        let t1254: f64 = t1249.plus(t1252);
+        let t1255: f64 = t1253 + t1254;
+        let t1256: f64 = t1232.plus(t1234);
+        let t1257: f64 = t1236.plus(t1238);
+        let t1258: f64 = t1240.plus(t1242);
+        let t1259: f64 = t1256 + t1257;
+        let t1260: f64 = t1258 + t1259;
+        let t1261: f64 = t1255 - t1260;
+        let t1262: f64 = t1261 * t1261;
+        let t1263 = product(t696, t1262);
+        let t1264 = product(t10, t21);
+        let t1265: f64 = t14 * t24;
+        let t1266: f64 = t3 * t4;
+        let t1267: f64 = t676 * t1266;
+        let t1268 = product(t27, t941);
+        let t1269: f64 = t34 * t124;
+        let t1270: f64 = t713 - t1269;
+        let t1271 = product(t34, t1270);
+        let t1272 = product(t138, t975);
+        let t1273: f64 = t141 * t230;
+        let t1274: f64 = t745 - t1273;
+        let t1275 = product(t141, t1274);
+        let t1276: f64 = t248 * t1009;
+        let t1277: f64 = t253 * t342;
+        let t1278: f64 = t777 - t1277;
+        let t1279: f64 = t253 * t1278;
+        let t1280 = product(t360, t1043);
+        let t1281: f64 = t365 * t454;
+        let t1282: f64 = t809 - t1281;
+        let t1283 = product(t365, t1282);
+        let t1284: f64 = t468 * t1077;
+        let t1285: f64 = t471 * t559;
+        let t1286: f64 = t841 - t1285;
+        let t1287: f64 = t471 * t1286;
+        let t1288 = product(t573, t1111);
+        let t1289: f64 = t576 * t663;
+        let t1290: f64 = t873 - t1289;
+        let t1291 = product(t576, t1290);
+        let t1292: f64 = t1264.plus(t1265);
+        let t1293: f64 = t1292 * 0.4108;
+        let t1294: f64 = t1267 * 0.7;
+        let t1295: f64 = t1271.plus(t1293);
+        let t1296: f64 = t1275.plus(t1279);
+        let t1297: f64 = t1283.plus(t1287);
+        let t1298: f64 = t1295 + t1296;
+        let t1299: f64 = t1291.plus(t1297);
+        let t1300: f64 = t1298 + t1299;
+        let t1301: f64 = t1268.plus(t1294);
+        let t1302: f64 = t1272.plus(t1276);
+        let t1303: f64 = t1280.plus(t1284);
+        let t1304: f64 = t1301 + t1302;
+        let t1305: f64 = t1288.plus(t1303);
+        let t1306: f64 = t1304 + t1305;
+        let t1307: f64 = t1300 - t1306;
+        let t1308 = product(t1150, t1261);
+        let t1309: f64 = t1308.added_to(t1307);
+        let t1310: f64 = -t1309;
+        let t1311: f64 = t1310 * t1310;
+        let t1312: f64 = t1136 * t1311;
+        let t1313: f64 = t1263.plus(t1312);
+        let t1314: f64 = t1230 - t1313;
+        let t1315: f64 = 1.0 / t1314;
+        let t1316: f64 = t697 * 0.36;
+        let t1317: f64 = t1185 + t1316;
+        let t1318: f64 = t1209 + t1317;
+        let t1319: f64 = t1169 + t1177;
+        let t1320: f64 = t1193 + t1201;
+        let t1321: f64 = t1319 + t1320;
+        let t1322: f64 = t1318 - t1321;
+        let t1323: f64 = t696 * t1261;
+        let t1324 = product(t1149, t1323);
+        let t1325: f64 = t1136 * t1310;
+        let t1326 = product(t1152, t1325);
+        let t1327: f64 = t1324.added_to(t1322);
+        let t1328: f64 = t1326.plus(t1327);
+        let t1329: f64 = t1328 * t1328;
+        let t1330 = product(t1315, t1329);
+        let t1331: f64 = t1160.plus(t1162);
+        let t1332: f64 = t1330.plus(t1331);
+        let t1333: f64 = t1158 - t1332;
+        let t1334: f64 = 1.0 / t1333;
+        let t1335: f64 = t712 + t744;
+        let t1336: f64 = t776 + t808;
+        let t1337: f64 = t840 + t872;
+        let t1338: f64 = t1335 + t1336;
+        let t1339: f64 = t1337 + t1338;
+        let t1340: f64 = t126 + t1138;
+        let t1341: f64 = t232 + t456;
+        let t1342: f64 = t1340 + t1341;
+        let t1343: f64 = t561 + t1342;
+        let t1344: f64 = t344 + t665;
+        let t1345: f64 = t1343 - t1344;
+        let t1346: f64 = t696 * t1149;
+        let t1347 = product(t1345, t1346);
+        let t1348: f64 = t1270 + t1274;
+        let t1349: f64 = t1282 + t1286;
+        let t1350: f64 = t1348 + t1349;
+        let t1351: f64 = t1278 + t1290;
+        let t1352: f64 = t1350 - t1351;
+        let t1353 = product(t1150, t1345);
+        let t1354: f64 = t1353.subtracted_from(t1352);
+        let t1355: f64 = t1136 * t1152;
+        let t1356: f64 = t1354 * t1355;
+        let t1357: f64 = t0 * 0.36;
+        let t1358: f64 = t1189 + t1357;
+        let t1359: f64 = t1213 + t1358;
+        let t1360: f64 = t1173 + t1181;
+        let t1361: f64 = t1197 + t1205;
+        let t1362: f64 = t1360 + t1361;
+        let t1363: f64 = t1359 - t1362;
+        let t1364 = product(t1323, t1345);
+        let t1365 = product(t1325, t1354);
+        let t1366: f64 = t1364.added_to(t1363);
+        let t1367: f64 = t1365.plus(t1366);
+        let t1368: f64 = t1315 * t1328;
+        let t1369 = product(t1367, t1368);
+        let t1370: f64 = t1347.plus(t1356);
+        let t1371: f64 = t1369.plus(t1370);
+        let t1372: f64 = t1339 - t1371;
+        let t1373: f64 = t96 + t202;
+        let t1374: f64 = t314 + t426;
+        let t1375: f64 = t531 + t635;
+        let t1376: f64 = t1373 + t1374;
+        let t1377: f64 = t1375 + 12.0;
+        let t1378: f64 = t1376 + t1377;
+        let t1379: f64 = t1345 * t1345;
+        let t1380 = product(t696, t1379);
+        let t1381: f64 = t1354 * t1354;
+        let t1382: f64 = t1136 * t1381;
+        let t1383: f64 = t1367 * t1367;
+        let t1384 = product(t1315, t1383);
+        let t1385: f64 = t1372 * t1372;
+        let t1386: f64 = t1334 * t1385;
+        let t1387: f64 = t1380.plus(t1382);
+        let t1388: f64 = t1384.plus(t1386);
+        let t1389: f64 = t1387 + t1388;
+        let t1390: f64 = t1378 - t1389;
+        let t1391: f64 = 1.0 / t1390;
+        let t1392: f64 = t124 + t230;
+        let t1393: f64 = t342 + t454;
+        let t1394: f64 = t559 + t663;
+        let t1395: f64 = t1392 + t1393;
+        let t1396: f64 = t1394 + t1395;
+        let t1397: f64 = t135 + t1316;
+        let t1398: f64 = t241 + t465;
+        let t1399: f64 = t1397 + t1398;
+        let t1400: f64 = t570 + t1399;
+        let t1401: f64 = t353 + t674;
+        let t1402: f64 = t1400 - t1401;
+        let t1403: f64 = t696 * t1345;
+        let t1404 = product(t1402, t1403);
+        let t1405: f64 = t1013 + t1357;
+        let t1406: f64 = t1115 + t1405;
+        let t1407: f64 = t945 + t979;
+        let t1408: f64 = t1047 + t1081;
+        let t1409: f64 = t1407 + t1408;
+        let t1410: f64 = t1406 - t1409;
+        let t1411 = product(t1150, t1402);
+        let t1412: f64 = t1411.added_to(t1410);
+        let t1413: f64 = t1136 * t1354;
+        let t1414 = product(t1412, t1413);
+        let t1415: f64 = t726 - t1269;
+        let t1416: f64 = t758 - t1273;
+        let t1417: f64 = t790 - t1277;
+        let t1418: f64 = t822 - t1281;
+        let t1419: f64 = t854 - t1285;
+        let t1420: f64 = t886 - t1289;
+        let t1421: f64 = t1415 + t1416;
+        let t1422: f64 = t1418 + t1419;
+        let t1423: f64 = t1421 + t1422;
+        let t1424: f64 = t1417 + t1420;
+        let t1425: f64 = t1423 - t1424;
+        let t1426 = product(t1323, t1402);
+        let t1427 = product(t1325, t1412);
+        let t1428: f64 = t1427.added_to(t1425);
+        let t1429: f64 = t1426.subtracted_from(t1428);
+        let t1430: f64 = t1315 * t1367;
+        let t1431 = product(t1429, t1430);
+        let t1432: f64 = t725 + t757;
+        let t1433: f64 = t789 + t821;
+        let t1434: f64 = t853 + t885;
+        let t1435: f64 = t1432 + t1433;
+        let t1436: f64 = t1434 + t1435;
+        let t1437 = product(t1346, t1402);
+        let t1438 = product(t1355, t1412);
+        let t1439 = product(t1368, t1429);
+        let t1440: f64 = t1438.added_to(t1436);
+        let t1441: f64 = t1439.plus(t1440);
+        let t1442: f64 = t1437.subtracted_from(t1441);
+        let t1443: f64 = t1334 * t1372;
+        let t1444: f64 = t1442 * t1443;
+        let t1445: f64 = t1414.added_to(t1396);
+        let t1446: f64 = t1431.plus(t1445);
+        let t1447: f64 = t1404.plus(t1444);
+        let t1448: f64 = t1446 - t1447;
+        let t1449: f64 = t133 + t239;
+        let t1450: f64 = t351 + t463;
+        let t1451: f64 = t568 + t672;
+        let t1452: f64 = t1449 + t1450;
+        let t1453: f64 = t1451 + 12.0;
+        let t1454: f64 = t1452 + t1453;
+        let t1455: f64 = t1402 * t1402;
+        let t1456 = product(t696, t1455);
+        let t1457: f64 = t1412 * t1412;
+        let t1458: f64 = t1136 * t1457;
+        let t1459: f64 = t1429 * t1429;
+        let t1460 = product(t1315, t1459);
+        let t1461: f64 = t1442 * t1442;
+        let t1462: f64 = t1334 * t1461;
+        let t1463: f64 = t1448 * t1448;
+        let t1464 = product(t1391, t1463);
+        let t1465: f64 = t1456.plus(t1458);
+        let t1466: f64 = t1460.plus(t1462);
+        let t1467: f64 = t1465 + t1466;
+        let t1468: f64 = t1464.plus(t1467);
+        let t1469: f64 = t1454 - t1468;
+        let t1470: f64 = 1.0 / t1469;
+        let t1471 = product(wx, t0);
+        let t1472 = product(wy, t3);
+        let t1473: f64 = wz * t4;
+        let t1474: f64 = t1472.minus(t1473);
+        let t1475: f64 = t1 * t1474;
+        let t1476: f64 = t1471.minus(t1475);
+        let t1477: f64 = wx * t5;
+        let t1478 = product(t1, t1477);
+        let t1479 = product(wy, t24);
+        let t1480: f64 = wz * t14;
+        let t1481: f64 = t1479.plus(t1480);
+        let t1482: f64 = t1478.minus(t1481);
+        let t1483 = product(t6, t1482);
+        let t1484: f64 = wx * t1;
+        let t1485 = product(t6, t1484);
+        let t1486: f64 = wy * t21;
+        let t1487 = product(wz, t10);
+        let t1488: f64 = t1485.plus(t1486);
+        let t1489: f64 = t1487.plus(t1488);
+        let t1490: f64 = t5 * t1489;
+        let t1491: f64 = t1483.minus(t1490);
+        let t1492: f64 = t1491 * 0.28919999999999996;
+        let t1493: f64 = t1 * t1476;
+        let t1494 = product(t1492, t1493);
+        let t1495 = product(t17, t29);
+        let t1496: f64 = t27 * t39;
+        let t1497: f64 = t1495.minus(t1496);
+        let t1498: f64 = g1 * t44;
+        let t1499 = product(t1497, t1498);
+        let t1500 = product(t137, t140);
+        let t1501: f64 = t138 * t146;
+        let t1502: f64 = t1500.minus(t1501);
+        let t1503: f64 = g2 * t151;
+        let t1504: f64 = t1502 * t1503;
+        let t1505: f64 = t1499.plus(t1504);
+        let t1506: f64 = t1494.minus(t1505);
+        let t1507 = product(t245, t250);
+        let t1508: f64 = t248 * t258;
+        let t1509: f64 = t1507.minus(t1508);
+        let t1510: f64 = g3 * t263;
+        let t1511 = product(t1509, t1510);
+        let t1512 = product(t357, t362);
+        let t1513: f64 = t360 * t370;
+        let t1514: f64 = t1512.minus(t1513);
+        let t1515: f64 = g4 * t375;
+        let t1516: f64 = t1514 * t1515;
+        let t1517: f64 = t1511.minus(t1516);
+        let t1518 = product(t572, t575);
+        let t1519: f64 = t573 * t580;
+        let t1520: f64 = t1518.minus(t1519);
+        let t1521: f64 = g6 * t585;
+        let t1522 = product(t1520, t1521);
+        let t1523 = product(t467, t470);
+        let t1524: f64 = t468 * t476;
+        let t1525: f64 = t1523.minus(t1524);
+        let t1526: f64 = g5 * t481;
+        let t1527: f64 = t1525 * t1526;
+        let t1528: f64 = t1522.minus(t1527);
+        let t1529: f64 = t1517 + t1528;
+        let t1530: f64 = t1506 + t1529;
+        let t1531: f64 = t82 * 9.81;
+        let t1532: f64 = -t1531;
+        let t1533 = product(wy, t17);
+        let t1534: f64 = wz * t27;
+        let t1535: f64 = t1533.minus(t1534);
+        let t1536: f64 = vx + t1535;
+        let t1537 = product(t83, t1536);
+        let t1538 = product(wz, t34);
+        let t1539: f64 = wx * t17;
+        let t1540: f64 = t1538.minus(t1539);
+        let t1541: f64 = vy + t1540;
+        let t1542: f64 = t61 * t1541;
+        let t1543 = product(wx, t27);
+        let t1544: f64 = wy * t34;
+        let t1545: f64 = t1543.minus(t1544);
+        let t1546: f64 = vz + t1545;
+        let t1547 = product(t79, t1546);
+        let t1548: f64 = t1537.plus(t1542);
+        let t1549: f64 = t1547.plus(t1548);
+        let t1550: f64 = t44 * t1549;
+        let t1551 = product(t1550, t1550);
+        let t1552 = product(t701, t1536);
+        let t1553: f64 = t85 * t1541;
+        let t1554 = product(t113, t1546);
+        let t1555: f64 = t1552.plus(t1553);
+        let t1556: f64 = t1554.plus(t1555);
+        let t1557: f64 = t44 * t1556;
+        let t1558: f64 = t1557 * t1557;
+        let t1559: f64 = t1551.plus(t1558);
+        let t1560 = product(t1559, 0.3);
+        let t1561: f64 = t1560.subtracted_from(t1532);
+        let t1562 = product(t82, t1561);
+        let t1563 = product(wy, t1545);
+        let t1564: f64 = wz * t1540;
+        let t1565: f64 = t1563.minus(t1564);
+        let t1566: f64 = t725 * t1565;
+        let t1567: f64 = t1562.minus(t1566);
+        let t1568 = product(wz, t1535);
+        let t1569: f64 = wx * t1545;
+        let t1570: f64 = t1568.minus(t1569);
+        let t1571 = product(t124, t1570);
+        let t1572 = product(wx, t1540);
+        let t1573: f64 = wy * t1535;
+        let t1574: f64 = t1572.minus(t1573);
+        let t1575: f64 = t133 * t1574;
+        let t1576: f64 = t1571.plus(t1575);
+        let t1577: f64 = t1567 - t1576;
+        let t1578: f64 = t79 * 9.81;
+        let t1579: f64 = -t1578;
+        let t1580: f64 = t44 * t66;
+        let t1581: f64 = t1549 * t1580;
+        let t1582: f64 = t1557 * t1581;
+        let t1583 = product(t80, t1536);
+        let t1584: f64 = t45 * t1541;
+        let t1585 = product(t82, t1546);
+        let t1586: f64 = t1583.plus(t1584);
+        let t1587: f64 = t1585.plus(t1586);
+        let t1588: f64 = t44 * t1587;
+        let t1589: f64 = t1588 * 2.0;
+        let t1590 = product(t1556, t1580);
+        let t1591: f64 = t1590.added_to(t1589);
+        let t1592: f64 = t1550 * t1591;
+        let t1593: f64 = t60 * t60;
+        let t1594: f64 = t42 * t44;
+        let t1595: f64 = t1593 * t1594;
+        let t1596 = product(t1556, t1595);
+        let t1597: f64 = t66 * t1591;
+        let t1598: f64 = t1596.plus(t1597);
+        let t1599: f64 = t1550 * t1598;
+        let t1600: f64 = t66 * t1599;
+        let t1601 = product(t1579, 0.2);
+        let t1602: f64 = t1582 * 0.292;
+        let t1603: f64 = t1592 * 0.295;
+        let t1604 = product(t1600, 0.003);
+        let t1605: f64 = t1601.plus(t1603);
+        let t1606: f64 = t1604.plus(t1605);
+        let t1607: f64 = t1606 - t1602;
+        let t1608 = product(t44, t1607);
+        let t1609: f64 = t1582 - t1592;
+        let t1610: f64 = t1609 * 0.3;
+        let t1611: f64 = t1608.added_to(t1579);
+        let t1612: f64 = t1610 + t1611;
+        let t1613 = product(t79, t1612);
+        let t1614: f64 = t113 * 9.81;
+        let t1615: f64 = -t1614;
+        let t1616: f64 = t1550 * t1581;
+        let t1617: f64 = t1549 * t1549;
+        let t1618 = product(t1580, t1617);
+        let t1619: f64 = t1556 * t1589;
+        let t1620: f64 = t1618.minus(t1619);
+        let t1621: f64 = t44 * t1620;
+        let t1622 = product(t1615, 0.2);
+        let t1623: f64 = t1616 * 0.292;
+        let t1624 = product(t1621, 0.295);
+        let t1625: f64 = t1622.plus(t1623);
+        let t1626: f64 = t1624.subtracted_from(t1625);
+        let t1627 = product(t44, t1626);
+        let t1628: f64 = t1621 - t1616;
+        let t1629: f64 = t1628 * 0.3;
+        let t1630: f64 = t1627.added_to(t1615);
+        let t1631: f64 = t1629 + t1630;
+        let t1632: f64 = t113 * t1631;
+        let t1633: f64 = t1613.plus(t1632);
+        let t1634: f64 = t1577 + t1633;
+        let t1635 = product(t27, t1634);
+        let t1636 = product(t45, t1561);
+        let t1637: f64 = t712 * t1565;
+        let t1638: f64 = t1636.minus(t1637);
+        let t1639 = product(t96, t1570);
+        let t1640: f64 = t124 * t1574;
+        let t1641: f64 = t1639.plus(t1640);
+        let t1642: f64 = t1638 - t1641;
+        let t1643 = product(t61, t1612);
+        let t1644: f64 = t85 * t1631;
+        let t1645: f64 = t1643.plus(t1644);
+        let t1646: f64 = t1642 + t1645;
+        let t1647: f64 = t17 * t1646;
+        let t1648: f64 = t1635.minus(t1647);
+        let t1649: f64 = t1530 + t1648;
+        let t1650: f64 = t621 * 9.81;
+        let t1651: f64 = -t1650;
+        let t1652 = product(wy, t572);
+        let t1653: f64 = wz * t573;
+        let t1654: f64 = t1652.minus(t1653);
+        let t1655: f64 = vx - t1654;
+        let t1656 = product(t622, t1655);
+        let t1657 = product(wz, t576);
+        let t1658: f64 = wx * t572;
+        let t1659: f64 = t1657.minus(t1658);
+        let t1660: f64 = vy - t1659;
+        let t1661: f64 = t600 * t1660;
+        let t1662 = product(wx, t573);
+        let t1663: f64 = wy * t576;
+        let t1664: f64 = t1662.minus(t1663);
+        let t1665: f64 = vz - t1664;
+        let t1666 = product(t618, t1665);
+        let t1667: f64 = t1656.plus(t1661);
+        let t1668: f64 = t1666.subtracted_from(t1667);
+        let t1669: f64 = t585 * t1668;
+        let t1670 = product(t1669, t1669);
+        let t1671 = product(t861, t1655);
+        let t1672 = product(t624, t1660);
+        let t1673: f64 = t652 * t1665;
+        let t1674: f64 = t1671.plus(t1673);
+        let t1675: f64 = t1672.subtracted_from(t1674);
+        let t1676: f64 = t585 * t1675;
+        let t1677: f64 = t1676 * t1676;
+        let t1678: f64 = t1670.plus(t1677);
+        let t1679 = product(t1678, 0.3);
+        let t1680: f64 = t1679.subtracted_from(t1651);
+        let t1681 = product(t586, t1680);
+        let t1682 = product(wy, t1664);
+        let t1683: f64 = wz * t1659;
+        let t1684: f64 = t1682.minus(t1683);
+        let t1685: f64 = t872 * t1684;
+        let t1686: f64 = t1681.plus(t1685);
+        let t1687 = product(wz, t1654);
+        let t1688: f64 = wx * t1664;
+        let t1689: f64 = t1687.minus(t1688);
+        let t1690 = product(t635, t1689);
+        let t1691 = product(wx, t1659);
+        let t1692: f64 = wy * t1654;
+        let t1693: f64 = t1691.minus(t1692);
+        let t1694: f64 = t663 * t1693;
+        let t1695: f64 = t1690.plus(t1694);
+        let t1696: f64 = t1686 + t1695;
+        let t1697: f64 = t652 * 9.81;
+        let t1698: f64 = -t1697;
+        let t1699: f64 = t585 * t605;
+        let t1700: f64 = t1668 * t1699;
+        let t1701: f64 = t1669 * t1700;
+        let t1702: f64 = t1668 * t1668;
+        let t1703 = product(t1699, t1702);
+        let t1704 = product(t619, t1655);
+        let t1705: f64 = t586 * t1660;
+        let t1706 = product(t621, t1665);
+        let t1707: f64 = t1704.plus(t1705);
+        let t1708: f64 = t1706.plus(t1707);
+        let t1709: f64 = t585 * t1708;
+        let t1710: f64 = t1709 * 2.0;
+        let t1711: f64 = t1675 * t1710;
+        let t1712: f64 = t1703.plus(t1711);
+        let t1713: f64 = t585 * t1712;
+        let t1714 = product(t1698, 0.2);
+        let t1715 = product(t1701, 0.292);
+        let t1716: f64 = t1713 * 0.295;
+        let t1717: f64 = t1714.plus(t1716);
+        let t1718: f64 = t1715.subtracted_from(t1717);
+        let t1719 = product(t585, t1718);
+        let t1720: f64 = t1701 - t1713;
+        let t1721: f64 = t1720 * 0.3;
+        let t1722: f64 = t1719.added_to(t1698);
+        let t1723: f64 = t1721 + t1722;
+        let t1724 = product(t624, t1723);
+        let t1725: f64 = t618 * 9.81;
+        let t1726: f64 = t1676 * t1700;
+        let t1727 = product(t1675, t1699);
+        let t1728: f64 = t1727.subtracted_from(t1710);
+        let t1729: f64 = t1669 * t1728;
+        let t1730: f64 = t585 * t585;
+        let t1731: f64 = t599 * t599;
+        let t1732: f64 = t583 * t1730;
+        let t1733: f64 = t1731 * t1732;
+        let t1734: f64 = t1668 * t1733;
+        let t1735 = product(t1675, t1734);
+        let t1736: f64 = -t1729;
+        let t1737: f64 = t605 * t1736;
+        let t1738: f64 = t1735.plus(t1737);
+        let t1739: f64 = t605 * t1738;
+        let t1740 = product(t1725, 0.2);
+        let t1741: f64 = t1726 * 0.292;
+        let t1742 = product(t1729, 0.295);
+        let t1743 = product(t1739, 0.003);
+        let t1744: f64 = t1740.plus(t1741);
+        let t1745: f64 = t1742.plus(t1744);
+        let t1746: f64 = t1743.subtracted_from(t1745);
+        let t1747 = product(t585, t1746);
+        let t1748: f64 = t1726 + t1729;
+        let t1749: f64 = t1748 * 0.3;
+        let t1750: f64 = t1747.added_to(t1725);
+        let t1751: f64 = t1750 - t1749;
+        let t1752: f64 = t600 * t1751;
+        let t1753: f64 = t1724.minus(t1752);
+        let t1754: f64 = t1753 - t1696;
+        let t1755 = product(t572, t1754);
+        let t1756 = product(t621, t1680);
+        let t1757: f64 = t885 * t1684;
+        let t1758: f64 = t1756.plus(t1757);
+        let t1759 = product(t663, t1689);
+        let t1760: f64 = t672 * t1693;
+        let t1761: f64 = t1759.plus(t1760);
+        let t1762: f64 = t1758 + t1761;
+        let t1763 = product(t652, t1723);
+        let t1764: f64 = t618 * t1751;
+        let t1765: f64 = t1763.minus(t1764);
+        let t1766: f64 = t1762 + t1765;
+        let t1767: f64 = t573 * t1766;
+        let t1768: f64 = t1755.plus(t1767);
+        let t1769: f64 = t1649 - t1768;
+        let t1770: f64 = t188 * 9.81;
+        let t1771: f64 = -t1770;
+        let t1772 = product(wy, t137);
+        let t1773: f64 = wz * t138;
+        let t1774: f64 = t1772.minus(t1773);
+        let t1775: f64 = vx + t1774;
+        let t1776 = product(t189, t1775);
+        let t1777 = product(wz, t141);
+        let t1778: f64 = wx * t137;
         let t1779: f64 = t1777.minus(t1778);
-        let t1780: f64 = t1776 + t1779;
-        let t1781: f64 = t573 * t1780;
-        let t1782: f64 = t1769.plus(t1781);
-        let t1783: f64 = t1663 - t1782;
-        let t1784: f64 = t188 * 9.81;
-        let t1785: f64 = -t1784;
-        let t1786 = product(wy, t137);
-        let t1787: f64 = wz * t138;
-        let t1788: f64 = t1786.minus(t1787);
-        let t1789: f64 = vx + t1788;
-        let t1790 = product(t189, t1789);
-        let t1791 = product(wz, t141);
-        let t1792: f64 = wx * t137;
-        let t1793: f64 = t1791.minus(t1792);
-        let t1794: f64 = vy + t1793;
-        let t1795: f64 = t167 * t1794;
-        let t1796 = product(wx, t138);
-        let t1797: f64 = wy * t141;
-        let t1798: f64 = t1796.minus(t1797);
-        let t1799: f64 = vz + t1798;
-        let t1800 = product(t185, t1799);
-        let t1801: f64 = t1790.plus(t1795);
-        let t1802: f64 = t1800.plus(t1801);
-        let t1803: f64 = t151 * t1802;
-        let t1804 = product(t1803, t1803);
-        let t1805 = product(t733, t1789);
-        let t1806: f64 = t191 * t1794;
-        let t1807 = product(t219, t1799);
-        let t1808: f64 = t1805.plus(t1806);
-        let t1809: f64 = t1807.plus(t1808);
-        let t1810: f64 = t151 * t1809;
-        let t1811: f64 = t1810 * t1810;
-        let t1812: f64 = t1804.plus(t1811);
-        let t1813 = product(t1812, 0.3);
-        let t1814: f64 = t1813.subtracted_from(t1785);
-        let t1815 = product(t188, t1814);
-        let t1816 = product(wy, t1798);
-        let t1817: f64 = wz * t1793;
-        let t1818: f64 = t1816.minus(t1817);
-        let t1819: f64 = t757 * t1818;
-        let t1820: f64 = t1815.minus(t1819);
-        let t1821 = product(wz, t1788);
-        let t1822: f64 = wx * t1798;
-        let t1823: f64 = t1821.minus(t1822);
-        let t1824 = product(t230, t1823);
-        let t1825 = product(wx, t1793);
-        let t1826: f64 = wy * t1788;
-        let t1827: f64 = t1825.minus(t1826);
-        let t1828: f64 = t239 * t1827;
-        let t1829: f64 = t1824.plus(t1828);
-        let t1830: f64 = t1820 - t1829;
-        let t1831: f64 = t185 * 9.81;
-        let t1832: f64 = -t1831;
-        let t1833: f64 = t151 * t172;
-        let t1834: f64 = t1802 * t1833;
-        let t1835: f64 = t1810 * t1834;
-        let t1836 = product(t186, t1789);
-        let t1837: f64 = t152 * t1794;
-        let t1838 = product(t188, t1799);
-        let t1839: f64 = t1836.plus(t1837);
-        let t1840: f64 = t1838.plus(t1839);
-        let t1841: f64 = t151 * t1840;
-        let t1842: f64 = t1841 * 2.0;
-        let t1843 = product(t1809, t1833);
-        let t1844: f64 = t1843.subtracted_from(t1842);
-        let t1845: f64 = t1803 * t1844;
-        let t1846: f64 = t151 * t151;
-        let t1847: f64 = t166 * t166;
-        let t1848: f64 = t149 * t1846;
-        let t1849: f64 = t1847 * t1848;
-        let t1850: f64 = t1802 * t1849;
-        let t1851 = product(t1809, t1850);
-        let t1852: f64 = -t1845;
-        let t1853: f64 = t172 * t1852;
-        let t1854: f64 = t1851.plus(t1853);
-        let t1855: f64 = t172 * t1854;
-        let t1856 = product(t1832, 0.2);
-        let t1857: f64 = t1835 * 0.292;
-        let t1858 = product(t1845, 0.295);
-        let t1859 = product(t1855, 0.003);
-        let t1860: f64 = t1856.plus(t1857);
-        let t1861: f64 = t1858.plus(t1860);
-        let t1862: f64 = t1859.subtracted_from(t1861);
-        let t1863 = product(t151, t1862);
-        let t1864: f64 = t1835 + t1845;
-        let t1865: f64 = t1864 * 0.3;
-        let t1866: f64 = t1863.added_to(t1832);
-        let t1867: f64 = t1866 - t1865;
-        let t1868 = product(t185, t1867);
-        let t1869: f64 = t219 * 9.81;
-        let t1870: f64 = -t1869;
-        let t1871: f64 = t1803 * t1834;
-        let t1872: f64 = t1802 * t1802;
-        let t1873 = product(t1833, t1872);
-        let t1874: f64 = t1809 * t1842;
-        let t1875: f64 = t1873.plus(t1874);
-        let t1876: f64 = t151 * t1875;
-        let t1877 = product(t1870, 0.2);
-        let t1878 = product(t1871, 0.292);
-        let t1879: f64 = t1876 * 0.295;
-        let t1880: f64 = t1877.plus(t1879);
-        let t1881: f64 = t1878.subtracted_from(t1880);
-        let t1882 = product(t151, t1881);
-        let t1883: f64 = t1871 - t1876;
-        let t1884: f64 = t1883 * 0.3;
-        let t1885: f64 = t1882.added_to(t1870);
-        let t1886: f64 = t1884 + t1885;
-        let t1887: f64 = t219 * t1886;
-        let t1888: f64 = t1868.plus(t1887);
-        let t1889: f64 = t1830 + t1888;
-        let t1890 = product(t138, t1889);
-        let t1891 = product(t152, t1814);
-        let t1892: f64 = t744 * t1818;
-        let t1893: f64 = t1891.minus(t1892);
-        let t1894 = product(t202, t1823);
-        let t1895: f64 = t230 * t1827;
-        let t1896: f64 = t1894.plus(t1895);
-        let t1897: f64 = t1893 - t1896;
-        let t1898 = product(t167, t1867);
-        let t1899: f64 = t191 * t1886;
-        let t1900: f64 = t1898.plus(t1899);
-        let t1901: f64 = t1897 + t1900;
-        let t1902: f64 = t137 * t1901;
-        let t1903: f64 = t1890.minus(t1902);
-        let t1904: f64 = t300 * 9.81;
-        let t1905: f64 = -t1904;
-        let t1906 = product(wy, t245);
-        let t1907: f64 = wz * t248;
-        let t1908: f64 = t1906.minus(t1907);
-        let t1909: f64 = vx - t1908;
-        let t1910 = product(t301, t1909);
-        let t1911 = product(wz, t253);
-        let t1912: f64 = wx * t245;
-        let t1913: f64 = t1911.minus(t1912);
-        let t1914: f64 = vy - t1913;
-        let t1915: f64 = t279 * t1914;
-        let t1916 = product(wx, t248);
-        let t1917: f64 = wy * t253;
-        let t1918: f64 = t1916.minus(t1917);
-        let t1919: f64 = vz - t1918;
-        let t1920 = product(t297, t1919);
-        let t1921: f64 = t1910.plus(t1915);
-        let t1922: f64 = t1920.subtracted_from(t1921);
-        let t1923: f64 = t263 * t1922;
-        let t1924 = product(t1923, t1923);
-        let t1925 = product(t765, t1909);
-        let t1926 = product(t303, t1914);
-        let t1927: f64 = t331 * t1919;
-        let t1928: f64 = t1925.plus(t1927);
-        let t1929: f64 = t1926.subtracted_from(t1928);
-        let t1930: f64 = t263 * t1929;
-        let t1931: f64 = t1930 * t1930;
-        let t1932: f64 = t1924.plus(t1931);
-        let t1933 = product(t1932, 0.3);
-        let t1934: f64 = t1933.subtracted_from(t1905);
-        let t1935 = product(t264, t1934);
-        let t1936 = product(wy, t1918);
-        let t1937: f64 = wz * t1913;
-        let t1938: f64 = t1936.minus(t1937);
-        let t1939: f64 = t776 * t1938;
-        let t1940: f64 = t1935.plus(t1939);
-        let t1941 = product(wz, t1908);
-        let t1942: f64 = wx * t1918;
-        let t1943: f64 = t1941.minus(t1942);
-        let t1944 = product(t314, t1943);
-        let t1945 = product(wx, t1913);
-        let t1946: f64 = wy * t1908;
-        let t1947: f64 = t1945.minus(t1946);
-        let t1948: f64 = t342 * t1947;
-        let t1949: f64 = t1944.plus(t1948);
-        let t1950: f64 = t1940 + t1949;
-        let t1951: f64 = t331 * 9.81;
-        let t1952: f64 = -t1951;
-        let t1953: f64 = t263 * t284;
-        let t1954: f64 = t1922 * t1953;
-        let t1955: f64 = t1923 * t1954;
-        let t1956: f64 = t1922 * t1922;
-        let t1957 = product(t1953, t1956);
-        let t1958 = product(t298, t1909);
-        let t1959: f64 = t264 * t1914;
-        let t1960 = product(t300, t1919);
-        let t1961: f64 = t1958.plus(t1959);
-        let t1962: f64 = t1960.plus(t1961);
-        let t1963: f64 = t263 * t1962;
-        let t1964: f64 = t1963 * 2.0;
-        let t1965: f64 = t1929 * t1964;
-        let t1966: f64 = t1957.minus(t1965);
-        let t1967: f64 = t263 * t1966;
-        let t1968 = product(t1952, 0.2);
-        let t1969: f64 = t1955 * 0.292;
-        let t1970 = product(t1967, 0.295);
-        let t1971: f64 = t1968.plus(t1969);
-        let t1972: f64 = t1970.subtracted_from(t1971);
-        let t1973 = product(t263, t1972);
-        let t1974: f64 = t1967 - t1955;
-        let t1975: f64 = t1974 * 0.3;
-        let t1976: f64 = t1973.added_to(t1952);
-        let t1977: f64 = t1975 + t1976;
-        let t1978 = product(t303, t1977);
-        let t1979: f64 = t297 * 9.81;
-        let t1980: f64 = t1930 * t1954;
-        let t1981 = product(t1929, t1953);
-        let t1982: f64 = t1981.added_to(t1964);
-        let t1983: f64 = t1923 * t1982;
-        let t1984: f64 = t278 * t278;
-        let t1985: f64 = t261 * t263;
-        let t1986: f64 = t1984 * t1985;
-        let t1987 = product(t1929, t1986);
-        let t1988: f64 = t284 * t1982;
-        let t1989: f64 = t1987.plus(t1988);
-        let t1990: f64 = t1923 * t1989;
-        let t1991: f64 = t284 * t1990;
-        let t1992 = product(t1979, 0.2);
-        let t1993: f64 = t1980 * 0.292;
-        let t1994: f64 = t1983 * 0.295;
-        let t1995 = product(t1991, 0.003);
-        let t1996: f64 = t1992.plus(t1994);
-        let t1997: f64 = t1995.plus(t1996);
-        let t1998: f64 = t1997 - t1993;
-        let t1999 = product(t263, t1998);
-        let t2000: f64 = t1980 - t1983;
-        let t2001: f64 = t2000 * 0.3;
-        let t2002: f64 = t1999.added_to(t1979);
+        let t1780: f64 = vy + t1779;
+        let t1781: f64 = t167 * t1780;
+        let t1782 = product(wx, t138);
+        let t1783: f64 = wy * t141;
+        let t1784: f64 = t1782.minus(t1783);
+        let t1785: f64 = vz + t1784;
+        let t1786 = product(t185, t1785);
+        let t1787: f64 = t1776.plus(t1781);
+        let t1788: f64 = t1786.plus(t1787);
+        let t1789: f64 = t151 * t1788;
+        let t1790 = product(t1789, t1789);
+        let t1791 = product(t733, t1775);
+        let t1792: f64 = t191 * t1780;
+        let t1793 = product(t219, t1785);
+        let t1794: f64 = t1791.plus(t1792);
+        let t1795: f64 = t1793.plus(t1794);
+        let t1796: f64 = t151 * t1795;
+        let t1797: f64 = t1796 * t1796;
+        let t1798: f64 = t1790.plus(t1797);
+        let t1799 = product(t1798, 0.3);
+        let t1800: f64 = t1799.subtracted_from(t1771);
+        let t1801 = product(t188, t1800);
+        let t1802 = product(wy, t1784);
+        let t1803: f64 = wz * t1779;
+        let t1804: f64 = t1802.minus(t1803);
+        let t1805: f64 = t757 * t1804;
+        let t1806: f64 = t1801.minus(t1805);
+        let t1807 = product(wz, t1774);
+        let t1808: f64 = wx * t1784;
+        let t1809: f64 = t1807.minus(t1808);
+        let t1810 = product(t230, t1809);
+        let t1811 = product(wx, t1779);
+        let t1812: f64 = wy * t1774;
+        let t1813: f64 = t1811.minus(t1812);
+        let t1814: f64 = t239 * t1813;
+        let t1815: f64 = t1810.plus(t1814);
+        let t1816: f64 = t1806 - t1815;
+        let t1817: f64 = t185 * 9.81;
+        let t1818: f64 = -t1817;
+        let t1819: f64 = t151 * t172;
+        let t1820: f64 = t1788 * t1819;
+        let t1821: f64 = t1796 * t1820;
+        let t1822 = product(t186, t1775);
+        let t1823: f64 = t152 * t1780;
+        let t1824 = product(t188, t1785);
+        let t1825: f64 = t1822.plus(t1823);
+        let t1826: f64 = t1824.plus(t1825);
+        let t1827: f64 = t151 * t1826;
+        let t1828: f64 = t1827 * 2.0;
+        let t1829 = product(t1795, t1819);
+        let t1830: f64 = t1829.subtracted_from(t1828);
+        let t1831: f64 = t1789 * t1830;
+        let t1832: f64 = t151 * t151;
+        let t1833: f64 = t166 * t166;
+        let t1834: f64 = t149 * t1832;
+        let t1835: f64 = t1833 * t1834;
+        let t1836: f64 = t1788 * t1835;
+        let t1837 = product(t1795, t1836);
+        let t1838: f64 = -t1831;
+        let t1839: f64 = t172 * t1838;
+        let t1840: f64 = t1837.plus(t1839);
+        let t1841: f64 = t172 * t1840;
+        let t1842 = product(t1818, 0.2);
+        let t1843: f64 = t1821 * 0.292;
+        let t1844 = product(t1831, 0.295);
+        let t1845 = product(t1841, 0.003);
+        let t1846: f64 = t1842.plus(t1843);
+        let t1847: f64 = t1844.plus(t1846);
+        let t1848: f64 = t1845.subtracted_from(t1847);
+        let t1849 = product(t151, t1848);
+        let t1850: f64 = t1821 + t1831;
+        let t1851: f64 = t1850 * 0.3;
+        let t1852: f64 = t1849.added_to(t1818);
+        let t1853: f64 = t1852 - t1851;
+        let t1854 = product(t185, t1853);
+        let t1855: f64 = t219 * 9.81;
+        let t1856: f64 = -t1855;
+        let t1857: f64 = t1789 * t1820;
+        let t1858: f64 = t1788 * t1788;
+        let t1859 = product(t1819, t1858);
+        let t1860: f64 = t1795 * t1828;
+        let t1861: f64 = t1859.plus(t1860);
+        let t1862: f64 = t151 * t1861;
+        let t1863 = product(t1856, 0.2);
+        let t1864 = product(t1857, 0.292);
+        let t1865: f64 = t1862 * 0.295;
+        let t1866: f64 = t1863.plus(t1865);
+        let t1867: f64 = t1864.subtracted_from(t1866);
+        let t1868 = product(t151, t1867);
+        let t1869: f64 = t1857 - t1862;
+        let t1870: f64 = t1869 * 0.3;
+        let t1871: f64 = t1868.added_to(t1856);
+        let t1872: f64 = t1870 + t1871;
+        let t1873: f64 = t219 * t1872;
+        let t1874: f64 = t1854.plus(t1873);
+        let t1875: f64 = t1816 + t1874;
+        let t1876 = product(t138, t1875);
+        let t1877 = product(t152, t1800);
+        let t1878: f64 = t744 * t1804;
+        let t1879: f64 = t1877.minus(t1878);
+        let t1880 = product(t202, t1809);
+        let t1881: f64 = t230 * t1813;
+        let t1882: f64 = t1880.plus(t1881);
+        let t1883: f64 = t1879 - t1882;
+        let t1884 = product(t167, t1853);
+        let t1885: f64 = t191 * t1872;
+        let t1886: f64 = t1884.plus(t1885);
+        let t1887: f64 = t1883 + t1886;
+        let t1888: f64 = t137 * t1887;
+        let t1889: f64 = t1876.minus(t1888);
+        let t1890: f64 = t300 * 9.81;
+        let t1891: f64 = -t1890;
+        let t1892 = product(wy, t245);
+        let t1893: f64 = wz * t248;
+        let t1894: f64 = t1892.minus(t1893);
+        let t1895: f64 = vx - t1894;
+        let t1896 = product(t301, t1895);
+        let t1897 = product(wz, t253);
+        let t1898: f64 = wx * t245;
+        let t1899: f64 = t1897.minus(t1898);
+        let t1900: f64 = vy - t1899;
+        let t1901: f64 = t279 * t1900;
+        let t1902 = product(wx, t248);
+        let t1903: f64 = wy * t253;
+        let t1904: f64 = t1902.minus(t1903);
+        let t1905: f64 = vz - t1904;
+        let t1906 = product(t297, t1905);
+        let t1907: f64 = t1896.plus(t1901);
+        let t1908: f64 = t1906.subtracted_from(t1907);
+        let t1909: f64 = t263 * t1908;
+        let t1910 = product(t1909, t1909);
+        let t1911 = product(t765, t1895);
+        let t1912 = product(t303, t1900);
+        let t1913: f64 = t331 * t1905;
+        let t1914: f64 = t1911.plus(t1913);
+        let t1915: f64 = t1912.subtracted_from(t1914);
+        let t1916: f64 = t263 * t1915;
+        let t1917: f64 = t1916 * t1916;
+        let t1918: f64 = t1910.plus(t1917);
+        let t1919 = product(t1918, 0.3);
+        let t1920: f64 = t1919.subtracted_from(t1891);
+        let t1921 = product(t264, t1920);
+        let t1922 = product(wy, t1904);
+        let t1923: f64 = wz * t1899;
+        let t1924: f64 = t1922.minus(t1923);
+        let t1925: f64 = t776 * t1924;
+        let t1926: f64 = t1921.plus(t1925);
+        let t1927 = product(wz, t1894);
+        let t1928: f64 = wx * t1904;
+        let t1929: f64 = t1927.minus(t1928);
+        let t1930 = product(t314, t1929);
+        let t1931 = product(wx, t1899);
+        let t1932: f64 = wy * t1894;
+        let t1933: f64 = t1931.minus(t1932);
+        let t1934: f64 = t342 * t1933;
+        let t1935: f64 = t1930.plus(t1934);
+        let t1936: f64 = t1926 + t1935;
+        let t1937: f64 = t331 * 9.81;
+        let t1938: f64 = -t1937;
+        let t1939: f64 = t263 * t284;
+        let t1940: f64 = t1908 * t1939;
+        let t1941: f64 = t1909 * t1940;
+        let t1942: f64 = t1908 * t1908;
+        let t1943 = product(t1939, t1942);
+        let t1944 = product(t298, t1895);
+        let t1945: f64 = t264 * t1900;
+        let t1946 = product(t300, t1905);
+        let t1947: f64 = t1944.plus(t1945);
+        let t1948: f64 = t1946.plus(t1947);
+        let t1949: f64 = t263 * t1948;
+        let t1950: f64 = t1949 * 2.0;
+        let t1951: f64 = t1915 * t1950;
+        let t1952: f64 = t1943.minus(t1951);
+        let t1953: f64 = t263 * t1952;
+        let t1954 = product(t1938, 0.2);
+        let t1955: f64 = t1941 * 0.292;
+        let t1956 = product(t1953, 0.295);
+        let t1957: f64 = t1954.plus(t1955);
+        let t1958: f64 = t1956.subtracted_from(t1957);
+        let t1959 = product(t263, t1958);
+        let t1960: f64 = t1953 - t1941;
+        let t1961: f64 = t1960 * 0.3;
+        let t1962: f64 = t1959.added_to(t1938);
+        let t1963: f64 = t1961 + t1962;
+        let t1964 = product(t303, t1963);
+        let t1965: f64 = t297 * 9.81;
+        let t1966: f64 = t1916 * t1940;
+        let t1967 = product(t1915, t1939);
+        let t1968: f64 = t1967.added_to(t1950);
+        let t1969: f64 = t1909 * t1968;
+        let t1970: f64 = t278 * t278;
+        let t1971: f64 = t261 * t263;
+        let t1972: f64 = t1970 * t1971;
+        let t1973 = product(t1915, t1972);
+        let t1974: f64 = t284 * t1968;
+        let t1975: f64 = t1973.plus(t1974);
+        let t1976: f64 = t1909 * t1975;
+        let t1977: f64 = t284 * t1976;
+        let t1978 = product(t1965, 0.2);
+        let t1979: f64 = t1966 * 0.292;
+        let t1980: f64 = t1969 * 0.295;
+        let t1981 = product(t1977, 0.003);
+        let t1982: f64 = t1978.plus(t1980);
+        let t1983: f64 = t1981.plus(t1982);
+        let t1984: f64 = t1983 - t1979;
+        let t1985 = product(t263, t1984);
+        let t1986: f64 = t1966 - t1969;
+        let t1987: f64 = t1986 * 0.3;
+        let t1988: f64 = t1985.added_to(t1965);
+        let t1989: f64 = t1987 + t1988;
+        let t1990: f64 = t279 * t1989;
+        let t1991: f64 = t1964.minus(t1990);
+        let t1992: f64 = t1991 - t1936;
+        let t1993 = product(t245, t1992);
+        let t1994 = product(t300, t1920);
+        let t1995: f64 = t789 * t1924;
+        let t1996: f64 = t1994.plus(t1995);
+        let t1997 = product(t342, t1929);
+        let t1998: f64 = t351 * t1933;
+        let t1999: f64 = t1997.plus(t1998);
+        let t2000: f64 = t1996 + t1999;
+        let t2001 = product(t331, t1963);
+        let t2002: f64 = t297 * t1989;
         (
-            t1008,
-            t1017,
-            t1021,
-            t1042,
-            t1051,
-            t1055,
-            t1076,
-            t1085,
-            t1089,
-            t1110,
-            t1137,
-            t1138,
+            t1006,
+            t1015,
+            t1019,
+            t1040,
+            t1049,
+            t1053,
+            t1074,
+            t1083,
+            t1087,
+            t1108,
+            t1136,
+            t1149,
             t1150,
-            t1151,
-            t1153,
-            t1263,
-            t1311,
-            t1316,
-            t1324,
-            t1326,
-            t1329,
-            t1335,
+            t1152,
+            t1261,
+            t1310,
+            t1315,
+            t1323,
+            t1325,
+            t1328,
+            t1334,
+            t1345,
             t1346,
-            t1347,
+            t1354,
             t1355,
-            t1356,
+            t1367,
             t1368,
-            t1369,
-            t1373,
-            t1392,
+            t1372,
+            t1391,
+            t1402,
             t1403,
-            t1404,
+            t1412,
             t1413,
-            t1414,
+            t1429,
             t1430,
-            t1431,
+            t1442,
             t1443,
-            t1444,
-            t1449,
-            t1471,
-            t1488,
-            t1492,
-            t1493,
+            t1448,
+            t1470,
+            t1476,
+            t1482,
+            t1489,
+            t1497,
             t1498,
-            t1499,
+            t1502,
             t1503,
-            t1504,
+            t1509,
             t1510,
-            t1511,
-            t1523,
-            t1527,
-            t1534,
-            t1535,
-            t1539,
-            t1540,
-            t1544,
-            t1575,
+            t1514,
+            t1515,
+            t1520,
+            t1521,
+            t1525,
+            t1526,
+            t1530,
+            t1561,
+            t1565,
+            t1570,
+            t1574,
+            t1577,
             t1579,
-            t1584,
-            t1588,
-            t1591,
-            t1593,
-            t1594,
-            t1613,
-            t1616,
-            t1619,
-            t1621,
-            t1624,
+            t1580,
+            t1599,
+            t1602,
+            t1605,
+            t1607,
+            t1610,
+            t1615,
+            t1626,
             t1629,
-            t1640,
-            t1643,
-            t1647,
-            t1648,
-            t1656,
-            t1659,
-            t1660,
-            t1694,
+            t1633,
+            t1634,
+            t1642,
+            t1645,
+            t1646,
+            t1680,
+            t1684,
+            t1689,
+            t1693,
+            t1696,
             t1698,
-            t1703,
-            t1707,
-            t1710,
-            t1712,
-            t1713,
-            t1732,
-            t1735,
-            t1739,
-            t1744,
-            t1752,
-            t1759,
-            t1760,
-            t1763,
-            t1767,
-            t1768,
-            t1776,
-            t1779,
-            t1780,
-            t1783,
-            t1814,
+            t1699,
+            t1718,
+            t1721,
+            t1725,
+            t1730,
+            t1738,
+            t1745,
+            t1746,
+            t1749,
+            t1753,
+            t1754,
+            t1762,
+            t1765,
+            t1766,
+            t1769,
+            t1800,
+            t1804,
+            t1809,
+            t1813,
+            t1816,
             t1818,
-            t1823,
-            t1827,
-            t1830,
+            t1819,
             t1832,
-            t1833,
-            t1846,
-            t1854,
-            t1861,
-            t1862,
-            t1865,
+            t1840,
+            t1847,
+            t1848,
+            t1851,
+            t1856,
+            t1867,
             t1870,
-            t1881,
-            t1884,
-            t1888,
+            t1874,
+            t1875,
+            t1883,
+            t1886,
+            t1887,
             t1889,
-            t1897,
-            t1900,
-            t1901,
-            t1903,
-            t1934,
+            t1920,
+            t1924,
+            t1929,
+            t1933,
+            t1936,
             t1938,
-            t1943,
-            t1947,
-            t1950,
-            t1952,
-            t1953,
-            t1972,
-            t1975,
-            t1977,
-            t1978,
+            t1939,
+            t1958,
+            t1961,
+            t1965,
+            t1976,
             t1979,
-            t1990,
+            t1982,
+            t1984,
+            t1987,
+            t1991,
+            t1992,
             t1993,
-            t1996,
-            t1998,
+            t2000,
             t2001,
             t2002,
         )
     };
     let (
-        t2219,
-        t2268,
-        t2274,
+        t2205,
+        t2259,
+        t2263,
+        t2269,
+        t2273,
         t2278,
-        t2284,
-        t2288,
-        t2296,
-        t2440,
-        t2446,
+        t2282,
+        t2426,
+        t2430,
+        t2441,
+        t2445,
         t2450,
-        t2456,
-        t2460,
-        t2468,
-        t2501,
-        t2624,
-        t2641,
-        t2646,
-        t2682,
-        t2683,
-        t2747,
-        t2770,
-        t2792,
+        t2454,
+        t2487,
+        t2610,
+        t2627,
+        t2632,
+        t2668,
+        t2669,
         t2814,
-        t2821,
         t2828,
-        t2835,
         t2842,
-        t2849,
         t2856,
-        t2863,
         t2870,
-        t2877,
         t2884,
-        t2891,
-        t2898,
-        t2961,
-        t2963,
-        t2964,
-        t2965,
-        t2966,
-        t2967,
-        t2988,
-        t2990,
-        t2992,
-        t3001,
+        t2947,
+        t2949,
+        t2950,
+        t2951,
+        t2952,
+        t2953,
+        t2974,
+        t2997,
         t3002,
     ) = {
-        let t2003: f64 = t2001 + t2002;
-        let t2004: f64 = t279 * t2003;
-        let t2005: f64 = t1978.minus(t2004);
-        let t2006: f64 = t2005 - t1950;
-        let t2007 = product(t245, t2006);
-        let t2008 = product(t300, t1934);
-        let t2009: f64 = t789 * t1938;
-        let t2010: f64 = t2008.plus(t2009);
-        let t2011 = product(t342, t1943);
-        let t2012: f64 = t351 * t1947;
-        let t2013: f64 = t2011.plus(t2012);
-        let t2014: f64 = t2010 + t2013;
-        let t2015 = product(t331, t1977);
-        let t2016: f64 = t297 * t2003;
-        let t2017: f64 = t2015.minus(t2016);
-        let t2018: f64 = t2014 + t2017;
-        let t2019: f64 = t248 * t2018;
-        let t2020: f64 = t2007.plus(t2019);
-        let t2021: f64 = t1903 - t2020;
-        let t2022 = product(wx, t360);
-        let t2023: f64 = wy * t365;
-        let t2024: f64 = t2022.minus(t2023);
-        let t2025 = product(wy, t2024);
-        let t2026 = product(wz, t365);
-        let t2027: f64 = wx * t357;
-        let t2028: f64 = t2026.minus(t2027);
-        let t2029: f64 = wz * t2028;
-        let t2030: f64 = t2025.minus(t2029);
-        let t2031 = product(t808, t2030);
-        let t2032: f64 = t412 * 9.81;
-        let t2033: f64 = -t2032;
-        let t2034 = product(wy, t357);
-        let t2035: f64 = wz * t360;
-        let t2036: f64 = t2034.minus(t2035);
-        let t2037: f64 = vx + t2036;
-        let t2038 = product(t413, t2037);
-        let t2039: f64 = vy + t2028;
-        let t2040: f64 = t391 * t2039;
-        let t2041: f64 = vz + t2024;
-        let t2042 = product(t409, t2041);
-        let t2043: f64 = t2038.plus(t2040);
-        let t2044: f64 = t2042.subtracted_from(t2043);
-        let t2045: f64 = t375 * t2044;
-        let t2046 = product(t2045, t2045);
-        let t2047 = product(t797, t2037);
-        let t2048 = product(t415, t2039);
-        let t2049: f64 = t443 * t2041;
-        let t2050: f64 = t2047.plus(t2049);
-        let t2051: f64 = t2048.subtracted_from(t2050);
-        let t2052: f64 = t375 * t2051;
-        let t2053: f64 = t2052 * t2052;
-        let t2054: f64 = t2046.plus(t2053);
-        let t2055 = product(t2054, 0.3);
-        let t2056: f64 = t2055.subtracted_from(t2033);
-        let t2057: f64 = t376 * t2056;
-        let t2058: f64 = t2031.minus(t2057);
-        let t2059 = product(wz, t2036);
-        let t2060: f64 = wx * t2024;
-        let t2061: f64 = t2059.minus(t2060);
-        let t2062 = product(t426, t2061);
-        let t2063 = product(wx, t2028);
-        let t2064: f64 = wy * t2036;
-        let t2065: f64 = t2063.minus(t2064);
-        let t2066: f64 = t454 * t2065;
-        let t2067: f64 = t2062.plus(t2066);
-        let t2068: f64 = t2058 + t2067;
-        let t2069: f64 = t443 * 9.81;
-        let t2070: f64 = -t2069;
-        let t2071: f64 = t375 * t396;
-        let t2072: f64 = t2044 * t2071;
-        let t2073: f64 = t2045 * t2072;
-        let t2074: f64 = t2044 * t2044;
-        let t2075 = product(t2071, t2074);
-        let t2076 = product(t410, t2037);
-        let t2077: f64 = t376 * t2039;
-        let t2078 = product(t412, t2041);
-        let t2079: f64 = t2076.plus(t2077);
-        let t2080: f64 = t2078.plus(t2079);
-        let t2081: f64 = t375 * t2080;
-        let t2082: f64 = t2081 * 2.0;
-        let t2083: f64 = t2051 * t2082;
-        let t2084: f64 = t2075.minus(t2083);
-        let t2085: f64 = t375 * t2084;
-        let t2086 = product(t2070, 0.2);
-        let t2087: f64 = t2073 * 0.292;
-        let t2088 = product(t2085, 0.295);
-        let t2089: f64 = t2086.plus(t2087);
-        let t2090: f64 = t2088.subtracted_from(t2089);
-        let t2091 = product(t375, t2090);
-        let t2092: f64 = t2085 - t2073;
-        let t2093: f64 = t2092 * 0.3;
-        let t2094: f64 = t2091.added_to(t2070);
-        let t2095: f64 = t2093 + t2094;
-        let t2096 = product(t415, t2095);
-        let t2097: f64 = t409 * 9.81;
-        let t2098: f64 = t2052 * t2072;
-        let t2099 = product(t2051, t2071);
-        let t2100: f64 = t2099.added_to(t2082);
-        let t2101: f64 = t2045 * t2100;
-        let t2102: f64 = t390 * t390;
-        let t2103: f64 = t373 * t375;
-        let t2104: f64 = t2102 * t2103;
-        let t2105 = product(t2051, t2104);
-        let t2106: f64 = t396 * t2100;
-        let t2107: f64 = t2105.plus(t2106);
-        let t2108: f64 = t2045 * t2107;
-        let t2109: f64 = t396 * t2108;
-        let t2110 = product(t2097, 0.2);
-        let t2111: f64 = t2098 * 0.292;
-        let t2112: f64 = t2101 * 0.295;
-        let t2113 = product(t2109, 0.003);
-        let t2114: f64 = t2110.plus(t2112);
-        let t2115: f64 = t2113.plus(t2114);
-        let t2116: f64 = t2115 - t2111;
-        let t2117 = product(t375, t2116);
-        let t2118: f64 = t2098 - t2101;
-        let t2119: f64 = t2118 * 0.3;
-        let t2120: f64 = t2117.added_to(t2097);
-        let t2121: f64 = t2119 + t2120;
-        let t2122: f64 = t391 * t2121;
-        let t2123: f64 = t2096.minus(t2122);
-        let t2124: f64 = t2068 + t2123;
-        let t2125 = product(t357, t2124);
-        let t2126 = product(t412, t2056);
-        let t2127: f64 = t821 * t2030;
-        let t2128: f64 = t2126.minus(t2127);
-        let t2129 = product(t454, t2061);
-        let t2130: f64 = t463 * t2065;
-        let t2131: f64 = t2129.plus(t2130);
-        let t2132: f64 = t2128 - t2131;
-        let t2133 = product(t443, t2095);
-        let t2134: f64 = t409 * t2121;
-        let t2135: f64 = t2133.minus(t2134);
-        let t2136: f64 = t2132 + t2135;
-        let t2137: f64 = t360 * t2136;
-        let t2138: f64 = t2125.plus(t2137);
-        let t2139 = product(wx, t468);
-        let t2140: f64 = wy * t471;
-        let t2141: f64 = t2139.minus(t2140);
-        let t2142 = product(wy, t2141);
-        let t2143 = product(wz, t471);
-        let t2144: f64 = wx * t467;
-        let t2145: f64 = t2143.minus(t2144);
-        let t2146: f64 = wz * t2145;
-        let t2147: f64 = t2142.minus(t2146);
-        let t2148 = product(t840, t2147);
-        let t2149: f64 = t517 * 9.81;
-        let t2150: f64 = -t2149;
-        let t2151 = product(wy, t467);
-        let t2152: f64 = wz * t468;
-        let t2153: f64 = t2151.minus(t2152);
-        let t2154: f64 = vx + t2153;
-        let t2155 = product(t518, t2154);
-        let t2156: f64 = vy + t2145;
-        let t2157: f64 = t496 * t2156;
-        let t2158: f64 = vz + t2141;
-        let t2159 = product(t514, t2158);
-        let t2160: f64 = t2155.plus(t2157);
-        let t2161: f64 = t2159.subtracted_from(t2160);
-        let t2162: f64 = t481 * t2161;
-        let t2163 = product(t2162, t2162);
-        let t2164 = product(t829, t2154);
-        let t2165 = product(t520, t2156);
-        let t2166: f64 = t548 * t2158;
-        let t2167: f64 = t2164.plus(t2166);
-        let t2168: f64 = t2165.subtracted_from(t2167);
-        let t2169: f64 = t481 * t2168;
-        let t2170: f64 = t2169 * t2169;
-        let t2171: f64 = t2163.plus(t2170);
-        let t2172 = product(t2171, 0.3);
-        let t2173: f64 = t2172.subtracted_from(t2150);
-        let t2174: f64 = t482 * t2173;
-        let t2175: f64 = t2148.minus(t2174);
-        let t2176 = product(wz, t2153);
-        let t2177: f64 = wx * t2141;
-        let t2178: f64 = t2176.minus(t2177);
-        let t2179 = product(t531, t2178);
-        let t2180 = product(wx, t2145);
-        let t2181: f64 = wy * t2153;
-        let t2182: f64 = t2180.minus(t2181);
-        let t2183: f64 = t559 * t2182;
-        let t2184: f64 = t2179.plus(t2183);
-        let t2185: f64 = t2175 + t2184;
-        let t2186: f64 = t548 * 9.81;
-        let t2187: f64 = -t2186;
-        let t2188: f64 = t481 * t501;
-        let t2189: f64 = t2161 * t2188;
-        let t2190: f64 = t2162 * t2189;
-        let t2191: f64 = t2161 * t2161;
-        let t2192 = product(t2188, t2191);
-        let t2193 = product(t515, t2154);
-        let t2194: f64 = t482 * t2156;
-        let t2195 = product(t517, t2158);
-        let t2196: f64 = t2193.plus(t2194);
-        let t2197: f64 = t2195.plus(t2196);
-        let t2198: f64 = t481 * t2197;
-        let t2199: f64 = t2198 * 2.0;
-        let t2200: f64 = t2168 * t2199;
-        let t2201: f64 = t2192.plus(t2200);
-        let t2202: f64 = t481 * t2201;
-        let t2203 = product(t2187, 0.2);
-        let t2204 = product(t2190, 0.292);
-        let t2205: f64 = t2202 * 0.295;
-        let t2206: f64 = t2203.plus(t2205);
-        let t2207: f64 = t2204.subtracted_from(t2206);
-        let t2208 = product(t481, t2207);
-        let t2209: f64 = t2190 - t2202;
-        let t2210: f64 = t2209 * 0.3;
-        let t2211: f64 = t2208.added_to(t2187);
-        let t2212: f64 = t2210 + t2211;
-        let t2213 = product(t520, t2212);
-        let t2214: f64 = t514 * 9.81;
-        let t2215: f64 = t2169 * t2189;
-        let t2216 = product(t2168, t2188);
-        let t2217: f64 = t2216.subtracted_from(t2199);
-        let t2218: f64 = t2162 * t2217;
-        let t2219: f64 = t481 * t481;
-        let t2220: f64 = t495 * t495;
-        let t2221: f64 = t479 * t2219;
-        let t2222: f64 = t2220 * t2221;
-        let t2223: f64 = t2161 * t2222;
-        let t2224 = product(t2168, t2223);
-        let t2225: f64 = -t2218;
-        let t2226: f64 = t501 * t2225;
-        let t2227: f64 = t2224.plus(t2226);
-        let t2228: f64 = t501 * t2227;
-        let t2229 = product(t2214, 0.2);
-        let t2230: f64 = t2215 * 0.292;
-        let t2231 = product(t2218, 0.295);
-        let t2232 = product(t2228, 0.003);
-        let t2233: f64 = t2229.plus(t2230);
-        let t2234: f64 = t2231.plus(t2233);
-        let t2235: f64 = t2232.subtracted_from(t2234);
-        let t2236 = product(t481, t2235);
-        let t2237: f64 = t2215 + t2218;
-        let t2238: f64 = t2237 * 0.3;
-        let t2239: f64 = t2236.added_to(t2214);
-        let t2240: f64 = t2239 - t2238;
-        let t2241: f64 = t496 * t2240;
-        let t2242: f64 = t2213.minus(t2241);
-        let t2243: f64 = t2185 + t2242;
-        let t2244 = product(t467, t2243);
-        let t2245 = product(t517, t2173);
-        let t2246: f64 = t853 * t2147;
-        let t2247: f64 = t2245.minus(t2246);
-        let t2248 = product(t559, t2178);
-        let t2249: f64 = t568 * t2182;
-        let t2250: f64 = t2248.plus(t2249);
-        let t2251: f64 = t2247 - t2250;
-        let t2252 = product(t548, t2212);
-        let t2253: f64 = t514 * t2240;
-        let t2254: f64 = t2252.minus(t2253);
-        let t2255: f64 = t2251 + t2254;
-        let t2256: f64 = t468 * t2255;
-        let t2257: f64 = t2244.plus(t2256);
-        let t2258: f64 = t2138 + t2257;
-        let t2259: f64 = t2021 + t2258;
-        let t2260: f64 = t1783 + t2259;
-        let t2261: f64 = t697 * 3.5316;
-        let t2262: f64 = t2260 + t2261;
-        let t2263: f64 = t696 * t1403;
-        let t2264 = product(t2262, t2263);
-        let t2265 = product(t1151, t2262);
-        let t2266 = product(t17, t36);
-        let t2267: f64 = t34 * t39;
-        let t2268: f64 = t2266.minus(t2267);
-        let t2269 = product(t1493, t2268);
-        let t2270: f64 = t697 * t1488;
-        let t2271: f64 = t2269.minus(t2270);
-        let t2272 = product(t137, t143);
-        let t2273: f64 = t141 * t146;
-        let t2274: f64 = t2272.minus(t2273);
-        let t2275 = product(t1504, t2274);
-        let t2276 = product(t245, t255);
-        let t2277: f64 = t253 * t258;
+        let t2003: f64 = t2001.minus(t2002);
+        let t2004: f64 = t2000 + t2003;
+        let t2005: f64 = t248 * t2004;
+        let t2006: f64 = t1993.plus(t2005);
+        let t2007: f64 = t1889 - t2006;
+        let t2008 = product(wx, t360);
+        let t2009: f64 = wy * t365;
+        let t2010: f64 = t2008.minus(t2009);
+        let t2011 = product(wy, t2010);
+        let t2012 = product(wz, t365);
+        let t2013: f64 = wx * t357;
+        let t2014: f64 = t2012.minus(t2013);
+        let t2015: f64 = wz * t2014;
+        let t2016: f64 = t2011.minus(t2015);
+        let t2017 = product(t808, t2016);
+        let t2018: f64 = t412 * 9.81;
+        let t2019: f64 = -t2018;
+        let t2020 = product(wy, t357);
+        let t2021: f64 = wz * t360;
+        let t2022: f64 = t2020.minus(t2021);
+        let t2023: f64 = vx + t2022;
+        let t2024 = product(t413, t2023);
+        let t2025: f64 = vy + t2014;
+        let t2026: f64 = t391 * t2025;
+        let t2027: f64 = vz + t2010;
+        let t2028 = product(t409, t2027);
+        let t2029: f64 = t2024.plus(t2026);
+        let t2030: f64 = t2028.subtracted_from(t2029);
+        let t2031: f64 = t375 * t2030;
+        let t2032 = product(t2031, t2031);
+        let t2033 = product(t797, t2023);
+        let t2034 = product(t415, t2025);
+        let t2035: f64 = t443 * t2027;
+        let t2036: f64 = t2033.plus(t2035);
+        let t2037: f64 = t2034.subtracted_from(t2036);
+        let t2038: f64 = t375 * t2037;
+        let t2039: f64 = t2038 * t2038;
+        let t2040: f64 = t2032.plus(t2039);
+        let t2041 = product(t2040, 0.3);
+        let t2042: f64 = t2041.subtracted_from(t2019);
+        let t2043: f64 = t376 * t2042;
+        let t2044: f64 = t2017.minus(t2043);
+        let t2045 = product(wz, t2022);
+        let t2046: f64 = wx * t2010;
+        let t2047: f64 = t2045.minus(t2046);
+        let t2048 = product(t426, t2047);
+        let t2049 = product(wx, t2014);
+        let t2050: f64 = wy * t2022;
+        let t2051: f64 = t2049.minus(t2050);
+        let t2052: f64 = t454 * t2051;
+        let t2053: f64 = t2048.plus(t2052);
+        let t2054: f64 = t2044 + t2053;
+        let t2055: f64 = t443 * 9.81;
+        let t2056: f64 = -t2055;
+        let t2057: f64 = t375 * t396;
+        let t2058: f64 = t2030 * t2057;
+        let t2059: f64 = t2031 * t2058;
+        let t2060: f64 = t2030 * t2030;
+        let t2061 = product(t2057, t2060);
+        let t2062 = product(t410, t2023);
+        let t2063: f64 = t376 * t2025;
+        let t2064 = product(t412, t2027);
+        let t2065: f64 = t2062.plus(t2063);
+        let t2066: f64 = t2064.plus(t2065);
+        let t2067: f64 = t375 * t2066;
+        let t2068: f64 = t2067 * 2.0;
+        let t2069: f64 = t2037 * t2068;
+        let t2070: f64 = t2061.minus(t2069);
+        let t2071: f64 = t375 * t2070;
+        let t2072 = product(t2056, 0.2);
+        let t2073: f64 = t2059 * 0.292;
+        let t2074 = product(t2071, 0.295);
+        let t2075: f64 = t2072.plus(t2073);
+        let t2076: f64 = t2074.subtracted_from(t2075);
+        let t2077 = product(t375, t2076);
+        let t2078: f64 = t2071 - t2059;
+        let t2079: f64 = t2078 * 0.3;
+        let t2080: f64 = t2077.added_to(t2056);
+        let t2081: f64 = t2079 + t2080;
+        let t2082 = product(t415, t2081);
+        let t2083: f64 = t409 * 9.81;
+        let t2084: f64 = t2038 * t2058;
+        let t2085 = product(t2037, t2057);
+        let t2086: f64 = t2085.added_to(t2068);
+        let t2087: f64 = t2031 * t2086;
+        let t2088: f64 = t390 * t390;
+        let t2089: f64 = t373 * t375;
+        let t2090: f64 = t2088 * t2089;
+        let t2091 = product(t2037, t2090);
+        let t2092: f64 = t396 * t2086;
+        let t2093: f64 = t2091.plus(t2092);
+        let t2094: f64 = t2031 * t2093;
+        let t2095: f64 = t396 * t2094;
+        let t2096 = product(t2083, 0.2);
+        let t2097: f64 = t2084 * 0.292;
+        let t2098: f64 = t2087 * 0.295;
+        let t2099 = product(t2095, 0.003);
+        let t2100: f64 = t2096.plus(t2098);
+        let t2101: f64 = t2099.plus(t2100);
+        let t2102: f64 = t2101 - t2097;
+        let t2103 = product(t375, t2102);
+        let t2104: f64 = t2084 - t2087;
+        let t2105: f64 = t2104 * 0.3;
+        let t2106: f64 = t2103.added_to(t2083);
+        let t2107: f64 = t2105 + t2106;
+        let t2108: f64 = t391 * t2107;
+        let t2109: f64 = t2082.minus(t2108);
+        let t2110: f64 = t2054 + t2109;
+        let t2111 = product(t357, t2110);
+        let t2112 = product(t412, t2042);
+        let t2113: f64 = t821 * t2016;
+        let t2114: f64 = t2112.minus(t2113);
+        let t2115 = product(t454, t2047);
+        let t2116: f64 = t463 * t2051;
+        let t2117: f64 = t2115.plus(t2116);
+        let t2118: f64 = t2114 - t2117;
+        let t2119 = product(t443, t2081);
+        let t2120: f64 = t409 * t2107;
+        let t2121: f64 = t2119.minus(t2120);
+        let t2122: f64 = t2118 + t2121;
+        let t2123: f64 = t360 * t2122;
+        let t2124: f64 = t2111.plus(t2123);
+        let t2125 = product(wx, t468);
+        let t2126: f64 = wy * t471;
+        let t2127: f64 = t2125.minus(t2126);
+        let t2128 = product(wy, t2127);
+        let t2129 = product(wz, t471);
+        let t2130: f64 = wx * t467;
+        let t2131: f64 = t2129.minus(t2130);
+        let t2132: f64 = wz * t2131;
+        let t2133: f64 = t2128.minus(t2132);
+        let t2134 = product(t840, t2133);
+        let t2135: f64 = t517 * 9.81;
+        let t2136: f64 = -t2135;
+        let t2137 = product(wy, t467);
+        let t2138: f64 = wz * t468;
+        let t2139: f64 = t2137.minus(t2138);
+        let t2140: f64 = vx + t2139;
+        let t2141 = product(t518, t2140);
+        let t2142: f64 = vy + t2131;
+        let t2143: f64 = t496 * t2142;
+        let t2144: f64 = vz + t2127;
+        let t2145 = product(t514, t2144);
+        let t2146: f64 = t2141.plus(t2143);
+        let t2147: f64 = t2145.subtracted_from(t2146);
+        let t2148: f64 = t481 * t2147;
+        let t2149 = product(t2148, t2148);
+        let t2150 = product(t829, t2140);
+        let t2151 = product(t520, t2142);
+        let t2152: f64 = t548 * t2144;
+        let t2153: f64 = t2150.plus(t2152);
+        let t2154: f64 = t2151.subtracted_from(t2153);
+        let t2155: f64 = t481 * t2154;
+        let t2156: f64 = t2155 * t2155;
+        let t2157: f64 = t2149.plus(t2156);
+        let t2158 = product(t2157, 0.3);
+        let t2159: f64 = t2158.subtracted_from(t2136);
+        let t2160: f64 = t482 * t2159;
+        let t2161: f64 = t2134.minus(t2160);
+        let t2162 = product(wz, t2139);
+        let t2163: f64 = wx * t2127;
+        let t2164: f64 = t2162.minus(t2163);
+        let t2165 = product(t531, t2164);
+        let t2166 = product(wx, t2131);
+        let t2167: f64 = wy * t2139;
+        let t2168: f64 = t2166.minus(t2167);
+        let t2169: f64 = t559 * t2168;
+        let t2170: f64 = t2165.plus(t2169);
+        let t2171: f64 = t2161 + t2170;
+        let t2172: f64 = t548 * 9.81;
+        let t2173: f64 = -t2172;
+        let t2174: f64 = t481 * t501;
+        let t2175: f64 = t2147 * t2174;
+        let t2176: f64 = t2148 * t2175;
+        let t2177: f64 = t2147 * t2147;
+        let t2178 = product(t2174, t2177);
+        let t2179 = product(t515, t2140);
+        let t2180: f64 = t482 * t2142;
+        let t2181 = product(t517, t2144);
+        let t2182: f64 = t2179.plus(t2180);
+        let t2183: f64 = t2181.plus(t2182);
+        let t2184: f64 = t481 * t2183;
+        let t2185: f64 = t2184 * 2.0;
+        let t2186: f64 = t2154 * t2185;
+        let t2187: f64 = t2178.plus(t2186);
+        let t2188: f64 = t481 * t2187;
+        let t2189 = product(t2173, 0.2);
+        let t2190 = product(t2176, 0.292);
+        let t2191: f64 = t2188 * 0.295;
+        let t2192: f64 = t2189.plus(t2191);
+        let t2193: f64 = t2190.subtracted_from(t2192);
+        let t2194 = product(t481, t2193);
+        let t2195: f64 = t2176 - t2188;
+        let t2196: f64 = t2195 * 0.3;
+        let t2197: f64 = t2194.added_to(t2173);
+        let t2198: f64 = t2196 + t2197;
+        let t2199 = product(t520, t2198);
+        let t2200: f64 = t514 * 9.81;
+        let t2201: f64 = t2155 * t2175;
+        let t2202 = product(t2154, t2174);
+        let t2203: f64 = t2202.subtracted_from(t2185);
+        let t2204: f64 = t2148 * t2203;
+        let t2205: f64 = t481 * t481;
+        let t2206: f64 = t495 * t495;
+        let t2207: f64 = t479 * t2205;
+        let t2208: f64 = t2206 * t2207;
+        let t2209: f64 = t2147 * t2208;
+        let t2210 = product(t2154, t2209);
+        let t2211: f64 = -t2204;
+        let t2212: f64 = t501 * t2211;
+        let t2213: f64 = t2210.plus(t2212);
+        let t2214: f64 = t501 * t2213;
+        let t2215 = product(t2200, 0.2);
+        let t2216: f64 = t2201 * 0.292;
+        let t2217 = product(t2204, 0.295);
+        let t2218 = product(t2214, 0.003);
+        let t2219: f64 = t2215.plus(t2216);
+        let t2220: f64 = t2217.plus(t2219);
+        let t2221: f64 = t2218.subtracted_from(t2220);
+        let t2222 = product(t481, t2221);
+        let t2223: f64 = t2201 + t2204;
+        let t2224: f64 = t2223 * 0.3;
+        let t2225: f64 = t2222.added_to(t2200);
+        let t2226: f64 = t2225 - t2224;
+        let t2227: f64 = t496 * t2226;
+        let t2228: f64 = t2199.minus(t2227);
+        let t2229: f64 = t2171 + t2228;
+        let t2230 = product(t467, t2229);
+        let t2231 = product(t517, t2159);
+        let t2232: f64 = t853 * t2133;
+        let t2233: f64 = t2231.minus(t2232);
+        let t2234 = product(t559, t2164);
+        let t2235: f64 = t568 * t2168;
+        let t2236: f64 = t2234.plus(t2235);
+        let t2237: f64 = t2233 - t2236;
+        let t2238 = product(t548, t2198);
+        let t2239: f64 = t514 * t2226;
+        let t2240: f64 = t2238.minus(t2239);
+        let t2241: f64 = t2237 + t2240;
+        let t2242: f64 = t468 * t2241;
+        let t2243: f64 = t2230.plus(t2242);
+        let t2244: f64 = t2124 + t2243;
+        let t2245: f64 = t2007 + t2244;
+        let t2246: f64 = t1769 + t2245;
+        let t2247: f64 = t697 * 3.5316;
+        let t2248: f64 = t2246 + t2247;
+        let t2249: f64 = t696 * t1402;
+        let t2250 = product(t2248, t2249);
+        let t2251 = product(t1150, t2248);
+        let t2252 = product(t21, t1482);
+        let t2253: f64 = t24 * t1489;
+        let t2254: f64 = t2252.plus(t2253);
+        let t2255: f64 = t2254 * 0.28919999999999996;
+        let t2256 = product(t1476, t2255);
+        let t2257 = product(t17, t36);
+        let t2258: f64 = t34 * t39;
+        let t2259: f64 = t2257.minus(t2258);
+        let t2260 = product(t1498, t2259);
+        let t2261 = product(t137, t143);
+        let t2262: f64 = t141 * t146;
+        let t2263: f64 = t2261.minus(t2262);
+        let t2264: f64 = t1503 * t2263;
+        let t2265: f64 = t2260.plus(t2264);
+        let t2266: f64 = t2256.plus(t2265);
+        let t2267 = product(t357, t367);
+        let t2268: f64 = t365 * t370;
+        let t2269: f64 = t2267.minus(t2268);
+        let t2270 = product(t1515, t2269);
+        let t2271 = product(t245, t255);
+        let t2272: f64 = t253 * t258;
+        let t2273: f64 = t2271.minus(t2272);
+        let t2274: f64 = t1510 * t2273;
+        let t2275: f64 = t2270.minus(t2274);
+        let t2276 = product(t467, t473);
+        let t2277: f64 = t471 * t476;
         let t2278: f64 = t2276.minus(t2277);
-        let t2279: f64 = t1499 * t2278;
-        let t2280: f64 = t2275.minus(t2279);
-        let t2281: f64 = t2271 + t2280;
-        let t2282 = product(t357, t367);
-        let t2283: f64 = t365 * t370;
-        let t2284: f64 = t2282.minus(t2283);
-        let t2285 = product(t1535, t2284);
-        let t2286 = product(t467, t473);
-        let t2287: f64 = t471 * t476;
-        let t2288: f64 = t2286.minus(t2287);
-        let t2289: f64 = t1540 * t2288;
-        let t2290: f64 = t2285.plus(t2289);
-        let t2291 = product(t21, t1523);
-        let t2292: f64 = t24 * t1527;
-        let t2293: f64 = t2291.minus(t2292);
-        let t2294 = product(t572, t577);
-        let t2295: f64 = t576 * t580;
-        let t2296: f64 = t2294.minus(t2295);
-        let t2297 = product(t1511, t2296);
-        let t2298: f64 = t2297.subtracted_from(t2293);
-        let t2299: f64 = t2290 + t2298;
-        let t2300: f64 = t2281 + t2299;
-        let t2301: f64 = t2265.plus(t2300);
-        let t2302 = product(t701, t1640);
-        let t2303: f64 = t83 * t1621;
-        let t2304: f64 = t2302.plus(t2303);
-        let t2305 = product(t44, t2304);
-        let t2306: f64 = t1629 + t1643;
-        let t2307 = product(t701, t2306);
-        let t2308: f64 = t1593 + t1624;
-        let t2309: f64 = t83 * t2308;
-        let t2310: f64 = t2307.plus(t2309);
-        let t2311 = product(t80, t1575);
-        let t2312: f64 = t940 * t1579;
-        let t2313: f64 = t2311.minus(t2312);
-        let t2314: f64 = t2310 + t2313;
-        let t2315 = product(t712, t1584);
-        let t2316: f64 = t725 * t1588;
-        let t2317: f64 = t2315.plus(t2316);
-        let t2318: f64 = t2314 - t2317;
-        let t2319: f64 = t2305.plus(t2318);
-        let t2320 = product(t17, t2319);
-        let t2321: f64 = t34 * t1648;
-        let t2322: f64 = t2320.minus(t2321);
-        let t2323 = product(t733, t1881);
-        let t2324: f64 = t189 * t1862;
-        let t2325: f64 = t2323.plus(t2324);
-        let t2326 = product(t151, t2325);
-        let t2327: f64 = t1870 + t1884;
-        let t2328 = product(t733, t2327);
-        let t2329: f64 = t1832 - t1865;
-        let t2330: f64 = t189 * t2329;
-        let t2331: f64 = t2328.plus(t2330);
-        let t2332 = product(t186, t1814);
-        let t2333: f64 = t974 * t1818;
-        let t2334: f64 = t2332.minus(t2333);
-        let t2335: f64 = t2331 + t2334;
-        let t2336 = product(t744, t1823);
-        let t2337: f64 = t757 * t1827;
-        let t2338: f64 = t2336.plus(t2337);
-        let t2339: f64 = t2335 - t2338;
-        let t2340: f64 = t2326.plus(t2339);
-        let t2341 = product(t137, t2340);
-        let t2342: f64 = t141 * t1889;
-        let t2343: f64 = t2341.minus(t2342);
-        let t2344: f64 = t2322 + t2343;
-        let t2345: f64 = t2301 + t2344;
-        let t2346 = product(t253, t2018);
-        let t2347 = product(t765, t1972);
-        let t2348: f64 = t301 * t1998;
-        let t2349: f64 = t2347.plus(t2348);
-        let t2350 = product(t263, t2349);
-        let t2351 = product(t776, t1943);
-        let t2352: f64 = t789 * t1947;
-        let t2353: f64 = t2351.plus(t2352);
-        let t2354: f64 = t1952 + t1975;
-        let t2355 = product(t765, t2354);
-        let t2356: f64 = t1979 + t2001;
-        let t2357: f64 = t301 * t2356;
-        let t2358: f64 = t2355.plus(t2357);
-        let t2359 = product(t298, t1934);
-        let t2360: f64 = t1008 * t1938;
-        let t2361: f64 = t2359.plus(t2360);
-        let t2362: f64 = t2358 + t2361;
-        let t2363: f64 = t2353 + t2362;
-        let t2364: f64 = t2350.plus(t2363);
-        let t2365: f64 = t245 * t2364;
-        let t2366: f64 = t2346.minus(t2365);
-        let t2367 = product(t797, t2090);
-        let t2368: f64 = t413 * t2116;
-        let t2369: f64 = t2367.plus(t2368);
-        let t2370 = product(t375, t2369);
-        let t2371: f64 = t2070 + t2093;
-        let t2372 = product(t797, t2371);
-        let t2373: f64 = t2097 + t2119;
-        let t2374: f64 = t413 * t2373;
-        let t2375: f64 = t2372.plus(t2374);
-        let t2376 = product(t410, t2056);
-        let t2377: f64 = t1042 * t2030;
-        let t2378: f64 = t2376.minus(t2377);
-        let t2379: f64 = t2375 + t2378;
-        let t2380 = product(t808, t2061);
-        let t2381: f64 = t821 * t2065;
-        let t2382: f64 = t2380.plus(t2381);
-        let t2383: f64 = t2379 - t2382;
-        let t2384: f64 = t2370.plus(t2383);
-        let t2385 = product(t357, t2384);
-        let t2386: f64 = t365 * t2136;
-        let t2387: f64 = t2385.minus(t2386);
-        let t2388: f64 = t2366 + t2387;
-        let t2389 = product(t829, t2207);
-        let t2390: f64 = t518 * t2235;
-        let t2391: f64 = t2389.plus(t2390);
-        let t2392 = product(t481, t2391);
-        let t2393: f64 = t2187 + t2210;
-        let t2394 = product(t829, t2393);
-        let t2395: f64 = t2214 - t2238;
-        let t2396: f64 = t518 * t2395;
-        let t2397: f64 = t2394.plus(t2396);
-        let t2398 = product(t515, t2173);
-        let t2399: f64 = t1076 * t2147;
-        let t2400: f64 = t2398.minus(t2399);
-        let t2401: f64 = t2397 + t2400;
-        let t2402 = product(t840, t2178);
-        let t2403: f64 = t853 * t2182;
-        let t2404: f64 = t2402.plus(t2403);
-        let t2405: f64 = t2401 - t2404;
-        let t2406: f64 = t2392.plus(t2405);
-        let t2407 = product(t467, t2406);
-        let t2408: f64 = t471 * t2255;
-        let t2409: f64 = t2407.minus(t2408);
-        let t2410 = product(t576, t1780);
-        let t2411 = product(t861, t1732);
-        let t2412: f64 = t622 * t1760;
-        let t2413: f64 = t2411.plus(t2412);
-        let t2414 = product(t585, t2413);
-        let t2415 = product(t872, t1703);
-        let t2416: f64 = t885 * t1707;
-        let t2417: f64 = t2415.plus(t2416);
-        let t2418: f64 = t1712 + t1735;
-        let t2419 = product(t861, t2418);
-        let t2420: f64 = t1739 - t1763;
-        let t2421: f64 = t622 * t2420;
-        let t2422: f64 = t2419.plus(t2421);
-        let t2423 = product(t619, t1694);
-        let t2424: f64 = t1110 * t1698;
-        let t2425: f64 = t2423.plus(t2424);
-        let t2426: f64 = t2422 + t2425;
-        let t2427: f64 = t2417 + t2426;
-        let t2428: f64 = t2414.plus(t2427);
-        let t2429: f64 = t572 * t2428;
-        let t2430: f64 = t2410.minus(t2429);
-        let t2431: f64 = t2409 + t2430;
-        let t2432: f64 = t2388 + t2431;
-        let t2433: f64 = t2345 + t2432;
-        let t2434: f64 = t0 * 3.5316;
-        let t2435: f64 = t2433 + t2434;
-        let t2436: f64 = t1137 * t1413;
-        let t2437: f64 = t2435 * t2436;
-        let t2438 = product(t27, t36);
-        let t2439: f64 = t29 * t34;
-        let t2440: f64 = t2438.minus(t2439);
-        let t2441 = product(t1493, t2440);
-        let t2442: f64 = t1138 * t1488;
-        let t2443: f64 = t2441.minus(t2442);
-        let t2444 = product(t138, t143);
-        let t2445: f64 = t140 * t141;
-        let t2446: f64 = t2444.minus(t2445);
-        let t2447 = product(t1504, t2446);
-        let t2448 = product(t248, t255);
-        let t2449: f64 = t250 * t253;
+        let t2279 = product(t1526, t2278);
+        let t2280 = product(t572, t577);
+        let t2281: f64 = t576 * t580;
+        let t2282: f64 = t2280.minus(t2281);
+        let t2283: f64 = t1521 * t2282;
+        let t2284: f64 = t2279.minus(t2283);
+        let t2285: f64 = t2275 + t2284;
+        let t2286: f64 = t2266 + t2285;
+        let t2287: f64 = t2251.plus(t2286);
+        let t2288 = product(t701, t1626);
+        let t2289: f64 = t83 * t1607;
+        let t2290: f64 = t2288.plus(t2289);
+        let t2291 = product(t44, t2290);
+        let t2292: f64 = t1615 + t1629;
+        let t2293 = product(t701, t2292);
+        let t2294: f64 = t1579 + t1610;
+        let t2295: f64 = t83 * t2294;
+        let t2296: f64 = t2293.plus(t2295);
+        let t2297 = product(t80, t1561);
+        let t2298: f64 = t938 * t1565;
+        let t2299: f64 = t2297.minus(t2298);
+        let t2300: f64 = t2296 + t2299;
+        let t2301 = product(t712, t1570);
+        let t2302: f64 = t725 * t1574;
+        let t2303: f64 = t2301.plus(t2302);
+        let t2304: f64 = t2300 - t2303;
+        let t2305: f64 = t2291.plus(t2304);
+        let t2306 = product(t17, t2305);
+        let t2307: f64 = t34 * t1634;
+        let t2308: f64 = t2306.minus(t2307);
+        let t2309 = product(t733, t1867);
+        let t2310: f64 = t189 * t1848;
+        let t2311: f64 = t2309.plus(t2310);
+        let t2312 = product(t151, t2311);
+        let t2313: f64 = t1856 + t1870;
+        let t2314 = product(t733, t2313);
+        let t2315: f64 = t1818 - t1851;
+        let t2316: f64 = t189 * t2315;
+        let t2317: f64 = t2314.plus(t2316);
+        let t2318 = product(t186, t1800);
+        let t2319: f64 = t972 * t1804;
+        let t2320: f64 = t2318.minus(t2319);
+        let t2321: f64 = t2317 + t2320;
+        let t2322 = product(t744, t1809);
+        let t2323: f64 = t757 * t1813;
+        let t2324: f64 = t2322.plus(t2323);
+        let t2325: f64 = t2321 - t2324;
+        let t2326: f64 = t2312.plus(t2325);
+        let t2327 = product(t137, t2326);
+        let t2328: f64 = t141 * t1875;
+        let t2329: f64 = t2327.minus(t2328);
+        let t2330: f64 = t2308 + t2329;
+        let t2331: f64 = t2287 + t2330;
+        let t2332 = product(t253, t2004);
+        let t2333 = product(t765, t1958);
+        let t2334: f64 = t301 * t1984;
+        let t2335: f64 = t2333.plus(t2334);
+        let t2336 = product(t263, t2335);
+        let t2337 = product(t776, t1929);
+        let t2338: f64 = t789 * t1933;
+        let t2339: f64 = t2337.plus(t2338);
+        let t2340: f64 = t1938 + t1961;
+        let t2341 = product(t765, t2340);
+        let t2342: f64 = t1965 + t1987;
+        let t2343: f64 = t301 * t2342;
+        let t2344: f64 = t2341.plus(t2343);
+        let t2345 = product(t298, t1920);
+        let t2346: f64 = t1006 * t1924;
+        let t2347: f64 = t2345.plus(t2346);
+        let t2348: f64 = t2344 + t2347;
+        let t2349: f64 = t2339 + t2348;
+        let t2350: f64 = t2336.plus(t2349);
+        let t2351: f64 = t245 * t2350;
+        let t2352: f64 = t2332.minus(t2351);
+        let t2353 = product(t797, t2076);
+        let t2354: f64 = t413 * t2102;
+        let t2355: f64 = t2353.plus(t2354);
+        let t2356 = product(t375, t2355);
+        let t2357: f64 = t2056 + t2079;
+        let t2358 = product(t797, t2357);
+        let t2359: f64 = t2083 + t2105;
+        let t2360: f64 = t413 * t2359;
+        let t2361: f64 = t2358.plus(t2360);
+        let t2362 = product(t410, t2042);
+        let t2363: f64 = t1040 * t2016;
+        let t2364: f64 = t2362.minus(t2363);
+        let t2365: f64 = t2361 + t2364;
+        let t2366 = product(t808, t2047);
+        let t2367: f64 = t821 * t2051;
+        let t2368: f64 = t2366.plus(t2367);
+        let t2369: f64 = t2365 - t2368;
+        let t2370: f64 = t2356.plus(t2369);
+        let t2371 = product(t357, t2370);
+        let t2372: f64 = t365 * t2122;
+        let t2373: f64 = t2371.minus(t2372);
+        let t2374: f64 = t2352 + t2373;
+        let t2375 = product(t829, t2193);
+        let t2376: f64 = t518 * t2221;
+        let t2377: f64 = t2375.plus(t2376);
+        let t2378 = product(t481, t2377);
+        let t2379: f64 = t2173 + t2196;
+        let t2380 = product(t829, t2379);
+        let t2381: f64 = t2200 - t2224;
+        let t2382: f64 = t518 * t2381;
+        let t2383: f64 = t2380.plus(t2382);
+        let t2384 = product(t515, t2159);
+        let t2385: f64 = t1074 * t2133;
+        let t2386: f64 = t2384.minus(t2385);
+        let t2387: f64 = t2383 + t2386;
+        let t2388 = product(t840, t2164);
+        let t2389: f64 = t853 * t2168;
+        let t2390: f64 = t2388.plus(t2389);
+        let t2391: f64 = t2387 - t2390;
+        let t2392: f64 = t2378.plus(t2391);
+        let t2393 = product(t467, t2392);
+        let t2394: f64 = t471 * t2241;
+        let t2395: f64 = t2393.minus(t2394);
+        let t2396 = product(t576, t1766);
+        let t2397 = product(t861, t1718);
+        let t2398: f64 = t622 * t1746;
+        let t2399: f64 = t2397.plus(t2398);
+        let t2400 = product(t585, t2399);
+        let t2401 = product(t872, t1689);
+        let t2402: f64 = t885 * t1693;
+        let t2403: f64 = t2401.plus(t2402);
+        let t2404: f64 = t1698 + t1721;
+        let t2405 = product(t861, t2404);
+        let t2406: f64 = t1725 - t1749;
+        let t2407: f64 = t622 * t2406;
+        let t2408: f64 = t2405.plus(t2407);
+        let t2409 = product(t619, t1680);
+        let t2410: f64 = t1108 * t1684;
+        let t2411: f64 = t2409.plus(t2410);
+        let t2412: f64 = t2408 + t2411;
+        let t2413: f64 = t2403 + t2412;
+        let t2414: f64 = t2400.plus(t2413);
+        let t2415: f64 = t572 * t2414;
+        let t2416: f64 = t2396.minus(t2415);
+        let t2417: f64 = t2395 + t2416;
+        let t2418: f64 = t2374 + t2417;
+        let t2419: f64 = t2331 + t2418;
+        let t2420: f64 = t0 * 3.5316;
+        let t2421: f64 = t2419 + t2420;
+        let t2422: f64 = t1136 * t1412;
+        let t2423: f64 = t2421 * t2422;
+        let t2424 = product(t27, t36);
+        let t2425: f64 = t29 * t34;
+        let t2426: f64 = t2424.minus(t2425);
+        let t2427 = product(t1498, t2426);
+        let t2428 = product(t138, t143);
+        let t2429: f64 = t140 * t141;
+        let t2430: f64 = t2428.minus(t2429);
+        let t2431: f64 = t1503 * t2430;
+        let t2432: f64 = t2427.plus(t2431);
+        let t2433 = product(t10, t1482);
+        let t2434: f64 = t14 * t1489;
+        let t2435: f64 = t2433.plus(t2434);
+        let t2436: f64 = t2435 * 0.28919999999999996;
+        let t2437 = product(t1476, t2436);
+        let t2438: f64 = t2437.subtracted_from(t2432);
+        let t2439 = product(t360, t367);
+        let t2440: f64 = t362 * t365;
+        let t2441: f64 = t2439.minus(t2440);
+        let t2442 = product(t1515, t2441);
+        let t2443 = product(t248, t255);
+        let t2444: f64 = t250 * t253;
+        let t2445: f64 = t2443.minus(t2444);
+        let t2446: f64 = t1510 * t2445;
+        let t2447: f64 = t2442.minus(t2446);
+        let t2448 = product(t468, t473);
+        let t2449: f64 = t470 * t471;
         let t2450: f64 = t2448.minus(t2449);
-        let t2451: f64 = t1499 * t2450;
-        let t2452: f64 = t2447.minus(t2451);
-        let t2453: f64 = t2443 + t2452;
-        let t2454 = product(t360, t367);
-        let t2455: f64 = t362 * t365;
-        let t2456: f64 = t2454.minus(t2455);
-        let t2457 = product(t1535, t2456);
-        let t2458 = product(t468, t473);
-        let t2459: f64 = t470 * t471;
-        let t2460: f64 = t2458.minus(t2459);
-        let t2461: f64 = t1540 * t2460;
-        let t2462: f64 = t2457.plus(t2461);
-        let t2463 = product(t14, t1527);
-        let t2464: f64 = t10 * t1523;
+        let t2451 = product(t1526, t2450);
+        let t2452 = product(t573, t577);
+        let t2453: f64 = t575 * t576;
+        let t2454: f64 = t2452.minus(t2453);
+        let t2455: f64 = t1521 * t2454;
+        let t2456: f64 = t2451.minus(t2455);
+        let t2457: f64 = t2447 + t2456;
+        let t2458: f64 = t2438 + t2457;
+        let t2459 = product(t27, t2305);
+        let t2460: f64 = t34 * t1646;
+        let t2461: f64 = t2459.minus(t2460);
+        let t2462: f64 = t2458 + t2461;
+        let t2463 = product(t138, t2326);
+        let t2464: f64 = t141 * t1887;
         let t2465: f64 = t2463.minus(t2464);
-        let t2466 = product(t573, t577);
-        let t2467: f64 = t575 * t576;
-        let t2468: f64 = t2466.minus(t2467);
-        let t2469 = product(t1511, t2468);
-        let t2470: f64 = t2469.subtracted_from(t2465);
-        let t2471: f64 = t2462 + t2470;
-        let t2472: f64 = t2453 + t2471;
-        let t2473 = product(t27, t2319);
-        let t2474: f64 = t34 * t1660;
-        let t2475: f64 = t2473.minus(t2474);
-        let t2476: f64 = t2472 + t2475;
-        let t2477 = product(t138, t2340);
-        let t2478: f64 = t141 * t1901;
-        let t2479: f64 = t2477.minus(t2478);
-        let t2480 = product(t248, t2364);
-        let t2481: f64 = t253 * t2006;
-        let t2482: f64 = t2480.plus(t2481);
-        let t2483: f64 = t2479 - t2482;
-        let t2484: f64 = t2476 + t2483;
-        let t2485 = product(t360, t2384);
-        let t2486: f64 = t365 * t2124;
-        let t2487: f64 = t2485.plus(t2486);
-        let t2488 = product(t468, t2406);
-        let t2489: f64 = t471 * t2243;
-        let t2490: f64 = t2488.plus(t2489);
-        let t2491: f64 = t2487 + t2490;
-        let t2492 = product(t573, t2428);
-        let t2493: f64 = t576 * t1768;
-        let t2494: f64 = t2492.plus(t2493);
-        let t2495 = product(t1324, t2262);
-        let t2496: f64 = t1326 * t2435;
-        let t2497: f64 = t2495.minus(t2496);
-        let t2498: f64 = t2494 - t2497;
-        let t2499: f64 = t2491 - t2498;
-        let t2500: f64 = t2484 + t2499;
-        let t2501: f64 = t1316 * t1430;
-        let t2502 = product(t2500, t2501);
-        let t2503: f64 = t2340 + t2364;
-        let t2504: f64 = t2384 + t2406;
-        let t2505: f64 = t2503 + t2504;
-        let t2506: f64 = wx * t3;
-        let t2507 = product(t1, t2506);
-        let t2508: f64 = wy * t0;
-        let t2509: f64 = t2507.plus(t2508);
-        let t2510: f64 = t2509 * 0.36;
-        let t2511 = product(wy, t2510);
-        let t2512 = product(wz, t0);
-        let t2513: f64 = wx * t4;
-        let t2514: f64 = t1 * t2513;
-        let t2515: f64 = t2512.minus(t2514);
-        let t2516: f64 = t2515 * 0.36;
-        let t2517: f64 = wz * t2516;
-        let t2518: f64 = t2511.plus(t2517);
-        let t2519: f64 = g1 * t36;
-        let t2520 = product(t44, t2519);
-        let t2521: f64 = g2 * t143;
-        let t2522: f64 = t151 * t2521;
-        let t2523: f64 = t2520.plus(t2522);
-        let t2524: f64 = t2518 + t2523;
-        let t2525: f64 = g3 * t255;
-        let t2526 = product(t263, t2525);
-        let t2527: f64 = g4 * t367;
-        let t2528: f64 = t375 * t2527;
-        let t2529: f64 = t2526.plus(t2528);
-        let t2530: f64 = g5 * t473;
-        let t2531 = product(t481, t2530);
-        let t2532: f64 = g6 * t577;
-        let t2533: f64 = t585 * t2532;
-        let t2534: f64 = t2531.plus(t2533);
-        let t2535: f64 = t2529 + t2534;
-        let t2536: f64 = t2524 + t2535;
-        let t2537: f64 = t2428 + t2536;
-        let t2538 = product(t1347, t2262);
-        let t2539: f64 = t1356 * t2435;
-        let t2540: f64 = t2538.minus(t2539);
-        let t2541 = product(t1369, t2500);
-        let t2542: f64 = t2541.added_to(t2319);
-        let t2543: f64 = t2540 + t2542;
-        let t2544: f64 = t2537 + t2543;
-        let t2545: f64 = t2505 + t2544;
-        let t2546: f64 = t1335 * t1443;
-        let t2547: f64 = t2545 * t2546;
-        let t2548: f64 = t2005 + t2123;
-        let t2549: f64 = t1767 + t2242;
-        let t2550: f64 = t2548 + t2549;
-        let t2551: f64 = t1710 - t2185;
-        let t2552: f64 = g1 * t29;
-        let t2553 = product(t44, t2552);
-        let t2554: f64 = wx * t2510;
-        let t2555: f64 = t2553.minus(t2554);
-        let t2556: f64 = g2 * t140;
-        let t2557 = product(t151, t2556);
-        let t2558: f64 = g3 * t250;
-        let t2559: f64 = t263 * t2558;
-        let t2560: f64 = t2557.plus(t2559);
-        let t2561: f64 = t2555 + t2560;
-        let t2562: f64 = t2551 + t2561;
-        let t2563: f64 = g4 * t362;
-        let t2564 = product(t375, t2563);
-        let t2565: f64 = g5 * t470;
-        let t2566: f64 = t481 * t2565;
-        let t2567: f64 = t2564.plus(t2566);
-        let t2568: f64 = g6 * t575;
-        let t2569 = product(t585, t2568);
-        let t2570 = product(wy, t4);
-        let t2571: f64 = wz * t3;
-        let t2572: f64 = t2570.plus(t2571);
-        let t2573: f64 = t2572 * 0.36;
-        let t2574: f64 = wz * t1;
-        let t2575: f64 = t2573 * t2574;
-        let t2576: f64 = t2569.minus(t2575);
-        let t2577: f64 = t2567 + t2576;
-        let t2578: f64 = t1656 + t1897;
-        let t2579: f64 = t1950 - t2068;
-        let t2580: f64 = t2578 + t2579;
-        let t2581: f64 = t2577 + t2580;
-        let t2582: f64 = t2562 + t2581;
-        let t2583 = product(t1404, t2262);
-        let t2584: f64 = t1414 * t2435;
-        let t2585: f64 = t2583.minus(t2584);
-        let t2586: f64 = t2582 + t2585;
-        let t2587 = product(t1431, t2500);
-        let t2588: f64 = t1444 * t2545;
-        let t2589: f64 = t2587.minus(t2588);
-        let t2590: f64 = t1659 + t1900;
-        let t2591: f64 = t2589 + t2590;
-        let t2592: f64 = t2586 + t2591;
-        let t2593: f64 = t2550 - t2592;
-        let t2594: f64 = -t2593;
-        let t2595: f64 = t1392 * t1449;
-        let t2596 = product(t2594, t2595);
-        let t2597: f64 = t1776 + t2251;
-        let t2598: f64 = g1 * t39;
-        let t2599 = product(t44, t2598);
-        let t2600: f64 = wx * t2516;
-        let t2601: f64 = t2599.minus(t2600);
-        let t2602: f64 = g2 * t146;
-        let t2603 = product(t151, t2602);
-        let t2604: f64 = g3 * t258;
-        let t2605: f64 = t263 * t2604;
-        let t2606: f64 = t2603.plus(t2605);
-        let t2607: f64 = t2601 + t2606;
-        let t2608: f64 = t2597 + t2607;
-        let t2609: f64 = g4 * t370;
-        let t2610 = product(t375, t2609);
-        let t2611: f64 = g5 * t476;
-        let t2612: f64 = t481 * t2611;
-        let t2613: f64 = t2610.plus(t2612);
-        let t2614: f64 = g6 * t580;
-        let t2615 = product(t585, t2614);
-        let t2616: f64 = wy * t1;
-        let t2617: f64 = t2573 * t2616;
-        let t2618: f64 = t2615.plus(t2617);
-        let t2619: f64 = t2613 + t2618;
-        let t2620: f64 = t1591 + t1830;
-        let t2621: f64 = t2014 + t2132;
-        let t2622: f64 = t2620 + t2621;
-        let t2623: f64 = t2619 + t2622;
-        let t2624: f64 = t2608 + t2623;
-        let t2625: f64 = t2264.plus(t2437);
-        let t2626: f64 = t1647 + t1888;
-        let t2627: f64 = t2017 + t2135;
-        let t2628: f64 = t1779 + t2254;
-        let t2629: f64 = t2625 + t2626;
-        let t2630: f64 = t2627 + t2628;
-        let t2631: f64 = t2629 + t2630;
-        let t2632: f64 = t2624 + t2631;
-        let t2633: f64 = t2502.plus(t2547);
-        let t2634: f64 = t2596.plus(117.72);
-        let t2635: f64 = t2633 + t2634;
-        let t2636: f64 = t2632 - t2635;
-        let t2637: f64 = t1449 * t1471;
-        let t2638 = product(t2636, t2637);
-        let t2639: f64 = t2638.added_to(t2593);
-        let t2640: f64 = t1392 * t2639;
-        let t2641: f64 = -t2640;
-        let t2642 = product(t1373, t2641);
-        let t2643: f64 = t1443 * t1471;
-        let t2644: f64 = t2636 * t2643;
-        let t2645: f64 = t2642.plus(t2644);
-        let t2646: f64 = t2545 - t2645;
-        let t2647: f64 = t1153 * t1335;
-        let t2648 = product(t2646, t2647);
-        let t2649: f64 = t1355 * t2641;
-        let t2650: f64 = t1329 * t1335;
-        let t2651 = product(t2646, t2650);
-        let t2652: f64 = t1368 * t2641;
-        let t2653: f64 = t1430 * t1471;
-        let t2654 = product(t2636, t2653);
-        let t2655: f64 = t2651.plus(t2652);
-        let t2656: f64 = t2500 + t2655;
-        let t2657: f64 = t2654.minus(t2656);
-        let t2658: f64 = t1316 * t2657;
-        let t2659: f64 = -t2658;
-        let t2660 = product(t1311, t2659);
-        let t2661: f64 = t1413 * t1471;
-        let t2662 = product(t2636, t2661);
-        let t2663: f64 = t2662.added_to(t2434);
-        let t2664: f64 = t2433 + t2663;
-        let t2665: f64 = t2648.plus(t2649);
-        let t2666: f64 = t2660.plus(t2665);
-        let t2667: f64 = t2664 - t2666;
-        let t2668: f64 = t908 * t1137;
-        let t2669 = product(t2667, t2668);
-        let t2670: f64 = t1150 * t1335;
-        let t2671 = product(t2646, t2670);
-        let t2672: f64 = t1346 * t2641;
-        let t2673 = product(t1263, t2659);
-        let t2674: f64 = t1403 * t1471;
-        let t2675: f64 = t2636 * t2674;
-        let t2676: f64 = t2669.added_to(t2261);
-        let t2677: f64 = t2671.plus(t2672);
-        let t2678: f64 = t2673.plus(t2675);
-        let t2679: f64 = t2676 + t2677;
-        let t2680: f64 = t2260 + t2678;
-        let t2681: f64 = t2679 + t2680;
-        let t2682: f64 = t696 * t2681;
-        let t2683: f64 = t1137 * t2667;
-        let t2684: f64 = t83 * t1594;
-        let t2685: f64 = t1613 * t2684;
-        let t2686: f64 = t1619 - t1616;
-        let t2687 = product(t919, t2686);
-        let t2688: f64 = t915 * t1640;
-        let t2689: f64 = t2687.plus(t2688);
-        let t2690: f64 = t2318 + t2689;
-        let t2691 = product(t2685, 0.003);
-        let t2692: f64 = t2691.added_to(t2690);
-        let t2693 = product(t27, t2692);
-        let t2694: f64 = t62 * t66;
-        let t2695: f64 = t1613 * t2694;
-        let t2696 = product(t85, t2306);
-        let t2697: f64 = t61 * t2308;
-        let t2698: f64 = t2696.plus(t2697);
-        let t2699 = product(t62, t2686);
-        let t2700: f64 = t86 * t1640;
-        let t2701: f64 = t2699.plus(t2700);
-        let t2702: f64 = t2698 + t2701;
-        let t2703 = product(t2695, 0.003);
-        let t2704: f64 = t2703.added_to(t1656);
-        let t2705: f64 = t2702 + t2704;
-        let t2706 = product(t34, t2705);
-        let t2707: f64 = t189 * t1833;
-        let t2708: f64 = t1854 * t2707;
-        let t2709 = product(t953, t1861);
-        let t2710: f64 = t949 * t1881;
-        let t2711: f64 = t2709.plus(t2710);
-        let t2712: f64 = t2339 + t2711;
-        let t2713 = product(t2708, 0.003);
-        let t2714: f64 = t2713.subtracted_from(t2712);
-        let t2715: f64 = t138 * t2714;
-        let t2716: f64 = t168 * t172;
-        let t2717: f64 = t1854 * t2716;
-        let t2718 = product(t191, t2327);
-        let t2719: f64 = t167 * t2329;
+        let t2466 = product(t248, t2350);
+        let t2467: f64 = t253 * t1992;
+        let t2468: f64 = t2466.plus(t2467);
+        let t2469: f64 = t2465 - t2468;
+        let t2470: f64 = t2462 + t2469;
+        let t2471 = product(t360, t2370);
+        let t2472: f64 = t365 * t2110;
+        let t2473: f64 = t2471.plus(t2472);
+        let t2474 = product(t468, t2392);
+        let t2475: f64 = t471 * t2229;
+        let t2476: f64 = t2474.plus(t2475);
+        let t2477: f64 = t2473 + t2476;
+        let t2478 = product(t1323, t2248);
+        let t2479: f64 = t1325 * t2421;
+        let t2480: f64 = t2478.minus(t2479);
+        let t2481 = product(t573, t2414);
+        let t2482: f64 = t576 * t1754;
+        let t2483: f64 = t2481.plus(t2482);
+        let t2484: f64 = t2480 - t2483;
+        let t2485: f64 = t2477 + t2484;
+        let t2486: f64 = t2470 + t2485;
+        let t2487: f64 = t1315 * t1429;
+        let t2488 = product(t2486, t2487);
+        let t2489: f64 = t2326 + t2350;
+        let t2490: f64 = t2370 + t2392;
+        let t2491: f64 = t2489 + t2490;
+        let t2492: f64 = wx * t3;
+        let t2493 = product(t1, t2492);
+        let t2494: f64 = wy * t0;
+        let t2495: f64 = t2493.plus(t2494);
+        let t2496: f64 = t2495 * 0.36;
+        let t2497 = product(wy, t2496);
+        let t2498 = product(wz, t0);
+        let t2499: f64 = wx * t4;
+        let t2500: f64 = t1 * t2499;
+        let t2501: f64 = t2498.minus(t2500);
+        let t2502: f64 = t2501 * 0.36;
+        let t2503: f64 = wz * t2502;
+        let t2504: f64 = t2497.plus(t2503);
+        let t2505: f64 = g1 * t36;
+        let t2506 = product(t44, t2505);
+        let t2507: f64 = g2 * t143;
+        let t2508: f64 = t151 * t2507;
+        let t2509: f64 = t2506.plus(t2508);
+        let t2510: f64 = t2504 + t2509;
+        let t2511: f64 = g3 * t255;
+        let t2512 = product(t263, t2511);
+        let t2513: f64 = g4 * t367;
+        let t2514: f64 = t375 * t2513;
+        let t2515: f64 = t2512.plus(t2514);
+        let t2516: f64 = g5 * t473;
+        let t2517 = product(t481, t2516);
+        let t2518: f64 = g6 * t577;
+        let t2519: f64 = t585 * t2518;
+        let t2520: f64 = t2517.plus(t2519);
+        let t2521: f64 = t2515 + t2520;
+        let t2522: f64 = t2510 + t2521;
+        let t2523: f64 = t2414 + t2522;
+        let t2524 = product(t1346, t2248);
+        let t2525: f64 = t1355 * t2421;
+        let t2526: f64 = t2524.minus(t2525);
+        let t2527 = product(t1368, t2486);
+        let t2528: f64 = t2527.added_to(t2305);
+        let t2529: f64 = t2526 + t2528;
+        let t2530: f64 = t2523 + t2529;
+        let t2531: f64 = t2491 + t2530;
+        let t2532: f64 = t1334 * t1442;
+        let t2533: f64 = t2531 * t2532;
+        let t2534: f64 = t1991 + t2109;
+        let t2535: f64 = t1753 + t2228;
+        let t2536: f64 = t2534 + t2535;
+        let t2537: f64 = t1696 - t2171;
+        let t2538: f64 = g1 * t29;
+        let t2539 = product(t44, t2538);
+        let t2540: f64 = wx * t2496;
+        let t2541: f64 = t2539.minus(t2540);
+        let t2542: f64 = g2 * t140;
+        let t2543 = product(t151, t2542);
+        let t2544: f64 = g3 * t250;
+        let t2545: f64 = t263 * t2544;
+        let t2546: f64 = t2543.plus(t2545);
+        let t2547: f64 = t2541 + t2546;
+        let t2548: f64 = t2537 + t2547;
+        let t2549: f64 = g4 * t362;
+        let t2550 = product(t375, t2549);
+        let t2551: f64 = g5 * t470;
+        let t2552: f64 = t481 * t2551;
+        let t2553: f64 = t2550.plus(t2552);
+        let t2554: f64 = g6 * t575;
+        let t2555 = product(t585, t2554);
+        let t2556 = product(wy, t4);
+        let t2557: f64 = wz * t3;
+        let t2558: f64 = t2556.plus(t2557);
+        let t2559: f64 = t2558 * 0.36;
+        let t2560: f64 = wz * t1;
+        let t2561: f64 = t2559 * t2560;
+        let t2562: f64 = t2555.minus(t2561);
+        let t2563: f64 = t2553 + t2562;
+        let t2564: f64 = t1642 + t1883;
+        let t2565: f64 = t1936 - t2054;
+        let t2566: f64 = t2564 + t2565;
+        let t2567: f64 = t2563 + t2566;
+        let t2568: f64 = t2548 + t2567;
+        let t2569 = product(t1403, t2248);
+        let t2570: f64 = t1413 * t2421;
+        let t2571: f64 = t2569.minus(t2570);
+        let t2572: f64 = t2568 + t2571;
+        let t2573 = product(t1430, t2486);
+        let t2574: f64 = t1443 * t2531;
+        let t2575: f64 = t2573.minus(t2574);
+        let t2576: f64 = t1645 + t1886;
+        let t2577: f64 = t2575 + t2576;
+        let t2578: f64 = t2572 + t2577;
+        let t2579: f64 = t2536 - t2578;
+        let t2580: f64 = -t2579;
+        let t2581: f64 = t1391 * t1448;
+        let t2582 = product(t2580, t2581);
+        let t2583: f64 = t1762 + t2237;
+        let t2584: f64 = g1 * t39;
+        let t2585 = product(t44, t2584);
+        let t2586: f64 = wx * t2502;
+        let t2587: f64 = t2585.minus(t2586);
+        let t2588: f64 = g2 * t146;
+        let t2589 = product(t151, t2588);
+        let t2590: f64 = g3 * t258;
+        let t2591: f64 = t263 * t2590;
+        let t2592: f64 = t2589.plus(t2591);
+        let t2593: f64 = t2587 + t2592;
+        let t2594: f64 = t2583 + t2593;
+        let t2595: f64 = g4 * t370;
+        let t2596 = product(t375, t2595);
+        let t2597: f64 = g5 * t476;
+        let t2598: f64 = t481 * t2597;
+        let t2599: f64 = t2596.plus(t2598);
+        let t2600: f64 = g6 * t580;
+        let t2601 = product(t585, t2600);
+        let t2602: f64 = wy * t1;
+        let t2603: f64 = t2559 * t2602;
+        let t2604: f64 = t2601.plus(t2603);
+        let t2605: f64 = t2599 + t2604;
+        let t2606: f64 = t1577 + t1816;
+        let t2607: f64 = t2000 + t2118;
+        let t2608: f64 = t2606 + t2607;
+        let t2609: f64 = t2605 + t2608;
+        let t2610: f64 = t2594 + t2609;
+        let t2611: f64 = t2250.plus(t2423);
+        let t2612: f64 = t1633 + t1874;
+        let t2613: f64 = t2003 + t2121;
+        let t2614: f64 = t1765 + t2240;
+        let t2615: f64 = t2611 + t2612;
+        let t2616: f64 = t2613 + t2614;
+        let t2617: f64 = t2615 + t2616;
+        let t2618: f64 = t2610 + t2617;
+        let t2619: f64 = t2488.plus(t2533);
+        let t2620: f64 = t2582.plus(117.72);
+        let t2621: f64 = t2619 + t2620;
+        let t2622: f64 = t2618 - t2621;
+        let t2623: f64 = t1448 * t1470;
+        let t2624 = product(t2622, t2623);
+        let t2625: f64 = t2624.added_to(t2579);
+        let t2626: f64 = t1391 * t2625;
+        let t2627: f64 = -t2626;
+        let t2628 = product(t1372, t2627);
+        let t2629: f64 = t1442 * t1470;
+        let t2630: f64 = t2622 * t2629;
+        let t2631: f64 = t2628.plus(t2630);
+        let t2632: f64 = t2531 - t2631;
+        let t2633: f64 = t1152 * t1334;
+        let t2634 = product(t2632, t2633);
+        let t2635: f64 = t1354 * t2627;
+        let t2636: f64 = t1328 * t1334;
+        let t2637 = product(t2632, t2636);
+        let t2638: f64 = t1367 * t2627;
+        let t2639: f64 = t1429 * t1470;
+        let t2640 = product(t2622, t2639);
+        let t2641: f64 = t2637.plus(t2638);
+        let t2642: f64 = t2486 + t2641;
+        let t2643: f64 = t2640.subtracted_from(t2642);
+        let t2644: f64 = t1310 * t1315;
+        let t2645 = product(t2643, t2644);
+        let t2646: f64 = t1412 * t1470;
+        let t2647 = product(t2622, t2646);
+        let t2648: f64 = t2647.added_to(t2420);
+        let t2649: f64 = t2419 + t2648;
+        let t2650: f64 = t2634.plus(t2635);
+        let t2651: f64 = t2645.plus(t2650);
+        let t2652: f64 = t2649 - t2651;
+        let t2653: f64 = t908 * t1136;
+        let t2654 = product(t2652, t2653);
+        let t2655: f64 = t1149 * t1334;
+        let t2656 = product(t2632, t2655);
+        let t2657: f64 = t1345 * t2627;
+        let t2658: f64 = t1261 * t1315;
+        let t2659 = product(t2643, t2658);
+        let t2660: f64 = t1402 * t1470;
+        let t2661: f64 = t2622 * t2660;
+        let t2662: f64 = t2654.added_to(t2247);
+        let t2663: f64 = t2656.plus(t2657);
+        let t2664: f64 = t2659.plus(t2661);
+        let t2665: f64 = t2662 + t2663;
+        let t2666: f64 = t2246 + t2664;
+        let t2667: f64 = t2665 + t2666;
+        let t2668: f64 = t696 * t2667;
+        let t2669: f64 = t1136 * t2652;
+        let t2670: f64 = t83 * t1580;
+        let t2671: f64 = t1599 * t2670;
+        let t2672: f64 = t1605 - t1602;
+        let t2673 = product(t917, t2672);
+        let t2674: f64 = t913 * t1626;
+        let t2675: f64 = t2673.plus(t2674);
+        let t2676: f64 = t2304 + t2675;
+        let t2677 = product(t2671, 0.003);
+        let t2678: f64 = t2677.added_to(t2676);
+        let t2679 = product(t27, t2678);
+        let t2680: f64 = t62 * t66;
+        let t2681: f64 = t1599 * t2680;
+        let t2682 = product(t85, t2292);
+        let t2683: f64 = t61 * t2294;
+        let t2684: f64 = t2682.plus(t2683);
+        let t2685 = product(t62, t2672);
+        let t2686: f64 = t86 * t1626;
+        let t2687: f64 = t2685.plus(t2686);
+        let t2688: f64 = t2684 + t2687;
+        let t2689 = product(t2681, 0.003);
+        let t2690: f64 = t2689.added_to(t1642);
+        let t2691: f64 = t2688 + t2690;
+        let t2692 = product(t34, t2691);
+        let t2693: f64 = t189 * t1819;
+        let t2694: f64 = t1840 * t2693;
+        let t2695 = product(t951, t1847);
+        let t2696: f64 = t947 * t1867;
+        let t2697: f64 = t2695.plus(t2696);
+        let t2698: f64 = t2325 + t2697;
+        let t2699 = product(t2694, 0.003);
+        let t2700: f64 = t2699.subtracted_from(t2698);
+        let t2701: f64 = t138 * t2700;
+        let t2702: f64 = t168 * t172;
+        let t2703: f64 = t1840 * t2702;
+        let t2704 = product(t191, t2313);
+        let t2705: f64 = t167 * t2315;
+        let t2706: f64 = t2704.plus(t2705);
+        let t2707 = product(t168, t1847);
+        let t2708: f64 = t192 * t1867;
+        let t2709: f64 = t2707.plus(t2708);
+        let t2710: f64 = t2706 + t2709;
+        let t2711 = product(t2703, 0.003);
+        let t2712: f64 = t1883 + t2710;
+        let t2713: f64 = t2711.subtracted_from(t2712);
+        let t2714: f64 = t141 * t2713;
+        let t2715: f64 = t301 * t1939;
+        let t2716: f64 = t1976 * t2715;
+        let t2717: f64 = t1982 - t1979;
+        let t2718 = product(t985, t2717);
+        let t2719: f64 = t981 * t1958;
         let t2720: f64 = t2718.plus(t2719);
-        let t2721 = product(t168, t1861);
-        let t2722: f64 = t192 * t1881;
-        let t2723: f64 = t2721.plus(t2722);
-        let t2724: f64 = t2720 + t2723;
-        let t2725 = product(t2717, 0.003);
-        let t2726: f64 = t1897 + t2724;
-        let t2727: f64 = t2725.subtracted_from(t2726);
-        let t2728: f64 = t141 * t2727;
-        let t2729: f64 = t301 * t1953;
-        let t2730: f64 = t1990 * t2729;
-        let t2731: f64 = t1996 - t1993;
-        let t2732 = product(t987, t2731);
-        let t2733: f64 = t983 * t1972;
-        let t2734: f64 = t2732.plus(t2733);
-        let t2735: f64 = t2363 + t2734;
-        let t2736 = product(t2730, 0.003);
-        let t2737: f64 = t2736.added_to(t2735);
-        let t2738 = product(t248, t2737);
-        let t2739: f64 = t280 * t284;
-        let t2740: f64 = t1990 * t2739;
-        let t2741 = product(t303, t2354);
-        let t2742: f64 = t279 * t2356;
-        let t2743: f64 = t2741.minus(t2742);
-        let t2744 = product(t280, t2731);
-        let t2745: f64 = t304 * t1972;
-        let t2746: f64 = t2744.minus(t2745);
-        let t2747: f64 = t2743 - t2746;
-        let t2748 = product(t2740, 0.003);
-        let t2749: f64 = t2748.added_to(t1950);
-        let t2750: f64 = t2747 - t2749;
-        let t2751: f64 = t253 * t2750;
-        let t2752: f64 = t413 * t2071;
-        let t2753: f64 = t2108 * t2752;
-        let t2754: f64 = t2114 - t2111;
-        let t2755 = product(t1021, t2754);
-        let t2756: f64 = t1017 * t2090;
-        let t2757: f64 = t2755.plus(t2756);
-        let t2758: f64 = t2383 + t2757;
-        let t2759 = product(t2753, 0.003);
-        let t2760: f64 = t2759.added_to(t2758);
-        let t2761 = product(t360, t2760);
-        let t2762: f64 = t392 * t396;
-        let t2763: f64 = t2108 * t2762;
-        let t2764 = product(t415, t2371);
-        let t2765: f64 = t391 * t2373;
-        let t2766: f64 = t2764.minus(t2765);
-        let t2767 = product(t392, t2754);
-        let t2768: f64 = t416 * t2090;
-        let t2769: f64 = t2767.minus(t2768);
-        let t2770: f64 = t2766 - t2769;
-        let t2771 = product(t2763, 0.003);
-        let t2772: f64 = t2068 + t2770;
-        let t2773: f64 = t2771.subtracted_from(t2772);
-        let t2774: f64 = t365 * t2773;
-        let t2775: f64 = t518 * t2188;
-        let t2776: f64 = t2227 * t2775;
-        let t2777 = product(t1055, t2234);
-        let t2778: f64 = t1051 * t2207;
-        let t2779: f64 = t2777.plus(t2778);
-        let t2780: f64 = t2405 + t2779;
-        let t2781 = product(t2776, 0.003);
-        let t2782: f64 = t2781.subtracted_from(t2780);
-        let t2783 = product(t468, t2782);
-        let t2784: f64 = t497 * t501;
-        let t2785: f64 = t2227 * t2784;
-        let t2786 = product(t520, t2393);
-        let t2787: f64 = t496 * t2395;
-        let t2788: f64 = t2786.minus(t2787);
-        let t2789 = product(t497, t2234);
-        let t2790: f64 = t521 * t2207;
-        let t2791: f64 = t2789.minus(t2790);
-        let t2792: f64 = t2788 - t2791;
-        let t2793 = product(t2785, 0.003);
-        let t2794: f64 = t2793.added_to(t2185);
-        let t2795: f64 = t2792 + t2794;
-        let t2796: f64 = t471 * t2795;
-        let t2797: f64 = t622 * t1713;
-        let t2798: f64 = t1752 * t2797;
-        let t2799 = product(t1089, t1759);
-        let t2800: f64 = t1085 * t1732;
-        let t2801: f64 = t2799.plus(t2800);
-        let t2802: f64 = t2427 + t2801;
-        let t2803 = product(t2798, 0.003);
-        let t2804: f64 = t2803.subtracted_from(t2802);
-        let t2805 = product(t573, t2804);
-        let t2806: f64 = t601 * t605;
-        let t2807: f64 = t1752 * t2806;
-        let t2808 = product(t624, t2418);
-        let t2809: f64 = t600 * t2420;
-        let t2810: f64 = t2808.minus(t2809);
-        let t2811 = product(t601, t1759);
-        let t2812: f64 = t625 * t1732;
-        let t2813: f64 = t2811.minus(t2812);
-        let t2814: f64 = t2810 - t2813;
+        let t2721: f64 = t2349 + t2720;
+        let t2722 = product(t2716, 0.003);
+        let t2723: f64 = t2722.added_to(t2721);
+        let t2724 = product(t248, t2723);
+        let t2725: f64 = t280 * t284;
+        let t2726: f64 = t1976 * t2725;
+        let t2727 = product(t303, t2340);
+        let t2728: f64 = t279 * t2342;
+        let t2729: f64 = t2727.minus(t2728);
+        let t2730 = product(t280, t2717);
+        let t2731: f64 = t304 * t1958;
+        let t2732: f64 = t2730.minus(t2731);
+        let t2733: f64 = t2729 - t2732;
+        let t2734 = product(t2726, 0.003);
+        let t2735: f64 = t2734.added_to(t1936);
+        let t2736: f64 = t2733 - t2735;
+        let t2737: f64 = t253 * t2736;
+        let t2738: f64 = t413 * t2057;
+        let t2739: f64 = t2094 * t2738;
+        let t2740: f64 = t2100 - t2097;
+        let t2741 = product(t1019, t2740);
+        let t2742: f64 = t1015 * t2076;
+        let t2743: f64 = t2741.plus(t2742);
+        let t2744: f64 = t2369 + t2743;
+        let t2745 = product(t2739, 0.003);
+        let t2746: f64 = t2745.added_to(t2744);
+        let t2747 = product(t360, t2746);
+        let t2748: f64 = t392 * t396;
+        let t2749: f64 = t2094 * t2748;
+        let t2750 = product(t415, t2357);
+        let t2751: f64 = t391 * t2359;
+        let t2752: f64 = t2750.minus(t2751);
+        let t2753 = product(t392, t2740);
+        let t2754: f64 = t416 * t2076;
+        let t2755: f64 = t2753.minus(t2754);
+        let t2756: f64 = t2752 - t2755;
+        let t2757 = product(t2749, 0.003);
+        let t2758: f64 = t2054 + t2756;
+        let t2759: f64 = t2757.subtracted_from(t2758);
+        let t2760: f64 = t365 * t2759;
+        let t2761: f64 = t518 * t2174;
+        let t2762: f64 = t2213 * t2761;
+        let t2763 = product(t1053, t2220);
+        let t2764: f64 = t1049 * t2193;
+        let t2765: f64 = t2763.plus(t2764);
+        let t2766: f64 = t2391 + t2765;
+        let t2767 = product(t2762, 0.003);
+        let t2768: f64 = t2767.subtracted_from(t2766);
+        let t2769 = product(t468, t2768);
+        let t2770: f64 = t497 * t501;
+        let t2771: f64 = t2213 * t2770;
+        let t2772 = product(t520, t2379);
+        let t2773: f64 = t496 * t2381;
+        let t2774: f64 = t2772.minus(t2773);
+        let t2775 = product(t497, t2220);
+        let t2776: f64 = t521 * t2193;
+        let t2777: f64 = t2775.minus(t2776);
+        let t2778: f64 = t2774 - t2777;
+        let t2779 = product(t2771, 0.003);
+        let t2780: f64 = t2779.added_to(t2171);
+        let t2781: f64 = t2778 + t2780;
+        let t2782: f64 = t471 * t2781;
+        let t2783: f64 = t622 * t1699;
+        let t2784: f64 = t1738 * t2783;
+        let t2785 = product(t1087, t1745);
+        let t2786: f64 = t1083 * t1718;
+        let t2787: f64 = t2785.plus(t2786);
+        let t2788: f64 = t2413 + t2787;
+        let t2789 = product(t2784, 0.003);
+        let t2790: f64 = t2789.subtracted_from(t2788);
+        let t2791 = product(t573, t2790);
+        let t2792: f64 = t601 * t605;
+        let t2793: f64 = t1738 * t2792;
+        let t2794 = product(t624, t2404);
+        let t2795: f64 = t600 * t2406;
+        let t2796: f64 = t2794.minus(t2795);
+        let t2797 = product(t601, t1745);
+        let t2798: f64 = t625 * t1718;
+        let t2799: f64 = t2797.minus(t2798);
+        let t2800: f64 = t2796 - t2799;
+        let t2801 = product(t2793, 0.003);
+        let t2802: f64 = t2801.added_to(t2800);
+        let t2803: f64 = t2802 - t1696;
+        let t2804: f64 = t576 * t2803;
+        let t2805 = product(t17, t2691);
+        let t2806: f64 = t66 * t99;
+        let t2807: f64 = t1599 * t2806;
+        let t2808 = product(t113, t2292);
+        let t2809: f64 = t79 * t2294;
+        let t2810: f64 = t2808.plus(t2809);
+        let t2811 = product(t99, t2672);
+        let t2812: f64 = t114 * t1626;
+        let t2813: f64 = t2811.plus(t2812);
+        let t2814: f64 = t2810 + t2813;
         let t2815 = product(t2807, 0.003);
-        let t2816: f64 = t2815.added_to(t2814);
-        let t2817: f64 = t2816 - t1710;
-        let t2818: f64 = t576 * t2817;
-        let t2819 = product(t17, t2705);
-        let t2820: f64 = t66 * t99;
-        let t2821: f64 = t1613 * t2820;
-        let t2822 = product(t113, t2306);
-        let t2823: f64 = t79 * t2308;
+        let t2816: f64 = t2815.added_to(t1577);
+        let t2817: f64 = t2814 + t2816;
+        let t2818 = product(t27, t2817);
+        let t2819: f64 = t137 * t2713;
+        let t2820: f64 = t172 * t205;
+        let t2821: f64 = t1840 * t2820;
+        let t2822 = product(t219, t2313);
+        let t2823: f64 = t185 * t2315;
         let t2824: f64 = t2822.plus(t2823);
-        let t2825 = product(t99, t2686);
-        let t2826: f64 = t114 * t1640;
+        let t2825 = product(t205, t1847);
+        let t2826: f64 = t220 * t1867;
         let t2827: f64 = t2825.plus(t2826);
         let t2828: f64 = t2824 + t2827;
         let t2829 = product(t2821, 0.003);
-        let t2830: f64 = t2829.added_to(t1591);
-        let t2831: f64 = t2828 + t2830;
-        let t2832 = product(t27, t2831);
-        let t2833: f64 = t137 * t2727;
-        let t2834: f64 = t172 * t205;
-        let t2835: f64 = t1854 * t2834;
-        let t2836 = product(t219, t2327);
-        let t2837: f64 = t185 * t2329;
-        let t2838: f64 = t2836.plus(t2837);
-        let t2839 = product(t205, t1861);
-        let t2840: f64 = t220 * t1881;
-        let t2841: f64 = t2839.plus(t2840);
+        let t2830: f64 = t1816 + t2828;
+        let t2831: f64 = t2829.subtracted_from(t2830);
+        let t2832 = product(t138, t2831);
+        let t2833 = product(t245, t2736);
+        let t2834: f64 = t284 * t317;
+        let t2835: f64 = t1976 * t2834;
+        let t2836 = product(t331, t2340);
+        let t2837: f64 = t297 * t2342;
+        let t2838: f64 = t2836.minus(t2837);
+        let t2839 = product(t332, t1958);
+        let t2840: f64 = t317 * t2717;
+        let t2841: f64 = t2839.minus(t2840);
         let t2842: f64 = t2838 + t2841;
         let t2843 = product(t2835, 0.003);
-        let t2844: f64 = t1830 + t2842;
+        let t2844: f64 = t2000 + t2842;
         let t2845: f64 = t2843.subtracted_from(t2844);
-        let t2846 = product(t138, t2845);
-        let t2847 = product(t245, t2750);
-        let t2848: f64 = t284 * t317;
-        let t2849: f64 = t1990 * t2848;
-        let t2850 = product(t331, t2354);
-        let t2851: f64 = t297 * t2356;
+        let t2846: f64 = t248 * t2845;
+        let t2847: f64 = t357 * t2759;
+        let t2848: f64 = t396 * t429;
+        let t2849: f64 = t2094 * t2848;
+        let t2850 = product(t443, t2357);
+        let t2851: f64 = t409 * t2359;
         let t2852: f64 = t2850.minus(t2851);
-        let t2853 = product(t332, t1972);
-        let t2854: f64 = t317 * t2731;
+        let t2853 = product(t444, t2076);
+        let t2854: f64 = t429 * t2740;
         let t2855: f64 = t2853.minus(t2854);
         let t2856: f64 = t2852 + t2855;
         let t2857 = product(t2849, 0.003);
-        let t2858: f64 = t2014 + t2856;
+        let t2858: f64 = t2118 + t2856;
         let t2859: f64 = t2857.subtracted_from(t2858);
-        let t2860: f64 = t248 * t2859;
-        let t2861: f64 = t357 * t2773;
-        let t2862: f64 = t396 * t429;
-        let t2863: f64 = t2108 * t2862;
-        let t2864 = product(t443, t2371);
-        let t2865: f64 = t409 * t2373;
+        let t2860 = product(t360, t2859);
+        let t2861: f64 = t467 * t2781;
+        let t2862: f64 = t501 * t534;
+        let t2863: f64 = t2213 * t2862;
+        let t2864 = product(t548, t2379);
+        let t2865: f64 = t514 * t2381;
         let t2866: f64 = t2864.minus(t2865);
-        let t2867 = product(t444, t2090);
-        let t2868: f64 = t429 * t2754;
+        let t2867 = product(t549, t2193);
+        let t2868: f64 = t534 * t2220;
         let t2869: f64 = t2867.minus(t2868);
         let t2870: f64 = t2866 + t2869;
         let t2871 = product(t2863, 0.003);
-        let t2872: f64 = t2132 + t2870;
-        let t2873: f64 = t2871.subtracted_from(t2872);
-        let t2874 = product(t360, t2873);
-        let t2875: f64 = t467 * t2795;
-        let t2876: f64 = t501 * t534;
-        let t2877: f64 = t2227 * t2876;
-        let t2878 = product(t548, t2393);
-        let t2879: f64 = t514 * t2395;
+        let t2872: f64 = t2871.added_to(t2237);
+        let t2873: f64 = t2870 + t2872;
+        let t2874 = product(t468, t2873);
+        let t2875 = product(t572, t2803);
+        let t2876: f64 = t605 * t638;
+        let t2877: f64 = t1738 * t2876;
+        let t2878 = product(t652, t2404);
+        let t2879: f64 = t618 * t2406;
         let t2880: f64 = t2878.minus(t2879);
-        let t2881 = product(t549, t2207);
-        let t2882: f64 = t534 * t2234;
+        let t2881 = product(t653, t1718);
+        let t2882: f64 = t638 * t1745;
         let t2883: f64 = t2881.minus(t2882);
         let t2884: f64 = t2880 + t2883;
         let t2885 = product(t2877, 0.003);
-        let t2886: f64 = t2885.added_to(t2251);
+        let t2886: f64 = t2885.added_to(t1762);
         let t2887: f64 = t2884 + t2886;
-        let t2888 = product(t468, t2887);
-        let t2889 = product(t572, t2817);
-        let t2890: f64 = t605 * t638;
-        let t2891: f64 = t1752 * t2890;
-        let t2892 = product(t652, t2418);
-        let t2893: f64 = t618 * t2420;
-        let t2894: f64 = t2892.minus(t2893);
-        let t2895 = product(t653, t1732);
-        let t2896: f64 = t638 * t1759;
-        let t2897: f64 = t2895.minus(t2896);
-        let t2898: f64 = t2894 + t2897;
-        let t2899 = product(t2891, 0.003);
-        let t2900: f64 = t2899.added_to(t1776);
-        let t2901: f64 = t2898 + t2900;
-        let t2902: f64 = t573 * t2901;
-        let t2903: f64 = t2832.added_to(t2261);
-        let t2904: f64 = t2846.plus(t2861);
-        let t2905: f64 = t2874.plus(t2875);
-        let t2906: f64 = t2888.added_to(t1544);
-        let t2907: f64 = t2903 + t2904;
-        let t2908: f64 = t2905 + t2906;
-        let t2909: f64 = t2907 + t2908;
-        let t2910: f64 = t2819.plus(t2833);
-        let t2911: f64 = t2847.plus(t2860);
-        let t2912: f64 = t2889.plus(t2902);
-        let t2913: f64 = t2910 + t2911;
-        let t2914: f64 = t2912 + t2913;
-        let t2915: f64 = t2909 - t2914;
-        let t2916: f64 = t696 * t2915;
-        let t2917 = product(t1263, t2916);
-        let t2918 = product(t17, t2692);
-        let t2919 = product(t34, t2831);
-        let t2920 = product(t137, t2714);
-        let t2921: f64 = t141 * t2845;
-        let t2922 = product(t245, t2737);
-        let t2923: f64 = t253 * t2859;
-        let t2924 = product(t357, t2760);
-        let t2925: f64 = t365 * t2873;
-        let t2926: f64 = t467 * t2782;
-        let t2927 = product(t471, t2887);
-        let t2928: f64 = t572 * t2804;
-        let t2929 = product(t576, t2901);
-        let t2930: f64 = t908 * t2916;
-        let t2931: f64 = t2918.added_to(t2434);
-        let t2932: f64 = t2920.plus(t2923);
-        let t2933: f64 = t2924.plus(t2926);
-        let t2934: f64 = t2929.plus(t2930);
-        let t2935: f64 = t2931 + t2932;
-        let t2936: f64 = t2933 + t2934;
-        let t2937: f64 = t2935 + t2936;
-        let t2938: f64 = t2300 + t2937;
-        let t2939: f64 = t2919.plus(t2921);
-        let t2940: f64 = t2922.plus(t2925);
-        let t2941: f64 = t2927.plus(t2928);
-        let t2942: f64 = t2939 + t2940;
-        let t2943: f64 = t2941 + t2942;
-        let t2944: f64 = t2938 - t2943;
-        let t2945: f64 = t1137 * t2944;
-        let t2946 = product(t1311, t2945);
-        let t2947: f64 = t2693.plus(t2715);
-        let t2948: f64 = t2761.plus(t2774);
-        let t2949: f64 = t2783.plus(t2796);
-        let t2950: f64 = t2917.added_to(t2472);
-        let t2951: f64 = t2947 + t2948;
-        let t2952: f64 = t2949 + t2950;
-        let t2953: f64 = t2951 + t2952;
-        let t2954: f64 = t2706.plus(t2728);
-        let t2955: f64 = t2738.plus(t2751);
-        let t2956: f64 = t2805.plus(t2818);
-        let t2957: f64 = t2954 + t2955;
-        let t2958: f64 = t2946.plus(t2956);
-        let t2959: f64 = t2957 + t2958;
-        let t2960: f64 = t2953 - t2959;
-        let t2961: f64 = t1316 * t2960;
-        let t2962: f64 = t1335 * t1369;
-        let t2963 = product(t2646, t2962);
-        let t2964 = product(t1431, t2641);
-        let t2965 = product(t1403, t2916);
-        let t2966 = product(t1413, t2945);
-        let t2967 = product(t1430, t2961);
-        let t2968 = product(t1150, t2916);
-        let t2969 = product(t1153, t2945);
-        let t2970 = product(t1329, t2961);
-        let t2971: f64 = t2685 + t2730;
-        let t2972: f64 = t2753 + t2971;
-        let t2973: f64 = t2708 + t2776;
-        let t2974: f64 = t2798 + t2973;
-        let t2975: f64 = t2972 - t2974;
-        let t2976: f64 = t2975 * 0.003;
-        let t2977: f64 = t2968.plus(t2976);
-        let t2978: f64 = t2970.added_to(t2536);
-        let t2979: f64 = t2690 + t2712;
-        let t2980: f64 = t2735 + t2758;
-        let t2981: f64 = t2780 + t2802;
-        let t2982: f64 = t2977 + t2978;
-        let t2983: f64 = t2979 + t2980;
-        let t2984: f64 = t2982 + t2983;
-        let t2985: f64 = t2981 + t2984;
-        let t2986: f64 = t2969.subtracted_from(t2985);
-        let t2987: f64 = t1335 * t2986;
-        let t2988: f64 = t1443 * t2987;
-        let t2989 = product(t1346, t2916);
-        let t2990 = product(t1355, t2945);
-        let t2991 = product(t1368, t2961);
-        let t2992: f64 = t1373 * t2987;
-        let t2993: f64 = t2695 + t2740;
-        let t2994: f64 = t2763 + t2993;
-        let t2995: f64 = t2717 + t2785;
-        let t2996: f64 = t2807 + t2995;
-        let t2997: f64 = t2994 - t2996;
-        let t2998: f64 = t2997 * 0.003;
-        let t2999: f64 = t2989.plus(t2998);
-        let t3000: f64 = t2991.added_to(t2582);
-        let t3001: f64 = t2702 + t2724;
-        let t3002: f64 = t2999 + t3000;
+        let t2888: f64 = t573 * t2887;
+        let t2889: f64 = t2818.added_to(t2247);
+        let t2890: f64 = t2832.plus(t2847);
+        let t2891: f64 = t2860.plus(t2861);
+        let t2892: f64 = t2874.added_to(t1530);
+        let t2893: f64 = t2889 + t2890;
+        let t2894: f64 = t2891 + t2892;
+        let t2895: f64 = t2893 + t2894;
+        let t2896: f64 = t2805.plus(t2819);
+        let t2897: f64 = t2833.plus(t2846);
+        let t2898: f64 = t2875.plus(t2888);
+        let t2899: f64 = t2896 + t2897;
+        let t2900: f64 = t2898 + t2899;
+        let t2901: f64 = t2895 - t2900;
+        let t2902: f64 = t696 * t2901;
+        let t2903 = product(t1261, t2902);
+        let t2904 = product(t17, t2678);
+        let t2905 = product(t34, t2817);
+        let t2906 = product(t137, t2700);
+        let t2907: f64 = t141 * t2831;
+        let t2908 = product(t245, t2723);
+        let t2909: f64 = t253 * t2845;
+        let t2910 = product(t357, t2746);
+        let t2911: f64 = t365 * t2859;
+        let t2912: f64 = t467 * t2768;
+        let t2913 = product(t471, t2873);
+        let t2914: f64 = t572 * t2790;
+        let t2915 = product(t576, t2887);
+        let t2916: f64 = t908 * t2902;
+        let t2917: f64 = t2904.added_to(t2420);
+        let t2918: f64 = t2906.plus(t2909);
+        let t2919: f64 = t2910.plus(t2912);
+        let t2920: f64 = t2915.plus(t2916);
+        let t2921: f64 = t2917 + t2918;
+        let t2922: f64 = t2919 + t2920;
+        let t2923: f64 = t2921 + t2922;
+        let t2924: f64 = t2286 + t2923;
+        let t2925: f64 = t2905.plus(t2907);
+        let t2926: f64 = t2908.plus(t2911);
+        let t2927: f64 = t2913.plus(t2914);
+        let t2928: f64 = t2925 + t2926;
+        let t2929: f64 = t2927 + t2928;
+        let t2930: f64 = t2924 - t2929;
+        let t2931: f64 = t1136 * t2930;
+        let t2932 = product(t1310, t2931);
+        let t2933: f64 = t2679.plus(t2701);
+        let t2934: f64 = t2747.plus(t2760);
+        let t2935: f64 = t2769.plus(t2782);
+        let t2936: f64 = t2903.added_to(t2458);
+        let t2937: f64 = t2933 + t2934;
+        let t2938: f64 = t2935 + t2936;
+        let t2939: f64 = t2937 + t2938;
+        let t2940: f64 = t2692.plus(t2714);
+        let t2941: f64 = t2724.plus(t2737);
+        let t2942: f64 = t2791.plus(t2804);
+        let t2943: f64 = t2940 + t2941;
+        let t2944: f64 = t2932.plus(t2942);
+        let t2945: f64 = t2943 + t2944;
+        let t2946: f64 = t2939 - t2945;
+        let t2947: f64 = t1315 * t2946;
+        let t2948: f64 = t1334 * t1368;
+        let t2949 = product(t2632, t2948);
+        let t2950 = product(t1430, t2627);
+        let t2951 = product(t1402, t2902);
+        let t2952 = product(t1412, t2931);
+        let t2953 = product(t1429, t2947);
+        let t2954 = product(t1149, t2902);
+        let t2955 = product(t1152, t2931);
+        let t2956 = product(t1328, t2947);
+        let t2957: f64 = t2671 + t2716;
+        let t2958: f64 = t2739 + t2957;
+        let t2959: f64 = t2694 + t2762;
+        let t2960: f64 = t2784 + t2959;
+        let t2961: f64 = t2958 - t2960;
+        let t2962: f64 = t2961 * 0.003;
+        let t2963: f64 = t2954.plus(t2962);
+        let t2964: f64 = t2956.added_to(t2522);
+        let t2965: f64 = t2676 + t2698;
+        let t2966: f64 = t2721 + t2744;
+        let t2967: f64 = t2766 + t2788;
+        let t2968: f64 = t2963 + t2964;
+        let t2969: f64 = t2965 + t2966;
+        let t2970: f64 = t2968 + t2969;
+        let t2971: f64 = t2967 + t2970;
+        let t2972: f64 = t2955.subtracted_from(t2971);
+        let t2973: f64 = t1334 * t2972;
+        let t2974: f64 = t1442 * t2973;
+        let t2975 = product(t1345, t2902);
+        let t2976 = product(t1354, t2931);
+        let t2977 = product(t1367, t2947);
+        let t2978: f64 = t1372 * t2973;
+        let t2979: f64 = t2681 + t2726;
+        let t2980: f64 = t2749 + t2979;
+        let t2981: f64 = t2703 + t2771;
+        let t2982: f64 = t2793 + t2981;
+        let t2983: f64 = t2980 - t2982;
+        let t2984: f64 = t2983 * 0.003;
+        let t2985: f64 = t2975.plus(t2984);
+        let t2986: f64 = t2977.added_to(t2568);
+        let t2987: f64 = t2688 + t2710;
+        let t2988: f64 = t2985 + t2986;
+        let t2989: f64 = t2987 + t2988;
+        let t2990: f64 = t2976.plus(t2978);
+        let t2991: f64 = t2733 + t2756;
+        let t2992: f64 = t2778 + t2800;
+        let t2993: f64 = t2990 + t2991;
+        let t2994: f64 = t2992 + t2993;
+        let t2995: f64 = t2989 - t2994;
+        let t2996: f64 = t1391 * t2995;
+        let t2997 = product(t1448, t2996);
+        let t2998: f64 = t2807 + t2863;
+        let t2999: f64 = t2877 + t2998;
+        let t3000: f64 = t2821 + t2835;
+        let t3001: f64 = t2849 + t3000;
+        let t3002: f64 = t2999 - t3001;
         (
-            t2219,
-            t2268,
-            t2274,
+            t2205,
+            t2259,
+            t2263,
+            t2269,
+            t2273,
             t2278,
-            t2284,
-            t2288,
-            t2296,
-            t2440,
-            t2446,
+            t2282,
+            t2426,
+            t2430,
+            t2441,
+            t2445,
             t2450,
-            t2456,
-            t2460,
-            t2468,
-            t2501,
-            t2624,
-            t2641,
-            t2646,
-            t2682,
-            t2683,
-            t2747,
-            t2770,
-            t2792,
+            t2454,
+            t2487,
+            t2610,
+            t2627,
+            t2632,
+            t2668,
+            t2669,
             t2814,
-            t2821,
             t2828,
-            t2835,
             t2842,
-            t2849,
             t2856,
-            t2863,
             t2870,
-            t2877,
             t2884,
-            t2891,
-            t2898,
-            t2961,
-            t2963,
-            t2964,
-            t2965,
-            t2966,
-            t2967,
-            t2988,
-            t2990,
-            t2992,
-            t3001,
+            t2947,
+            t2949,
+            t2950,
+            t2951,
+            t2952,
+            t2953,
+            t2974,
+            t2997,
             t3002,
         )
     };
     let (
-        t3035,
-        t3036,
-        t3037,
+        t3021,
+        t3022,
+        t3023,
+        t3024,
+        t3025,
+        t3026,
+        t3027,
+        t3028,
+        t3029,
         t3038,
-        t3039,
-        t3040,
-        t3041,
-        t3042,
-        t3043,
-        t3052,
-        t3079,
-        t3126,
-        t3194,
-        t3284,
-        t3398,
+        t3065,
+        t3112,
+        t3180,
+        t3270,
+        t3384,
     ) = {
-        let t3003: f64 = t3001 + t3002;
-        let t3004: f64 = t2990.plus(t2992);
-        let t3005: f64 = t2747 + t2770;
-        let t3006: f64 = t2792 + t2814;
-        let t3007: f64 = t3004 + t3005;
-        let t3008: f64 = t3006 + t3007;
-        let t3009: f64 = t3003 - t3008;
-        let t3010: f64 = t1392 * t3009;
-        let t3011 = product(t1449, t3010);
-        let t3012: f64 = t2821 + t2877;
-        let t3013: f64 = t2891 + t3012;
-        let t3014: f64 = t2835 + t2849;
-        let t3015: f64 = t2863 + t3014;
-        let t3016: f64 = t3013 - t3015;
-        let t3017: f64 = t3016 * 0.003;
-        let t3018: f64 = t2965.plus(t3017);
-        let t3019: f64 = t2966.added_to(t2828);
-        let t3020: f64 = t2842 + t2856;
-        let t3021: f64 = t2870 + t2884;
-        let t3022: f64 = t2624 + t2898;
-        let t3023: f64 = t3018 + t3019;
-        let t3024: f64 = t3020 + t3021;
-        let t3025: f64 = t3023 + t3024;
-        let t3026: f64 = t3022 + t3025;
-        let t3027: f64 = t2967.plus(t2988);
-        let t3028: f64 = t3011.plus(117.72);
-        let t3029: f64 = t3027 + t3028;
-        let t3030: f64 = t3026 - t3029;
-        let t3031: f64 = t1471 * t2501;
-        let t3032 = product(t3030, t3031);
-        let t3033: f64 = t2963.added_to(t2961);
-        let t3034: f64 = t2964.plus(t3033);
-        let t3035: f64 = t3032.minus(t3034);
-        let t3036: f64 = t1335 * t2646;
-        let t3037: f64 = t1471 * t3030;
-        let t3038: f64 = t44 * t59;
-        let t3039: f64 = t151 * t165;
-        let t3040: f64 = t263 * t277;
-        let t3041: f64 = t375 * t389;
-        let t3042: f64 = t481 * t494;
-        let t3043: f64 = t585 * t598;
-        let t3044: f64 = t44 * t44;
-        let t3045 = product(t1492, t1492);
-        let t3046: f64 = t2268 * t2268;
-        let t3047 = product(t2440, t2440);
-        let t3048: f64 = t3045.plus(t3046);
-        let t3049: f64 = t3047.plus(t3048);
-        let t3050 = product(t3044, t3049);
-        let t3051: f64 = t3050.plus(1.0);
-        let t3052: f64 = t3051 / t3051;
-        let t3053: f64 = t2446 * t2446;
-        let t3054 = product(t1846, t3053);
-        let t3055: f64 = t1503 * t1503;
-        let t3056 = product(t1846, t3055);
-        let t3057: f64 = t2274 * t2274;
-        let t3058: f64 = t1846 * t3057;
-        let t3059: f64 = t3056.plus(t3058);
-        let t3060: f64 = t3054.plus(t3059);
-        let t3061: f64 = t3060 + 1.0;
-        let t3062 = product(t1492, t1503);
-        let t3063: f64 = t2268 * t2274;
-        let t3064 = product(t2440, t2446);
-        let t3065: f64 = t36 * t143;
-        let t3066 = product(t29, t140);
-        let t3067: f64 = t39 * t146;
-        let t3068: f64 = t3062.plus(t3063);
-        let t3069: f64 = t3064.plus(t3065);
-        let t3070: f64 = t3066.plus(t3067);
-        let t3071: f64 = t3068 + t3069;
-        let t3072: f64 = t3070 + t3071;
-        let t3073: f64 = t44 * t151;
-        let t3074: f64 = t3072 * t3073;
-        let t3075: f64 = 1.0 / t3051;
-        let t3076: f64 = t3074 * t3075;
-        let t3077 = product(t3074, t3076);
-        let t3078: f64 = t3077.subtracted_from(t3061);
-        let t3079: f64 = t3078 / t3061;
-        let t3080: f64 = t263 * t263;
-        let t3081: f64 = t2450 * t2450;
-        let t3082 = product(t3080, t3081);
-        let t3083: f64 = t1498 * t1498;
-        let t3084 = product(t3080, t3083);
-        let t3085: f64 = t2278 * t2278;
-        let t3086: f64 = t3080 * t3085;
-        let t3087: f64 = t3084.plus(t3086);
-        let t3088: f64 = t3082.plus(t3087);
-        let t3089: f64 = t3088 + 1.0;
-        let t3090 = product(t1492, t1498);
-        let t3091: f64 = t2268 * t2278;
-        let t3092 = product(t2440, t2450);
-        let t3093 = product(t36, t255);
-        let t3094: f64 = t29 * t250;
-        let t3095 = product(t39, t258);
-        let t3096: f64 = t3090.plus(t3091);
-        let t3097: f64 = t3092.plus(t3096);
-        let t3098: f64 = t3093.plus(t3094);
-        let t3099: f64 = t3095.plus(t3098);
-        let t3100: f64 = t3097 - t3099;
-        let t3101: f64 = t44 * t263;
-        let t3102: f64 = t3100 * t3101;
-        let t3103: f64 = t3075 * t3102;
-        let t3104 = product(t3102, t3103);
-        let t3105 = product(t3076, t3102);
-        let t3106 = product(t1498, t1503);
-        let t3107: f64 = t2274 * t2278;
-        let t3108 = product(t2446, t2450);
-        let t3109 = product(t143, t255);
-        let t3110: f64 = t140 * t250;
-        let t3111 = product(t146, t258);
-        let t3112: f64 = t3106.plus(t3107);
-        let t3113: f64 = t3108.plus(t3112);
-        let t3114: f64 = t3109.plus(t3110);
-        let t3115: f64 = t3111.plus(t3114);
-        let t3116: f64 = t3113 - t3115;
-        let t3117: f64 = t151 * t263;
-        let t3118: f64 = t3116 * t3117;
-        let t3119: f64 = t3105.minus(t3118);
-        let t3120: f64 = -t3119;
-        let t3121: f64 = 1.0 / t3078;
-        let t3122: f64 = t3120 * t3121;
-        let t3123: f64 = t3120 * t3122;
-        let t3124: f64 = t3104.plus(t3123);
-        let t3125: f64 = t3089 - t3124;
-        let t3126: f64 = t3125 / t3089;
-        let t3127: f64 = t375 * t375;
-        let t3128: f64 = t2456 * t2456;
-        let t3129 = product(t3127, t3128);
-        let t3130: f64 = t1534 * t1534;
-        let t3131 = product(t3127, t3130);
-        let t3132: f64 = t2284 * t2284;
-        let t3133: f64 = t3127 * t3132;
-        let t3134: f64 = t3131.plus(t3133);
-        let t3135: f64 = t3129.plus(t3134);
-        let t3136: f64 = t3135 + 1.0;
-        let t3137 = product(t1492, t1534);
-        let t3138: f64 = t2268 * t2284;
-        let t3139 = product(t2440, t2456);
-        let t3140: f64 = t36 * t367;
-        let t3141 = product(t29, t362);
-        let t3142: f64 = t39 * t370;
-        let t3143: f64 = t3137.plus(t3138);
-        let t3144: f64 = t3139.plus(t3140);
-        let t3145: f64 = t3141.plus(t3142);
-        let t3146: f64 = t3143 + t3144;
-        let t3147: f64 = t3145 + t3146;
-        let t3148: f64 = t44 * t375;
-        let t3149: f64 = t3147 * t3148;
-        let t3150: f64 = t3075 * t3149;
-        let t3151 = product(t3149, t3150);
-        let t3152 = product(t3076, t3149);
-        let t3153 = product(t1503, t1534);
-        let t3154: f64 = t2274 * t2284;
-        let t3155 = product(t2446, t2456);
-        let t3156: f64 = t143 * t367;
-        let t3157 = product(t140, t362);
-        let t3158: f64 = t146 * t370;
-        let t3159: f64 = t3153.plus(t3154);
-        let t3160: f64 = t3155.plus(t3156);
-        let t3161: f64 = t3157.plus(t3158);
-        let t3162: f64 = t3159 + t3160;
-        let t3163: f64 = t3161 + t3162;
-        let t3164: f64 = t151 * t375;
-        let t3165: f64 = t3163 * t3164;
-        let t3166: f64 = t3152.minus(t3165);
-        let t3167: f64 = -t3166;
-        let t3168: f64 = t3121 * t3167;
-        let t3169: f64 = t3167 * t3168;
-        let t3170 = product(t3103, t3149);
-        let t3171: f64 = t3122 * t3167;
-        let t3172 = product(t1498, t1534);
-        let t3173: f64 = t2278 * t2284;
-        let t3174 = product(t2450, t2456);
-        let t3175 = product(t255, t367);
-        let t3176: f64 = t250 * t362;
-        let t3177 = product(t258, t370);
-        let t3178: f64 = t3172.plus(t3173);
-        let t3179: f64 = t3174.plus(t3178);
-        let t3180: f64 = t3175.plus(t3176);
-        let t3181: f64 = t3177.plus(t3180);
-        let t3182: f64 = t3179 - t3181;
-        let t3183: f64 = t263 * t375;
-        let t3184 = product(t3182, t3183);
-        let t3185: f64 = t3170.plus(t3171);
-        let t3186: f64 = t3184.subtracted_from(t3185);
-        let t3187: f64 = -t3186;
-        let t3188: f64 = 1.0 / t3125;
-        let t3189: f64 = t3187 * t3188;
-        let t3190 = product(t3187, t3189);
-        let t3191: f64 = t3151.plus(t3169);
-        let t3192: f64 = t3190.plus(t3191);
-        let t3193: f64 = t3136 - t3192;
-        let t3194: f64 = t3193 / t3136;
-        let t3195: f64 = t2460 * t2460;
-        let t3196 = product(t2219, t3195);
-        let t3197: f64 = t1539 * t1539;
-        let t3198 = product(t2219, t3197);
-        let t3199: f64 = t2288 * t2288;
-        let t3200: f64 = t2219 * t3199;
-        let t3201: f64 = t3198.plus(t3200);
-        let t3202: f64 = t3196.plus(t3201);
-        let t3203: f64 = t3202 + 1.0;
-        let t3204 = product(t1492, t1539);
-        let t3205: f64 = t2268 * t2288;
-        let t3206 = product(t2440, t2460);
-        let t3207: f64 = t36 * t473;
-        let t3208 = product(t29, t470);
-        let t3209: f64 = t39 * t476;
-        let t3210: f64 = t3204.plus(t3205);
-        let t3211: f64 = t3206.plus(t3207);
-        let t3212: f64 = t3208.plus(t3209);
-        let t3213: f64 = t3210 + t3211;
-        let t3214: f64 = t3212 + t3213;
-        let t3215: f64 = t44 * t481;
-        let t3216: f64 = t3214 * t3215;
-        let t3217: f64 = t3075 * t3216;
-        let t3218 = product(t3216, t3217);
-        let t3219 = product(t3076, t3216);
-        let t3220 = product(t1503, t1539);
-        let t3221: f64 = t2274 * t2288;
-        let t3222 = product(t2446, t2460);
-        let t3223: f64 = t143 * t473;
-        let t3224 = product(t140, t470);
-        let t3225: f64 = t146 * t476;
-        let t3226: f64 = t3220.plus(t3221);
-        let t3227: f64 = t3222.plus(t3223);
-        let t3228: f64 = t3224.plus(t3225);
-        let t3229: f64 = t3226 + t3227;
-        let t3230: f64 = t3228 + t3229;
-        let t3231: f64 = t151 * t481;
-        let t3232: f64 = t3230 * t3231;
-        let t3233: f64 = t3219.minus(t3232);
-        let t3234: f64 = -t3233;
-        let t3235: f64 = t3121 * t3234;
-        let t3236: f64 = t3234 * t3235;
-        let t3237 = product(t3103, t3216);
-        let t3238: f64 = t3122 * t3234;
-        let t3239 = product(t1498, t1539);
-        let t3240: f64 = t2278 * t2288;
-        let t3241 = product(t2450, t2460);
-        let t3242 = product(t255, t473);
-        let t3243: f64 = t250 * t470;
-        let t3244 = product(t258, t476);
-        let t3245: f64 = t3239.plus(t3240);
-        let t3246: f64 = t3241.plus(t3245);
-        let t3247: f64 = t3242.plus(t3243);
-        let t3248: f64 = t3244.plus(t3247);
-        let t3249: f64 = t3246 - t3248;
-        let t3250: f64 = t263 * t481;
-        let t3251 = product(t3249, t3250);
-        let t3252: f64 = t3237.plus(t3238);
-        let t3253: f64 = t3251.subtracted_from(t3252);
-        let t3254: f64 = -t3253;
-        let t3255: f64 = t3188 * t3254;
-        let t3256 = product(t3254, t3255);
-        let t3257 = product(t3150, t3216);
-        let t3258: f64 = t3168 * t3234;
-        let t3259 = product(t3189, t3254);
-        let t3260 = product(t1534, t1539);
-        let t3261: f64 = t2284 * t2288;
-        let t3262 = product(t2456, t2460);
-        let t3263: f64 = t367 * t473;
-        let t3264 = product(t362, t470);
-        let t3265: f64 = t370 * t476;
-        let t3266: f64 = t3260.plus(t3261);
-        let t3267: f64 = t3262.plus(t3263);
-        let t3268: f64 = t3264.plus(t3265);
-        let t3269: f64 = t3266 + t3267;
-        let t3270: f64 = t3268 + t3269;
-        let t3271: f64 = t375 * t481;
-        let t3272 = product(t3270, t3271);
-        let t3273: f64 = t3257.plus(t3258);
-        let t3274: f64 = t3259.plus(t3273);
-        let t3275: f64 = t3272.subtracted_from(t3274);
-        let t3276: f64 = -t3275;
-        let t3277: f64 = 1.0 / t3193;
-        let t3278: f64 = t3276 * t3277;
-        let t3279: f64 = t3276 * t3278;
-        let t3280: f64 = t3218.plus(t3236);
-        let t3281: f64 = t3256.plus(t3279);
-        let t3282: f64 = t3280 + t3281;
-        let t3283: f64 = t3203 - t3282;
-        let t3284: f64 = t3283 / t3203;
-        let t3285: f64 = t2468 * t2468;
-        let t3286 = product(t1744, t3285);
-        let t3287: f64 = t1510 * t1510;
-        let t3288 = product(t1744, t3287);
-        let t3289: f64 = t2296 * t2296;
-        let t3290: f64 = t1744 * t3289;
-        let t3291: f64 = t3288.plus(t3290);
-        let t3292: f64 = t3286.plus(t3291);
-        let t3293: f64 = t3292 + 1.0;
-        let t3294 = product(t1492, t1510);
-        let t3295: f64 = t2268 * t2296;
-        let t3296 = product(t2440, t2468);
-        let t3297 = product(t36, t577);
-        let t3298: f64 = t29 * t575;
-        let t3299 = product(t39, t580);
-        let t3300: f64 = t3294.plus(t3295);
-        let t3301: f64 = t3296.plus(t3300);
-        let t3302: f64 = t3297.plus(t3298);
-        let t3303: f64 = t3299.plus(t3302);
-        let t3304: f64 = t3301 - t3303;
-        let t3305: f64 = t44 * t585;
-        let t3306: f64 = t3304 * t3305;
-        let t3307: f64 = t3075 * t3306;
-        let t3308 = product(t3306, t3307);
-        let t3309 = product(t3076, t3306);
-        let t3310 = product(t1503, t1510);
-        let t3311: f64 = t2274 * t2296;
-        let t3312 = product(t2446, t2468);
-        let t3313 = product(t143, t577);
-        let t3314: f64 = t140 * t575;
-        let t3315 = product(t146, t580);
-        let t3316: f64 = t3310.plus(t3311);
-        let t3317: f64 = t3312.plus(t3316);
-        let t3318: f64 = t3313.plus(t3314);
-        let t3319: f64 = t3315.plus(t3318);
-        let t3320: f64 = t3317 - t3319;
-        let t3321: f64 = t151 * t585;
-        let t3322: f64 = t3320 * t3321;
-        let t3323: f64 = t3309.minus(t3322);
-        let t3324: f64 = -t3323;
-        let t3325: f64 = t3121 * t3324;
-        let t3326: f64 = t3324 * t3325;
-        let t3327 = product(t3103, t3306);
-        let t3328: f64 = t3122 * t3324;
-        let t3329 = product(t1498, t1510);
-        let t3330: f64 = t2278 * t2296;
-        let t3331 = product(t2450, t2468);
-        let t3332: f64 = t255 * t577;
-        let t3333 = product(t250, t575);
-        let t3334: f64 = t258 * t580;
-        let t3335: f64 = t3329.plus(t3330);
-        let t3336: f64 = t3331.plus(t3332);
-        let t3337: f64 = t3333.plus(t3334);
-        let t3338: f64 = t3335 + t3336;
-        let t3339: f64 = t3337 + t3338;
-        let t3340: f64 = t263 * t585;
-        let t3341 = product(t3339, t3340);
-        let t3342: f64 = t3327.plus(t3328);
-        let t3343: f64 = t3341.subtracted_from(t3342);
-        let t3344: f64 = -t3343;
-        let t3345: f64 = t3188 * t3344;
-        let t3346 = product(t3344, t3345);
-        let t3347 = product(t3150, t3306);
-        let t3348: f64 = t3168 * t3324;
-        let t3349 = product(t3189, t3344);
-        let t3350 = product(t1510, t1534);
-        let t3351: f64 = t2284 * t2296;
-        let t3352 = product(t2456, t2468);
-        let t3353 = product(t367, t577);
-        let t3354: f64 = t362 * t575;
-        let t3355 = product(t370, t580);
-        let t3356: f64 = t3350.plus(t3351);
-        let t3357: f64 = t3352.plus(t3356);
-        let t3358: f64 = t3353.plus(t3354);
-        let t3359: f64 = t3355.plus(t3358);
-        let t3360: f64 = t3357 - t3359;
-        let t3361: f64 = t375 * t585;
-        let t3362 = product(t3360, t3361);
-        let t3363: f64 = t3347.plus(t3348);
-        let t3364: f64 = t3349.plus(t3363);
-        let t3365: f64 = t3362.subtracted_from(t3364);
-        let t3366: f64 = -t3365;
-        let t3367: f64 = t3277 * t3366;
-        let t3368: f64 = t3366 * t3367;
-        let t3369 = product(t3217, t3306);
-        let t3370: f64 = t3235 * t3324;
-        let t3371 = product(t3255, t3344);
-        let t3372: f64 = t3278 * t3366;
-        let t3373 = product(t1510, t1539);
-        let t3374: f64 = t2288 * t2296;
-        let t3375 = product(t2460, t2468);
-        let t3376 = product(t473, t577);
-        let t3377: f64 = t470 * t575;
-        let t3378 = product(t476, t580);
-        let t3379: f64 = t3373.plus(t3374);
-        let t3380: f64 = t3375.plus(t3379);
-        let t3381: f64 = t3376.plus(t3377);
+        let t3003: f64 = t3002 * 0.003;
+        let t3004: f64 = t2951.plus(t3003);
+        let t3005: f64 = t2952.added_to(t2814);
+        let t3006: f64 = t2828 + t2842;
+        let t3007: f64 = t2856 + t2870;
+        let t3008: f64 = t2610 + t2884;
+        let t3009: f64 = t3004 + t3005;
+        let t3010: f64 = t3006 + t3007;
+        let t3011: f64 = t3009 + t3010;
+        let t3012: f64 = t3008 + t3011;
+        let t3013: f64 = t2953.plus(t2974);
+        let t3014: f64 = t2997.plus(117.72);
+        let t3015: f64 = t3013 + t3014;
+        let t3016: f64 = t3012 - t3015;
+        let t3017: f64 = t1470 * t2487;
+        let t3018 = product(t3016, t3017);
+        let t3019: f64 = t2949.added_to(t2947);
+        let t3020: f64 = t2950.plus(t3019);
+        let t3021: f64 = t3018.minus(t3020);
+        let t3022: f64 = t1334 * t2632;
+        let t3023: f64 = t1470 * t3016;
+        let t3024: f64 = t44 * t59;
+        let t3025: f64 = t151 * t165;
+        let t3026: f64 = t263 * t277;
+        let t3027: f64 = t375 * t389;
+        let t3028: f64 = t481 * t494;
+        let t3029: f64 = t585 * t598;
+        let t3030: f64 = t44 * t44;
+        let t3031 = product(t1497, t1497);
+        let t3032: f64 = t2259 * t2259;
+        let t3033 = product(t2426, t2426);
+        let t3034: f64 = t3031.plus(t3032);
+        let t3035: f64 = t3033.plus(t3034);
+        let t3036 = product(t3030, t3035);
+        let t3037: f64 = t3036.plus(1.0);
+        let t3038: f64 = t3037 / t3037;
+        let t3039: f64 = t2430 * t2430;
+        let t3040 = product(t1832, t3039);
+        let t3041: f64 = t1502 * t1502;
+        let t3042 = product(t1832, t3041);
+        let t3043: f64 = t2263 * t2263;
+        let t3044: f64 = t1832 * t3043;
+        let t3045: f64 = t3042.plus(t3044);
+        let t3046: f64 = t3040.plus(t3045);
+        let t3047: f64 = t3046 + 1.0;
+        let t3048 = product(t1497, t1502);
+        let t3049: f64 = t2259 * t2263;
+        let t3050 = product(t2426, t2430);
+        let t3051: f64 = t36 * t143;
+        let t3052 = product(t29, t140);
+        let t3053: f64 = t39 * t146;
+        let t3054: f64 = t3048.plus(t3049);
+        let t3055: f64 = t3050.plus(t3051);
+        let t3056: f64 = t3052.plus(t3053);
+        let t3057: f64 = t3054 + t3055;
+        let t3058: f64 = t3056 + t3057;
+        let t3059: f64 = t44 * t151;
+        let t3060: f64 = t3058 * t3059;
+        let t3061: f64 = 1.0 / t3037;
+        let t3062: f64 = t3060 * t3061;
+        let t3063 = product(t3060, t3062);
+        let t3064: f64 = t3063.subtracted_from(t3047);
+        let t3065: f64 = t3064 / t3047;
+        let t3066: f64 = t263 * t263;
+        let t3067: f64 = t2445 * t2445;
+        let t3068 = product(t3066, t3067);
+        let t3069: f64 = t1509 * t1509;
+        let t3070 = product(t3066, t3069);
+        let t3071: f64 = t2273 * t2273;
+        let t3072: f64 = t3066 * t3071;
+        let t3073: f64 = t3070.plus(t3072);
+        let t3074: f64 = t3068.plus(t3073);
+        let t3075: f64 = t3074 + 1.0;
+        let t3076 = product(t1497, t1509);
+        let t3077: f64 = t2259 * t2273;
+        let t3078 = product(t2426, t2445);
+        let t3079 = product(t36, t255);
+        let t3080: f64 = t29 * t250;
+        let t3081 = product(t39, t258);
+        let t3082: f64 = t3076.plus(t3077);
+        let t3083: f64 = t3078.plus(t3082);
+        let t3084: f64 = t3079.plus(t3080);
+        let t3085: f64 = t3081.plus(t3084);
+        let t3086: f64 = t3083 - t3085;
+        let t3087: f64 = t44 * t263;
+        let t3088: f64 = t3086 * t3087;
+        let t3089: f64 = t3061 * t3088;
+        let t3090 = product(t3088, t3089);
+        let t3091 = product(t3062, t3088);
+        let t3092 = product(t1502, t1509);
+        let t3093: f64 = t2263 * t2273;
+        let t3094 = product(t2430, t2445);
+        let t3095 = product(t143, t255);
+        let t3096: f64 = t140 * t250;
+        let t3097 = product(t146, t258);
+        let t3098: f64 = t3092.plus(t3093);
+        let t3099: f64 = t3094.plus(t3098);
+        let t3100: f64 = t3095.plus(t3096);
+        let t3101: f64 = t3097.plus(t3100);
+        let t3102: f64 = t3099 - t3101;
+        let t3103: f64 = t151 * t263;
+        let t3104: f64 = t3102 * t3103;
+        let t3105: f64 = t3091.minus(t3104);
+        let t3106: f64 = -t3105;
+        let t3107: f64 = 1.0 / t3064;
+        let t3108: f64 = t3106 * t3107;
+        let t3109: f64 = t3106 * t3108;
+        let t3110: f64 = t3090.plus(t3109);
+        let t3111: f64 = t3075 - t3110;
+        let t3112: f64 = t3111 / t3075;
+        let t3113: f64 = t375 * t375;
+        let t3114: f64 = t2441 * t2441;
+        let t3115 = product(t3113, t3114);
+        let t3116: f64 = t1514 * t1514;
+        let t3117 = product(t3113, t3116);
+        let t3118: f64 = t2269 * t2269;
+        let t3119: f64 = t3113 * t3118;
+        let t3120: f64 = t3117.plus(t3119);
+        let t3121: f64 = t3115.plus(t3120);
+        let t3122: f64 = t3121 + 1.0;
+        let t3123 = product(t1497, t1514);
+        let t3124: f64 = t2259 * t2269;
+        let t3125 = product(t2426, t2441);
+        let t3126: f64 = t36 * t367;
+        let t3127 = product(t29, t362);
+        let t3128: f64 = t39 * t370;
+        let t3129: f64 = t3123.plus(t3124);
+        let t3130: f64 = t3125.plus(t3126);
+        let t3131: f64 = t3127.plus(t3128);
+        let t3132: f64 = t3129 + t3130;
+        let t3133: f64 = t3131 + t3132;
+        let t3134: f64 = t44 * t375;
+        let t3135: f64 = t3133 * t3134;
+        let t3136: f64 = t3061 * t3135;
+        let t3137 = product(t3135, t3136);
+        let t3138 = product(t3062, t3135);
+        let t3139 = product(t1502, t1514);
+        let t3140: f64 = t2263 * t2269;
+        let t3141 = product(t2430, t2441);
+        let t3142: f64 = t143 * t367;
+        let t3143 = product(t140, t362);
+        let t3144: f64 = t146 * t370;
+        let t3145: f64 = t3139.plus(t3140);
+        let t3146: f64 = t3141.plus(t3142);
+        let t3147: f64 = t3143.plus(t3144);
+        let t3148: f64 = t3145 + t3146;
+        let t3149: f64 = t3147 + t3148;
+        let t3150: f64 = t151 * t375;
+        let t3151: f64 = t3149 * t3150;
+        let t3152: f64 = t3138.minus(t3151);
+        let t3153: f64 = -t3152;
+        let t3154: f64 = t3107 * t3153;
+        let t3155: f64 = t3153 * t3154;
+        let t3156 = product(t3089, t3135);
+        let t3157: f64 = t3108 * t3153;
+        let t3158 = product(t1509, t1514);
+        let t3159: f64 = t2269 * t2273;
+        let t3160 = product(t2441, t2445);
+        let t3161 = product(t255, t367);
+        let t3162: f64 = t250 * t362;
+        let t3163 = product(t258, t370);
+        let t3164: f64 = t3158.plus(t3159);
+        let t3165: f64 = t3160.plus(t3164);
+        let t3166: f64 = t3161.plus(t3162);
+        let t3167: f64 = t3163.plus(t3166);
+        let t3168: f64 = t3165 - t3167;
+        let t3169: f64 = t263 * t375;
+        let t3170 = product(t3168, t3169);
+        let t3171: f64 = t3156.plus(t3157);
+        let t3172: f64 = t3170.subtracted_from(t3171);
+        let t3173: f64 = -t3172;
+        let t3174: f64 = 1.0 / t3111;
+        let t3175: f64 = t3173 * t3174;
+        let t3176 = product(t3173, t3175);
+        let t3177: f64 = t3137.plus(t3155);
+        let t3178: f64 = t3176.plus(t3177);
+        let t3179: f64 = t3122 - t3178;
+        let t3180: f64 = t3179 / t3122;
+        let t3181: f64 = t2450 * t2450;
+        let t3182 = product(t2205, t3181);
+        let t3183: f64 = t1525 * t1525;
+        let t3184 = product(t2205, t3183);
+        let t3185: f64 = t2278 * t2278;
+        let t3186: f64 = t2205 * t3185;
+        let t3187: f64 = t3184.plus(t3186);
+        let t3188: f64 = t3182.plus(t3187);
+        let t3189: f64 = t3188 + 1.0;
+        let t3190 = product(t1497, t1525);
+        let t3191: f64 = t2259 * t2278;
+        let t3192 = product(t2426, t2450);
+        let t3193: f64 = t36 * t473;
+        let t3194 = product(t29, t470);
+        let t3195: f64 = t39 * t476;
+        let t3196: f64 = t3190.plus(t3191);
+        let t3197: f64 = t3192.plus(t3193);
+        let t3198: f64 = t3194.plus(t3195);
+        let t3199: f64 = t3196 + t3197;
+        let t3200: f64 = t3198 + t3199;
+        let t3201: f64 = t44 * t481;
+        let t3202: f64 = t3200 * t3201;
+        let t3203: f64 = t3061 * t3202;
+        let t3204 = product(t3202, t3203);
+        let t3205 = product(t3062, t3202);
+        let t3206 = product(t1502, t1525);
+        let t3207: f64 = t2263 * t2278;
+        let t3208 = product(t2430, t2450);
+        let t3209: f64 = t143 * t473;
+        let t3210 = product(t140, t470);
+        let t3211: f64 = t146 * t476;
+        let t3212: f64 = t3206.plus(t3207);
+        let t3213: f64 = t3208.plus(t3209);
+        let t3214: f64 = t3210.plus(t3211);
+        let t3215: f64 = t3212 + t3213;
+        let t3216: f64 = t3214 + t3215;
+        let t3217: f64 = t151 * t481;
+        let t3218: f64 = t3216 * t3217;
+        let t3219: f64 = t3205.minus(t3218);
+        let t3220: f64 = -t3219;
+        let t3221: f64 = t3107 * t3220;
+        let t3222: f64 = t3220 * t3221;
+        let t3223 = product(t3089, t3202);
+        let t3224: f64 = t3108 * t3220;
+        let t3225 = product(t1509, t1525);
+        let t3226: f64 = t2273 * t2278;
+        let t3227 = product(t2445, t2450);
+        let t3228 = product(t255, t473);
+        let t3229: f64 = t250 * t470;
+        let t3230 = product(t258, t476);
+        let t3231: f64 = t3225.plus(t3226);
+        let t3232: f64 = t3227.plus(t3231);
+        let t3233: f64 = t3228.plus(t3229);
+        let t3234: f64 = t3230.plus(t3233);
+        let t3235: f64 = t3232 - t3234;
+        let t3236: f64 = t263 * t481;
+        let t3237 = product(t3235, t3236);
+        let t3238: f64 = t3223.plus(t3224);
+        let t3239: f64 = t3237.subtracted_from(t3238);
+        let t3240: f64 = -t3239;
+        let t3241: f64 = t3174 * t3240;
+        let t3242 = product(t3240, t3241);
+        let t3243 = product(t3136, t3202);
+        let t3244: f64 = t3154 * t3220;
+        let t3245 = product(t3175, t3240);
+        let t3246 = product(t1514, t1525);
+        let t3247: f64 = t2269 * t2278;
+        let t3248 = product(t2441, t2450);
+        let t3249: f64 = t367 * t473;
+        let t3250 = product(t362, t470);
+        let t3251: f64 = t370 * t476;
+        let t3252: f64 = t3246.plus(t3247);
+        let t3253: f64 = t3248.plus(t3249);
+        let t3254: f64 = t3250.plus(t3251);
+        let t3255: f64 = t3252 + t3253;
+        let t3256: f64 = t3254 + t3255;
+        let t3257: f64 = t375 * t481;
+        let t3258 = product(t3256, t3257);
+        let t3259: f64 = t3243.plus(t3244);
+        let t3260: f64 = t3245.plus(t3259);
+        let t3261: f64 = t3258.subtracted_from(t3260);
+        let t3262: f64 = -t3261;
+        let t3263: f64 = 1.0 / t3179;
+        let t3264: f64 = t3262 * t3263;
+        let t3265: f64 = t3262 * t3264;
+        let t3266: f64 = t3204.plus(t3222);
+        let t3267: f64 = t3242.plus(t3265);
+        let t3268: f64 = t3266 + t3267;
+        let t3269: f64 = t3189 - t3268;
+        let t3270: f64 = t3269 / t3189;
+        let t3271: f64 = t2454 * t2454;
+        let t3272 = product(t1730, t3271);
+        let t3273: f64 = t1520 * t1520;
+        let t3274 = product(t1730, t3273);
+        let t3275: f64 = t2282 * t2282;
+        let t3276: f64 = t1730 * t3275;
+        let t3277: f64 = t3274.plus(t3276);
+        let t3278: f64 = t3272.plus(t3277);
+        let t3279: f64 = t3278 + 1.0;
+        let t3280 = product(t1497, t1520);
+        let t3281: f64 = t2259 * t2282;
+        let t3282 = product(t2426, t2454);
+        let t3283 = product(t36, t577);
+        let t3284: f64 = t29 * t575;
+        let t3285 = product(t39, t580);
+        let t3286: f64 = t3280.plus(t3281);
+        let t3287: f64 = t3282.plus(t3286);
+        let t3288: f64 = t3283.plus(t3284);
+        let t3289: f64 = t3285.plus(t3288);
+        let t3290: f64 = t3287 - t3289;
+        let t3291: f64 = t44 * t585;
+        let t3292: f64 = t3290 * t3291;
+        let t3293: f64 = t3061 * t3292;
+        let t3294 = product(t3292, t3293);
+        let t3295 = product(t3062, t3292);
+        let t3296 = product(t1502, t1520);
+        let t3297: f64 = t2263 * t2282;
+        let t3298 = product(t2430, t2454);
+        let t3299 = product(t143, t577);
+        let t3300: f64 = t140 * t575;
+        let t3301 = product(t146, t580);
+        let t3302: f64 = t3296.plus(t3297);
+        let t3303: f64 = t3298.plus(t3302);
+        let t3304: f64 = t3299.plus(t3300);
+        let t3305: f64 = t3301.plus(t3304);
+        let t3306: f64 = t3303 - t3305;
+        let t3307: f64 = t151 * t585;
+        let t3308: f64 = t3306 * t3307;
+        let t3309: f64 = t3295.minus(t3308);
+        let t3310: f64 = -t3309;
+        let t3311: f64 = t3107 * t3310;
+        let t3312: f64 = t3310 * t3311;
+        let t3313 = product(t3089, t3292);
+        let t3314: f64 = t3108 * t3310;
+        let t3315 = product(t1509, t1520);
+        let t3316: f64 = t2273 * t2282;
+        let t3317 = product(t2445, t2454);
+        let t3318: f64 = t255 * t577;
+        let t3319 = product(t250, t575);
+        let t3320: f64 = t258 * t580;
+        let t3321: f64 = t3315.plus(t3316);
+        let t3322: f64 = t3317.plus(t3318);
+        let t3323: f64 = t3319.plus(t3320);
+        let t3324: f64 = t3321 + t3322;
+        let t3325: f64 = t3323 + t3324;
+        let t3326: f64 = t263 * t585;
+        let t3327 = product(t3325, t3326);
+        let t3328: f64 = t3313.plus(t3314);
+        let t3329: f64 = t3327.subtracted_from(t3328);
+        let t3330: f64 = -t3329;
+        let t3331: f64 = t3174 * t3330;
+        let t3332 = product(t3330, t3331);
+        let t3333 = product(t3136, t3292);
+        let t3334: f64 = t3154 * t3310;
+        let t3335 = product(t3175, t3330);
+        let t3336 = product(t1514, t1520);
+        let t3337: f64 = t2269 * t2282;
+        let t3338 = product(t2441, t2454);
+        let t3339 = product(t367, t577);
+        let t3340: f64 = t362 * t575;
+        let t3341 = product(t370, t580);
+        let t3342: f64 = t3336.plus(t3337);
+        let t3343: f64 = t3338.plus(t3342);
+        let t3344: f64 = t3339.plus(t3340);
+        let t3345: f64 = t3341.plus(t3344);
+        let t3346: f64 = t3343 - t3345;
+        let t3347: f64 = t375 * t585;
+        let t3348 = product(t3346, t3347);
+        let t3349: f64 = t3333.plus(t3334);
+        let t3350: f64 = t3335.plus(t3349);
+        let t3351: f64 = t3348.subtracted_from(t3350);
+        let t3352: f64 = -t3351;
+        let t3353: f64 = t3263 * t3352;
+        let t3354: f64 = t3352 * t3353;
+        let t3355 = product(t3203, t3292);
+        let t3356: f64 = t3221 * t3310;
+        let t3357 = product(t3241, t3330);
+        let t3358: f64 = t3264 * t3352;
+        let t3359 = product(t1520, t1525);
+        let t3360: f64 = t2278 * t2282;
+        let t3361 = product(t2450, t2454);
+        let t3362 = product(t473, t577);
+        let t3363: f64 = t470 * t575;
+        let t3364 = product(t476, t580);
+        let t3365: f64 = t3359.plus(t3360);
+        let t3366: f64 = t3361.plus(t3365);
+        let t3367: f64 = t3362.plus(t3363);
+        let t3368: f64 = t3364.plus(t3367);
+        let t3369: f64 = t3366 - t3368;
+        let t3370: f64 = t481 * t585;
+        let t3371 = product(t3369, t3370);
+        let t3372: f64 = t3355.plus(t3356);
+        let t3373: f64 = t3357.plus(t3358);
+        let t3374: f64 = t3372 + t3373;
+        let t3375: f64 = t3371.subtracted_from(t3374);
+        let t3376: f64 = -t3375;
+        let t3377: f64 = t3376 / t3269;
+        let t3378 = product(t3376, t3377);
+        let t3379: f64 = t3294.plus(t3312);
+        let t3380: f64 = t3332.plus(t3354);
+        let t3381: f64 = t3379 + t3380;
         let t3382: f64 = t3378.plus(t3381);
-        let t3383: f64 = t3380 - t3382;
-        let t3384: f64 = t481 * t585;
-        let t3385 = product(t3383, t3384);
-        let t3386: f64 = t3369.plus(t3370);
-        let t3387: f64 = t3371.plus(t3372);
-        let t3388: f64 = t3386 + t3387;
-        let t3389: f64 = t3385.subtracted_from(t3388);
-        let t3390: f64 = -t3389;
-        let t3391: f64 = t3390 / t3283;
-        let t3392 = product(t3390, t3391);
-        let t3393: f64 = t3308.plus(t3326);
-        let t3394: f64 = t3346.plus(t3368);
-        let t3395: f64 = t3393 + t3394;
-        let t3396: f64 = t3392.plus(t3395);
-        let t3397: f64 = t3293 - t3396;
-        let t3398: f64 = t3397 / t3293;
+        let t3383: f64 = t3279 - t3382;
+        let t3384: f64 = t3383 / t3279;
         (
-            t3035,
-            t3036,
-            t3037,
+            t3021,
+            t3022,
+            t3023,
+            t3024,
+            t3025,
+            t3026,
+            t3027,
+            t3028,
+            t3029,
             t3038,
-            t3039,
-            t3040,
-            t3041,
-            t3042,
-            t3043,
-            t3052,
-            t3079,
-            t3126,
-            t3194,
-            t3284,
-            t3398,
+            t3065,
+            t3112,
+            t3180,
+            t3270,
+            t3384,
         )
     };
     (
-        [t2682, t2683, t3035, t3036, t2641, t3037],
+        [t2668, t2669, t3021, t3022, t2627, t3023],
         [
+            t3024,
+            t3025,
+            t3026,
+            t3027,
+            t3028,
+            t3029,
             t3038,
-            t3039,
-            t3040,
-            t3041,
-            t3042,
-            t3043,
-            t3052,
-            t3079,
-            t3126,
-            t3194,
-            t3284,
-            t3398,
+            t3065,
+            t3112,
+            t3180,
+            t3270,
+            t3384,
         ],
     )
 }
@@ -13225,7 +13139,7 @@ pub fn forward_dynamics_separate(
 /// - `gamma`: `Γ` (N), segment order; positive pushes the rod along `+n_i`
 /// - `singular`: `|u_i × a_i|` for each leg (the U joints), then the six pivots of the `LDLᵀ` of `J⁻¹ J⁻ᵀ` over its diagonal, in `(0, 1]` (the legs' hold on the platform: the solve loses about as many digits as the smallest takes from one): the other results are meaningless where one is near zero
 ///
-/// Operations: 1206 mul, 24 div, 793 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 1230m + 793a).
+/// Operations: 1200 mul, 24 div, 789 add, 39 neg, 3 sin_cos, 12 sqrt (chapter convention: 1224m + 789a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -13271,129 +13185,131 @@ pub fn inverse_dynamics_separate(
         t55,
         t60,
         t61,
-        t87,
-        t88,
-        t107,
-        t119,
-        t121,
-        t128,
-        t141,
-        t144,
-        t147,
-        t185,
-        t238,
-        t243,
-        t259,
+        t69,
+        t70,
+        t92,
+        t109,
+        t111,
+        t118,
+        t131,
+        t134,
+        t137,
+        t175,
+        t228,
+        t233,
+        t249,
+        t285,
+        t287,
+        t289,
+        t294,
         t295,
-        t297,
-        t299,
-        t304,
+        t300,
+        t301,
+        t302,
+        t303,
         t305,
-        t310,
-        t311,
+        t306,
+        t308,
         t312,
-        t313,
-        t315,
-        t316,
-        t318,
-        t322,
+        t321,
+        t330,
         t331,
-        t340,
-        t341,
-        t344,
-        t382,
-        t435,
-        t437,
-        t439,
+        t334,
+        t372,
+        t425,
+        t427,
+        t429,
+        t446,
         t456,
-        t466,
+        t483,
+        t485,
+        t487,
+        t492,
         t493,
-        t495,
-        t497,
+        t494,
+        t499,
+        t500,
+        t501,
         t502,
         t503,
         t504,
+        t505,
+        t506,
+        t507,
+        t508,
         t509,
         t510,
         t511,
         t512,
-        t513,
         t514,
-        t515,
-        t516,
-        t517,
         t518,
-        t519,
-        t520,
-        t521,
-        t522,
-        t524,
-        t528,
+        t527,
+        t536,
         t537,
-        t546,
-        t547,
-        t550,
-        t588,
-        t641,
-        t646,
-        t662,
-        t671,
+        t540,
+        t578,
+        t631,
+        t636,
+        t652,
+        t661,
+        t688,
+        t690,
+        t692,
+        t697,
         t698,
-        t700,
-        t702,
+        t703,
+        t704,
         t707,
-        t708,
-        t713,
-        t714,
+        t710,
+        t712,
+        t715,
         t717,
-        t720,
-        t722,
-        t725,
-        t727,
-        t731,
+        t721,
+        t730,
+        t739,
         t740,
-        t749,
-        t750,
-        t753,
-        t791,
-        t844,
-        t849,
-        t865,
-        t874,
+        t743,
+        t781,
+        t834,
+        t839,
+        t855,
+        t864,
+        t891,
+        t893,
+        t895,
+        t900,
         t901,
-        t903,
-        t905,
-        t910,
+        t906,
+        t907,
+        t908,
+        t909,
         t911,
-        t916,
-        t917,
+        t912,
+        t914,
         t918,
-        t919,
-        t921,
-        t922,
-        t924,
+        t926,
+        t927,
         t928,
+        t933,
+        t935,
         t936,
-        t937,
         t938,
-        t943,
-        t945,
+        t939,
+        t941,
+        t942,
+        t944,
         t946,
         t948,
-        t949,
-        t951,
-        t952,
-        t954,
-        t956,
-        t958,
         t962,
-        t967,
-        t972,
+        t974,
         t977,
-        t984,
-        t987,
+        t986,
+        t989,
+        t993,
+        t994,
         t996,
-        t999,
+        t998,
+        t1001,
         t1002,
     ) = {
         let (t0, t1): (f64, f64) = sin_cos(beta);
@@ -13456,946 +13372,946 @@ pub fn inverse_dynamics_separate(
         let t60: f64 = t59.plus(1.0);
         let t61: f64 = 1.0 / t60;
         let t62: f64 = wdx * t0;
-        let t63 = product(wz, t30);
-        let t64: f64 = wx * t1;
-        let t65 = product(t3, t64);
-        let t66: f64 = wy * t17;
-        let t67: f64 = t65.plus(t66);
-        let t68: f64 = t63.plus(t67);
-        let t69: f64 = wx * t2;
-        let t70 = product(t1, t69);
-        let t71: f64 = wy * t20;
-        let t72: f64 = t70.minus(t71);
-        let t73 = product(wz, t34);
-        let t74: f64 = t73.subtracted_from(t72);
-        let t75: f64 = t74 * 0.4108;
-        let t76 = product(t68, t75);
-        let t77: f64 = t68 * 0.4108;
-        let t78 = product(t74, t77);
-        let t79 = product(wdy, t12);
-        let t80: f64 = wdz * t13;
-        let t81: f64 = t79.minus(t80);
-        let t82: f64 = t81 * 0.7;
-        let t83: f64 = t1 * t82;
-        let t84: f64 = t62 * 0.7;
-        let t85: f64 = t78.plus(t84);
-        let t86: f64 = t76.plus(t83);
-        let t87: f64 = t85 - t86;
-        let t88 = product(t0, t87);
-        let t89: f64 = wdx * t1;
-        let t90 = product(t3, t89);
-        let t91: f64 = wdy * t17;
-        let t92 = product(wdz, t30);
-        let t93: f64 = wz * t13;
-        let t94 = product(t1, t93);
-        let t95 = product(wx, t0);
-        let t96: f64 = wy * t12;
-        let t97: f64 = t1 * t96;
-        let t98: f64 = t95.minus(t97);
-        let t99: f64 = t94.plus(t98);
-        let t100: f64 = t99 * 0.7;
-        let t101 = product(t74, t100);
-        let t102 = product(t75, t99);
-        let t103: f64 = t90.plus(t91);
-        let t104: f64 = t92.plus(t103);
-        let t105: f64 = t104 * 0.4108;
-        let t106: f64 = t102.plus(t105);
-        let t107: f64 = t101.subtracted_from(t106);
-        let t108 = product(t3, t107);
-        let t109: f64 = wdx * t2;
-        let t110 = product(t1, t109);
-        let t111 = product(wdy, t20);
-        let t112: f64 = wdz * t34;
-        let t113 = product(t77, t99);
-        let t114 = product(t68, t100);
-        let t115: f64 = t111.plus(t112);
-        let t116: f64 = t110.minus(t115);
-        let t117: f64 = t116 * 0.4108;
-        let t118: f64 = t114.plus(t117);
-        let t119: f64 = t113.subtracted_from(t118);
-        let t120: f64 = t2 * t119;
-        let t121: f64 = az + 9.81;
-        let t122 = product(t12, t121);
-        let t123: f64 = ay * t13;
-        let t124: f64 = t122.plus(t123);
-        let t125 = product(t124, 0.36);
-        let t126: f64 = t108.plus(t120);
-        let t127: f64 = t125.subtracted_from(t126);
-        let t128: f64 = t1 * t127;
-        let t129 = product(t10, 0.9845625805478777);
-        let t130: f64 = t25 * 0.1750329254309137;
-        let t131: f64 = t129.plus(t130);
-        let t132: f64 = t38 * 0.9845625805478777;
-        let t133: f64 = -t132;
-        let t134 = product(t133, t133);
-        let t135: f64 = t38 * 0.1750329254309137;
-        let t136: f64 = -t135;
-        let t137: f64 = t136 * t136;
-        let t138 = product(t131, t131);
-        let t139: f64 = t134.plus(t137);
-        let t140: f64 = t138.plus(t139);
-        let t141: f64 = sqrt(t140);
-        let t142: f64 = 1.0 / t141;
-        let t143: f64 = t131 * t142;
-        let t144: f64 = t10 * t43;
-        let t145 = product(t143, t144);
-        let t146: f64 = t38 * t43;
-        let t147: f64 = t133 * t142;
-        let t148: f64 = t146 * t147;
-        let t149: f64 = t145.minus(t148);
-        let t150: f64 = t25 * t43;
-        let t151 = product(t147, t150);
-        let t152: f64 = t136 * t142;
-        let t153: f64 = t144 * t152;
-        let t154: f64 = t151.minus(t153);
-        let t155: f64 = t154 * 9.81;
-        let t156: f64 = -t155;
-        let t157 = product(wdx, t23);
-        let t158 = product(wz, t8);
-        let t159: f64 = wx * t37;
-        let t160: f64 = t158.minus(t159);
-        let t161 = product(wx, t160);
-        let t162 = product(wdy, t8);
-        let t163 = product(wy, t37);
-        let t164: f64 = wz * t23;
+        let t63 = product(wdy, t12);
+        let t64: f64 = wdz * t13;
+        let t65: f64 = t63.minus(t64);
+        let t66: f64 = t65 * 0.7;
+        let t67 = product(t1, t66);
+        let t68: f64 = t62 * 0.7;
+        let t69: f64 = t67.subtracted_from(t68);
+        let t70 = product(t0, t69);
+        let t71: f64 = wdx * t1;
+        let t72 = product(t3, t71);
+        let t73: f64 = wdy * t17;
+        let t74 = product(wdz, t30);
+        let t75: f64 = wx * t2;
+        let t76 = product(t1, t75);
+        let t77 = product(wy, t20);
+        let t78: f64 = wz * t34;
+        let t79: f64 = t77.plus(t78);
+        let t80: f64 = t76.minus(t79);
+        let t81 = product(wx, t0);
+        let t82 = product(wy, t12);
+        let t83: f64 = wz * t13;
+        let t84: f64 = t82.minus(t83);
+        let t85: f64 = t1 * t84;
+        let t86: f64 = t81.minus(t85);
+        let t87: f64 = t80 * t86;
+        let t88: f64 = t72.plus(t73);
+        let t89: f64 = t74.plus(t88);
+        let t90 = product(t89, 0.4108);
+        let t91: f64 = t87 * 0.28919999999999996;
+        let t92: f64 = t90.minus(t91);
+        let t93 = product(t3, t92);
+        let t94: f64 = wdx * t2;
+        let t95 = product(t1, t94);
+        let t96 = product(wdy, t20);
+        let t97: f64 = wdz * t34;
+        let t98: f64 = wx * t1;
+        let t99 = product(t3, t98);
+        let t100: f64 = wy * t17;
+        let t101 = product(wz, t30);
+        let t102: f64 = t99.plus(t100);
+        let t103: f64 = t101.plus(t102);
+        let t104: f64 = t86 * t103;
+        let t105: f64 = t96.plus(t97);
+        let t106: f64 = t95.minus(t105);
+        let t107 = product(t106, 0.4108);
+        let t108: f64 = t104 * 0.28919999999999996;
+        let t109: f64 = t107.plus(t108);
+        let t110: f64 = t2 * t109;
+        let t111: f64 = az + 9.81;
+        let t112 = product(t12, t111);
+        let t113: f64 = ay * t13;
+        let t114: f64 = t112.plus(t113);
+        let t115 = product(t114, 0.36);
+        let t116: f64 = t93.plus(t110);
+        let t117: f64 = t115.subtracted_from(t116);
+        let t118: f64 = t1 * t117;
+        let t119 = product(t10, 0.9845625805478777);
+        let t120: f64 = t25 * 0.1750329254309137;
+        let t121: f64 = t119.plus(t120);
+        let t122: f64 = t38 * 0.9845625805478777;
+        let t123: f64 = -t122;
+        let t124 = product(t123, t123);
+        let t125: f64 = t38 * 0.1750329254309137;
+        let t126: f64 = -t125;
+        let t127: f64 = t126 * t126;
+        let t128 = product(t121, t121);
+        let t129: f64 = t124.plus(t127);
+        let t130: f64 = t128.plus(t129);
+        let t131: f64 = sqrt(t130);
+        let t132: f64 = 1.0 / t131;
+        let t133: f64 = t121 * t132;
+        let t134: f64 = t10 * t43;
+        let t135 = product(t133, t134);
+        let t136: f64 = t38 * t43;
+        let t137: f64 = t123 * t132;
+        let t138: f64 = t136 * t137;
+        let t139: f64 = t135.minus(t138);
+        let t140: f64 = t25 * t43;
+        let t141 = product(t137, t140);
+        let t142: f64 = t126 * t132;
+        let t143: f64 = t134 * t142;
+        let t144: f64 = t141.minus(t143);
+        let t145: f64 = t144 * 9.81;
+        let t146: f64 = -t145;
+        let t147 = product(wdx, t23);
+        let t148 = product(wz, t8);
+        let t149: f64 = wx * t37;
+        let t150: f64 = t148.minus(t149);
+        let t151 = product(wx, t150);
+        let t152 = product(wdy, t8);
+        let t153 = product(wy, t37);
+        let t154: f64 = wz * t23;
+        let t155: f64 = t153.minus(t154);
+        let t156: f64 = wy * t155;
+        let t157: f64 = t147.added_to(az);
+        let t158: f64 = t151.plus(t157);
+        let t159: f64 = t152.plus(t156);
+        let t160: f64 = t158 - t159;
+        let t161 = product(t144, t160);
+        let t162 = product(wdy, t37);
+        let t163 = product(wx, t23);
+        let t164: f64 = wy * t8;
         let t165: f64 = t163.minus(t164);
-        let t166: f64 = wy * t165;
-        let t167: f64 = t157.added_to(az);
-        let t168: f64 = t161.plus(t167);
-        let t169: f64 = t162.plus(t166);
-        let t170: f64 = t168 - t169;
-        let t171 = product(t154, t170);
-        let t172 = product(wdy, t37);
-        let t173 = product(wx, t23);
-        let t174: f64 = wy * t8;
+        let t166 = product(wy, t165);
+        let t167 = product(wdz, t23);
+        let t168: f64 = wz * t150;
+        let t169: f64 = t162.added_to(ax);
+        let t170: f64 = t166.plus(t169);
+        let t171: f64 = t167.plus(t168);
+        let t172: f64 = t170 - t171;
+        let t173 = product(t136, t142);
+        let t174: f64 = t133 * t140;
         let t175: f64 = t173.minus(t174);
-        let t176 = product(wy, t175);
-        let t177 = product(wdz, t23);
-        let t178: f64 = wz * t160;
-        let t179: f64 = t172.added_to(ax);
-        let t180: f64 = t176.plus(t179);
-        let t181: f64 = t177.plus(t178);
-        let t182: f64 = t180 - t181;
-        let t183 = product(t146, t152);
-        let t184: f64 = t143 * t150;
-        let t185: f64 = t183.minus(t184);
-        let t186 = product(t182, t185);
-        let t187 = product(wdz, t8);
-        let t188 = product(wz, t165);
-        let t189 = product(wdx, t37);
-        let t190: f64 = wx * t175;
-        let t191: f64 = t187.added_to(ay);
-        let t192: f64 = t188.plus(t191);
-        let t193: f64 = t189.plus(t190);
-        let t194: f64 = t192 - t193;
-        let t195: f64 = t149 * t194;
-        let t196: f64 = t186.plus(t195);
-        let t197: f64 = t171.plus(t196);
-        let t198 = product(t10, 0.1750329254309137);
-        let t199: f64 = t25 * 0.9845625805478777;
-        let t200: f64 = t198.minus(t199);
-        let t201: f64 = t142 * t200;
-        let t202: f64 = vx + t165;
-        let t203 = product(t147, t202);
-        let t204: f64 = vy + t160;
-        let t205: f64 = t152 * t204;
-        let t206: f64 = vz + t175;
-        let t207 = product(t143, t206);
-        let t208: f64 = t203.plus(t205);
-        let t209: f64 = t207.plus(t208);
-        let t210: f64 = t209 * t209;
-        let t211: f64 = t43 * t201;
-        let t212 = product(t210, t211);
-        let t213 = product(t185, t202);
-        let t214: f64 = t149 * t204;
-        let t215 = product(t154, t206);
-        let t216: f64 = t213.plus(t214);
-        let t217: f64 = t215.plus(t216);
-        let t218 = product(t144, t202);
-        let t219: f64 = t150 * t204;
-        let t220 = product(t146, t206);
-        let t221: f64 = t218.plus(t219);
-        let t222: f64 = t220.plus(t221);
-        let t223: f64 = t43 * t222;
-        let t224: f64 = t223 * 2.0;
-        let t225 = product(t217, t224);
-        let t226: f64 = t212.added_to(t197);
-        let t227: f64 = t225.subtracted_from(t226);
-        let t228: f64 = t43 * t227;
-        let t229: f64 = t43 * t209;
-        let t230: f64 = t209 * t211;
-        let t231: f64 = t229 * t230;
-        let t232 = product(t156, 0.2);
-        let t233: f64 = t197 * 0.3;
-        let t234 = product(t228, 0.295);
-        let t235 = product(t231, 0.292);
-        let t236: f64 = t232.plus(t233);
-        let t237: f64 = t235.plus(t236);
-        let t238: f64 = t234.minus(t237);
-        let t239 = product(t43, t238);
-        let t240: f64 = t156 - t197;
-        let t241: f64 = t228 - t231;
-        let t242 = product(t241, 0.3);
-        let t243: f64 = t242.added_to(t240);
-        let t244: f64 = t239.subtracted_from(t243);
-        let t245 = product(t149, t244);
-        let t246: f64 = t146 * 9.81;
-        let t247: f64 = -t246;
-        let t248 = product(t144, t182);
-        let t249: f64 = t150 * t194;
-        let t250 = product(t146, t170);
-        let t251: f64 = t248.plus(t249);
-        let t252: f64 = t250.plus(t251);
-        let t253 = product(t229, t229);
-        let t254: f64 = t43 * t217;
-        let t255: f64 = t254 * t254;
-        let t256: f64 = t253.plus(t255);
-        let t257 = product(t256, 0.3);
-        let t258: f64 = t257.added_to(t252);
-        let t259: f64 = t247 - t258;
-        let t260 = product(t150, t259);
-        let t261: f64 = t143 * 9.81;
-        let t262: f64 = -t261;
-        let t263 = product(t147, t182);
-        let t264: f64 = t152 * t194;
-        let t265 = product(t143, t170);
-        let t266: f64 = t263.plus(t264);
-        let t267: f64 = t265.plus(t266);
-        let t268 = product(t43, t267);
-        let t269: f64 = t44 * t201;
-        let t270: f64 = t209 * t269;
-        let t271 = product(t217, t270);
-        let t272: f64 = t224 * t229;
-        let t273: f64 = t271.plus(t272);
-        let t274: f64 = t268.subtracted_from(t273);
-        let t275: f64 = t230 * t254;
-        let t276 = product(t201, t273);
-        let t277: f64 = t142 * t142;
-        let t278: f64 = t41 * t43;
-        let t279: f64 = t277 * t278;
-        let t280: f64 = t209 * t279;
-        let t281 = product(t217, t280);
-        let t282: f64 = t201 * t267;
-        let t283: f64 = t281.minus(t282);
-        let t284: f64 = t43 * t283;
-        let t285: f64 = t276.plus(t284);
-        let t286: f64 = t201 * t285;
-        let t287 = product(t262, 0.2);
-        let t288: f64 = t267 * 0.3;
-        let t289 = product(t274, 0.295);
-        let t290 = product(t275, 0.292);
-        let t291: f64 = t286 * 0.003;
-        let t292: f64 = t287.plus(t288);
-        let t293: f64 = t289.plus(t291);
-        let t294: f64 = t292 + t293;
-        let t295: f64 = t290.subtracted_from(t294);
-        let t296 = product(t43, t295);
-        let t297: f64 = t262 - t267;
-        let t298: f64 = t274 - t275;
-        let t299: f64 = t298 * 0.3;
-        let t300: f64 = t296.plus(t297);
-        let t301: f64 = t300 - t299;
-        let t302: f64 = t152 * t301;
-        let t303: f64 = t260.plus(t302);
-        let t304: f64 = t245.plus(t303);
-        let t305 = product(t37, t304);
-        let t306 = product(t154, t244);
-        let t307 = product(t146, t259);
-        let t308: f64 = t143 * t301;
-        let t309: f64 = t307.plus(t308);
-        let t310: f64 = t306.plus(t309);
-        let t311 = product(t23, t310);
-        let t312: f64 = t35 - t36;
-        let t313: f64 = t6 + t7;
-        let t314: f64 = xc + t313;
-        let t315: f64 = t314 - 0.45;
-        let t316: f64 = t21 - t22;
-        let t317: f64 = yc + t316;
-        let t318: f64 = t317 + 0.08;
-        let t319 = product(t315, 0.9845625805478777);
-        let t320: f64 = t318 * 0.1750329254309137;
-        let t321: f64 = t319.minus(t320);
-        let t322: f64 = zc + t312;
-        let t323: f64 = t322 * 0.9845625805478777;
-        let t324: f64 = -t323;
-        let t325 = product(t324, t324);
-        let t326: f64 = t322 * 0.1750329254309137;
-        let t327: f64 = t326 * t326;
-        let t328 = product(t321, t321);
-        let t329: f64 = t325.plus(t327);
-        let t330: f64 = t328.plus(t329);
-        let t331: f64 = sqrt(t330);
-        let t332: f64 = 1.0 / t331;
-        let t333: f64 = t321 * t332;
-        let t334 = product(t315, t315);
-        let t335: f64 = t318 * t318;
-        let t336 = product(t322, t322);
-        let t337: f64 = t334.plus(t335);
-        let t338: f64 = t336.plus(t337);
-        let t339: f64 = sqrt(t338);
-        let t340: f64 = 1.0 / t339;
-        let t341: f64 = t315 * t340;
-        let t342 = product(t333, t341);
-        let t343: f64 = t322 * t340;
-        let t344: f64 = t324 * t332;
-        let t345: f64 = t343 * t344;
-        let t346: f64 = t342.minus(t345);
-        let t347: f64 = t318 * t340;
-        let t348 = product(t344, t347);
-        let t349: f64 = t326 * t332;
-        let t350: f64 = t341 * t349;
-        let t351: f64 = t348.minus(t350);
-        let t352: f64 = t351 * 9.81;
-        let t353: f64 = -t352;
-        let t354 = product(wdx, t316);
-        let t355 = product(wz, t313);
-        let t356: f64 = wx * t312;
-        let t357: f64 = t355.minus(t356);
-        let t358 = product(wx, t357);
-        let t359 = product(wdy, t313);
-        let t360 = product(wy, t312);
-        let t361: f64 = wz * t316;
+        let t176 = product(t172, t175);
+        let t177 = product(wdz, t8);
+        let t178 = product(wz, t155);
+        let t179 = product(wdx, t37);
+        let t180: f64 = wx * t165;
+        let t181: f64 = t177.added_to(ay);
+        let t182: f64 = t178.plus(t181);
+        let t183: f64 = t179.plus(t180);
+        let t184: f64 = t182 - t183;
+        let t185: f64 = t139 * t184;
+        let t186: f64 = t176.plus(t185);
+        let t187: f64 = t161.plus(t186);
+        let t188 = product(t10, 0.1750329254309137);
+        let t189: f64 = t25 * 0.9845625805478777;
+        let t190: f64 = t188.minus(t189);
+        let t191: f64 = t132 * t190;
+        let t192: f64 = vx + t155;
+        let t193 = product(t137, t192);
+        let t194: f64 = vy + t150;
+        let t195: f64 = t142 * t194;
+        let t196: f64 = vz + t165;
+        let t197 = product(t133, t196);
+        let t198: f64 = t193.plus(t195);
+        let t199: f64 = t197.plus(t198);
+        let t200: f64 = t199 * t199;
+        let t201: f64 = t43 * t191;
+        let t202 = product(t200, t201);
+        let t203 = product(t175, t192);
+        let t204: f64 = t139 * t194;
+        let t205 = product(t144, t196);
+        let t206: f64 = t203.plus(t204);
+        let t207: f64 = t205.plus(t206);
+        let t208 = product(t134, t192);
+        let t209: f64 = t140 * t194;
+        let t210 = product(t136, t196);
+        let t211: f64 = t208.plus(t209);
+        let t212: f64 = t210.plus(t211);
+        let t213: f64 = t43 * t212;
+        let t214: f64 = t213 * 2.0;
+        let t215 = product(t207, t214);
+        let t216: f64 = t202.added_to(t187);
+        let t217: f64 = t215.subtracted_from(t216);
+        let t218: f64 = t43 * t217;
+        let t219: f64 = t43 * t199;
+        let t220: f64 = t199 * t201;
+        let t221: f64 = t219 * t220;
+        let t222 = product(t146, 0.2);
+        let t223: f64 = t187 * 0.3;
+        let t224 = product(t218, 0.295);
+        let t225 = product(t221, 0.292);
+        let t226: f64 = t222.plus(t223);
+        let t227: f64 = t225.plus(t226);
+        let t228: f64 = t224.minus(t227);
+        let t229 = product(t43, t228);
+        let t230: f64 = t146 - t187;
+        let t231: f64 = t218 - t221;
+        let t232 = product(t231, 0.3);
+        let t233: f64 = t232.added_to(t230);
+        let t234: f64 = t229.subtracted_from(t233);
+        let t235 = product(t139, t234);
+        let t236: f64 = t136 * 9.81;
+        let t237: f64 = -t236;
+        let t238 = product(t134, t172);
+        let t239: f64 = t140 * t184;
+        let t240 = product(t136, t160);
+        let t241: f64 = t238.plus(t239);
+        let t242: f64 = t240.plus(t241);
+        let t243 = product(t219, t219);
+        let t244: f64 = t43 * t207;
+        let t245: f64 = t244 * t244;
+        let t246: f64 = t243.plus(t245);
+        let t247 = product(t246, 0.3);
+        let t248: f64 = t247.added_to(t242);
+        let t249: f64 = t237 - t248;
+        let t250 = product(t140, t249);
+        let t251: f64 = t133 * 9.81;
+        let t252: f64 = -t251;
+        let t253 = product(t137, t172);
+        let t254: f64 = t142 * t184;
+        let t255 = product(t133, t160);
+        let t256: f64 = t253.plus(t254);
+        let t257: f64 = t255.plus(t256);
+        let t258 = product(t43, t257);
+        let t259: f64 = t44 * t191;
+        let t260: f64 = t199 * t259;
+        let t261 = product(t207, t260);
+        let t262: f64 = t214 * t219;
+        let t263: f64 = t261.plus(t262);
+        let t264: f64 = t258.subtracted_from(t263);
+        let t265: f64 = t220 * t244;
+        let t266 = product(t191, t263);
+        let t267: f64 = t132 * t132;
+        let t268: f64 = t41 * t43;
+        let t269: f64 = t267 * t268;
+        let t270: f64 = t199 * t269;
+        let t271 = product(t207, t270);
+        let t272: f64 = t191 * t257;
+        let t273: f64 = t271.minus(t272);
+        let t274: f64 = t43 * t273;
+        let t275: f64 = t266.plus(t274);
+        let t276: f64 = t191 * t275;
+        let t277 = product(t252, 0.2);
+        let t278: f64 = t257 * 0.3;
+        let t279 = product(t264, 0.295);
+        let t280 = product(t265, 0.292);
+        let t281: f64 = t276 * 0.003;
+        let t282: f64 = t277.plus(t278);
+        let t283: f64 = t279.plus(t281);
+        let t284: f64 = t282 + t283;
+        let t285: f64 = t280.subtracted_from(t284);
+        let t286 = product(t43, t285);
+        let t287: f64 = t252 - t257;
+        let t288: f64 = t264 - t265;
+        let t289: f64 = t288 * 0.3;
+        let t290: f64 = t286.plus(t287);
+        let t291: f64 = t290 - t289;
+        let t292: f64 = t142 * t291;
+        let t293: f64 = t250.plus(t292);
+        let t294: f64 = t235.plus(t293);
+        let t295 = product(t37, t294);
+        let t296 = product(t144, t234);
+        let t297 = product(t136, t249);
+        let t298: f64 = t133 * t291;
+        let t299: f64 = t297.plus(t298);
+        let t300: f64 = t296.plus(t299);
+        let t301 = product(t23, t300);
+        let t302: f64 = t35 - t36;
+        let t303: f64 = t6 + t7;
+        let t304: f64 = xc + t303;
+        let t305: f64 = t304 - 0.45;
+        let t306: f64 = t21 - t22;
+        let t307: f64 = yc + t306;
+        let t308: f64 = t307 + 0.08;
+        let t309 = product(t305, 0.9845625805478777);
+        let t310: f64 = t308 * 0.1750329254309137;
+        let t311: f64 = t309.minus(t310);
+        let t312: f64 = zc + t302;
+        let t313: f64 = t312 * 0.9845625805478777;
+        let t314: f64 = -t313;
+        let t315 = product(t314, t314);
+        let t316: f64 = t312 * 0.1750329254309137;
+        let t317: f64 = t316 * t316;
+        let t318 = product(t311, t311);
+        let t319: f64 = t315.plus(t317);
+        let t320: f64 = t318.plus(t319);
+        let t321: f64 = sqrt(t320);
+        let t322: f64 = 1.0 / t321;
+        let t323: f64 = t311 * t322;
+        let t324 = product(t305, t305);
+        let t325: f64 = t308 * t308;
+        let t326 = product(t312, t312);
+        let t327: f64 = t324.plus(t325);
+        let t328: f64 = t326.plus(t327);
+        let t329: f64 = sqrt(t328);
+        let t330: f64 = 1.0 / t329;
+        let t331: f64 = t305 * t330;
+        let t332 = product(t323, t331);
+        let t333: f64 = t312 * t330;
+        let t334: f64 = t314 * t322;
+        let t335: f64 = t333 * t334;
+        let t336: f64 = t332.minus(t335);
+        let t337: f64 = t308 * t330;
+        let t338 = product(t334, t337);
+        let t339: f64 = t316 * t322;
+        let t340: f64 = t331 * t339;
+        let t341: f64 = t338.minus(t340);
+        let t342: f64 = t341 * 9.81;
+        let t343: f64 = -t342;
+        let t344 = product(wdx, t306);
+        let t345 = product(wz, t303);
+        let t346: f64 = wx * t302;
+        let t347: f64 = t345.minus(t346);
+        let t348 = product(wx, t347);
+        let t349 = product(wdy, t303);
+        let t350 = product(wy, t302);
+        let t351: f64 = wz * t306;
+        let t352: f64 = t350.minus(t351);
+        let t353: f64 = wy * t352;
+        let t354: f64 = t344.added_to(az);
+        let t355: f64 = t348.plus(t354);
+        let t356: f64 = t349.plus(t353);
+        let t357: f64 = t355 - t356;
+        let t358 = product(t341, t357);
+        let t359 = product(wdy, t302);
+        let t360 = product(wx, t306);
+        let t361: f64 = wy * t303;
         let t362: f64 = t360.minus(t361);
-        let t363: f64 = wy * t362;
-        let t364: f64 = t354.added_to(az);
-        let t365: f64 = t358.plus(t364);
-        let t366: f64 = t359.plus(t363);
-        let t367: f64 = t365 - t366;
-        let t368 = product(t351, t367);
-        let t369 = product(wdy, t312);
-        let t370 = product(wx, t316);
-        let t371: f64 = wy * t313;
+        let t363 = product(wy, t362);
+        let t364 = product(wdz, t306);
+        let t365: f64 = wz * t347;
+        let t366: f64 = t359.added_to(ax);
+        let t367: f64 = t363.plus(t366);
+        let t368: f64 = t364.plus(t365);
+        let t369: f64 = t367 - t368;
+        let t370 = product(t333, t339);
+        let t371: f64 = t323 * t337;
         let t372: f64 = t370.minus(t371);
-        let t373 = product(wy, t372);
-        let t374 = product(wdz, t316);
-        let t375: f64 = wz * t357;
-        let t376: f64 = t369.added_to(ax);
-        let t377: f64 = t373.plus(t376);
-        let t378: f64 = t374.plus(t375);
-        let t379: f64 = t377 - t378;
-        let t380 = product(t343, t349);
-        let t381: f64 = t333 * t347;
-        let t382: f64 = t380.minus(t381);
-        let t383 = product(t379, t382);
-        let t384 = product(wdz, t313);
-        let t385 = product(wz, t362);
-        let t386 = product(wdx, t312);
-        let t387: f64 = wx * t372;
-        let t388: f64 = t384.added_to(ay);
-        let t389: f64 = t385.plus(t388);
-        let t390: f64 = t386.plus(t387);
-        let t391: f64 = t389 - t390;
-        let t392: f64 = t346 * t391;
-        let t393: f64 = t383.plus(t392);
-        let t394: f64 = t368.plus(t393);
-        let t395 = product(t315, 0.1750329254309137);
-        let t396: f64 = t318 * 0.9845625805478777;
-        let t397: f64 = t395.plus(t396);
-        let t398: f64 = t332 * t397;
-        let t399: f64 = vx + t362;
-        let t400 = product(t344, t399);
-        let t401: f64 = vy + t357;
-        let t402: f64 = t349 * t401;
-        let t403: f64 = vz + t372;
-        let t404 = product(t333, t403);
-        let t405: f64 = t400.plus(t402);
-        let t406: f64 = t404.plus(t405);
-        let t407: f64 = t406 * t406;
-        let t408: f64 = t340 * t398;
-        let t409 = product(t407, t408);
-        let t410 = product(t382, t399);
-        let t411: f64 = t346 * t401;
-        let t412 = product(t351, t403);
-        let t413: f64 = t410.plus(t411);
-        let t414: f64 = t412.plus(t413);
-        let t415 = product(t341, t399);
-        let t416: f64 = t347 * t401;
-        let t417 = product(t343, t403);
-        let t418: f64 = t415.plus(t416);
-        let t419: f64 = t417.plus(t418);
-        let t420: f64 = t340 * t419;
-        let t421: f64 = t420 * 2.0;
-        let t422: f64 = t414 * t421;
-        let t423: f64 = t409.plus(t422);
-        let t424: f64 = t394 - t423;
-        let t425: f64 = t340 * t424;
-        let t426: f64 = t340 * t406;
-        let t427: f64 = t406 * t408;
-        let t428: f64 = t426 * t427;
-        let t429 = product(t353, 0.2);
-        let t430: f64 = t394 * 0.3;
-        let t431 = product(t425, 0.295);
-        let t432: f64 = t428 * 0.292;
-        let t433: f64 = t429.plus(t430);
-        let t434: f64 = t431.plus(t432);
-        let t435: f64 = t433 - t434;
-        let t436 = product(t340, t435);
-        let t437: f64 = t353 - t394;
-        let t438: f64 = t425 + t428;
-        let t439: f64 = t438 * 0.3;
-        let t440: f64 = t436.plus(t437);
-        let t441: f64 = t439 + t440;
-        let t442 = product(t346, t441);
-        let t443: f64 = t343 * 9.81;
-        let t444: f64 = -t443;
-        let t445 = product(t341, t379);
-        let t446: f64 = t347 * t391;
-        let t447 = product(t343, t367);
-        let t448: f64 = t445.plus(t446);
-        let t449: f64 = t447.plus(t448);
-        let t450 = product(t426, t426);
-        let t451: f64 = t340 * t414;
-        let t452: f64 = t451 * t451;
-        let t453: f64 = t450.plus(t452);
-        let t454 = product(t453, 0.3);
-        let t455: f64 = t454.added_to(t449);
-        let t456: f64 = t444 - t455;
-        let t457 = product(t347, t456);
-        let t458: f64 = t333 * 9.81;
-        let t459: f64 = -t458;
-        let t460 = product(t344, t379);
-        let t461: f64 = t349 * t391;
-        let t462 = product(t333, t367);
-        let t463: f64 = t460.plus(t461);
-        let t464: f64 = t462.plus(t463);
-        let t465 = product(t340, t464);
-        let t466: f64 = t340 * t340;
-        let t467: f64 = t398 * t466;
-        let t468: f64 = t406 * t467;
-        let t469 = product(t414, t468);
-        let t470: f64 = t421 * t426;
-        let t471: f64 = t469.minus(t470);
-        let t472: f64 = t465.plus(t471);
-        let t473: f64 = t427 * t451;
-        let t474 = product(t398, t471);
-        let t475: f64 = t332 * t332;
-        let t476: f64 = t338 * t340;
-        let t477: f64 = t475 * t476;
-        let t478: f64 = t406 * t477;
-        let t479 = product(t414, t478);
-        let t480: f64 = t398 * t464;
-        let t481: f64 = t479.plus(t480);
-        let t482: f64 = t340 * t481;
-        let t483: f64 = t474.plus(t482);
-        let t484: f64 = t398 * t483;
-        let t485 = product(t459, 0.2);
-        let t486: f64 = t464 * 0.3;
-        let t487 = product(t472, 0.295);
-        let t488 = product(t473, 0.292);
-        let t489: f64 = t484 * 0.003;
-        let t490: f64 = t485.plus(t486);
-        let t491: f64 = t488.plus(t490);
-        let t492: f64 = t487.plus(t489);
-        let t493: f64 = t491 - t492;
-        let t494 = product(t340, t493);
-        let t495: f64 = t459 - t464;
-        let t496: f64 = t472 - t473;
-        let t497: f64 = t496 * 0.3;
-        let t498: f64 = t494.plus(t495);
-        let t499: f64 = t497 + t498;
-        let t500: f64 = t349 * t499;
-        let t501: f64 = t457.plus(t500);
-        let t502: f64 = t442.plus(t501);
-        let t503: f64 = -t502;
-        let t504: f64 = t312 * t503;
-        let t505 = product(t351, t441);
-        let t506 = product(t343, t456);
-        let t507: f64 = t333 * t499;
-        let t508: f64 = t506.plus(t507);
-        let t509: f64 = t505.plus(t508);
-        let t510: f64 = -t509;
-        let t511: f64 = t316 * t510;
-        let t512: f64 = t30 * 0.254904;
-        let t513: f64 = t34 * 0.141506;
-        let t514: f64 = t512 - t513;
-        let t515: f64 = t4 * 0.254904;
-        let t516: f64 = t5 * 0.141506;
-        let t517: f64 = t515 + t516;
-        let t518: f64 = xc + 0.294282;
-        let t519: f64 = t518 - t517;
-        let t520: f64 = t17 * 0.254904;
-        let t521: f64 = t20 * 0.141506;
-        let t522: f64 = t520 - t521;
-        let t523: f64 = t522 + 0.349711;
-        let t524: f64 = yc - t523;
-        let t525 = product(t519, 0.6438650555185546);
-        let t526: f64 = t524 * 0.7651390659756491;
-        let t527: f64 = t525.minus(t526);
-        let t528: f64 = zc - t514;
-        let t529: f64 = t528 * 0.6438650555185546;
-        let t530 = product(t529, t529);
-        let t531: f64 = t528 * 0.7651390659756491;
-        let t532: f64 = -t531;
-        let t533: f64 = t532 * t532;
-        let t534 = product(t527, t527);
-        let t535: f64 = t530.plus(t533);
-        let t536: f64 = t534.plus(t535);
-        let t537: f64 = sqrt(t536);
-        let t538: f64 = 1.0 / t537;
-        let t539: f64 = t527 * t538;
-        let t540 = product(t519, t519);
-        let t541: f64 = t524 * t524;
-        let t542 = product(t528, t528);
-        let t543: f64 = t540.plus(t541);
-        let t544: f64 = t542.plus(t543);
-        let t545: f64 = sqrt(t544);
-        let t546: f64 = 1.0 / t545;
-        let t547: f64 = t519 * t546;
-        let t548 = product(t539, t547);
-        let t549: f64 = t528 * t546;
-        let t550: f64 = t529 * t538;
-        let t551: f64 = t549 * t550;
-        let t552: f64 = t548.plus(t551);
-        let t553: f64 = t524 * t546;
-        let t554 = product(t550, t553);
-        let t555: f64 = t532 * t538;
-        let t556: f64 = t547 * t555;
-        let t557: f64 = t554.minus(t556);
-        let t558: f64 = t557 * 9.81;
-        let t559: f64 = -t558;
-        let t560 = product(wdx, t522);
-        let t561 = product(wz, t517);
-        let t562: f64 = wx * t514;
-        let t563: f64 = t561.minus(t562);
-        let t564: f64 = wx * t563;
-        let t565 = product(wdy, t517);
-        let t566 = product(wy, t514);
-        let t567: f64 = wz * t522;
+        let t373 = product(t369, t372);
+        let t374 = product(wdz, t303);
+        let t375 = product(wz, t352);
+        let t376 = product(wdx, t302);
+        let t377: f64 = wx * t362;
+        let t378: f64 = t374.added_to(ay);
+        let t379: f64 = t375.plus(t378);
+        let t380: f64 = t376.plus(t377);
+        let t381: f64 = t379 - t380;
+        let t382: f64 = t336 * t381;
+        let t383: f64 = t373.plus(t382);
+        let t384: f64 = t358.plus(t383);
+        let t385 = product(t305, 0.1750329254309137);
+        let t386: f64 = t308 * 0.9845625805478777;
+        let t387: f64 = t385.plus(t386);
+        let t388: f64 = t322 * t387;
+        let t389: f64 = vx + t352;
+        let t390 = product(t334, t389);
+        let t391: f64 = vy + t347;
+        let t392: f64 = t339 * t391;
+        let t393: f64 = vz + t362;
+        let t394 = product(t323, t393);
+        let t395: f64 = t390.plus(t392);
+        let t396: f64 = t394.plus(t395);
+        let t397: f64 = t396 * t396;
+        let t398: f64 = t330 * t388;
+        let t399 = product(t397, t398);
+        let t400 = product(t372, t389);
+        let t401: f64 = t336 * t391;
+        let t402 = product(t341, t393);
+        let t403: f64 = t400.plus(t401);
+        let t404: f64 = t402.plus(t403);
+        let t405 = product(t331, t389);
+        let t406: f64 = t337 * t391;
+        let t407 = product(t333, t393);
+        let t408: f64 = t405.plus(t406);
+        let t409: f64 = t407.plus(t408);
+        let t410: f64 = t330 * t409;
+        let t411: f64 = t410 * 2.0;
+        let t412: f64 = t404 * t411;
+        let t413: f64 = t399.plus(t412);
+        let t414: f64 = t384 - t413;
+        let t415: f64 = t330 * t414;
+        let t416: f64 = t330 * t396;
+        let t417: f64 = t396 * t398;
+        let t418: f64 = t416 * t417;
+        let t419 = product(t343, 0.2);
+        let t420: f64 = t384 * 0.3;
+        let t421 = product(t415, 0.295);
+        let t422: f64 = t418 * 0.292;
+        let t423: f64 = t419.plus(t420);
+        let t424: f64 = t421.plus(t422);
+        let t425: f64 = t423 - t424;
+        let t426 = product(t330, t425);
+        let t427: f64 = t343 - t384;
+        let t428: f64 = t415 + t418;
+        let t429: f64 = t428 * 0.3;
+        let t430: f64 = t426.plus(t427);
+        let t431: f64 = t429 + t430;
+        let t432 = product(t336, t431);
+        let t433: f64 = t333 * 9.81;
+        let t434: f64 = -t433;
+        let t435 = product(t331, t369);
+        let t436: f64 = t337 * t381;
+        let t437 = product(t333, t357);
+        let t438: f64 = t435.plus(t436);
+        let t439: f64 = t437.plus(t438);
+        let t440 = product(t416, t416);
+        let t441: f64 = t330 * t404;
+        let t442: f64 = t441 * t441;
+        let t443: f64 = t440.plus(t442);
+        let t444 = product(t443, 0.3);
+        let t445: f64 = t444.added_to(t439);
+        let t446: f64 = t434 - t445;
+        let t447 = product(t337, t446);
+        let t448: f64 = t323 * 9.81;
+        let t449: f64 = -t448;
+        let t450 = product(t334, t369);
+        let t451: f64 = t339 * t381;
+        let t452 = product(t323, t357);
+        let t453: f64 = t450.plus(t451);
+        let t454: f64 = t452.plus(t453);
+        let t455 = product(t330, t454);
+        let t456: f64 = t330 * t330;
+        let t457: f64 = t388 * t456;
+        let t458: f64 = t396 * t457;
+        let t459 = product(t404, t458);
+        let t460: f64 = t411 * t416;
+        let t461: f64 = t459.minus(t460);
+        let t462: f64 = t455.plus(t461);
+        let t463: f64 = t417 * t441;
+        let t464 = product(t388, t461);
+        let t465: f64 = t322 * t322;
+        let t466: f64 = t328 * t330;
+        let t467: f64 = t465 * t466;
+        let t468: f64 = t396 * t467;
+        let t469 = product(t404, t468);
+        let t470: f64 = t388 * t454;
+        let t471: f64 = t469.plus(t470);
+        let t472: f64 = t330 * t471;
+        let t473: f64 = t464.plus(t472);
+        let t474: f64 = t388 * t473;
+        let t475 = product(t449, 0.2);
+        let t476: f64 = t454 * 0.3;
+        let t477 = product(t462, 0.295);
+        let t478 = product(t463, 0.292);
+        let t479: f64 = t474 * 0.003;
+        let t480: f64 = t475.plus(t476);
+        let t481: f64 = t478.plus(t480);
+        let t482: f64 = t477.plus(t479);
+        let t483: f64 = t481 - t482;
+        let t484 = product(t330, t483);
+        let t485: f64 = t449 - t454;
+        let t486: f64 = t462 - t463;
+        let t487: f64 = t486 * 0.3;
+        let t488: f64 = t484.plus(t485);
+        let t489: f64 = t487 + t488;
+        let t490: f64 = t339 * t489;
+        let t491: f64 = t447.plus(t490);
+        let t492: f64 = t432.plus(t491);
+        let t493: f64 = -t492;
+        let t494: f64 = t302 * t493;
+        let t495 = product(t341, t431);
+        let t496 = product(t333, t446);
+        let t497: f64 = t323 * t489;
+        let t498: f64 = t496.plus(t497);
+        let t499: f64 = t495.plus(t498);
+        let t500: f64 = -t499;
+        let t501: f64 = t306 * t500;
+        let t502: f64 = t30 * 0.254904;
+        let t503: f64 = t34 * 0.141506;
+        let t504: f64 = t502 - t503;
+        let t505: f64 = t4 * 0.254904;
+        let t506: f64 = t5 * 0.141506;
+        let t507: f64 = t505 + t506;
+        let t508: f64 = xc + 0.294282;
+        let t509: f64 = t508 - t507;
+        let t510: f64 = t17 * 0.254904;
+        let t511: f64 = t20 * 0.141506;
+        let t512: f64 = t510 - t511;
+        let t513: f64 = t512 + 0.349711;
+        let t514: f64 = yc - t513;
+        let t515 = product(t509, 0.6438650555185546);
+        let t516: f64 = t514 * 0.7651390659756491;
+        let t517: f64 = t515.minus(t516);
+        let t518: f64 = zc - t504;
+        let t519: f64 = t518 * 0.6438650555185546;
+        let t520 = product(t519, t519);
+        let t521: f64 = t518 * 0.7651390659756491;
+        let t522: f64 = -t521;
+        let t523: f64 = t522 * t522;
+        let t524 = product(t517, t517);
+        let t525: f64 = t520.plus(t523);
+        let t526: f64 = t524.plus(t525);
+        let t527: f64 = sqrt(t526);
+        let t528: f64 = 1.0 / t527;
+        let t529: f64 = t517 * t528;
+        let t530 = product(t509, t509);
+        let t531: f64 = t514 * t514;
+        let t532 = product(t518, t518);
+        let t533: f64 = t530.plus(t531);
+        let t534: f64 = t532.plus(t533);
+        let t535: f64 = sqrt(t534);
+        let t536: f64 = 1.0 / t535;
+        let t537: f64 = t509 * t536;
+        let t538 = product(t529, t537);
+        let t539: f64 = t518 * t536;
+        let t540: f64 = t519 * t528;
+        let t541: f64 = t539 * t540;
+        let t542: f64 = t538.plus(t541);
+        let t543: f64 = t514 * t536;
+        let t544 = product(t540, t543);
+        let t545: f64 = t522 * t528;
+        let t546: f64 = t537 * t545;
+        let t547: f64 = t544.minus(t546);
+        let t548: f64 = t547 * 9.81;
+        let t549: f64 = -t548;
+        let t550 = product(wdx, t512);
+        let t551 = product(wz, t507);
+        let t552: f64 = wx * t504;
+        let t553: f64 = t551.minus(t552);
+        let t554: f64 = wx * t553;
+        let t555 = product(wdy, t507);
+        let t556 = product(wy, t504);
+        let t557: f64 = wz * t512;
+        let t558: f64 = t556.minus(t557);
+        let t559 = product(wy, t558);
+        let t560: f64 = t555.added_to(az);
+        let t561: f64 = t559.plus(t560);
+        let t562: f64 = t550.plus(t554);
+        let t563: f64 = t561 - t562;
+        let t564 = product(t547, t563);
+        let t565 = product(wdy, t504);
+        let t566 = product(wx, t512);
+        let t567: f64 = wy * t507;
         let t568: f64 = t566.minus(t567);
-        let t569 = product(wy, t568);
-        let t570: f64 = t565.added_to(az);
-        let t571: f64 = t569.plus(t570);
-        let t572: f64 = t560.plus(t564);
-        let t573: f64 = t571 - t572;
-        let t574 = product(t557, t573);
-        let t575 = product(wdy, t514);
-        let t576 = product(wx, t522);
-        let t577: f64 = wy * t517;
-        let t578: f64 = t576.minus(t577);
-        let t579: f64 = wy * t578;
-        let t580 = product(wdz, t522);
-        let t581 = product(wz, t563);
-        let t582: f64 = t580.added_to(ax);
-        let t583: f64 = t581.plus(t582);
-        let t584: f64 = t575.plus(t579);
-        let t585: f64 = t583 - t584;
-        let t586 = product(t549, t555);
-        let t587: f64 = t539 * t553;
-        let t588: f64 = t586.plus(t587);
-        let t589 = product(t585, t588);
-        let t590 = product(wdz, t517);
-        let t591: f64 = wz * t568;
-        let t592 = product(wdx, t514);
-        let t593 = product(wx, t578);
-        let t594: f64 = t592.added_to(ay);
-        let t595: f64 = t593.plus(t594);
-        let t596: f64 = t590.plus(t591);
-        let t597: f64 = t595 - t596;
-        let t598: f64 = t552 * t597;
-        let t599: f64 = t589.minus(t598);
-        let t600: f64 = t574.plus(t599);
-        let t601 = product(t519, 0.7651390659756491);
-        let t602: f64 = t524 * 0.6438650555185546;
-        let t603: f64 = t601.plus(t602);
-        let t604: f64 = t538 * t603;
-        let t605: f64 = vx - t568;
-        let t606 = product(t550, t605);
-        let t607: f64 = vy - t563;
-        let t608: f64 = t555 * t607;
-        let t609: f64 = vz - t578;
-        let t610 = product(t539, t609);
-        let t611: f64 = t606.plus(t608);
-        let t612: f64 = t610.subtracted_from(t611);
-        let t613: f64 = t612 * t612;
-        let t614: f64 = t546 * t604;
-        let t615 = product(t613, t614);
-        let t616 = product(t588, t605);
-        let t617 = product(t552, t607);
-        let t618: f64 = t557 * t609;
-        let t619: f64 = t616.plus(t618);
-        let t620: f64 = t617.subtracted_from(t619);
-        let t621 = product(t547, t605);
-        let t622: f64 = t553 * t607;
-        let t623 = product(t549, t609);
-        let t624: f64 = t621.plus(t622);
-        let t625: f64 = t623.plus(t624);
-        let t626: f64 = t546 * t625;
-        let t627: f64 = t626 * 2.0;
-        let t628 = product(t620, t627);
-        let t629: f64 = t615.added_to(t600);
-        let t630: f64 = t628.subtracted_from(t629);
-        let t631: f64 = t546 * t630;
-        let t632: f64 = t546 * t612;
-        let t633: f64 = t612 * t614;
-        let t634: f64 = t632 * t633;
-        let t635 = product(t559, 0.2);
-        let t636: f64 = t600 * 0.3;
-        let t637 = product(t631, 0.295);
-        let t638 = product(t634, 0.292);
-        let t639: f64 = t635.plus(t636);
-        let t640: f64 = t638.plus(t639);
-        let t641: f64 = t637.minus(t640);
-        let t642 = product(t546, t641);
-        let t643: f64 = t559 - t600;
-        let t644: f64 = t631 - t634;
-        let t645 = product(t644, 0.3);
-        let t646: f64 = t645.added_to(t643);
-        let t647: f64 = t642.subtracted_from(t646);
-        let t648 = product(t552, t647);
-        let t649: f64 = t549 * 9.81;
-        let t650: f64 = -t649;
-        let t651 = product(t547, t585);
-        let t652: f64 = t553 * t597;
-        let t653 = product(t549, t573);
-        let t654: f64 = t651.plus(t652);
-        let t655: f64 = t653.plus(t654);
-        let t656 = product(t632, t632);
-        let t657: f64 = t546 * t620;
-        let t658: f64 = t657 * t657;
-        let t659: f64 = t656.plus(t658);
-        let t660 = product(t659, 0.3);
-        let t661: f64 = t660.added_to(t655);
-        let t662: f64 = t650 - t661;
-        let t663 = product(t553, t662);
-        let t664: f64 = t539 * 9.81;
-        let t665 = product(t550, t585);
-        let t666: f64 = t555 * t597;
-        let t667 = product(t539, t573);
-        let t668: f64 = t665.plus(t666);
-        let t669: f64 = t667.subtracted_from(t668);
-        let t670 = product(t546, t669);
-        let t671: f64 = t546 * t546;
-        let t672: f64 = t604 * t671;
-        let t673: f64 = t612 * t672;
-        let t674 = product(t620, t673);
-        let t675: f64 = t627 * t632;
-        let t676: f64 = t674.plus(t675);
-        let t677: f64 = t670.subtracted_from(t676);
-        let t678: f64 = t633 * t657;
-        let t679 = product(t604, t676);
-        let t680: f64 = t538 * t538;
-        let t681: f64 = t544 * t546;
-        let t682: f64 = t680 * t681;
-        let t683: f64 = t612 * t682;
-        let t684 = product(t620, t683);
-        let t685: f64 = t604 * t669;
-        let t686: f64 = t684.minus(t685);
-        let t687: f64 = t546 * t686;
-        let t688: f64 = t679.plus(t687);
-        let t689: f64 = t604 * t688;
-        let t690 = product(t664, 0.2);
-        let t691: f64 = t669 * 0.3;
-        let t692 = product(t677, 0.295);
-        let t693 = product(t678, 0.292);
-        let t694: f64 = t689 * 0.003;
-        let t695: f64 = t690.plus(t691);
-        let t696: f64 = t692.plus(t694);
-        let t697: f64 = t695 + t696;
-        let t698: f64 = t693.subtracted_from(t697);
-        let t699 = product(t546, t698);
-        let t700: f64 = t664 - t669;
-        let t701: f64 = t677 - t678;
-        let t702: f64 = t701 * 0.3;
-        let t703: f64 = t699.plus(t700);
-        let t704: f64 = t703 - t702;
-        let t705: f64 = t555 * t704;
-        let t706: f64 = t663.plus(t705);
-        let t707: f64 = t648.minus(t706);
-        let t708 = product(t514, t707);
-        let t709 = product(t557, t647);
-        let t710 = product(t549, t662);
-        let t711: f64 = t539 * t704;
-        let t712: f64 = t710.minus(t711);
-        let t713: f64 = t709.plus(t712);
-        let t714: f64 = t522 * t713;
-        let t715: f64 = t30 * 0.004904;
-        let t716: f64 = t34 * 0.291506;
-        let t717: f64 = t715 + t716;
-        let t718: f64 = t4 * 0.004904;
-        let t719: f64 = t5 * 0.291506;
-        let t720: f64 = t718 - t719;
-        let t721: f64 = xc + t720;
-        let t722: f64 = t721 + 0.155718;
-        let t723: f64 = t17 * 0.004904;
-        let t724: f64 = t20 * 0.291506;
-        let t725: f64 = t723 + t724;
-        let t726: f64 = yc + t725;
-        let t727: f64 = t726 - 0.429711;
-        let t728 = product(t722, 0.3406979323488107);
-        let t729: f64 = t727 * 0.9401728133131936;
-        let t730: f64 = t728.minus(t729);
-        let t731: f64 = zc + t717;
-        let t732: f64 = t731 * 0.3406979323488107;
-        let t733 = product(t732, t732);
-        let t734: f64 = t731 * 0.9401728133131936;
-        let t735: f64 = -t734;
-        let t736: f64 = t735 * t735;
-        let t737 = product(t730, t730);
-        let t738: f64 = t733.plus(t736);
-        let t739: f64 = t737.plus(t738);
-        let t740: f64 = sqrt(t739);
-        let t741: f64 = 1.0 / t740;
-        let t742: f64 = t730 * t741;
-        let t743 = product(t722, t722);
-        let t744: f64 = t727 * t727;
-        let t745 = product(t731, t731);
-        let t746: f64 = t743.plus(t744);
-        let t747: f64 = t745.plus(t746);
-        let t748: f64 = sqrt(t747);
-        let t749: f64 = 1.0 / t748;
-        let t750: f64 = t722 * t749;
-        let t751 = product(t742, t750);
-        let t752: f64 = t731 * t749;
-        let t753: f64 = t732 * t741;
-        let t754: f64 = t752 * t753;
-        let t755: f64 = t751.plus(t754);
-        let t756: f64 = t727 * t749;
-        let t757 = product(t753, t756);
-        let t758: f64 = t735 * t741;
-        let t759: f64 = t750 * t758;
-        let t760: f64 = t757.minus(t759);
-        let t761: f64 = t760 * 9.81;
-        let t762: f64 = -t761;
-        let t763 = product(wdx, t725);
-        let t764 = product(wz, t720);
-        let t765: f64 = wx * t717;
-        let t766: f64 = t764.minus(t765);
-        let t767 = product(wx, t766);
-        let t768 = product(wdy, t720);
-        let t769 = product(wy, t717);
-        let t770: f64 = wz * t725;
+        let t569: f64 = wy * t568;
+        let t570 = product(wdz, t512);
+        let t571 = product(wz, t553);
+        let t572: f64 = t570.added_to(ax);
+        let t573: f64 = t571.plus(t572);
+        let t574: f64 = t565.plus(t569);
+        let t575: f64 = t573 - t574;
+        let t576 = product(t539, t545);
+        let t577: f64 = t529 * t543;
+        let t578: f64 = t576.plus(t577);
+        let t579 = product(t575, t578);
+        let t580 = product(wdz, t507);
+        let t581: f64 = wz * t558;
+        let t582 = product(wdx, t504);
+        let t583 = product(wx, t568);
+        let t584: f64 = t582.added_to(ay);
+        let t585: f64 = t583.plus(t584);
+        let t586: f64 = t580.plus(t581);
+        let t587: f64 = t585 - t586;
+        let t588: f64 = t542 * t587;
+        let t589: f64 = t579.minus(t588);
+        let t590: f64 = t564.plus(t589);
+        let t591 = product(t509, 0.7651390659756491);
+        let t592: f64 = t514 * 0.6438650555185546;
+        let t593: f64 = t591.plus(t592);
+        let t594: f64 = t528 * t593;
+        let t595: f64 = vx - t558;
+        let t596 = product(t540, t595);
+        let t597: f64 = vy - t553;
+        let t598: f64 = t545 * t597;
+        let t599: f64 = vz - t568;
+        let t600 = product(t529, t599);
+        let t601: f64 = t596.plus(t598);
+        let t602: f64 = t600.subtracted_from(t601);
+        let t603: f64 = t602 * t602;
+        let t604: f64 = t536 * t594;
+        let t605 = product(t603, t604);
+        let t606 = product(t578, t595);
+        let t607 = product(t542, t597);
+        let t608: f64 = t547 * t599;
+        let t609: f64 = t606.plus(t608);
+        let t610: f64 = t607.subtracted_from(t609);
+        let t611 = product(t537, t595);
+        let t612: f64 = t543 * t597;
+        let t613 = product(t539, t599);
+        let t614: f64 = t611.plus(t612);
+        let t615: f64 = t613.plus(t614);
+        let t616: f64 = t536 * t615;
+        let t617: f64 = t616 * 2.0;
+        let t618 = product(t610, t617);
+        let t619: f64 = t605.added_to(t590);
+        let t620: f64 = t618.subtracted_from(t619);
+        let t621: f64 = t536 * t620;
+        let t622: f64 = t536 * t602;
+        let t623: f64 = t602 * t604;
+        let t624: f64 = t622 * t623;
+        let t625 = product(t549, 0.2);
+        let t626: f64 = t590 * 0.3;
+        let t627 = product(t621, 0.295);
+        let t628 = product(t624, 0.292);
+        let t629: f64 = t625.plus(t626);
+        let t630: f64 = t628.plus(t629);
+        let t631: f64 = t627.minus(t630);
+        let t632 = product(t536, t631);
+        let t633: f64 = t549 - t590;
+        let t634: f64 = t621 - t624;
+        let t635 = product(t634, 0.3);
+        let t636: f64 = t635.added_to(t633);
+        let t637: f64 = t632.subtracted_from(t636);
+        let t638 = product(t542, t637);
+        let t639: f64 = t539 * 9.81;
+        let t640: f64 = -t639;
+        let t641 = product(t537, t575);
+        let t642: f64 = t543 * t587;
+        let t643 = product(t539, t563);
+        let t644: f64 = t641.plus(t642);
+        let t645: f64 = t643.plus(t644);
+        let t646 = product(t622, t622);
+        let t647: f64 = t536 * t610;
+        let t648: f64 = t647 * t647;
+        let t649: f64 = t646.plus(t648);
+        let t650 = product(t649, 0.3);
+        let t651: f64 = t650.added_to(t645);
+        let t652: f64 = t640 - t651;
+        let t653 = product(t543, t652);
+        let t654: f64 = t529 * 9.81;
+        let t655 = product(t540, t575);
+        let t656: f64 = t545 * t587;
+        let t657 = product(t529, t563);
+        let t658: f64 = t655.plus(t656);
+        let t659: f64 = t657.subtracted_from(t658);
+        let t660 = product(t536, t659);
+        let t661: f64 = t536 * t536;
+        let t662: f64 = t594 * t661;
+        let t663: f64 = t602 * t662;
+        let t664 = product(t610, t663);
+        let t665: f64 = t617 * t622;
+        let t666: f64 = t664.plus(t665);
+        let t667: f64 = t660.subtracted_from(t666);
+        let t668: f64 = t623 * t647;
+        let t669 = product(t594, t666);
+        let t670: f64 = t528 * t528;
+        let t671: f64 = t534 * t536;
+        let t672: f64 = t670 * t671;
+        let t673: f64 = t602 * t672;
+        let t674 = product(t610, t673);
+        let t675: f64 = t594 * t659;
+        let t676: f64 = t674.minus(t675);
+        let t677: f64 = t536 * t676;
+        let t678: f64 = t669.plus(t677);
+        let t679: f64 = t594 * t678;
+        let t680 = product(t654, 0.2);
+        let t681: f64 = t659 * 0.3;
+        let t682 = product(t667, 0.295);
+        let t683 = product(t668, 0.292);
+        let t684: f64 = t679 * 0.003;
+        let t685: f64 = t680.plus(t681);
+        let t686: f64 = t682.plus(t684);
+        let t687: f64 = t685 + t686;
+        let t688: f64 = t683.subtracted_from(t687);
+        let t689 = product(t536, t688);
+        let t690: f64 = t654 - t659;
+        let t691: f64 = t667 - t668;
+        let t692: f64 = t691 * 0.3;
+        let t693: f64 = t689.plus(t690);
+        let t694: f64 = t693 - t692;
+        let t695: f64 = t545 * t694;
+        let t696: f64 = t653.plus(t695);
+        let t697: f64 = t638.minus(t696);
+        let t698 = product(t504, t697);
+        let t699 = product(t547, t637);
+        let t700 = product(t539, t652);
+        let t701: f64 = t529 * t694;
+        let t702: f64 = t700.minus(t701);
+        let t703: f64 = t699.plus(t702);
+        let t704: f64 = t512 * t703;
+        let t705: f64 = t30 * 0.004904;
+        let t706: f64 = t34 * 0.291506;
+        let t707: f64 = t705 + t706;
+        let t708: f64 = t4 * 0.004904;
+        let t709: f64 = t5 * 0.291506;
+        let t710: f64 = t708 - t709;
+        let t711: f64 = xc + t710;
+        let t712: f64 = t711 + 0.155718;
+        let t713: f64 = t17 * 0.004904;
+        let t714: f64 = t20 * 0.291506;
+        let t715: f64 = t713 + t714;
+        let t716: f64 = yc + t715;
+        let t717: f64 = t716 - 0.429711;
+        let t718 = product(t712, 0.3406979323488107);
+        let t719: f64 = t717 * 0.9401728133131936;
+        let t720: f64 = t718.minus(t719);
+        let t721: f64 = zc + t707;
+        let t722: f64 = t721 * 0.3406979323488107;
+        let t723 = product(t722, t722);
+        let t724: f64 = t721 * 0.9401728133131936;
+        let t725: f64 = -t724;
+        let t726: f64 = t725 * t725;
+        let t727 = product(t720, t720);
+        let t728: f64 = t723.plus(t726);
+        let t729: f64 = t727.plus(t728);
+        let t730: f64 = sqrt(t729);
+        let t731: f64 = 1.0 / t730;
+        let t732: f64 = t720 * t731;
+        let t733 = product(t712, t712);
+        let t734: f64 = t717 * t717;
+        let t735 = product(t721, t721);
+        let t736: f64 = t733.plus(t734);
+        let t737: f64 = t735.plus(t736);
+        let t738: f64 = sqrt(t737);
+        let t739: f64 = 1.0 / t738;
+        let t740: f64 = t712 * t739;
+        let t741 = product(t732, t740);
+        let t742: f64 = t721 * t739;
+        let t743: f64 = t722 * t731;
+        let t744: f64 = t742 * t743;
+        let t745: f64 = t741.plus(t744);
+        let t746: f64 = t717 * t739;
+        let t747 = product(t743, t746);
+        let t748: f64 = t725 * t731;
+        let t749: f64 = t740 * t748;
+        let t750: f64 = t747.minus(t749);
+        let t751: f64 = t750 * 9.81;
+        let t752: f64 = -t751;
+        let t753 = product(wdx, t715);
+        let t754 = product(wz, t710);
+        let t755: f64 = wx * t707;
+        let t756: f64 = t754.minus(t755);
+        let t757 = product(wx, t756);
+        let t758 = product(wdy, t710);
+        let t759 = product(wy, t707);
+        let t760: f64 = wz * t715;
+        let t761: f64 = t759.minus(t760);
+        let t762: f64 = wy * t761;
+        let t763: f64 = t753.added_to(az);
+        let t764: f64 = t757.plus(t763);
+        let t765: f64 = t758.plus(t762);
+        let t766: f64 = t764 - t765;
+        let t767 = product(t750, t766);
+        let t768 = product(wdy, t707);
+        let t769 = product(wx, t715);
+        let t770: f64 = wy * t710;
         let t771: f64 = t769.minus(t770);
-        let t772: f64 = wy * t771;
-        let t773: f64 = t763.added_to(az);
-        let t774: f64 = t767.plus(t773);
-        let t775: f64 = t768.plus(t772);
-        let t776: f64 = t774 - t775;
-        let t777 = product(t760, t776);
-        let t778 = product(wdy, t717);
-        let t779 = product(wx, t725);
-        let t780: f64 = wy * t720;
-        let t781: f64 = t779.minus(t780);
-        let t782 = product(wy, t781);
-        let t783 = product(wdz, t725);
-        let t784: f64 = wz * t766;
-        let t785: f64 = t778.added_to(ax);
-        let t786: f64 = t782.plus(t785);
-        let t787: f64 = t783.plus(t784);
-        let t788: f64 = t786 - t787;
-        let t789 = product(t752, t758);
-        let t790: f64 = t742 * t756;
-        let t791: f64 = t789.plus(t790);
-        let t792 = product(t788, t791);
-        let t793 = product(wdz, t720);
-        let t794 = product(wz, t771);
-        let t795 = product(wdx, t717);
-        let t796: f64 = wx * t781;
-        let t797: f64 = t793.added_to(ay);
-        let t798: f64 = t794.plus(t797);
-        let t799: f64 = t795.plus(t796);
-        let t800: f64 = t798 - t799;
-        let t801: f64 = t755 * t800;
-        let t802: f64 = t792.minus(t801);
-        let t803: f64 = t777.plus(t802);
-        let t804 = product(t722, 0.9401728133131936);
-        let t805: f64 = t727 * 0.3406979323488107;
-        let t806: f64 = t804.plus(t805);
-        let t807: f64 = t741 * t806;
-        let t808: f64 = vx + t771;
-        let t809 = product(t753, t808);
-        let t810: f64 = vy + t766;
-        let t811: f64 = t758 * t810;
-        let t812: f64 = vz + t781;
-        let t813 = product(t742, t812);
-        let t814: f64 = t809.plus(t811);
-        let t815: f64 = t813.subtracted_from(t814);
-        let t816: f64 = t815 * t815;
-        let t817: f64 = t749 * t807;
-        let t818 = product(t816, t817);
-        let t819 = product(t791, t808);
-        let t820 = product(t755, t810);
-        let t821: f64 = t760 * t812;
-        let t822: f64 = t819.plus(t821);
-        let t823: f64 = t820.subtracted_from(t822);
-        let t824 = product(t750, t808);
-        let t825: f64 = t756 * t810;
-        let t826 = product(t752, t812);
-        let t827: f64 = t824.plus(t825);
-        let t828: f64 = t826.plus(t827);
-        let t829: f64 = t749 * t828;
-        let t830: f64 = t829 * 2.0;
-        let t831 = product(t823, t830);
-        let t832: f64 = t818.added_to(t803);
-        let t833: f64 = t831.subtracted_from(t832);
-        let t834: f64 = t749 * t833;
-        let t835: f64 = t749 * t815;
-        let t836: f64 = t815 * t817;
-        let t837: f64 = t835 * t836;
-        let t838 = product(t762, 0.2);
-        let t839: f64 = t803 * 0.3;
-        let t840 = product(t834, 0.295);
-        let t841 = product(t837, 0.292);
-        let t842: f64 = t838.plus(t839);
-        let t843: f64 = t841.plus(t842);
-        let t844: f64 = t840.minus(t843);
-        let t845 = product(t749, t844);
-        let t846: f64 = t762 - t803;
-        let t847: f64 = t834 - t837;
-        let t848 = product(t847, 0.3);
-        let t849: f64 = t848.added_to(t846);
-        let t850: f64 = t845.subtracted_from(t849);
-        let t851 = product(t755, t850);
-        let t852: f64 = t752 * 9.81;
-        let t853: f64 = -t852;
-        let t854 = product(t750, t788);
-        let t855: f64 = t756 * t800;
-        let t856 = product(t752, t776);
-        let t857: f64 = t854.plus(t855);
-        let t858: f64 = t856.plus(t857);
-        let t859 = product(t835, t835);
-        let t860: f64 = t749 * t823;
-        let t861: f64 = t860 * t860;
-        let t862: f64 = t859.plus(t861);
-        let t863 = product(t862, 0.3);
-        let t864: f64 = t863.added_to(t858);
-        let t865: f64 = t853 - t864;
-        let t866 = product(t756, t865);
-        let t867: f64 = t742 * 9.81;
-        let t868 = product(t753, t788);
-        let t869: f64 = t758 * t800;
-        let t870 = product(t742, t776);
-        let t871: f64 = t868.plus(t869);
-        let t872: f64 = t870.subtracted_from(t871);
-        let t873 = product(t749, t872);
-        let t874: f64 = t749 * t749;
-        let t875: f64 = t807 * t874;
-        let t876: f64 = t815 * t875;
-        let t877 = product(t823, t876);
-        let t878: f64 = t830 * t835;
-        let t879: f64 = t877.plus(t878);
-        let t880: f64 = t873.subtracted_from(t879);
-        let t881: f64 = t836 * t860;
-        let t882 = product(t807, t879);
-        let t883: f64 = t741 * t741;
-        let t884: f64 = t747 * t749;
-        let t885: f64 = t883 * t884;
-        let t886: f64 = t815 * t885;
-        let t887 = product(t823, t886);
-        let t888: f64 = t807 * t872;
-        let t889: f64 = t887.minus(t888);
-        let t890: f64 = t749 * t889;
-        let t891: f64 = t882.plus(t890);
-        let t892: f64 = t807 * t891;
-        let t893 = product(t867, 0.2);
-        let t894: f64 = t872 * 0.3;
-        let t895 = product(t880, 0.295);
-        let t896 = product(t881, 0.292);
-        let t897: f64 = t892 * 0.003;
-        let t898: f64 = t893.plus(t894);
-        let t899: f64 = t895.plus(t897);
-        let t900: f64 = t898 + t899;
-        let t901: f64 = t896.subtracted_from(t900);
-        let t902 = product(t749, t901);
-        let t903: f64 = t867 - t872;
-        let t904: f64 = t880 - t881;
-        let t905: f64 = t904 * 0.3;
-        let t906: f64 = t902.plus(t903);
-        let t907: f64 = t906 - t905;
-        let t908: f64 = t758 * t907;
-        let t909: f64 = t866.plus(t908);
-        let t910: f64 = t851.minus(t909);
-        let t911 = product(t717, t910);
-        let t912 = product(t760, t850);
-        let t913 = product(t752, t865);
-        let t914: f64 = t742 * t907;
-        let t915: f64 = t913.minus(t914);
-        let t916: f64 = t912.plus(t915);
-        let t917: f64 = t725 * t916;
-        let t918: f64 = t715 - t716;
-        let t919: f64 = t718 + t719;
-        let t920: f64 = xc + t919;
-        let t921: f64 = t920 + 0.155718;
-        let t922: f64 = t723 - t724;
-        let t923: f64 = yc + t922;
-        let t924: f64 = t923 + 0.429711;
-        let t925 = product(t921, 0.3406979323488107);
-        let t926: f64 = t924 * 0.9401728133131936;
-        let t927: f64 = t925.plus(t926);
-        let t928: f64 = zc + t918;
-        let t929: f64 = t928 * 0.3406979323488107;
-        let t930 = product(t929, t929);
-        let t931: f64 = t928 * 0.9401728133131936;
-        let t932: f64 = t931 * t931;
-        let t933 = product(t927, t927);
-        let t934: f64 = t930.plus(t932);
-        let t935: f64 = t933.plus(t934);
-        let t936: f64 = sqrt(t935);
-        let t937: f64 = 1.0 / t936;
-        let t938: f64 = t927 * t937;
-        let t939 = product(t921, t921);
-        let t940: f64 = t924 * t924;
-        let t941 = product(t928, t928);
-        let t942: f64 = t939.plus(t940);
-        let t943: f64 = t941.plus(t942);
-        let t944: f64 = sqrt(t943);
-        let t945: f64 = 1.0 / t944;
-        let t946: f64 = t921 * t945;
-        let t947 = product(t938, t946);
-        let t948: f64 = t928 * t945;
-        let t949: f64 = t929 * t937;
-        let t950: f64 = t948 * t949;
-        let t951: f64 = t947.plus(t950);
-        let t952: f64 = t924 * t945;
-        let t953 = product(t949, t952);
-        let t954: f64 = t931 * t937;
-        let t955: f64 = t946 * t954;
-        let t956: f64 = t953.minus(t955);
-        let t957: f64 = t956 * 9.81;
-        let t958: f64 = -t957;
-        let t959 = product(wdx, t922);
-        let t960 = product(wz, t919);
-        let t961: f64 = wx * t918;
-        let t962: f64 = t960.minus(t961);
-        let t963 = product(wx, t962);
-        let t964 = product(wdy, t919);
-        let t965 = product(wy, t918);
-        let t966: f64 = wz * t922;
+        let t772 = product(wy, t771);
+        let t773 = product(wdz, t715);
+        let t774: f64 = wz * t756;
+        let t775: f64 = t768.added_to(ax);
+        let t776: f64 = t772.plus(t775);
+        let t777: f64 = t773.plus(t774);
+        let t778: f64 = t776 - t777;
+        let t779 = product(t742, t748);
+        let t780: f64 = t732 * t746;
+        let t781: f64 = t779.plus(t780);
+        let t782 = product(t778, t781);
+        let t783 = product(wdz, t710);
+        let t784 = product(wz, t761);
+        let t785 = product(wdx, t707);
+        let t786: f64 = wx * t771;
+        let t787: f64 = t783.added_to(ay);
+        let t788: f64 = t784.plus(t787);
+        let t789: f64 = t785.plus(t786);
+        let t790: f64 = t788 - t789;
+        let t791: f64 = t745 * t790;
+        let t792: f64 = t782.minus(t791);
+        let t793: f64 = t767.plus(t792);
+        let t794 = product(t712, 0.9401728133131936);
+        let t795: f64 = t717 * 0.3406979323488107;
+        let t796: f64 = t794.plus(t795);
+        let t797: f64 = t731 * t796;
+        let t798: f64 = vx + t761;
+        let t799 = product(t743, t798);
+        let t800: f64 = vy + t756;
+        let t801: f64 = t748 * t800;
+        let t802: f64 = vz + t771;
+        let t803 = product(t732, t802);
+        let t804: f64 = t799.plus(t801);
+        let t805: f64 = t803.subtracted_from(t804);
+        let t806: f64 = t805 * t805;
+        let t807: f64 = t739 * t797;
+        let t808 = product(t806, t807);
+        let t809 = product(t781, t798);
+        let t810 = product(t745, t800);
+        let t811: f64 = t750 * t802;
+        let t812: f64 = t809.plus(t811);
+        let t813: f64 = t810.subtracted_from(t812);
+        let t814 = product(t740, t798);
+        let t815: f64 = t746 * t800;
+        let t816 = product(t742, t802);
+        let t817: f64 = t814.plus(t815);
+        let t818: f64 = t816.plus(t817);
+        let t819: f64 = t739 * t818;
+        let t820: f64 = t819 * 2.0;
+        let t821 = product(t813, t820);
+        let t822: f64 = t808.added_to(t793);
+        let t823: f64 = t821.subtracted_from(t822);
+        let t824: f64 = t739 * t823;
+        let t825: f64 = t739 * t805;
+        let t826: f64 = t805 * t807;
+        let t827: f64 = t825 * t826;
+        let t828 = product(t752, 0.2);
+        let t829: f64 = t793 * 0.3;
+        let t830 = product(t824, 0.295);
+        let t831 = product(t827, 0.292);
+        let t832: f64 = t828.plus(t829);
+        let t833: f64 = t831.plus(t832);
+        let t834: f64 = t830.minus(t833);
+        let t835 = product(t739, t834);
+        let t836: f64 = t752 - t793;
+        let t837: f64 = t824 - t827;
+        let t838 = product(t837, 0.3);
+        let t839: f64 = t838.added_to(t836);
+        let t840: f64 = t835.subtracted_from(t839);
+        let t841 = product(t745, t840);
+        let t842: f64 = t742 * 9.81;
+        let t843: f64 = -t842;
+        let t844 = product(t740, t778);
+        let t845: f64 = t746 * t790;
+        let t846 = product(t742, t766);
+        let t847: f64 = t844.plus(t845);
+        let t848: f64 = t846.plus(t847);
+        let t849 = product(t825, t825);
+        let t850: f64 = t739 * t813;
+        let t851: f64 = t850 * t850;
+        let t852: f64 = t849.plus(t851);
+        let t853 = product(t852, 0.3);
+        let t854: f64 = t853.added_to(t848);
+        let t855: f64 = t843 - t854;
+        let t856 = product(t746, t855);
+        let t857: f64 = t732 * 9.81;
+        let t858 = product(t743, t778);
+        let t859: f64 = t748 * t790;
+        let t860 = product(t732, t766);
+        let t861: f64 = t858.plus(t859);
+        let t862: f64 = t860.subtracted_from(t861);
+        let t863 = product(t739, t862);
+        let t864: f64 = t739 * t739;
+        let t865: f64 = t797 * t864;
+        let t866: f64 = t805 * t865;
+        let t867 = product(t813, t866);
+        let t868: f64 = t820 * t825;
+        let t869: f64 = t867.plus(t868);
+        let t870: f64 = t863.subtracted_from(t869);
+        let t871: f64 = t826 * t850;
+        let t872 = product(t797, t869);
+        let t873: f64 = t731 * t731;
+        let t874: f64 = t737 * t739;
+        let t875: f64 = t873 * t874;
+        let t876: f64 = t805 * t875;
+        let t877 = product(t813, t876);
+        let t878: f64 = t797 * t862;
+        let t879: f64 = t877.minus(t878);
+        let t880: f64 = t739 * t879;
+        let t881: f64 = t872.plus(t880);
+        let t882: f64 = t797 * t881;
+        let t883 = product(t857, 0.2);
+        let t884: f64 = t862 * 0.3;
+        let t885 = product(t870, 0.295);
+        let t886 = product(t871, 0.292);
+        let t887: f64 = t882 * 0.003;
+        let t888: f64 = t883.plus(t884);
+        let t889: f64 = t885.plus(t887);
+        let t890: f64 = t888 + t889;
+        let t891: f64 = t886.subtracted_from(t890);
+        let t892 = product(t739, t891);
+        let t893: f64 = t857 - t862;
+        let t894: f64 = t870 - t871;
+        let t895: f64 = t894 * 0.3;
+        let t896: f64 = t892.plus(t893);
+        let t897: f64 = t896 - t895;
+        let t898: f64 = t748 * t897;
+        let t899: f64 = t856.plus(t898);
+        let t900: f64 = t841.minus(t899);
+        let t901 = product(t707, t900);
+        let t902 = product(t750, t840);
+        let t903 = product(t742, t855);
+        let t904: f64 = t732 * t897;
+        let t905: f64 = t903.minus(t904);
+        let t906: f64 = t902.plus(t905);
+        let t907: f64 = t715 * t906;
+        let t908: f64 = t705 - t706;
+        let t909: f64 = t708 + t709;
+        let t910: f64 = xc + t909;
+        let t911: f64 = t910 + 0.155718;
+        let t912: f64 = t713 - t714;
+        let t913: f64 = yc + t912;
+        let t914: f64 = t913 + 0.429711;
+        let t915 = product(t911, 0.3406979323488107);
+        let t916: f64 = t914 * 0.9401728133131936;
+        let t917: f64 = t915.plus(t916);
+        let t918: f64 = zc + t908;
+        let t919: f64 = t918 * 0.3406979323488107;
+        let t920 = product(t919, t919);
+        let t921: f64 = t918 * 0.9401728133131936;
+        let t922: f64 = t921 * t921;
+        let t923 = product(t917, t917);
+        let t924: f64 = t920.plus(t922);
+        let t925: f64 = t923.plus(t924);
+        let t926: f64 = sqrt(t925);
+        let t927: f64 = 1.0 / t926;
+        let t928: f64 = t917 * t927;
+        let t929 = product(t911, t911);
+        let t930: f64 = t914 * t914;
+        let t931 = product(t918, t918);
+        let t932: f64 = t929.plus(t930);
+        let t933: f64 = t931.plus(t932);
+        let t934: f64 = sqrt(t933);
+        let t935: f64 = 1.0 / t934;
+        let t936: f64 = t911 * t935;
+        let t937 = product(t928, t936);
+        let t938: f64 = t918 * t935;
+        let t939: f64 = t919 * t927;
+        let t940: f64 = t938 * t939;
+        let t941: f64 = t937.plus(t940);
+        let t942: f64 = t914 * t935;
+        let t943 = product(t939, t942);
+        let t944: f64 = t921 * t927;
+        let t945: f64 = t936 * t944;
+        let t946: f64 = t943.minus(t945);
+        let t947: f64 = t946 * 9.81;
+        let t948: f64 = -t947;
+        let t949 = product(wdx, t912);
+        let t950 = product(wz, t909);
+        let t951: f64 = wx * t908;
+        let t952: f64 = t950.minus(t951);
+        let t953 = product(wx, t952);
+        let t954 = product(wdy, t909);
+        let t955 = product(wy, t908);
+        let t956: f64 = wz * t912;
+        let t957: f64 = t955.minus(t956);
+        let t958: f64 = wy * t957;
+        let t959: f64 = t949.added_to(az);
+        let t960: f64 = t953.plus(t959);
+        let t961: f64 = t954.plus(t958);
+        let t962: f64 = t960 - t961;
+        let t963 = product(t946, t962);
+        let t964 = product(wdy, t908);
+        let t965 = product(wx, t912);
+        let t966: f64 = wy * t909;
         let t967: f64 = t965.minus(t966);
-        let t968: f64 = wy * t967;
-        let t969: f64 = t959.added_to(az);
-        let t970: f64 = t963.plus(t969);
-        let t971: f64 = t964.plus(t968);
-        let t972: f64 = t970 - t971;
-        let t973 = product(t956, t972);
-        let t974 = product(wdy, t918);
-        let t975 = product(wx, t922);
-        let t976: f64 = wy * t919;
-        let t977: f64 = t975.minus(t976);
-        let t978 = product(wy, t977);
-        let t979 = product(wdz, t922);
-        let t980: f64 = wz * t962;
-        let t981: f64 = t974.added_to(ax);
-        let t982: f64 = t978.plus(t981);
-        let t983: f64 = t979.plus(t980);
-        let t984: f64 = t982 - t983;
-        let t985 = product(t948, t954);
-        let t986: f64 = t938 * t952;
-        let t987: f64 = t985.plus(t986);
-        let t988 = product(t984, t987);
-        let t989 = product(wdz, t919);
-        let t990 = product(wz, t967);
-        let t991 = product(wdx, t918);
-        let t992: f64 = wx * t977;
-        let t993: f64 = t989.added_to(ay);
-        let t994: f64 = t990.plus(t993);
-        let t995: f64 = t991.plus(t992);
-        let t996: f64 = t994 - t995;
-        let t997: f64 = t951 * t996;
-        let t998: f64 = t988.minus(t997);
-        let t999: f64 = t973.plus(t998);
-        let t1000 = product(t921, 0.9401728133131936);
-        let t1001: f64 = t924 * 0.3406979323488107;
-        let t1002: f64 = t1000.minus(t1001);
+        let t968 = product(wy, t967);
+        let t969 = product(wdz, t912);
+        let t970: f64 = wz * t952;
+        let t971: f64 = t964.added_to(ax);
+        let t972: f64 = t968.plus(t971);
+        let t973: f64 = t969.plus(t970);
+        let t974: f64 = t972 - t973;
+        let t975 = product(t938, t944);
+        let t976: f64 = t928 * t942;
+        let t977: f64 = t975.plus(t976);
+        let t978 = product(t974, t977);
+        let t979 = product(wdz, t909);
+        let t980 = product(wz, t957);
+        let t981 = product(wdx, t908);
+        let t982: f64 = wx * t967;
+        let t983: f64 = t979.added_to(ay);
+        let t984: f64 = t980.plus(t983);
+        let t985: f64 = t981.plus(t982);
+        let t986: f64 = t984 - t985;
+        let t987: f64 = t941 * t986;
+        let t988: f64 = t978.minus(t987);
+        let t989: f64 = t963.plus(t988);
+        let t990 = product(t911, 0.9401728133131936);
+        let t991: f64 = t914 * 0.3406979323488107;
+        let t992: f64 = t990.minus(t991);
+        let t993: f64 = t927 * t992;
+        let t994: f64 = vx + t957;
+        let t995 = product(t939, t994);
+        let t996: f64 = vy + t952;
+        let t997: f64 = t944 * t996;
+        let t998: f64 = vz + t967;
+        let t999 = product(t928, t998);
+        let t1000: f64 = t995.plus(t997);
+        let t1001: f64 = t999.subtracted_from(t1000);
+        let t1002: f64 = t1001 * t1001;
         (
             t0,
             t1,
@@ -14417,1384 +14333,1360 @@ pub fn inverse_dynamics_separate(
             t55,
             t60,
             t61,
-            t87,
-            t88,
-            t107,
-            t119,
-            t121,
-            t128,
-            t141,
-            t144,
-            t147,
-            t185,
-            t238,
-            t243,
-            t259,
+            t69,
+            t70,
+            t92,
+            t109,
+            t111,
+            t118,
+            t131,
+            t134,
+            t137,
+            t175,
+            t228,
+            t233,
+            t249,
+            t285,
+            t287,
+            t289,
+            t294,
             t295,
-            t297,
-            t299,
-            t304,
+            t300,
+            t301,
+            t302,
+            t303,
             t305,
-            t310,
-            t311,
+            t306,
+            t308,
             t312,
-            t313,
-            t315,
-            t316,
-            t318,
-            t322,
+            t321,
+            t330,
             t331,
-            t340,
-            t341,
-            t344,
-            t382,
-            t435,
-            t437,
-            t439,
+            t334,
+            t372,
+            t425,
+            t427,
+            t429,
+            t446,
             t456,
-            t466,
+            t483,
+            t485,
+            t487,
+            t492,
             t493,
-            t495,
-            t497,
+            t494,
+            t499,
+            t500,
+            t501,
             t502,
             t503,
             t504,
+            t505,
+            t506,
+            t507,
+            t508,
             t509,
             t510,
             t511,
             t512,
-            t513,
             t514,
-            t515,
-            t516,
-            t517,
             t518,
-            t519,
-            t520,
-            t521,
-            t522,
-            t524,
-            t528,
+            t527,
+            t536,
             t537,
-            t546,
-            t547,
-            t550,
-            t588,
-            t641,
-            t646,
-            t662,
-            t671,
+            t540,
+            t578,
+            t631,
+            t636,
+            t652,
+            t661,
+            t688,
+            t690,
+            t692,
+            t697,
             t698,
-            t700,
-            t702,
+            t703,
+            t704,
             t707,
-            t708,
-            t713,
-            t714,
+            t710,
+            t712,
+            t715,
             t717,
-            t720,
-            t722,
-            t725,
-            t727,
-            t731,
+            t721,
+            t730,
+            t739,
             t740,
-            t749,
-            t750,
-            t753,
-            t791,
-            t844,
-            t849,
-            t865,
-            t874,
+            t743,
+            t781,
+            t834,
+            t839,
+            t855,
+            t864,
+            t891,
+            t893,
+            t895,
+            t900,
             t901,
-            t903,
-            t905,
-            t910,
+            t906,
+            t907,
+            t908,
+            t909,
             t911,
-            t916,
-            t917,
+            t912,
+            t914,
             t918,
-            t919,
-            t921,
-            t922,
-            t924,
+            t926,
+            t927,
             t928,
+            t933,
+            t935,
             t936,
-            t937,
             t938,
-            t943,
-            t945,
+            t939,
+            t941,
+            t942,
+            t944,
             t946,
             t948,
-            t949,
-            t951,
-            t952,
-            t954,
-            t956,
-            t958,
             t962,
-            t967,
-            t972,
+            t974,
             t977,
-            t984,
-            t987,
+            t986,
+            t989,
+            t993,
+            t994,
             t996,
-            t999,
+            t998,
+            t1001,
             t1002,
         )
     };
     let (
-        t1117,
-        t1120,
-        t1124,
-        t1132,
-        t1141,
-        t1323,
-        t1432,
-        t1469,
-        t1497,
-        t1520,
-        t1540,
-        t1548,
+        t1114,
+        t1122,
+        t1131,
+        t1530,
+        t1538,
+        t1561,
         t1571,
-        t1581,
-        t1582,
-        t1583,
-        t1622,
-        t1623,
-        t1648,
-        t1666,
-        t1694,
-        t1696,
-        t1697,
+        t1572,
+        t1573,
+        t1612,
+        t1613,
+        t1638,
+        t1656,
+        t1684,
+        t1686,
+        t1687,
+        t1688,
         t1698,
-        t1708,
-        t1711,
-        t1712,
-        t1715,
-        t1719,
-        t1723,
-        t1789,
-        t1790,
-        t1792,
-        t1794,
-        t1819,
-        t1837,
-        t1857,
-        t1879,
-        t1911,
-        t1915,
-        t1916,
+        t1701,
+        t1702,
+        t1779,
+        t1780,
+        t1782,
+        t1784,
+        t1809,
+        t1827,
+        t1847,
+        t1869,
+        t1901,
+        t1905,
+        t1906,
+        t1907,
         t1917,
-        t1927,
-        t1932,
-        t1933,
-        t1935,
-        t1949,
-        t1950,
-        t1966,
-        t1967,
-        t1985,
-        t1986,
-        t1987,
-        t1988,
-        t1989,
-        t1990,
+        t1922,
+        t1923,
+        t1925,
+        t1939,
+        t1940,
+        t1956,
+        t1957,
+        t1975,
+        t1976,
+        t1996,
+        t1997,
+        t1998,
+        t1999,
+        t2000,
+        t2001,
         t2002,
     ) = {
-        let t1003: f64 = t937 * t1002;
-        let t1004: f64 = vx + t967;
-        let t1005 = product(t949, t1004);
-        let t1006: f64 = vy + t962;
-        let t1007: f64 = t954 * t1006;
-        let t1008: f64 = vz + t977;
-        let t1009 = product(t938, t1008);
-        let t1010: f64 = t1005.plus(t1007);
-        let t1011: f64 = t1009.subtracted_from(t1010);
-        let t1012: f64 = t1011 * t1011;
-        let t1013: f64 = t945 * t1003;
-        let t1014 = product(t1012, t1013);
-        let t1015 = product(t987, t1004);
-        let t1016 = product(t951, t1006);
-        let t1017: f64 = t956 * t1008;
-        let t1018: f64 = t1015.plus(t1017);
-        let t1019: f64 = t1016.subtracted_from(t1018);
-        let t1020 = product(t946, t1004);
-        let t1021: f64 = t952 * t1006;
-        let t1022 = product(t948, t1008);
-        let t1023: f64 = t1020.plus(t1021);
-        let t1024: f64 = t1022.plus(t1023);
-        let t1025: f64 = t945 * t1024;
-        let t1026: f64 = t1025 * 2.0;
-        let t1027: f64 = t1019 * t1026;
-        let t1028: f64 = t1014.plus(t1027);
-        let t1029: f64 = t999 - t1028;
-        let t1030: f64 = t945 * t1029;
-        let t1031: f64 = t945 * t1011;
-        let t1032: f64 = t1011 * t1013;
-        let t1033: f64 = t1031 * t1032;
-        let t1034 = product(t958, 0.2);
-        let t1035: f64 = t999 * 0.3;
-        let t1036 = product(t1030, 0.295);
-        let t1037: f64 = t1033 * 0.292;
-        let t1038: f64 = t1034.plus(t1035);
-        let t1039: f64 = t1036.plus(t1037);
-        let t1040: f64 = t1038 - t1039;
-        let t1041 = product(t945, t1040);
-        let t1042: f64 = t958 - t999;
-        let t1043: f64 = t1030 + t1033;
-        let t1044: f64 = t1043 * 0.3;
-        let t1045: f64 = t1041.plus(t1042);
-        let t1046: f64 = t1044 + t1045;
-        let t1047 = product(t951, t1046);
-        let t1048: f64 = t948 * 9.81;
-        let t1049: f64 = -t1048;
-        let t1050 = product(t946, t984);
-        let t1051: f64 = t952 * t996;
-        let t1052 = product(t948, t972);
-        let t1053: f64 = t1050.plus(t1051);
-        let t1054: f64 = t1052.plus(t1053);
-        let t1055 = product(t1031, t1031);
-        let t1056: f64 = t945 * t1019;
-        let t1057: f64 = t1056 * t1056;
-        let t1058: f64 = t1055.plus(t1057);
-        let t1059 = product(t1058, 0.3);
-        let t1060: f64 = t1059.added_to(t1054);
-        let t1061: f64 = t1049 - t1060;
-        let t1062 = product(t952, t1061);
-        let t1063: f64 = t938 * 9.81;
-        let t1064 = product(t949, t984);
-        let t1065: f64 = t954 * t996;
-        let t1066 = product(t938, t972);
-        let t1067: f64 = t1064.plus(t1065);
-        let t1068: f64 = t1066.subtracted_from(t1067);
-        let t1069 = product(t945, t1068);
-        let t1070: f64 = t945 * t945;
-        let t1071: f64 = t1003 * t1070;
-        let t1072: f64 = t1011 * t1071;
-        let t1073 = product(t1019, t1072);
-        let t1074: f64 = t1026 * t1031;
-        let t1075: f64 = t1073.minus(t1074);
-        let t1076: f64 = t1069.plus(t1075);
-        let t1077: f64 = t1032 * t1056;
-        let t1078 = product(t1003, t1075);
-        let t1079: f64 = t937 * t937;
-        let t1080: f64 = t943 * t945;
-        let t1081: f64 = t1079 * t1080;
-        let t1082: f64 = t1011 * t1081;
-        let t1083 = product(t1019, t1082);
-        let t1084: f64 = t1003 * t1068;
-        let t1085: f64 = t1083.plus(t1084);
-        let t1086: f64 = t945 * t1085;
-        let t1087: f64 = t1078.plus(t1086);
-        let t1088: f64 = t1003 * t1087;
-        let t1089 = product(t1063, 0.2);
-        let t1090: f64 = t1068 * 0.3;
-        let t1091 = product(t1076, 0.295);
-        let t1092 = product(t1077, 0.292);
-        let t1093: f64 = t1088 * 0.003;
-        let t1094: f64 = t1089.plus(t1090);
-        let t1095: f64 = t1092.plus(t1094);
-        let t1096: f64 = t1091.plus(t1093);
-        let t1097: f64 = t1095 - t1096;
-        let t1098 = product(t945, t1097);
-        let t1099: f64 = t1063 - t1068;
-        let t1100: f64 = t1076 - t1077;
-        let t1101: f64 = t1100 * 0.3;
-        let t1102: f64 = t1098.plus(t1099);
-        let t1103: f64 = t1101 + t1102;
-        let t1104: f64 = t954 * t1103;
-        let t1105: f64 = t1062.plus(t1104);
-        let t1106: f64 = t1047.minus(t1105);
-        let t1107: f64 = -t1106;
-        let t1108 = product(t918, t1107);
-        let t1109 = product(t938, t1103);
-        let t1110: f64 = t948 * t1061;
-        let t1111: f64 = t1109.minus(t1110);
-        let t1112 = product(t956, t1046);
-        let t1113: f64 = t1112.subtracted_from(t1111);
-        let t1114: f64 = t922 * t1113;
-        let t1115: f64 = t512 + t513;
-        let t1116: f64 = t515 - t516;
-        let t1117: f64 = t518 - t1116;
-        let t1118: f64 = t520 + t521;
-        let t1119: f64 = yc + 0.349711;
-        let t1120: f64 = t1119 - t1118;
-        let t1121 = product(t1117, 0.6438650555185546);
-        let t1122: f64 = t1120 * 0.7651390659756491;
-        let t1123: f64 = t1121.plus(t1122);
-        let t1124: f64 = zc - t1115;
-        let t1125: f64 = t1124 * 0.6438650555185546;
-        let t1126 = product(t1125, t1125);
-        let t1127: f64 = t1124 * 0.7651390659756491;
-        let t1128: f64 = t1127 * t1127;
-        let t1129 = product(t1123, t1123);
-        let t1130: f64 = t1126.plus(t1128);
-        let t1131: f64 = t1129.plus(t1130);
-        let t1132: f64 = sqrt(t1131);
-        let t1133: f64 = 1.0 / t1132;
-        let t1134: f64 = t1123 * t1133;
-        let t1135 = product(t1117, t1117);
-        let t1136: f64 = t1120 * t1120;
-        let t1137 = product(t1124, t1124);
-        let t1138: f64 = t1135.plus(t1136);
-        let t1139: f64 = t1137.plus(t1138);
-        let t1140: f64 = sqrt(t1139);
-        let t1141: f64 = 1.0 / t1140;
-        let t1142: f64 = t1117 * t1141;
-        let t1143 = product(t1134, t1142);
-        let t1144: f64 = t1124 * t1141;
-        let t1145: f64 = t1125 * t1133;
-        let t1146: f64 = t1144 * t1145;
-        let t1147: f64 = t1143.plus(t1146);
-        let t1148: f64 = t1120 * t1141;
-        let t1149 = product(t1145, t1148);
-        let t1150: f64 = t1127 * t1133;
-        let t1151: f64 = t1142 * t1150;
-        let t1152: f64 = t1149.minus(t1151);
-        let t1153: f64 = t1152 * 9.81;
-        let t1154: f64 = -t1153;
-        let t1155 = product(wdx, t1118);
-        let t1156 = product(wz, t1116);
-        let t1157: f64 = wx * t1115;
-        let t1158: f64 = t1156.minus(t1157);
-        let t1159: f64 = wx * t1158;
-        let t1160 = product(wdy, t1116);
-        let t1161 = product(wy, t1115);
-        let t1162: f64 = wz * t1118;
+        let t1003: f64 = t935 * t993;
+        let t1004 = product(t1002, t1003);
+        let t1005 = product(t977, t994);
+        let t1006 = product(t941, t996);
+        let t1007: f64 = t946 * t998;
+        let t1008: f64 = t1005.plus(t1007);
+        let t1009: f64 = t1006.subtracted_from(t1008);
+        let t1010 = product(t936, t994);
+        let t1011: f64 = t942 * t996;
+        let t1012 = product(t938, t998);
+        let t1013: f64 = t1010.plus(t1011);
+        let t1014: f64 = t1012.plus(t1013);
+        let t1015: f64 = t935 * t1014;
+        let t1016: f64 = t1015 * 2.0;
+        let t1017: f64 = t1009 * t1016;
+        let t1018: f64 = t1004.plus(t1017);
+        let t1019: f64 = t989 - t1018;
+        let t1020: f64 = t935 * t1019;
+        let t1021: f64 = t935 * t1001;
+        let t1022: f64 = t1001 * t1003;
+        let t1023: f64 = t1021 * t1022;
+        let t1024 = product(t948, 0.2);
+        let t1025: f64 = t989 * 0.3;
+        let t1026 = product(t1020, 0.295);
+        let t1027: f64 = t1023 * 0.292;
+        let t1028: f64 = t1024.plus(t1025);
+        let t1029: f64 = t1026.plus(t1027);
+        let t1030: f64 = t1028 - t1029;
+        let t1031 = product(t935, t1030);
+        let t1032: f64 = t948 - t989;
+        let t1033: f64 = t1020 + t1023;
+        let t1034: f64 = t1033 * 0.3;
+        let t1035: f64 = t1031.plus(t1032);
+        let t1036: f64 = t1034 + t1035;
+        let t1037 = product(t941, t1036);
+        let t1038: f64 = t938 * 9.81;
+        let t1039: f64 = -t1038;
+        let t1040 = product(t936, t974);
+        let t1041: f64 = t942 * t986;
+        let t1042 = product(t938, t962);
+        let t1043: f64 = t1040.plus(t1041);
+        let t1044: f64 = t1042.plus(t1043);
+        let t1045 = product(t1021, t1021);
+        let t1046: f64 = t935 * t1009;
+        let t1047: f64 = t1046 * t1046;
+        let t1048: f64 = t1045.plus(t1047);
+        let t1049 = product(t1048, 0.3);
+        let t1050: f64 = t1049.added_to(t1044);
+        let t1051: f64 = t1039 - t1050;
+        let t1052 = product(t942, t1051);
+        let t1053: f64 = t928 * 9.81;
+        let t1054 = product(t939, t974);
+        let t1055: f64 = t944 * t986;
+        let t1056 = product(t928, t962);
+        let t1057: f64 = t1054.plus(t1055);
+        let t1058: f64 = t1056.subtracted_from(t1057);
+        let t1059 = product(t935, t1058);
+        let t1060: f64 = t935 * t935;
+        let t1061: f64 = t993 * t1060;
+        let t1062: f64 = t1001 * t1061;
+        let t1063 = product(t1009, t1062);
+        let t1064: f64 = t1016 * t1021;
+        let t1065: f64 = t1063.minus(t1064);
+        let t1066: f64 = t1059.plus(t1065);
+        let t1067: f64 = t1022 * t1046;
+        let t1068 = product(t993, t1065);
+        let t1069: f64 = t927 * t927;
+        let t1070: f64 = t933 * t935;
+        let t1071: f64 = t1069 * t1070;
+        let t1072: f64 = t1001 * t1071;
+        let t1073 = product(t1009, t1072);
+        let t1074: f64 = t993 * t1058;
+        let t1075: f64 = t1073.plus(t1074);
+        let t1076: f64 = t935 * t1075;
+        let t1077: f64 = t1068.plus(t1076);
+        let t1078: f64 = t993 * t1077;
+        let t1079 = product(t1053, 0.2);
+        let t1080: f64 = t1058 * 0.3;
+        let t1081 = product(t1066, 0.295);
+        let t1082 = product(t1067, 0.292);
+        let t1083: f64 = t1078 * 0.003;
+        let t1084: f64 = t1079.plus(t1080);
+        let t1085: f64 = t1082.plus(t1084);
+        let t1086: f64 = t1081.plus(t1083);
+        let t1087: f64 = t1085 - t1086;
+        let t1088 = product(t935, t1087);
+        let t1089: f64 = t1053 - t1058;
+        let t1090: f64 = t1066 - t1067;
+        let t1091: f64 = t1090 * 0.3;
+        let t1092: f64 = t1088.plus(t1089);
+        let t1093: f64 = t1091 + t1092;
+        let t1094: f64 = t944 * t1093;
+        let t1095: f64 = t1052.plus(t1094);
+        let t1096: f64 = t1037.minus(t1095);
+        let t1097: f64 = -t1096;
+        let t1098 = product(t908, t1097);
+        let t1099 = product(t928, t1093);
+        let t1100: f64 = t938 * t1051;
+        let t1101: f64 = t1099.minus(t1100);
+        let t1102 = product(t946, t1036);
+        let t1103: f64 = t1102.subtracted_from(t1101);
+        let t1104: f64 = t912 * t1103;
+        let t1105: f64 = t502 + t503;
+        let t1106: f64 = t505 - t506;
+        let t1107: f64 = t508 - t1106;
+        let t1108: f64 = t510 + t511;
+        let t1109: f64 = yc + 0.349711;
+        let t1110: f64 = t1109 - t1108;
+        let t1111 = product(t1107, 0.6438650555185546);
+        let t1112: f64 = t1110 * 0.7651390659756491;
+        let t1113: f64 = t1111.plus(t1112);
+        let t1114: f64 = zc - t1105;
+        let t1115: f64 = t1114 * 0.6438650555185546;
+        let t1116 = product(t1115, t1115);
+        let t1117: f64 = t1114 * 0.7651390659756491;
+        let t1118: f64 = t1117 * t1117;
+        let t1119 = product(t1113, t1113);
+        let t1120: f64 = t1116.plus(t1118);
+        let t1121: f64 = t1119.plus(t1120);
+        let t1122: f64 = sqrt(t1121);
+        let t1123: f64 = 1.0 / t1122;
+        let t1124: f64 = t1113 * t1123;
+        let t1125 = product(t1107, t1107);
+        let t1126: f64 = t1110 * t1110;
+        let t1127 = product(t1114, t1114);
+        let t1128: f64 = t1125.plus(t1126);
+        let t1129: f64 = t1127.plus(t1128);
+        let t1130: f64 = sqrt(t1129);
+        let t1131: f64 = 1.0 / t1130;
+        let t1132: f64 = t1107 * t1131;
+        let t1133 = product(t1124, t1132);
+        let t1134: f64 = t1114 * t1131;
+        let t1135: f64 = t1115 * t1123;
+        let t1136: f64 = t1134 * t1135;
+        let t1137: f64 = t1133.plus(t1136);
+        let t1138: f64 = t1110 * t1131;
+        let t1139 = product(t1135, t1138);
+        let t1140: f64 = t1117 * t1123;
+        let t1141: f64 = t1132 * t1140;
+        let t1142: f64 = t1139.minus(t1141);
+        let t1143: f64 = t1142 * 9.81;
+        let t1144: f64 = -t1143;
+        let t1145 = product(wdx, t1108);
+        let t1146 = product(wz, t1106);
+        let t1147: f64 = wx * t1105;
+        let t1148: f64 = t1146.minus(t1147);
+        let t1149: f64 = wx * t1148;
+        let t1150 = product(wdy, t1106);
+        let t1151 = product(wy, t1105);
+        let t1152: f64 = wz * t1108;
+        let t1153: f64 = t1151.minus(t1152);
+        let t1154 = product(wy, t1153);
+        let t1155: f64 = t1150.added_to(az);
+        let t1156: f64 = t1154.plus(t1155);
+        let t1157: f64 = t1145.plus(t1149);
+        let t1158: f64 = t1156 - t1157;
+        let t1159 = product(t1142, t1158);
+        let t1160 = product(wdy, t1105);
+        let t1161 = product(wx, t1108);
+        let t1162: f64 = wy * t1106;
         let t1163: f64 = t1161.minus(t1162);
-        let t1164 = product(wy, t1163);
-        let t1165: f64 = t1160.added_to(az);
-        let t1166: f64 = t1164.plus(t1165);
-        let t1167: f64 = t1155.plus(t1159);
-        let t1168: f64 = t1166 - t1167;
-        let t1169 = product(t1152, t1168);
-        let t1170 = product(wdy, t1115);
-        let t1171 = product(wx, t1118);
-        let t1172: f64 = wy * t1116;
-        let t1173: f64 = t1171.minus(t1172);
-        let t1174: f64 = wy * t1173;
-        let t1175 = product(wdz, t1118);
-        let t1176 = product(wz, t1158);
-        let t1177: f64 = t1175.added_to(ax);
-        let t1178: f64 = t1176.plus(t1177);
-        let t1179: f64 = t1170.plus(t1174);
-        let t1180: f64 = t1178 - t1179;
-        let t1181 = product(t1144, t1150);
-        let t1182: f64 = t1134 * t1148;
-        let t1183: f64 = t1181.plus(t1182);
-        let t1184 = product(t1180, t1183);
-        let t1185 = product(wdz, t1116);
-        let t1186: f64 = wz * t1163;
-        let t1187 = product(wdx, t1115);
-        let t1188 = product(wx, t1173);
-        let t1189: f64 = t1187.added_to(ay);
-        let t1190: f64 = t1188.plus(t1189);
-        let t1191: f64 = t1185.plus(t1186);
-        let t1192: f64 = t1190 - t1191;
-        let t1193: f64 = t1147 * t1192;
-        let t1194: f64 = t1184.minus(t1193);
-        let t1195: f64 = t1169.plus(t1194);
-        let t1196 = product(t1117, 0.7651390659756491);
-        let t1197: f64 = t1120 * 0.6438650555185546;
-        let t1198: f64 = t1196.minus(t1197);
-        let t1199: f64 = t1133 * t1198;
-        let t1200: f64 = vx - t1163;
-        let t1201 = product(t1145, t1200);
-        let t1202: f64 = vy - t1158;
-        let t1203: f64 = t1150 * t1202;
-        let t1204: f64 = vz - t1173;
-        let t1205 = product(t1134, t1204);
-        let t1206: f64 = t1201.plus(t1203);
-        let t1207: f64 = t1205.subtracted_from(t1206);
-        let t1208: f64 = t1207 * t1207;
-        let t1209: f64 = t1141 * t1199;
-        let t1210 = product(t1208, t1209);
-        let t1211 = product(t1183, t1200);
-        let t1212 = product(t1147, t1202);
-        let t1213: f64 = t1152 * t1204;
-        let t1214: f64 = t1211.plus(t1213);
-        let t1215: f64 = t1212.subtracted_from(t1214);
-        let t1216 = product(t1142, t1200);
-        let t1217: f64 = t1148 * t1202;
-        let t1218 = product(t1144, t1204);
-        let t1219: f64 = t1216.plus(t1217);
-        let t1220: f64 = t1218.plus(t1219);
-        let t1221: f64 = t1141 * t1220;
-        let t1222: f64 = t1221 * 2.0;
-        let t1223: f64 = t1215 * t1222;
-        let t1224: f64 = t1210.plus(t1223);
-        let t1225: f64 = t1195 - t1224;
-        let t1226: f64 = t1141 * t1225;
-        let t1227: f64 = t1141 * t1207;
-        let t1228: f64 = t1207 * t1209;
-        let t1229: f64 = t1227 * t1228;
-        let t1230 = product(t1154, 0.2);
-        let t1231: f64 = t1195 * 0.3;
-        let t1232 = product(t1226, 0.295);
-        let t1233: f64 = t1229 * 0.292;
-        let t1234: f64 = t1230.plus(t1231);
-        let t1235: f64 = t1232.plus(t1233);
-        let t1236: f64 = t1234 - t1235;
-        let t1237 = product(t1141, t1236);
-        let t1238: f64 = t1154 - t1195;
-        let t1239: f64 = t1226 + t1229;
-        let t1240: f64 = t1239 * 0.3;
-        let t1241: f64 = t1237.plus(t1238);
-        let t1242: f64 = t1240 + t1241;
-        let t1243 = product(t1147, t1242);
-        let t1244: f64 = t1144 * 9.81;
-        let t1245: f64 = -t1244;
-        let t1246 = product(t1142, t1180);
-        let t1247: f64 = t1148 * t1192;
-        let t1248 = product(t1144, t1168);
-        let t1249: f64 = t1246.plus(t1247);
-        let t1250: f64 = t1248.plus(t1249);
-        let t1251 = product(t1227, t1227);
-        let t1252: f64 = t1141 * t1215;
-        let t1253: f64 = t1252 * t1252;
-        let t1254: f64 = t1251.plus(t1253);
-        let t1255 = product(t1254, 0.3);
-        let t1256: f64 = t1255.added_to(t1250);
-        let t1257: f64 = t1245 - t1256;
-        let t1258 = product(t1148, t1257);
-        let t1259: f64 = t1134 * 9.81;
-        let t1260 = product(t1145, t1180);
-        let t1261: f64 = t1150 * t1192;
-        let t1262 = product(t1134, t1168);
-        let t1263: f64 = t1260.plus(t1261);
-        let t1264: f64 = t1262.subtracted_from(t1263);
-        let t1265 = product(t1141, t1264);
-        let t1266: f64 = t1141 * t1141;
-        let t1267: f64 = t1199 * t1266;
-        let t1268: f64 = t1207 * t1267;
-        let t1269 = product(t1215, t1268);
-        let t1270: f64 = t1222 * t1227;
-        let t1271: f64 = t1269.minus(t1270);
-        let t1272: f64 = t1265.plus(t1271);
-        let t1273: f64 = t1228 * t1252;
-        let t1274 = product(t1199, t1271);
-        let t1275: f64 = t1133 * t1133;
-        let t1276: f64 = t1139 * t1141;
-        let t1277: f64 = t1275 * t1276;
-        let t1278: f64 = t1207 * t1277;
-        let t1279 = product(t1215, t1278);
-        let t1280: f64 = t1199 * t1264;
-        let t1281: f64 = t1279.plus(t1280);
-        let t1282: f64 = t1141 * t1281;
-        let t1283: f64 = t1274.plus(t1282);
-        let t1284: f64 = t1199 * t1283;
-        let t1285 = product(t1259, 0.2);
-        let t1286: f64 = t1264 * 0.3;
-        let t1287 = product(t1272, 0.295);
-        let t1288 = product(t1273, 0.292);
-        let t1289: f64 = t1284 * 0.003;
-        let t1290: f64 = t1285.plus(t1286);
-        let t1291: f64 = t1288.plus(t1290);
-        let t1292: f64 = t1287.plus(t1289);
-        let t1293: f64 = t1291 - t1292;
-        let t1294 = product(t1141, t1293);
-        let t1295: f64 = t1259 - t1264;
-        let t1296: f64 = t1272 - t1273;
-        let t1297: f64 = t1296 * 0.3;
-        let t1298: f64 = t1294.plus(t1295);
-        let t1299: f64 = t1297 + t1298;
-        let t1300: f64 = t1150 * t1299;
-        let t1301: f64 = t1258.plus(t1300);
-        let t1302: f64 = t1243.minus(t1301);
-        let t1303: f64 = -t1302;
-        let t1304 = product(t1115, t1303);
-        let t1305 = product(t1134, t1299);
-        let t1306: f64 = t1144 * t1257;
-        let t1307: f64 = t1305.minus(t1306);
-        let t1308 = product(t1152, t1242);
-        let t1309: f64 = t1308.subtracted_from(t1307);
-        let t1310: f64 = t1118 * t1309;
-        let t1311: f64 = t88.plus(t128);
-        let t1312: f64 = t305.plus(t511);
-        let t1313: f64 = t708.plus(t714);
-        let t1314: f64 = t1108.plus(t1114);
-        let t1315: f64 = t1311 + t1312;
-        let t1316: f64 = t1313 + t1314;
-        let t1317: f64 = t1315 + t1316;
-        let t1318: f64 = t311.plus(t504);
-        let t1319: f64 = t911.plus(t917);
-        let t1320: f64 = t1304.plus(t1310);
-        let t1321: f64 = t1318 + t1319;
-        let t1322: f64 = t1320 + t1321;
-        let t1323: f64 = t1317 - t1322;
-        let t1324 = product(t47, t1323);
-        let t1325 = product(t17, t107);
-        let t1326 = product(t20, t119);
-        let t1327: f64 = t0 * t121;
-        let t1328 = product(t12, t87);
-        let t1329: f64 = ax * t13;
-        let t1330: f64 = t1329 * 0.36;
-        let t1331: f64 = t1328.minus(t1330);
-        let t1332: f64 = t1 * t1331;
-        let t1333 = product(t185, t243);
-        let t1334: f64 = t299 - t297;
-        let t1335: f64 = t147 * t1334;
-        let t1336: f64 = t1333.minus(t1335);
-        let t1337 = product(t144, t259);
-        let t1338 = product(t185, t238);
-        let t1339: f64 = t147 * t295;
-        let t1340: f64 = t1338.minus(t1339);
-        let t1341: f64 = t43 * t1340;
-        let t1342: f64 = t1337.minus(t1341);
-        let t1343: f64 = t1336 + t1342;
-        let t1344 = product(t37, t1343);
-        let t1345: f64 = t8 * t310;
-        let t1346: f64 = t437 + t439;
-        let t1347: f64 = -t1346;
-        let t1348 = product(t382, t1347);
-        let t1349: f64 = t495 + t497;
-        let t1350: f64 = t344 * t1349;
-        let t1351: f64 = t1348.minus(t1350);
-        let t1352 = product(t341, t456);
-        let t1353 = product(t382, t435);
-        let t1354: f64 = t344 * t493;
-        let t1355: f64 = t1353.plus(t1354);
-        let t1356: f64 = t340 * t1355;
-        let t1357: f64 = t1352.plus(t1356);
-        let t1358: f64 = t1351 - t1357;
-        let t1359 = product(t312, t1358);
-        let t1360: f64 = t313 * t510;
-        let t1361 = product(t588, t646);
-        let t1362: f64 = t702 - t700;
-        let t1363: f64 = t550 * t1362;
-        let t1364: f64 = t1361.minus(t1363);
-        let t1365 = product(t547, t662);
-        let t1366 = product(t588, t641);
-        let t1367: f64 = t550 * t698;
-        let t1368: f64 = t1366.minus(t1367);
-        let t1369: f64 = t546 * t1368;
-        let t1370: f64 = t1365.minus(t1369);
-        let t1371: f64 = t1364 + t1370;
-        let t1372: f64 = t514 * t1371;
-        let t1373 = product(t517, t713);
-        let t1374 = product(t791, t849);
-        let t1375: f64 = t905 - t903;
-        let t1376: f64 = t753 * t1375;
-        let t1377: f64 = t1374.minus(t1376);
-        let t1378 = product(t750, t865);
-        let t1379 = product(t791, t844);
-        let t1380: f64 = t753 * t901;
-        let t1381: f64 = t1379.minus(t1380);
-        let t1382: f64 = t749 * t1381;
-        let t1383: f64 = t1378.minus(t1382);
-        let t1384: f64 = t1377 + t1383;
-        let t1385: f64 = t717 * t1384;
-        let t1386 = product(t720, t916);
-        let t1387: f64 = t1042 + t1044;
-        let t1388: f64 = -t1387;
-        let t1389 = product(t987, t1388);
-        let t1390: f64 = t1099 + t1101;
-        let t1391: f64 = t949 * t1390;
-        let t1392: f64 = t1389.minus(t1391);
-        let t1393 = product(t946, t1061);
-        let t1394 = product(t987, t1040);
-        let t1395: f64 = t949 * t1097;
-        let t1396: f64 = t1394.plus(t1395);
-        let t1397: f64 = t945 * t1396;
-        let t1398: f64 = t1393.plus(t1397);
-        let t1399: f64 = t1392 - t1398;
-        let t1400: f64 = t918 * t1399;
-        let t1401 = product(t919, t1113);
-        let t1402: f64 = t1238 + t1240;
-        let t1403: f64 = -t1402;
-        let t1404 = product(t1183, t1403);
-        let t1405: f64 = t1295 + t1297;
-        let t1406: f64 = t1145 * t1405;
-        let t1407: f64 = t1404.minus(t1406);
-        let t1408 = product(t1142, t1257);
-        let t1409 = product(t1183, t1236);
-        let t1410: f64 = t1145 * t1293;
-        let t1411: f64 = t1409.plus(t1410);
-        let t1412: f64 = t1141 * t1411;
-        let t1413: f64 = t1408.plus(t1412);
-        let t1414: f64 = t1407 - t1413;
-        let t1415: f64 = t1115 * t1414;
-        let t1416 = product(t1116, t1309);
-        let t1417 = product(t1327, 0.36);
-        let t1418: f64 = t1325.plus(t1345);
-        let t1419: f64 = t1359.plus(t1372);
-        let t1420: f64 = t1386.plus(t1400);
-        let t1421: f64 = t1418 + t1419;
-        let t1422: f64 = t1416.plus(t1420);
-        let t1423: f64 = t1421 + t1422;
-        let t1424: f64 = t1326.plus(t1332);
-        let t1425: f64 = t1344.plus(t1360);
-        let t1426: f64 = t1373.plus(t1385);
-        let t1427: f64 = t1401.plus(t1415);
-        let t1428: f64 = t1424 + t1425;
-        let t1429: f64 = t1426 + t1427;
-        let t1430: f64 = t1428 + t1429;
-        let t1431: f64 = t1417.plus(t1430);
-        let t1432: f64 = t1423 - t1431;
-        let t1433 = product(t51, t1432);
-        let t1434 = product(t30, t107);
-        let t1435 = product(t34, t119);
-        let t1436: f64 = ay * t0;
-        let t1437 = product(t13, t87);
-        let t1438: f64 = ax * t12;
-        let t1439: f64 = t1438 * 0.36;
-        let t1440: f64 = t1437.plus(t1439);
-        let t1441: f64 = t1 * t1440;
-        let t1442 = product(t23, t1343);
-        let t1443: f64 = t8 * t304;
-        let t1444 = product(t316, t1358);
-        let t1445: f64 = t313 * t503;
-        let t1446: f64 = t522 * t1371;
-        let t1447 = product(t517, t707);
-        let t1448 = product(t725, t1384);
-        let t1449: f64 = t720 * t910;
-        let t1450: f64 = t922 * t1399;
-        let t1451 = product(t919, t1107);
-        let t1452 = product(t1118, t1414);
-        let t1453: f64 = t1116 * t1303;
-        let t1454 = product(t1436, 0.36);
-        let t1455: f64 = t1434.plus(t1441);
-        let t1456: f64 = t1442.plus(t1445);
-        let t1457: f64 = t1448.plus(t1449);
-        let t1458: f64 = t1452.plus(t1453);
-        let t1459: f64 = t1455 + t1456;
-        let t1460: f64 = t1457 + t1458;
-        let t1461: f64 = t1459 + t1460;
-        let t1462: f64 = t1454.plus(t1461);
-        let t1463: f64 = t1435.plus(t1443);
-        let t1464: f64 = t1444.plus(t1446);
-        let t1465: f64 = t1447.plus(t1450);
-        let t1466: f64 = t1463 + t1464;
-        let t1467: f64 = t1451.plus(t1465);
-        let t1468: f64 = t1466 + t1467;
-        let t1469: f64 = t1462 - t1468;
-        let t1470: f64 = t55 * t1469;
-        let t1471: f64 = wx * t12;
-        let t1472 = product(t1, t1471);
-        let t1473: f64 = wy * t0;
-        let t1474: f64 = t1472.plus(t1473);
-        let t1475: f64 = t1474 * 0.36;
-        let t1476 = product(wy, t1475);
-        let t1477 = product(wz, t0);
-        let t1478: f64 = wx * t13;
-        let t1479: f64 = t1 * t1478;
-        let t1480: f64 = t1477.minus(t1479);
-        let t1481: f64 = t1480 * 0.36;
-        let t1482: f64 = wz * t1481;
-        let t1483 = product(wdy, t13);
-        let t1484: f64 = wdz * t12;
-        let t1485: f64 = t1483.plus(t1484);
-        let t1486: f64 = t1485 * 0.36;
-        let t1487 = product(t1, t1486);
-        let t1488: f64 = ax * 12.0;
-        let t1489: f64 = t1487.plus(t1488);
-        let t1490: f64 = t1358 + t1399;
-        let t1491: f64 = t1489 + t1490;
-        let t1492: f64 = t1414 + t1491;
-        let t1493: f64 = t1476.plus(t1482);
-        let t1494: f64 = t1343 + t1371;
-        let t1495: f64 = t1493 + t1494;
-        let t1496: f64 = t1384 + t1495;
-        let t1497: f64 = t1492 - t1496;
-        let t1498: f64 = t10 * t1497;
-        let t1499: f64 = wdz * t0;
-        let t1500 = product(wx, t1475);
-        let t1501: f64 = wdx * t13;
-        let t1502 = product(wy, t13);
-        let t1503: f64 = wz * t12;
-        let t1504: f64 = t1502.plus(t1503);
-        let t1505: f64 = t1504 * 0.36;
-        let t1506 = product(wz, t1505);
-        let t1507: f64 = t1501 * 0.36;
-        let t1508: f64 = t1506.subtracted_from(t1507);
-        let t1509 = product(t1, t1508);
-        let t1510 = product(ay, 12.0);
-        let t1511: f64 = t1499 * 0.36;
-        let t1512: f64 = t1510.plus(t1511);
-        let t1513: f64 = t1500.added_to(t707);
-        let t1514: f64 = t910 + t1106;
-        let t1515: f64 = t1512 + t1513;
-        let t1516: f64 = t1302 + t1514;
-        let t1517: f64 = t1515 + t1516;
-        let t1518: f64 = t1509.added_to(t304);
-        let t1519: f64 = t502 + t1518;
-        let t1520: f64 = t1517 - t1519;
-        let t1521 = product(t25, t1520);
-        let t1522: f64 = wdy * t0;
-        let t1523 = product(wx, t1481);
-        let t1524: f64 = wdx * t12;
-        let t1525 = product(wy, t1505);
-        let t1526: f64 = t1524 * 0.36;
-        let t1527: f64 = t1525.plus(t1526);
-        let t1528 = product(t1, t1527);
-        let t1529: f64 = az * 12.0;
-        let t1530: f64 = t1522 * 0.36;
-        let t1531: f64 = t1523.plus(t1529);
-        let t1532: f64 = t1113 + t1309;
-        let t1533: f64 = t1531 + t1532;
-        let t1534: f64 = t1533 + 117.72;
-        let t1535: f64 = t1528.plus(t1530);
-        let t1536: f64 = t310 + t509;
-        let t1537: f64 = t713 + t916;
-        let t1538: f64 = t1535 + t1536;
-        let t1539: f64 = t1537 + t1538;
-        let t1540: f64 = t1534 - t1539;
-        let t1541: f64 = t38 * t1540;
-        let t1542: f64 = t1324.plus(t1470);
-        let t1543: f64 = t1433.plus(t1498);
-        let t1544: f64 = t1521.plus(t1541);
-        let t1545: f64 = t1543 + t1544;
-        let t1546: f64 = t1542 - t1545;
-        let t1547: f64 = t43 * t61;
-        let t1548 = product(t1546, t1547);
-        let t1549 = product(t312, t318);
-        let t1550: f64 = t316 * t322;
-        let t1551: f64 = t1549.minus(t1550);
-        let t1552 = product(t47, t1551);
-        let t1553 = product(t312, t315);
-        let t1554: f64 = t313 * t322;
-        let t1555: f64 = t1553.minus(t1554);
-        let t1556: f64 = t51 * t1555;
-        let t1557 = product(t315, t316);
-        let t1558: f64 = t313 * t318;
-        let t1559: f64 = t1557.minus(t1558);
-        let t1560 = product(t55, t1559);
-        let t1561: f64 = t10 * t315;
-        let t1562 = product(t25, t318);
-        let t1563: f64 = t38 * t322;
-        let t1564: f64 = t1552.plus(t1556);
-        let t1565: f64 = t1560.plus(t1561);
-        let t1566: f64 = t1562.plus(t1563);
-        let t1567: f64 = t1564 + t1565;
-        let t1568: f64 = t1566 + t1567;
-        let t1569: f64 = t43 * t340;
-        let t1570: f64 = t1568 * t1569;
-        let t1571: f64 = t61 * t1570;
-        let t1572 = product(t1570, t1571);
-        let t1573: f64 = t1559 * t1559;
-        let t1574 = product(t466, t1573);
-        let t1575: f64 = t1551 * t1551;
-        let t1576 = product(t466, t1575);
-        let t1577: f64 = t1555 * t1555;
-        let t1578: f64 = t466 * t1577;
-        let t1579: f64 = t1576.plus(t1578);
-        let t1580: f64 = t1574.plus(t1579);
-        let t1581: f64 = t1580 + 1.0;
-        let t1582: f64 = t1572.subtracted_from(t1581);
-        let t1583: f64 = 1.0 / t1582;
-        let t1584 = product(t717, t727);
-        let t1585: f64 = t725 * t731;
-        let t1586: f64 = t1584.minus(t1585);
-        let t1587 = product(t47, t1586);
-        let t1588 = product(t717, t722);
-        let t1589: f64 = t720 * t731;
-        let t1590: f64 = t1588.minus(t1589);
-        let t1591: f64 = t51 * t1590;
-        let t1592 = product(t722, t725);
-        let t1593: f64 = t720 * t727;
-        let t1594: f64 = t1592.minus(t1593);
-        let t1595 = product(t55, t1594);
-        let t1596: f64 = t10 * t722;
-        let t1597 = product(t25, t727);
-        let t1598: f64 = t38 * t731;
-        let t1599: f64 = t1587.plus(t1591);
-        let t1600: f64 = t1595.plus(t1596);
-        let t1601: f64 = t1597.plus(t1598);
-        let t1602: f64 = t1599 + t1600;
-        let t1603: f64 = t1601 + t1602;
-        let t1604: f64 = t43 * t749;
-        let t1605: f64 = t1603 * t1604;
-        let t1606 = product(t1571, t1605);
-        let t1607 = product(t1551, t1586);
-        let t1608: f64 = t1555 * t1590;
-        let t1609 = product(t1559, t1594);
-        let t1610: f64 = t315 * t722;
-        let t1611 = product(t318, t727);
-        let t1612: f64 = t322 * t731;
-        let t1613: f64 = t1607.plus(t1608);
-        let t1614: f64 = t1609.plus(t1610);
-        let t1615: f64 = t1611.plus(t1612);
-        let t1616: f64 = t1613 + t1614;
-        let t1617: f64 = t1615 + t1616;
-        let t1618: f64 = t340 * t749;
-        let t1619: f64 = t1617 * t1618;
-        let t1620: f64 = t1606.minus(t1619);
-        let t1621: f64 = -t1620;
-        let t1622: f64 = t1583 * t1621;
-        let t1623: f64 = t61 * t1605;
-        let t1624 = product(t1605, t1623);
-        let t1625: f64 = t1621 * t1622;
-        let t1626 = product(t514, t524);
-        let t1627: f64 = t522 * t528;
-        let t1628: f64 = t1626.minus(t1627);
-        let t1629 = product(t47, t1628);
-        let t1630 = product(t514, t519);
-        let t1631: f64 = t517 * t528;
-        let t1632: f64 = t1630.minus(t1631);
-        let t1633: f64 = t51 * t1632;
-        let t1634 = product(t519, t522);
-        let t1635: f64 = t517 * t524;
-        let t1636: f64 = t1634.minus(t1635);
-        let t1637 = product(t55, t1636);
-        let t1638 = product(t10, t519);
-        let t1639: f64 = t25 * t524;
-        let t1640 = product(t38, t528);
-        let t1641: f64 = t1629.plus(t1633);
-        let t1642: f64 = t1637.plus(t1641);
-        let t1643: f64 = t1638.plus(t1639);
-        let t1644: f64 = t1640.plus(t1643);
-        let t1645: f64 = t1642 - t1644;
-        let t1646: f64 = t43 * t546;
-        let t1647: f64 = t1645 * t1646;
-        let t1648: f64 = t61 * t1647;
-        let t1649 = product(t1605, t1648);
-        let t1650 = product(t1571, t1647);
-        let t1651 = product(t1551, t1628);
-        let t1652: f64 = t1555 * t1632;
-        let t1653 = product(t1559, t1636);
-        let t1654 = product(t315, t519);
-        let t1655: f64 = t318 * t524;
-        let t1656 = product(t322, t528);
-        let t1657: f64 = t1651.plus(t1652);
-        let t1658: f64 = t1653.plus(t1657);
-        let t1659: f64 = t1654.plus(t1655);
-        let t1660: f64 = t1656.plus(t1659);
-        let t1661: f64 = t1658 - t1660;
-        let t1662: f64 = t340 * t546;
-        let t1663: f64 = t1661 * t1662;
-        let t1664: f64 = t1650.minus(t1663);
-        let t1665: f64 = -t1664;
-        let t1666: f64 = t1583 * t1665;
-        let t1667: f64 = t1621 * t1666;
-        let t1668 = product(t1586, t1628);
-        let t1669: f64 = t1590 * t1632;
-        let t1670 = product(t1594, t1636);
-        let t1671 = product(t519, t722);
-        let t1672: f64 = t524 * t727;
-        let t1673 = product(t528, t731);
-        let t1674: f64 = t1668.plus(t1669);
-        let t1675: f64 = t1670.plus(t1674);
-        let t1676: f64 = t1671.plus(t1672);
-        let t1677: f64 = t1673.plus(t1676);
-        let t1678: f64 = t1675 - t1677;
-        let t1679: f64 = t546 * t749;
-        let t1680 = product(t1678, t1679);
-        let t1681: f64 = t1649.plus(t1667);
-        let t1682: f64 = t1680.subtracted_from(t1681);
-        let t1683: f64 = -t1682;
-        let t1684 = product(t1647, t1648);
-        let t1685: f64 = t1665 * t1666;
-        let t1686: f64 = t1636 * t1636;
-        let t1687 = product(t671, t1686);
-        let t1688: f64 = t1628 * t1628;
-        let t1689 = product(t671, t1688);
-        let t1690: f64 = t1632 * t1632;
-        let t1691: f64 = t671 * t1690;
-        let t1692: f64 = t1689.plus(t1691);
-        let t1693: f64 = t1687.plus(t1692);
-        let t1694: f64 = t1693 + 1.0;
-        let t1695: f64 = t1684.plus(t1685);
-        let t1696: f64 = t1694 - t1695;
-        let t1697: f64 = 1.0 / t1696;
-        let t1698: f64 = t1683 * t1697;
-        let t1699 = product(t1683, t1698);
-        let t1700: f64 = t1594 * t1594;
-        let t1701 = product(t874, t1700);
-        let t1702: f64 = t1586 * t1586;
-        let t1703 = product(t874, t1702);
-        let t1704: f64 = t1590 * t1590;
-        let t1705: f64 = t874 * t1704;
-        let t1706: f64 = t1703.plus(t1705);
-        let t1707: f64 = t1701.plus(t1706);
-        let t1708: f64 = t1707 + 1.0;
-        let t1709: f64 = t1624.plus(t1625);
-        let t1710: f64 = t1699.plus(t1709);
-        let t1711: f64 = t1708 - t1710;
-        let t1712: f64 = 1.0 / t1711;
-        let t1713 = product(t1115, t1120);
-        let t1714: f64 = t1118 * t1124;
-        let t1715: f64 = t1713.minus(t1714);
-        let t1716 = product(t47, t1715);
-        let t1717 = product(t1115, t1117);
-        let t1718: f64 = t1116 * t1124;
-        let t1719: f64 = t1717.minus(t1718);
-        let t1720: f64 = t51 * t1719;
-        let t1721 = product(t1117, t1118);
-        let t1722: f64 = t1116 * t1120;
-        let t1723: f64 = t1721.minus(t1722);
-        let t1724 = product(t55, t1723);
-        let t1725 = product(t10, t1117);
-        let t1726: f64 = t25 * t1120;
-        let t1727 = product(t38, t1124);
-        let t1728: f64 = t1716.plus(t1720);
-        let t1729: f64 = t1724.plus(t1728);
-        let t1730: f64 = t1725.plus(t1726);
-        let t1731: f64 = t1727.plus(t1730);
-        let t1732: f64 = t1729 - t1731;
-        let t1733: f64 = t43 * t1141;
-        let t1734: f64 = t1732 * t1733;
-        let t1735 = product(t1623, t1734);
-        let t1736 = product(t1571, t1734);
-        let t1737 = product(t1551, t1715);
-        let t1738: f64 = t1555 * t1719;
-        let t1739 = product(t1559, t1723);
-        let t1740 = product(t315, t1117);
-        let t1741: f64 = t318 * t1120;
-        let t1742 = product(t322, t1124);
-        let t1743: f64 = t1737.plus(t1738);
-        let t1744: f64 = t1739.plus(t1743);
-        let t1745: f64 = t1740.plus(t1741);
-        let t1746: f64 = t1742.plus(t1745);
-        let t1747: f64 = t1744 - t1746;
-        let t1748: f64 = t340 * t1141;
-        let t1749: f64 = t1747 * t1748;
-        let t1750: f64 = t1736.minus(t1749);
-        let t1751: f64 = -t1750;
-        let t1752: f64 = t1622 * t1751;
-        let t1753 = product(t1648, t1734);
-        let t1754: f64 = t1666 * t1751;
-        let t1755 = product(t1628, t1715);
-        let t1756: f64 = t1632 * t1719;
-        let t1757 = product(t1636, t1723);
-        let t1758: f64 = t519 * t1117;
-        let t1759 = product(t524, t1120);
-        let t1760: f64 = t528 * t1124;
-        let t1761: f64 = t1755.plus(t1756);
-        let t1762: f64 = t1757.plus(t1758);
-        let t1763: f64 = t1759.plus(t1760);
-        let t1764: f64 = t1761 + t1762;
-        let t1765: f64 = t1763 + t1764;
-        let t1766: f64 = t546 * t1141;
-        let t1767 = product(t1765, t1766);
-        let t1768: f64 = t1753.plus(t1754);
-        let t1769: f64 = t1767.subtracted_from(t1768);
-        let t1770: f64 = -t1769;
-        let t1771 = product(t1698, t1770);
-        let t1772 = product(t1586, t1715);
-        let t1773: f64 = t1590 * t1719;
-        let t1774 = product(t1594, t1723);
-        let t1775 = product(t722, t1117);
-        let t1776: f64 = t727 * t1120;
-        let t1777 = product(t731, t1124);
-        let t1778: f64 = t1772.plus(t1773);
-        let t1779: f64 = t1774.plus(t1778);
-        let t1780: f64 = t1775.plus(t1776);
-        let t1781: f64 = t1777.plus(t1780);
-        let t1782: f64 = t1779 - t1781;
-        let t1783: f64 = t749 * t1141;
-        let t1784 = product(t1782, t1783);
-        let t1785: f64 = t1735.plus(t1752);
-        let t1786: f64 = t1771.plus(t1785);
-        let t1787: f64 = t1784.subtracted_from(t1786);
-        let t1788: f64 = -t1787;
-        let t1789: f64 = t1712 * t1788;
-        let t1790: f64 = t61 * t1734;
-        let t1791 = product(t1734, t1790);
-        let t1792: f64 = t1583 * t1751;
-        let t1793: f64 = t1751 * t1792;
-        let t1794: f64 = t1697 * t1770;
-        let t1795 = product(t1770, t1794);
-        let t1796: f64 = t1788 * t1789;
-        let t1797 = product(t918, t924);
-        let t1798: f64 = t922 * t928;
-        let t1799: f64 = t1797.minus(t1798);
-        let t1800 = product(t47, t1799);
-        let t1801 = product(t918, t921);
-        let t1802: f64 = t919 * t928;
-        let t1803: f64 = t1801.minus(t1802);
-        let t1804: f64 = t51 * t1803;
-        let t1805 = product(t921, t922);
-        let t1806: f64 = t919 * t924;
-        let t1807: f64 = t1805.minus(t1806);
-        let t1808 = product(t55, t1807);
-        let t1809: f64 = t10 * t921;
-        let t1810 = product(t25, t924);
-        let t1811: f64 = t38 * t928;
-        let t1812: f64 = t1800.plus(t1804);
-        let t1813: f64 = t1808.plus(t1809);
-        let t1814: f64 = t1810.plus(t1811);
-        let t1815: f64 = t1812 + t1813;
-        let t1816: f64 = t1814 + t1815;
-        let t1817: f64 = t43 * t945;
-        let t1818: f64 = t1816 * t1817;
-        let t1819: f64 = t61 * t1818;
-        let t1820 = product(t1734, t1819);
-        let t1821 = product(t1571, t1818);
-        let t1822 = product(t1551, t1799);
-        let t1823: f64 = t1555 * t1803;
-        let t1824 = product(t1559, t1807);
-        let t1825: f64 = t315 * t921;
-        let t1826 = product(t318, t924);
-        let t1827: f64 = t322 * t928;
-        let t1828: f64 = t1822.plus(t1823);
-        let t1829: f64 = t1824.plus(t1825);
-        let t1830: f64 = t1826.plus(t1827);
-        let t1831: f64 = t1828 + t1829;
-        let t1832: f64 = t1830 + t1831;
-        let t1833: f64 = t340 * t945;
-        let t1834: f64 = t1832 * t1833;
-        let t1835: f64 = t1821.minus(t1834);
-        let t1836: f64 = -t1835;
-        let t1837: f64 = t1583 * t1836;
-        let t1838: f64 = t1751 * t1837;
-        let t1839 = product(t1648, t1818);
-        let t1840: f64 = t1666 * t1836;
-        let t1841 = product(t1628, t1799);
-        let t1842: f64 = t1632 * t1803;
-        let t1843 = product(t1636, t1807);
-        let t1844 = product(t519, t921);
-        let t1845: f64 = t524 * t924;
-        let t1846 = product(t528, t928);
-        let t1847: f64 = t1841.plus(t1842);
-        let t1848: f64 = t1843.plus(t1847);
-        let t1849: f64 = t1844.plus(t1845);
-        let t1850: f64 = t1846.plus(t1849);
-        let t1851: f64 = t1848 - t1850;
-        let t1852: f64 = t546 * t945;
-        let t1853 = product(t1851, t1852);
-        let t1854: f64 = t1839.plus(t1840);
-        let t1855: f64 = t1853.subtracted_from(t1854);
-        let t1856: f64 = -t1855;
-        let t1857: f64 = t1697 * t1856;
-        let t1858 = product(t1770, t1857);
-        let t1859 = product(t1623, t1818);
-        let t1860: f64 = t1622 * t1836;
-        let t1861 = product(t1698, t1856);
-        let t1862 = product(t1586, t1799);
-        let t1863: f64 = t1590 * t1803;
-        let t1864 = product(t1594, t1807);
-        let t1865: f64 = t722 * t921;
-        let t1866 = product(t727, t924);
-        let t1867: f64 = t731 * t928;
-        let t1868: f64 = t1862.plus(t1863);
-        let t1869: f64 = t1864.plus(t1865);
-        let t1870: f64 = t1866.plus(t1867);
-        let t1871: f64 = t1868 + t1869;
-        let t1872: f64 = t1870 + t1871;
-        let t1873: f64 = t749 * t945;
-        let t1874 = product(t1872, t1873);
-        let t1875: f64 = t1859.plus(t1860);
-        let t1876: f64 = t1861.plus(t1875);
-        let t1877: f64 = t1874.subtracted_from(t1876);
-        let t1878: f64 = -t1877;
-        let t1879: f64 = t1712 * t1878;
-        let t1880: f64 = t1788 * t1879;
-        let t1881 = product(t1715, t1799);
-        let t1882: f64 = t1719 * t1803;
-        let t1883 = product(t1723, t1807);
-        let t1884 = product(t921, t1117);
-        let t1885: f64 = t924 * t1120;
-        let t1886 = product(t928, t1124);
-        let t1887: f64 = t1881.plus(t1882);
-        let t1888: f64 = t1883.plus(t1887);
-        let t1889: f64 = t1884.plus(t1885);
-        let t1890: f64 = t1886.plus(t1889);
-        let t1891: f64 = t1888 - t1890;
-        let t1892: f64 = t945 * t1141;
-        let t1893 = product(t1891, t1892);
-        let t1894: f64 = t1820.plus(t1838);
-        let t1895: f64 = t1858.plus(t1880);
-        let t1896: f64 = t1894 + t1895;
-        let t1897: f64 = t1893.subtracted_from(t1896);
-        let t1898: f64 = -t1897;
-        let t1899 = product(t1818, t1819);
-        let t1900: f64 = t1836 * t1837;
-        let t1901 = product(t1856, t1857);
-        let t1902: f64 = t1878 * t1879;
-        let t1903: f64 = t1807 * t1807;
-        let t1904 = product(t1070, t1903);
-        let t1905: f64 = t1799 * t1799;
-        let t1906 = product(t1070, t1905);
-        let t1907: f64 = t1803 * t1803;
-        let t1908: f64 = t1070 * t1907;
-        let t1909: f64 = t1906.plus(t1908);
-        let t1910: f64 = t1904.plus(t1909);
-        let t1911: f64 = t1910 + 1.0;
-        let t1912: f64 = t1899.plus(t1900);
-        let t1913: f64 = t1901.plus(t1902);
-        let t1914: f64 = t1912 + t1913;
-        let t1915: f64 = t1911 - t1914;
-        let t1916: f64 = 1.0 / t1915;
-        let t1917: f64 = t1898 * t1916;
-        let t1918 = product(t1898, t1917);
-        let t1919: f64 = t1723 * t1723;
-        let t1920 = product(t1266, t1919);
-        let t1921: f64 = t1715 * t1715;
-        let t1922 = product(t1266, t1921);
-        let t1923: f64 = t1719 * t1719;
-        let t1924: f64 = t1266 * t1923;
-        let t1925: f64 = t1922.plus(t1924);
-        let t1926: f64 = t1920.plus(t1925);
-        let t1927: f64 = t1926 + 1.0;
-        let t1928: f64 = t1791.plus(t1793);
-        let t1929: f64 = t1795.plus(t1796);
-        let t1930: f64 = t1928 + t1929;
-        let t1931: f64 = t1918.plus(t1930);
-        let t1932: f64 = t1927 - t1931;
-        let t1933: f64 = 1.0 / t1932;
-        let t1934: f64 = t43 * t1546;
-        let t1935 = product(t1790, t1934);
-        let t1936 = product(t1571, t1934);
-        let t1937 = product(t1323, t1551);
-        let t1938 = product(t1432, t1555);
-        let t1939: f64 = t1469 * t1559;
-        let t1940: f64 = t315 * t1497;
-        let t1941 = product(t318, t1520);
-        let t1942: f64 = t322 * t1540;
-        let t1943: f64 = t1937.plus(t1939);
-        let t1944: f64 = t1938.plus(t1940);
-        let t1945: f64 = t1941.plus(t1942);
-        let t1946: f64 = t1944 + t1945;
-        let t1947: f64 = t1943 - t1946;
-        let t1948: f64 = t340 * t1947;
-        let t1949: f64 = t1936.subtracted_from(t1948);
-        let t1950: f64 = t1792 * t1949;
-        let t1951 = product(t1648, t1934);
-        let t1952: f64 = t1666 * t1949;
-        let t1953 = product(t1323, t1628);
-        let t1954 = product(t1432, t1632);
-        let t1955: f64 = t1469 * t1636;
-        let t1956 = product(t519, t1497);
-        let t1957: f64 = t524 * t1520;
-        let t1958 = product(t528, t1540);
-        let t1959: f64 = t1953.plus(t1955);
-        let t1960: f64 = t1956.plus(t1957);
-        let t1961: f64 = t1959 + t1960;
-        let t1962: f64 = t1958.plus(t1961);
-        let t1963: f64 = t1954.subtracted_from(t1962);
-        let t1964 = product(t546, t1963);
-        let t1965: f64 = t1951.plus(t1952);
-        let t1966: f64 = t1964.minus(t1965);
-        let t1967 = product(t1794, t1966);
-        let t1968 = product(t1623, t1934);
-        let t1969: f64 = t1622 * t1949;
-        let t1970 = product(t1698, t1966);
-        let t1971 = product(t1323, t1586);
-        let t1972 = product(t1432, t1590);
-        let t1973: f64 = t1469 * t1594;
-        let t1974: f64 = t722 * t1497;
-        let t1975 = product(t727, t1520);
-        let t1976: f64 = t731 * t1540;
-        let t1977: f64 = t1971.plus(t1973);
-        let t1978: f64 = t1972.plus(t1974);
-        let t1979: f64 = t1975.plus(t1976);
-        let t1980: f64 = t1978 + t1979;
-        let t1981: f64 = t1977 - t1980;
-        let t1982 = product(t749, t1981);
-        let t1983: f64 = t1968.plus(t1969);
-        let t1984: f64 = t1970.plus(t1983);
-        let t1985: f64 = t1982.minus(t1984);
-        let t1986: f64 = t1789 * t1985;
-        let t1987 = product(t1819, t1934);
-        let t1988: f64 = t1837 * t1949;
-        let t1989 = product(t1857, t1966);
-        let t1990: f64 = t1879 * t1985;
-        let t1991 = product(t1323, t1799);
-        let t1992 = product(t1432, t1803);
-        let t1993: f64 = t1469 * t1807;
-        let t1994: f64 = t921 * t1497;
-        let t1995 = product(t924, t1520);
-        let t1996: f64 = t928 * t1540;
-        let t1997: f64 = t1991.plus(t1993);
-        let t1998: f64 = t1992.plus(t1994);
-        let t1999: f64 = t1995.plus(t1996);
-        let t2000: f64 = t1998 + t1999;
-        let t2001: f64 = t1997 - t2000;
-        let t2002 = product(t945, t2001);
+        let t1164: f64 = wy * t1163;
+        let t1165 = product(wdz, t1108);
+        let t1166 = product(wz, t1148);
+        let t1167: f64 = t1165.added_to(ax);
+        let t1168: f64 = t1166.plus(t1167);
+        let t1169: f64 = t1160.plus(t1164);
+        let t1170: f64 = t1168 - t1169;
+        let t1171 = product(t1134, t1140);
+        let t1172: f64 = t1124 * t1138;
+        let t1173: f64 = t1171.plus(t1172);
+        let t1174 = product(t1170, t1173);
+        let t1175 = product(wdz, t1106);
+        let t1176: f64 = wz * t1153;
+        let t1177 = product(wdx, t1105);
+        let t1178 = product(wx, t1163);
+        let t1179: f64 = t1177.added_to(ay);
+        let t1180: f64 = t1178.plus(t1179);
+        let t1181: f64 = t1175.plus(t1176);
+        let t1182: f64 = t1180 - t1181;
+        let t1183: f64 = t1137 * t1182;
+        let t1184: f64 = t1174.minus(t1183);
+        let t1185: f64 = t1159.plus(t1184);
+        let t1186 = product(t1107, 0.7651390659756491);
+        let t1187: f64 = t1110 * 0.6438650555185546;
+        let t1188: f64 = t1186.minus(t1187);
+        let t1189: f64 = t1123 * t1188;
+        let t1190: f64 = vx - t1153;
+        let t1191 = product(t1135, t1190);
+        let t1192: f64 = vy - t1148;
+        let t1193: f64 = t1140 * t1192;
+        let t1194: f64 = vz - t1163;
+        let t1195 = product(t1124, t1194);
+        let t1196: f64 = t1191.plus(t1193);
+        let t1197: f64 = t1195.subtracted_from(t1196);
+        let t1198: f64 = t1197 * t1197;
+        let t1199: f64 = t1131 * t1189;
+        let t1200 = product(t1198, t1199);
+        let t1201 = product(t1173, t1190);
+        let t1202 = product(t1137, t1192);
+        let t1203: f64 = t1142 * t1194;
+        let t1204: f64 = t1201.plus(t1203);
+        let t1205: f64 = t1202.subtracted_from(t1204);
+        let t1206 = product(t1132, t1190);
+        let t1207: f64 = t1138 * t1192;
+        let t1208 = product(t1134, t1194);
+        let t1209: f64 = t1206.plus(t1207);
+        let t1210: f64 = t1208.plus(t1209);
+        let t1211: f64 = t1131 * t1210;
+        let t1212: f64 = t1211 * 2.0;
+        let t1213: f64 = t1205 * t1212;
+        let t1214: f64 = t1200.plus(t1213);
+        let t1215: f64 = t1185 - t1214;
+        let t1216: f64 = t1131 * t1215;
+        let t1217: f64 = t1131 * t1197;
+        let t1218: f64 = t1197 * t1199;
+        let t1219: f64 = t1217 * t1218;
+        let t1220 = product(t1144, 0.2);
+        let t1221: f64 = t1185 * 0.3;
+        let t1222 = product(t1216, 0.295);
+        let t1223: f64 = t1219 * 0.292;
+        let t1224: f64 = t1220.plus(t1221);
+        let t1225: f64 = t1222.plus(t1223);
+        let t1226: f64 = t1224 - t1225;
+        let t1227 = product(t1131, t1226);
+        let t1228: f64 = t1144 - t1185;
+        let t1229: f64 = t1216 + t1219;
+        let t1230: f64 = t1229 * 0.3;
+        let t1231: f64 = t1227.plus(t1228);
+        let t1232: f64 = t1230 + t1231;
+        let t1233 = product(t1137, t1232);
+        let t1234: f64 = t1134 * 9.81;
+        let t1235: f64 = -t1234;
+        let t1236 = product(t1132, t1170);
+        let t1237: f64 = t1138 * t1182;
+        let t1238 = product(t1134, t1158);
+        let t1239: f64 = t1236.plus(t1237);
+        let t1240: f64 = t1238.plus(t1239);
+        let t1241 = product(t1217, t1217);
+        let t1242: f64 = t1131 * t1205;
+        let t1243: f64 = t1242 * t1242;
+        let t1244: f64 = t1241.plus(t1243);
+        let t1245 = product(t1244, 0.3);
+        let t1246: f64 = t1245.added_to(t1240);
+        let t1247: f64 = t1235 - t1246;
+        let t1248 = product(t1138, t1247);
+        let t1249: f64 = t1124 * 9.81;
+        let t1250 = product(t1135, t1170);
+        let t1251: f64 = t1140 * t1182;
+        let t1252 = product(t1124, t1158);
+        let t1253: f64 = t1250.plus(t1251);
+        let t1254: f64 = t1252.subtracted_from(t1253);
+        let t1255 = product(t1131, t1254);
+        let t1256: f64 = t1131 * t1131;
+        let t1257: f64 = t1189 * t1256;
+        let t1258: f64 = t1197 * t1257;
+        let t1259 = product(t1205, t1258);
+        let t1260: f64 = t1212 * t1217;
+        let t1261: f64 = t1259.minus(t1260);
+        let t1262: f64 = t1255.plus(t1261);
+        let t1263: f64 = t1218 * t1242;
+        let t1264 = product(t1189, t1261);
+        let t1265: f64 = t1123 * t1123;
+        let t1266: f64 = t1129 * t1131;
+        let t1267: f64 = t1265 * t1266;
+        let t1268: f64 = t1197 * t1267;
+        let t1269 = product(t1205, t1268);
+        let t1270: f64 = t1189 * t1254;
+        let t1271: f64 = t1269.plus(t1270);
+        let t1272: f64 = t1131 * t1271;
+        let t1273: f64 = t1264.plus(t1272);
+        let t1274: f64 = t1189 * t1273;
+        let t1275 = product(t1249, 0.2);
+        let t1276: f64 = t1254 * 0.3;
+        let t1277 = product(t1262, 0.295);
+        let t1278 = product(t1263, 0.292);
+        let t1279: f64 = t1274 * 0.003;
+        let t1280: f64 = t1275.plus(t1276);
+        let t1281: f64 = t1278.plus(t1280);
+        let t1282: f64 = t1277.plus(t1279);
+        let t1283: f64 = t1281 - t1282;
+        let t1284 = product(t1131, t1283);
+        let t1285: f64 = t1249 - t1254;
+        let t1286: f64 = t1262 - t1263;
+        let t1287: f64 = t1286 * 0.3;
+        let t1288: f64 = t1284.plus(t1285);
+        let t1289: f64 = t1287 + t1288;
+        let t1290: f64 = t1140 * t1289;
+        let t1291: f64 = t1248.plus(t1290);
+        let t1292: f64 = t1233.minus(t1291);
+        let t1293: f64 = -t1292;
+        let t1294 = product(t1105, t1293);
+        let t1295 = product(t1124, t1289);
+        let t1296: f64 = t1134 * t1247;
+        let t1297: f64 = t1295.minus(t1296);
+        let t1298 = product(t1142, t1232);
+        let t1299: f64 = t1298.subtracted_from(t1297);
+        let t1300: f64 = t1108 * t1299;
+        let t1301: f64 = t70.plus(t118);
+        let t1302: f64 = t295.plus(t501);
+        let t1303: f64 = t698.plus(t704);
+        let t1304: f64 = t1098.plus(t1104);
+        let t1305: f64 = t1301 + t1302;
+        let t1306: f64 = t1303 + t1304;
+        let t1307: f64 = t1305 + t1306;
+        let t1308: f64 = t301.plus(t494);
+        let t1309: f64 = t901.plus(t907);
+        let t1310: f64 = t1294.plus(t1300);
+        let t1311: f64 = t1308 + t1309;
+        let t1312: f64 = t1310 + t1311;
+        let t1313: f64 = t1307 - t1312;
+        let t1314 = product(t47, t1313);
+        let t1315: f64 = t0 * t111;
+        let t1316 = product(t17, t92);
+        let t1317 = product(t20, t109);
+        let t1318 = product(t12, t69);
+        let t1319: f64 = ax * t13;
+        let t1320: f64 = t1319 * 0.36;
+        let t1321: f64 = t1318.minus(t1320);
+        let t1322 = product(t1, t1321);
+        let t1323 = product(t175, t233);
+        let t1324: f64 = t289 - t287;
+        let t1325: f64 = t137 * t1324;
+        let t1326: f64 = t1323.minus(t1325);
+        let t1327 = product(t134, t249);
+        let t1328 = product(t175, t228);
+        let t1329: f64 = t137 * t285;
+        let t1330: f64 = t1328.minus(t1329);
+        let t1331: f64 = t43 * t1330;
+        let t1332: f64 = t1327.minus(t1331);
+        let t1333: f64 = t1326 + t1332;
+        let t1334: f64 = t37 * t1333;
+        let t1335: f64 = t8 * t300;
+        let t1336: f64 = t427 + t429;
+        let t1337: f64 = -t1336;
+        let t1338 = product(t372, t1337);
+        let t1339: f64 = t485 + t487;
+        let t1340: f64 = t334 * t1339;
+        let t1341: f64 = t1338.minus(t1340);
+        let t1342 = product(t331, t446);
+        let t1343 = product(t372, t425);
+        let t1344: f64 = t334 * t483;
+        let t1345: f64 = t1343.plus(t1344);
+        let t1346: f64 = t330 * t1345;
+        let t1347: f64 = t1342.plus(t1346);
+        let t1348: f64 = t1341 - t1347;
+        let t1349 = product(t302, t1348);
+        let t1350 = product(t303, t500);
+        let t1351 = product(t578, t636);
+        let t1352: f64 = t692 - t690;
+        let t1353: f64 = t540 * t1352;
+        let t1354: f64 = t1351.minus(t1353);
+        let t1355 = product(t537, t652);
+        let t1356 = product(t578, t631);
+        let t1357: f64 = t540 * t688;
+        let t1358: f64 = t1356.minus(t1357);
+        let t1359: f64 = t536 * t1358;
+        let t1360: f64 = t1355.minus(t1359);
+        let t1361: f64 = t1354 + t1360;
+        let t1362: f64 = t504 * t1361;
+        let t1363: f64 = t507 * t703;
+        let t1364 = product(t781, t839);
+        let t1365: f64 = t895 - t893;
+        let t1366: f64 = t743 * t1365;
+        let t1367: f64 = t1364.minus(t1366);
+        let t1368 = product(t740, t855);
+        let t1369 = product(t781, t834);
+        let t1370: f64 = t743 * t891;
+        let t1371: f64 = t1369.minus(t1370);
+        let t1372: f64 = t739 * t1371;
+        let t1373: f64 = t1368.minus(t1372);
+        let t1374: f64 = t1367 + t1373;
+        let t1375 = product(t707, t1374);
+        let t1376 = product(t710, t906);
+        let t1377: f64 = t1032 + t1034;
+        let t1378: f64 = -t1377;
+        let t1379 = product(t977, t1378);
+        let t1380: f64 = t1089 + t1091;
+        let t1381: f64 = t939 * t1380;
+        let t1382: f64 = t1379.minus(t1381);
+        let t1383 = product(t936, t1051);
+        let t1384 = product(t977, t1030);
+        let t1385: f64 = t939 * t1087;
+        let t1386: f64 = t1384.plus(t1385);
+        let t1387: f64 = t935 * t1386;
+        let t1388: f64 = t1383.plus(t1387);
+        let t1389: f64 = t1382 - t1388;
+        let t1390: f64 = t908 * t1389;
+        let t1391: f64 = t909 * t1103;
+        let t1392: f64 = t1228 + t1230;
+        let t1393: f64 = -t1392;
+        let t1394 = product(t1173, t1393);
+        let t1395: f64 = t1285 + t1287;
+        let t1396: f64 = t1135 * t1395;
+        let t1397: f64 = t1394.minus(t1396);
+        let t1398 = product(t1132, t1247);
+        let t1399 = product(t1173, t1226);
+        let t1400: f64 = t1135 * t1283;
+        let t1401: f64 = t1399.plus(t1400);
+        let t1402: f64 = t1131 * t1401;
+        let t1403: f64 = t1398.plus(t1402);
+        let t1404: f64 = t1397 - t1403;
+        let t1405 = product(t1105, t1404);
+        let t1406 = product(t1106, t1299);
+        let t1407: f64 = t1315 * 0.36;
+        let t1408: f64 = t1316.plus(t1335);
+        let t1409: f64 = t1349.plus(t1362);
+        let t1410: f64 = t1376.plus(t1390);
+        let t1411: f64 = t1408 + t1409;
+        let t1412: f64 = t1406.plus(t1410);
+        let t1413: f64 = t1411 + t1412;
+        let t1414: f64 = t1317.plus(t1407);
+        let t1415: f64 = t1322.plus(t1334);
+        let t1416: f64 = t1350.plus(t1363);
+        let t1417: f64 = t1375.plus(t1391);
+        let t1418: f64 = t1414 + t1415;
+        let t1419: f64 = t1416 + t1417;
+        let t1420: f64 = t1418 + t1419;
+        let t1421: f64 = t1405.plus(t1420);
+        let t1422: f64 = t1413 - t1421;
+        let t1423 = product(t51, t1422);
+        let t1424: f64 = ay * t0;
+        let t1425 = product(t30, t92);
+        let t1426 = product(t34, t109);
+        let t1427 = product(t13, t69);
+        let t1428: f64 = ax * t12;
+        let t1429: f64 = t1428 * 0.36;
+        let t1430: f64 = t1427.plus(t1429);
+        let t1431 = product(t1, t1430);
+        let t1432: f64 = t23 * t1333;
+        let t1433: f64 = t8 * t294;
+        let t1434 = product(t306, t1348);
+        let t1435 = product(t303, t493);
+        let t1436: f64 = t512 * t1361;
+        let t1437 = product(t507, t697);
+        let t1438: f64 = t715 * t1374;
+        let t1439 = product(t710, t900);
+        let t1440: f64 = t912 * t1389;
+        let t1441 = product(t909, t1097);
+        let t1442: f64 = t1108 * t1404;
+        let t1443 = product(t1106, t1293);
+        let t1444: f64 = t1424 * 0.36;
+        let t1445: f64 = t1425.plus(t1444);
+        let t1446: f64 = t1431.plus(t1432);
+        let t1447: f64 = t1435.plus(t1438);
+        let t1448: f64 = t1439.plus(t1442);
+        let t1449: f64 = t1445 + t1446;
+        let t1450: f64 = t1447 + t1448;
+        let t1451: f64 = t1449 + t1450;
+        let t1452: f64 = t1443.plus(t1451);
+        let t1453: f64 = t1426.plus(t1433);
+        let t1454: f64 = t1434.plus(t1436);
+        let t1455: f64 = t1437.plus(t1440);
+        let t1456: f64 = t1453 + t1454;
+        let t1457: f64 = t1441.plus(t1455);
+        let t1458: f64 = t1456 + t1457;
+        let t1459: f64 = t1452 - t1458;
+        let t1460: f64 = t55 * t1459;
+        let t1461: f64 = wx * t12;
+        let t1462 = product(t1, t1461);
+        let t1463: f64 = wy * t0;
+        let t1464: f64 = t1462.plus(t1463);
+        let t1465: f64 = t1464 * 0.36;
+        let t1466 = product(wy, t1465);
+        let t1467 = product(wz, t0);
+        let t1468: f64 = wx * t13;
+        let t1469: f64 = t1 * t1468;
+        let t1470: f64 = t1467.minus(t1469);
+        let t1471: f64 = t1470 * 0.36;
+        let t1472: f64 = wz * t1471;
+        let t1473 = product(wdy, t13);
+        let t1474: f64 = wdz * t12;
+        let t1475: f64 = t1473.plus(t1474);
+        let t1476: f64 = t1475 * 0.36;
+        let t1477 = product(t1, t1476);
+        let t1478: f64 = ax * 12.0;
+        let t1479: f64 = t1477.plus(t1478);
+        let t1480: f64 = t1348 + t1389;
+        let t1481: f64 = t1479 + t1480;
+        let t1482: f64 = t1404 + t1481;
+        let t1483: f64 = t1466.plus(t1472);
+        let t1484: f64 = t1333 + t1361;
+        let t1485: f64 = t1483 + t1484;
+        let t1486: f64 = t1374 + t1485;
+        let t1487: f64 = t1482 - t1486;
+        let t1488: f64 = t10 * t1487;
+        let t1489: f64 = wdz * t0;
+        let t1490 = product(wx, t1465);
+        let t1491: f64 = wdx * t13;
+        let t1492 = product(wy, t13);
+        let t1493: f64 = wz * t12;
+        let t1494: f64 = t1492.plus(t1493);
+        let t1495: f64 = t1494 * 0.36;
+        let t1496 = product(wz, t1495);
+        let t1497: f64 = t1491 * 0.36;
+        let t1498: f64 = t1496.subtracted_from(t1497);
+        let t1499 = product(t1, t1498);
+        let t1500 = product(ay, 12.0);
+        let t1501: f64 = t1489 * 0.36;
+        let t1502: f64 = t1500.plus(t1501);
+        let t1503: f64 = t1490.added_to(t697);
+        let t1504: f64 = t900 + t1096;
+        let t1505: f64 = t1502 + t1503;
+        let t1506: f64 = t1292 + t1504;
+        let t1507: f64 = t1505 + t1506;
+        let t1508: f64 = t1499.added_to(t294);
+        let t1509: f64 = t492 + t1508;
+        let t1510: f64 = t1507 - t1509;
+        let t1511 = product(t25, t1510);
+        let t1512: f64 = wdy * t0;
+        let t1513 = product(wx, t1471);
+        let t1514: f64 = wdx * t12;
+        let t1515 = product(wy, t1495);
+        let t1516: f64 = t1514 * 0.36;
+        let t1517: f64 = t1515.plus(t1516);
+        let t1518 = product(t1, t1517);
+        let t1519: f64 = az * 12.0;
+        let t1520: f64 = t1512 * 0.36;
+        let t1521: f64 = t1513.plus(t1519);
+        let t1522: f64 = t1103 + t1299;
+        let t1523: f64 = t1521 + t1522;
+        let t1524: f64 = t1523 + 117.72;
+        let t1525: f64 = t1518.plus(t1520);
+        let t1526: f64 = t300 + t499;
+        let t1527: f64 = t703 + t906;
+        let t1528: f64 = t1525 + t1526;
+        let t1529: f64 = t1527 + t1528;
+        let t1530: f64 = t1524 - t1529;
+        let t1531: f64 = t38 * t1530;
+        let t1532: f64 = t1314.plus(t1460);
+        let t1533: f64 = t1423.plus(t1488);
+        let t1534: f64 = t1511.plus(t1531);
+        let t1535: f64 = t1533 + t1534;
+        let t1536: f64 = t1532 - t1535;
+        let t1537: f64 = t43 * t61;
+        let t1538 = product(t1536, t1537);
+        let t1539 = product(t302, t308);
+        let t1540: f64 = t306 * t312;
+        let t1541: f64 = t1539.minus(t1540);
+        let t1542 = product(t47, t1541);
+        let t1543 = product(t302, t305);
+        let t1544: f64 = t303 * t312;
+        let t1545: f64 = t1543.minus(t1544);
+        let t1546: f64 = t51 * t1545;
+        let t1547 = product(t305, t306);
+        let t1548: f64 = t303 * t308;
+        let t1549: f64 = t1547.minus(t1548);
+        let t1550 = product(t55, t1549);
+        let t1551: f64 = t10 * t305;
+        let t1552 = product(t25, t308);
+        let t1553: f64 = t38 * t312;
+        let t1554: f64 = t1542.plus(t1546);
+        let t1555: f64 = t1550.plus(t1551);
+        let t1556: f64 = t1552.plus(t1553);
+        let t1557: f64 = t1554 + t1555;
+        let t1558: f64 = t1556 + t1557;
+        let t1559: f64 = t43 * t330;
+        let t1560: f64 = t1558 * t1559;
+        let t1561: f64 = t61 * t1560;
+        let t1562 = product(t1560, t1561);
+        let t1563: f64 = t1549 * t1549;
+        let t1564 = product(t456, t1563);
+        let t1565: f64 = t1541 * t1541;
+        let t1566 = product(t456, t1565);
+        let t1567: f64 = t1545 * t1545;
+        let t1568: f64 = t456 * t1567;
+        let t1569: f64 = t1566.plus(t1568);
+        let t1570: f64 = t1564.plus(t1569);
+        let t1571: f64 = t1570 + 1.0;
+        let t1572: f64 = t1562.subtracted_from(t1571);
+        let t1573: f64 = 1.0 / t1572;
+        let t1574 = product(t707, t717);
+        let t1575: f64 = t715 * t721;
+        let t1576: f64 = t1574.minus(t1575);
+        let t1577 = product(t47, t1576);
+        let t1578 = product(t707, t712);
+        let t1579: f64 = t710 * t721;
+        let t1580: f64 = t1578.minus(t1579);
+        let t1581: f64 = t51 * t1580;
+        let t1582 = product(t712, t715);
+        let t1583: f64 = t710 * t717;
+        let t1584: f64 = t1582.minus(t1583);
+        let t1585 = product(t55, t1584);
+        let t1586: f64 = t10 * t712;
+        let t1587 = product(t25, t717);
+        let t1588: f64 = t38 * t721;
+        let t1589: f64 = t1577.plus(t1581);
+        let t1590: f64 = t1585.plus(t1586);
+        let t1591: f64 = t1587.plus(t1588);
+        let t1592: f64 = t1589 + t1590;
+        let t1593: f64 = t1591 + t1592;
+        let t1594: f64 = t43 * t739;
+        let t1595: f64 = t1593 * t1594;
+        let t1596 = product(t1561, t1595);
+        let t1597 = product(t1541, t1576);
+        let t1598: f64 = t1545 * t1580;
+        let t1599 = product(t1549, t1584);
+        let t1600: f64 = t305 * t712;
+        let t1601 = product(t308, t717);
+        let t1602: f64 = t312 * t721;
+        let t1603: f64 = t1597.plus(t1598);
+        let t1604: f64 = t1599.plus(t1600);
+        let t1605: f64 = t1601.plus(t1602);
+        let t1606: f64 = t1603 + t1604;
+        let t1607: f64 = t1605 + t1606;
+        let t1608: f64 = t330 * t739;
+        let t1609: f64 = t1607 * t1608;
+        let t1610: f64 = t1596.minus(t1609);
+        let t1611: f64 = -t1610;
+        let t1612: f64 = t1573 * t1611;
+        let t1613: f64 = t61 * t1595;
+        let t1614 = product(t1595, t1613);
+        let t1615: f64 = t1611 * t1612;
+        let t1616 = product(t504, t514);
+        let t1617: f64 = t512 * t518;
+        let t1618: f64 = t1616.minus(t1617);
+        let t1619 = product(t47, t1618);
+        let t1620 = product(t504, t509);
+        let t1621: f64 = t507 * t518;
+        let t1622: f64 = t1620.minus(t1621);
+        let t1623: f64 = t51 * t1622;
+        let t1624 = product(t509, t512);
+        let t1625: f64 = t507 * t514;
+        let t1626: f64 = t1624.minus(t1625);
+        let t1627 = product(t55, t1626);
+        let t1628 = product(t10, t509);
+        let t1629: f64 = t25 * t514;
+        let t1630 = product(t38, t518);
+        let t1631: f64 = t1619.plus(t1623);
+        let t1632: f64 = t1627.plus(t1631);
+        let t1633: f64 = t1628.plus(t1629);
+        let t1634: f64 = t1630.plus(t1633);
+        let t1635: f64 = t1632 - t1634;
+        let t1636: f64 = t43 * t536;
+        let t1637: f64 = t1635 * t1636;
+        let t1638: f64 = t61 * t1637;
+        let t1639 = product(t1595, t1638);
+        let t1640 = product(t1561, t1637);
+        let t1641 = product(t1541, t1618);
+        let t1642: f64 = t1545 * t1622;
+        let t1643 = product(t1549, t1626);
+        let t1644 = product(t305, t509);
+        let t1645: f64 = t308 * t514;
+        let t1646 = product(t312, t518);
+        let t1647: f64 = t1641.plus(t1642);
+        let t1648: f64 = t1643.plus(t1647);
+        let t1649: f64 = t1644.plus(t1645);
+        let t1650: f64 = t1646.plus(t1649);
+        let t1651: f64 = t1648 - t1650;
+        let t1652: f64 = t330 * t536;
+        let t1653: f64 = t1651 * t1652;
+        let t1654: f64 = t1640.minus(t1653);
+        let t1655: f64 = -t1654;
+        let t1656: f64 = t1573 * t1655;
+        let t1657: f64 = t1611 * t1656;
+        let t1658 = product(t1576, t1618);
+        let t1659: f64 = t1580 * t1622;
+        let t1660 = product(t1584, t1626);
+        let t1661 = product(t509, t712);
+        let t1662: f64 = t514 * t717;
+        let t1663 = product(t518, t721);
+        let t1664: f64 = t1658.plus(t1659);
+        let t1665: f64 = t1660.plus(t1664);
+        let t1666: f64 = t1661.plus(t1662);
+        let t1667: f64 = t1663.plus(t1666);
+        let t1668: f64 = t1665 - t1667;
+        let t1669: f64 = t536 * t739;
+        let t1670 = product(t1668, t1669);
+        let t1671: f64 = t1639.plus(t1657);
+        let t1672: f64 = t1670.subtracted_from(t1671);
+        let t1673: f64 = -t1672;
+        let t1674 = product(t1637, t1638);
+        let t1675: f64 = t1655 * t1656;
+        let t1676: f64 = t1626 * t1626;
+        let t1677 = product(t661, t1676);
+        let t1678: f64 = t1618 * t1618;
+        let t1679 = product(t661, t1678);
+        let t1680: f64 = t1622 * t1622;
+        let t1681: f64 = t661 * t1680;
+        let t1682: f64 = t1679.plus(t1681);
+        let t1683: f64 = t1677.plus(t1682);
+        let t1684: f64 = t1683 + 1.0;
+        let t1685: f64 = t1674.plus(t1675);
+        let t1686: f64 = t1684 - t1685;
+        let t1687: f64 = 1.0 / t1686;
+        let t1688: f64 = t1673 * t1687;
+        let t1689 = product(t1673, t1688);
+        let t1690: f64 = t1584 * t1584;
+        let t1691 = product(t864, t1690);
+        let t1692: f64 = t1576 * t1576;
+        let t1693 = product(t864, t1692);
+        let t1694: f64 = t1580 * t1580;
+        let t1695: f64 = t864 * t1694;
+        let t1696: f64 = t1693.plus(t1695);
+        let t1697: f64 = t1691.plus(t1696);
+        let t1698: f64 = t1697 + 1.0;
+        let t1699: f64 = t1614.plus(t1615);
+        let t1700: f64 = t1689.plus(t1699);
+        let t1701: f64 = t1698 - t1700;
+        let t1702: f64 = 1.0 / t1701;
+        let t1703 = product(t1105, t1110);
+        let t1704: f64 = t1108 * t1114;
+        let t1705: f64 = t1703.minus(t1704);
+        let t1706 = product(t47, t1705);
+        let t1707 = product(t1105, t1107);
+        let t1708: f64 = t1106 * t1114;
+        let t1709: f64 = t1707.minus(t1708);
+        let t1710: f64 = t51 * t1709;
+        let t1711 = product(t1107, t1108);
+        let t1712: f64 = t1106 * t1110;
+        let t1713: f64 = t1711.minus(t1712);
+        let t1714 = product(t55, t1713);
+        let t1715 = product(t10, t1107);
+        let t1716: f64 = t25 * t1110;
+        let t1717 = product(t38, t1114);
+        let t1718: f64 = t1706.plus(t1710);
+        let t1719: f64 = t1714.plus(t1718);
+        let t1720: f64 = t1715.plus(t1716);
+        let t1721: f64 = t1717.plus(t1720);
+        let t1722: f64 = t1719 - t1721;
+        let t1723: f64 = t43 * t1131;
+        let t1724: f64 = t1722 * t1723;
+        let t1725 = product(t1613, t1724);
+        let t1726 = product(t1561, t1724);
+        let t1727 = product(t1541, t1705);
+        let t1728: f64 = t1545 * t1709;
+        let t1729 = product(t1549, t1713);
+        let t1730 = product(t305, t1107);
+        let t1731: f64 = t308 * t1110;
+        let t1732 = product(t312, t1114);
+        let t1733: f64 = t1727.plus(t1728);
+        let t1734: f64 = t1729.plus(t1733);
+        let t1735: f64 = t1730.plus(t1731);
+        let t1736: f64 = t1732.plus(t1735);
+        let t1737: f64 = t1734 - t1736;
+        let t1738: f64 = t330 * t1131;
+        let t1739: f64 = t1737 * t1738;
+        let t1740: f64 = t1726.minus(t1739);
+        let t1741: f64 = -t1740;
+        let t1742: f64 = t1612 * t1741;
+        let t1743 = product(t1638, t1724);
+        let t1744: f64 = t1656 * t1741;
+        let t1745 = product(t1618, t1705);
+        let t1746: f64 = t1622 * t1709;
+        let t1747 = product(t1626, t1713);
+        let t1748: f64 = t509 * t1107;
+        let t1749 = product(t514, t1110);
+        let t1750: f64 = t518 * t1114;
+        let t1751: f64 = t1745.plus(t1746);
+        let t1752: f64 = t1747.plus(t1748);
+        let t1753: f64 = t1749.plus(t1750);
+        let t1754: f64 = t1751 + t1752;
+        let t1755: f64 = t1753 + t1754;
+        let t1756: f64 = t536 * t1131;
+        let t1757 = product(t1755, t1756);
+        let t1758: f64 = t1743.plus(t1744);
+        let t1759: f64 = t1757.subtracted_from(t1758);
+        let t1760: f64 = -t1759;
+        let t1761 = product(t1688, t1760);
+        let t1762 = product(t1576, t1705);
+        let t1763: f64 = t1580 * t1709;
+        let t1764 = product(t1584, t1713);
+        let t1765 = product(t712, t1107);
+        let t1766: f64 = t717 * t1110;
+        let t1767 = product(t721, t1114);
+        let t1768: f64 = t1762.plus(t1763);
+        let t1769: f64 = t1764.plus(t1768);
+        let t1770: f64 = t1765.plus(t1766);
+        let t1771: f64 = t1767.plus(t1770);
+        let t1772: f64 = t1769 - t1771;
+        let t1773: f64 = t739 * t1131;
+        let t1774 = product(t1772, t1773);
+        let t1775: f64 = t1725.plus(t1742);
+        let t1776: f64 = t1761.plus(t1775);
+        let t1777: f64 = t1774.subtracted_from(t1776);
+        let t1778: f64 = -t1777;
+        let t1779: f64 = t1702 * t1778;
+        let t1780: f64 = t61 * t1724;
+        let t1781 = product(t1724, t1780);
+        let t1782: f64 = t1573 * t1741;
+        let t1783: f64 = t1741 * t1782;
+        let t1784: f64 = t1687 * t1760;
+        let t1785 = product(t1760, t1784);
+        let t1786: f64 = t1778 * t1779;
+        let t1787 = product(t908, t914);
+        let t1788: f64 = t912 * t918;
+        let t1789: f64 = t1787.minus(t1788);
+        let t1790 = product(t47, t1789);
+        let t1791 = product(t908, t911);
+        let t1792: f64 = t909 * t918;
+        let t1793: f64 = t1791.minus(t1792);
+        let t1794: f64 = t51 * t1793;
+        let t1795 = product(t911, t912);
+        let t1796: f64 = t909 * t914;
+        let t1797: f64 = t1795.minus(t1796);
+        let t1798 = product(t55, t1797);
+        let t1799: f64 = t10 * t911;
+        let t1800 = product(t25, t914);
+        let t1801: f64 = t38 * t918;
+        let t1802: f64 = t1790.plus(t1794);
+        let t1803: f64 = t1798.plus(t1799);
+        let t1804: f64 = t1800.plus(t1801);
+        let t1805: f64 = t1802 + t1803;
+        let t1806: f64 = t1804 + t1805;
+        let t1807: f64 = t43 * t935;
+        let t1808: f64 = t1806 * t1807;
+        let t1809: f64 = t61 * t1808;
+        let t1810 = product(t1724, t1809);
+        let t1811 = product(t1561, t1808);
+        let t1812 = product(t1541, t1789);
+        let t1813: f64 = t1545 * t1793;
+        let t1814 = product(t1549, t1797);
+        let t1815: f64 = t305 * t911;
+        let t1816 = product(t308, t914);
+        let t1817: f64 = t312 * t918;
+        let t1818: f64 = t1812.plus(t1813);
+        let t1819: f64 = t1814.plus(t1815);
+        let t1820: f64 = t1816.plus(t1817);
+        let t1821: f64 = t1818 + t1819;
+        let t1822: f64 = t1820 + t1821;
+        let t1823: f64 = t330 * t935;
+        let t1824: f64 = t1822 * t1823;
+        let t1825: f64 = t1811.minus(t1824);
+        let t1826: f64 = -t1825;
+        let t1827: f64 = t1573 * t1826;
+        let t1828: f64 = t1741 * t1827;
+        let t1829 = product(t1638, t1808);
+        let t1830: f64 = t1656 * t1826;
+        let t1831 = product(t1618, t1789);
+        let t1832: f64 = t1622 * t1793;
+        let t1833 = product(t1626, t1797);
+        let t1834 = product(t509, t911);
+        let t1835: f64 = t514 * t914;
+        let t1836 = product(t518, t918);
+        let t1837: f64 = t1831.plus(t1832);
+        let t1838: f64 = t1833.plus(t1837);
+        let t1839: f64 = t1834.plus(t1835);
+        let t1840: f64 = t1836.plus(t1839);
+        let t1841: f64 = t1838 - t1840;
+        let t1842: f64 = t536 * t935;
+        let t1843 = product(t1841, t1842);
+        let t1844: f64 = t1829.plus(t1830);
+        let t1845: f64 = t1843.subtracted_from(t1844);
+        let t1846: f64 = -t1845;
+        let t1847: f64 = t1687 * t1846;
+        let t1848 = product(t1760, t1847);
+        let t1849 = product(t1613, t1808);
+        let t1850: f64 = t1612 * t1826;
+        let t1851 = product(t1688, t1846);
+        let t1852 = product(t1576, t1789);
+        let t1853: f64 = t1580 * t1793;
+        let t1854 = product(t1584, t1797);
+        let t1855: f64 = t712 * t911;
+        let t1856 = product(t717, t914);
+        let t1857: f64 = t721 * t918;
+        let t1858: f64 = t1852.plus(t1853);
+        let t1859: f64 = t1854.plus(t1855);
+        let t1860: f64 = t1856.plus(t1857);
+        let t1861: f64 = t1858 + t1859;
+        let t1862: f64 = t1860 + t1861;
+        let t1863: f64 = t739 * t935;
+        let t1864 = product(t1862, t1863);
+        let t1865: f64 = t1849.plus(t1850);
+        let t1866: f64 = t1851.plus(t1865);
+        let t1867: f64 = t1864.subtracted_from(t1866);
+        let t1868: f64 = -t1867;
+        let t1869: f64 = t1702 * t1868;
+        let t1870: f64 = t1778 * t1869;
+        let t1871 = product(t1705, t1789);
+        let t1872: f64 = t1709 * t1793;
+        let t1873 = product(t1713, t1797);
+        let t1874 = product(t911, t1107);
+        let t1875: f64 = t914 * t1110;
+        let t1876 = product(t918, t1114);
+        let t1877: f64 = t1871.plus(t1872);
+        let t1878: f64 = t1873.plus(t1877);
+        let t1879: f64 = t1874.plus(t1875);
+        let t1880: f64 = t1876.plus(t1879);
+        let t1881: f64 = t1878 - t1880;
+        let t1882: f64 = t935 * t1131;
+        let t1883 = product(t1881, t1882);
+        let t1884: f64 = t1810.plus(t1828);
+        let t1885: f64 = t1848.plus(t1870);
+        let t1886: f64 = t1884 + t1885;
+        let t1887: f64 = t1883.subtracted_from(t1886);
+        let t1888: f64 = -t1887;
+        let t1889 = product(t1808, t1809);
+        let t1890: f64 = t1826 * t1827;
+        let t1891 = product(t1846, t1847);
+        let t1892: f64 = t1868 * t1869;
+        let t1893: f64 = t1797 * t1797;
+        let t1894 = product(t1060, t1893);
+        let t1895: f64 = t1789 * t1789;
+        let t1896 = product(t1060, t1895);
+        let t1897: f64 = t1793 * t1793;
+        let t1898: f64 = t1060 * t1897;
+        let t1899: f64 = t1896.plus(t1898);
+        let t1900: f64 = t1894.plus(t1899);
+        let t1901: f64 = t1900 + 1.0;
+        let t1902: f64 = t1889.plus(t1890);
+        let t1903: f64 = t1891.plus(t1892);
+        let t1904: f64 = t1902 + t1903;
+        let t1905: f64 = t1901 - t1904;
+        let t1906: f64 = 1.0 / t1905;
+        let t1907: f64 = t1888 * t1906;
+        let t1908 = product(t1888, t1907);
+        let t1909: f64 = t1713 * t1713;
+        let t1910 = product(t1256, t1909);
+        let t1911: f64 = t1705 * t1705;
+        let t1912 = product(t1256, t1911);
+        let t1913: f64 = t1709 * t1709;
+        let t1914: f64 = t1256 * t1913;
+        let t1915: f64 = t1912.plus(t1914);
+        let t1916: f64 = t1910.plus(t1915);
+        let t1917: f64 = t1916 + 1.0;
+        let t1918: f64 = t1781.plus(t1783);
+        let t1919: f64 = t1785.plus(t1786);
+        let t1920: f64 = t1918 + t1919;
+        let t1921: f64 = t1908.plus(t1920);
+        let t1922: f64 = t1917 - t1921;
+        let t1923: f64 = 1.0 / t1922;
+        let t1924: f64 = t43 * t1536;
+        let t1925 = product(t1780, t1924);
+        let t1926 = product(t1561, t1924);
+        let t1927 = product(t1313, t1541);
+        let t1928 = product(t1422, t1545);
+        let t1929: f64 = t1459 * t1549;
+        let t1930: f64 = t305 * t1487;
+        let t1931 = product(t308, t1510);
+        let t1932: f64 = t312 * t1530;
+        let t1933: f64 = t1927.plus(t1929);
+        let t1934: f64 = t1928.plus(t1930);
+        let t1935: f64 = t1931.plus(t1932);
+        let t1936: f64 = t1934 + t1935;
+        let t1937: f64 = t1933 - t1936;
+        let t1938: f64 = t330 * t1937;
+        let t1939: f64 = t1926.subtracted_from(t1938);
+        let t1940: f64 = t1782 * t1939;
+        let t1941 = product(t1638, t1924);
+        let t1942: f64 = t1656 * t1939;
+        let t1943 = product(t1313, t1618);
+        let t1944 = product(t1422, t1622);
+        let t1945: f64 = t1459 * t1626;
+        let t1946 = product(t509, t1487);
+        let t1947: f64 = t514 * t1510;
+        let t1948 = product(t518, t1530);
+        let t1949: f64 = t1943.plus(t1945);
+        let t1950: f64 = t1946.plus(t1947);
+        let t1951: f64 = t1949 + t1950;
+        let t1952: f64 = t1948.plus(t1951);
+        let t1953: f64 = t1944.subtracted_from(t1952);
+        let t1954 = product(t536, t1953);
+        let t1955: f64 = t1941.plus(t1942);
+        let t1956: f64 = t1954.minus(t1955);
+        let t1957 = product(t1784, t1956);
+        let t1958 = product(t1613, t1924);
+        let t1959: f64 = t1612 * t1939;
+        let t1960 = product(t1688, t1956);
+        let t1961 = product(t1313, t1576);
+        let t1962 = product(t1422, t1580);
+        let t1963: f64 = t1459 * t1584;
+        let t1964: f64 = t712 * t1487;
+        let t1965 = product(t717, t1510);
+        let t1966: f64 = t721 * t1530;
+        let t1967: f64 = t1961.plus(t1963);
+        let t1968: f64 = t1962.plus(t1964);
+        let t1969: f64 = t1965.plus(t1966);
+        let t1970: f64 = t1968 + t1969;
+        let t1971: f64 = t1967 - t1970;
+        let t1972 = product(t739, t1971);
+        let t1973: f64 = t1958.plus(t1959);
+        let t1974: f64 = t1960.plus(t1973);
+        let t1975: f64 = t1972.minus(t1974);
+        let t1976: f64 = t1779 * t1975;
+        let t1977 = product(t1809, t1924);
+        let t1978: f64 = t1827 * t1939;
+        let t1979 = product(t1847, t1956);
+        let t1980: f64 = t1869 * t1975;
+        let t1981 = product(t1313, t1789);
+        let t1982 = product(t1422, t1793);
+        let t1983: f64 = t1459 * t1797;
+        let t1984: f64 = t911 * t1487;
+        let t1985 = product(t914, t1510);
+        let t1986: f64 = t918 * t1530;
+        let t1987: f64 = t1981.plus(t1983);
+        let t1988: f64 = t1982.plus(t1984);
+        let t1989: f64 = t1985.plus(t1986);
+        let t1990: f64 = t1988 + t1989;
+        let t1991: f64 = t1987 - t1990;
+        let t1992 = product(t935, t1991);
+        let t1993: f64 = t1977.plus(t1978);
+        let t1994: f64 = t1979.plus(t1980);
+        let t1995: f64 = t1993 + t1994;
+        let t1996: f64 = t1992.minus(t1995);
+        let t1997 = product(t1907, t1996);
+        let t1998 = product(t1313, t1705);
+        let t1999 = product(t1422, t1709);
+        let t2000: f64 = t1459 * t1713;
+        let t2001 = product(t1107, t1487);
+        let t2002: f64 = t1110 * t1510;
         (
-            t1117,
-            t1120,
-            t1124,
-            t1132,
-            t1141,
-            t1323,
-            t1432,
-            t1469,
-            t1497,
-            t1520,
-            t1540,
-            t1548,
+            t1114,
+            t1122,
+            t1131,
+            t1530,
+            t1538,
+            t1561,
             t1571,
-            t1581,
-            t1582,
-            t1583,
-            t1622,
-            t1623,
-            t1648,
-            t1666,
-            t1694,
-            t1696,
-            t1697,
+            t1572,
+            t1573,
+            t1612,
+            t1613,
+            t1638,
+            t1656,
+            t1684,
+            t1686,
+            t1687,
+            t1688,
             t1698,
-            t1708,
-            t1711,
-            t1712,
-            t1715,
-            t1719,
-            t1723,
-            t1789,
-            t1790,
-            t1792,
-            t1794,
-            t1819,
-            t1837,
-            t1857,
-            t1879,
-            t1911,
-            t1915,
-            t1916,
+            t1701,
+            t1702,
+            t1779,
+            t1780,
+            t1782,
+            t1784,
+            t1809,
+            t1827,
+            t1847,
+            t1869,
+            t1901,
+            t1905,
+            t1906,
+            t1907,
             t1917,
-            t1927,
-            t1932,
-            t1933,
-            t1935,
-            t1949,
-            t1950,
-            t1966,
-            t1967,
-            t1985,
-            t1986,
-            t1987,
-            t1988,
-            t1989,
-            t1990,
+            t1922,
+            t1923,
+            t1925,
+            t1939,
+            t1940,
+            t1956,
+            t1957,
+            t1975,
+            t1976,
+            t1996,
+            t1997,
+            t1998,
+            t1999,
+            t2000,
+            t2001,
             t2002,
         )
     };
     let (
-        t2034,
-        t2049,
-        t2053,
+        t2024,
+        t2039,
+        t2043,
+        t2055,
+        t2056,
+        t2057,
+        t2058,
+        t2059,
+        t2060,
+        t2061,
+        t2062,
+        t2063,
+        t2064,
         t2065,
         t2066,
         t2067,
         t2068,
         t2069,
-        t2070,
-        t2071,
-        t2072,
-        t2073,
-        t2074,
-        t2075,
-        t2076,
-        t2077,
-        t2078,
-        t2079,
     ) = {
-        let t2003: f64 = t1987.plus(t1988);
-        let t2004: f64 = t1989.plus(t1990);
-        let t2005: f64 = t2003 + t2004;
-        let t2006: f64 = t2002.minus(t2005);
-        let t2007 = product(t1917, t2006);
-        let t2008 = product(t1323, t1715);
-        let t2009 = product(t1432, t1719);
-        let t2010: f64 = t1469 * t1723;
-        let t2011 = product(t1117, t1497);
-        let t2012: f64 = t1120 * t1520;
-        let t2013 = product(t1124, t1540);
-        let t2014: f64 = t2008.plus(t2010);
-        let t2015: f64 = t2011.plus(t2012);
-        let t2016: f64 = t2014 + t2015;
-        let t2017: f64 = t2013.plus(t2016);
-        let t2018: f64 = t2009.subtracted_from(t2017);
-        let t2019 = product(t1141, t2018);
-        let t2020: f64 = t1935.plus(t1950);
-        let t2021: f64 = t1967.plus(t1986);
-        let t2022: f64 = t2020 + t2021;
-        let t2023: f64 = t2007.plus(t2022);
-        let t2024: f64 = t2019.minus(t2023);
-        let t2025: f64 = t1789 * t1933;
-        let t2026 = product(t2024, t2025);
-        let t2027 = product(t1712, t1985);
-        let t2028 = product(t1916, t2006);
-        let t2029: f64 = t1917 * t1933;
-        let t2030: f64 = t2024 * t2029;
-        let t2031: f64 = t2028.minus(t2030);
-        let t2032: f64 = t1879 * t2031;
-        let t2033: f64 = t2027.minus(t2032);
-        let t2034: f64 = t2026.minus(t2033);
-        let t2035: f64 = -t2034;
-        let t2036 = product(t1622, t2035);
-        let t2037: f64 = t1837 * t2031;
+        let t2003 = product(t1114, t1530);
+        let t2004: f64 = t1998.plus(t2000);
+        let t2005: f64 = t2001.plus(t2002);
+        let t2006: f64 = t2004 + t2005;
+        let t2007: f64 = t2003.plus(t2006);
+        let t2008: f64 = t1999.subtracted_from(t2007);
+        let t2009 = product(t1131, t2008);
+        let t2010: f64 = t1925.plus(t1940);
+        let t2011: f64 = t1957.plus(t1976);
+        let t2012: f64 = t2010 + t2011;
+        let t2013: f64 = t1997.plus(t2012);
+        let t2014: f64 = t2009.minus(t2013);
+        let t2015: f64 = t1779 * t1923;
+        let t2016 = product(t2014, t2015);
+        let t2017 = product(t1702, t1975);
+        let t2018 = product(t1906, t1996);
+        let t2019: f64 = t1907 * t1923;
+        let t2020: f64 = t2014 * t2019;
+        let t2021: f64 = t2018.minus(t2020);
+        let t2022: f64 = t1869 * t2021;
+        let t2023: f64 = t2017.minus(t2022);
+        let t2024: f64 = t2016.minus(t2023);
+        let t2025: f64 = -t2024;
+        let t2026 = product(t1612, t2025);
+        let t2027: f64 = t1827 * t2021;
+        let t2028: f64 = t2026.plus(t2027);
+        let t2029: f64 = t1782 * t1923;
+        let t2030 = product(t2014, t2029);
+        let t2031 = product(t1573, t1939);
+        let t2032 = product(t1687, t1956);
+        let t2033 = product(t1688, t2025);
+        let t2034: f64 = t1847 * t2021;
+        let t2035: f64 = t1784 * t1923;
+        let t2036 = product(t2014, t2035);
+        let t2037: f64 = t2033.plus(t2034);
         let t2038: f64 = t2036.plus(t2037);
-        let t2039: f64 = t1792 * t1933;
-        let t2040 = product(t2024, t2039);
-        let t2041 = product(t1583, t1949);
-        let t2042 = product(t1697, t1966);
-        let t2043 = product(t1698, t2035);
-        let t2044: f64 = t1857 * t2031;
-        let t2045: f64 = t1794 * t1933;
-        let t2046 = product(t2024, t2045);
-        let t2047: f64 = t2043.plus(t2044);
-        let t2048: f64 = t2046.plus(t2047);
-        let t2049: f64 = t2042.minus(t2048);
-        let t2050: f64 = t1666 * t2049;
-        let t2051: f64 = t2041.minus(t2050);
-        let t2052: f64 = t2040.minus(t2051);
-        let t2053: f64 = t2038 + t2052;
-        let t2054: f64 = -t2053;
-        let t2055 = product(t1571, t2054);
-        let t2056: f64 = t1648 * t2049;
-        let t2057 = product(t1623, t2035);
-        let t2058: f64 = t1819 * t2031;
-        let t2059: f64 = t1790 * t1933;
-        let t2060 = product(t2024, t2059);
-        let t2061: f64 = t2055.plus(t2056);
-        let t2062: f64 = t2057.plus(t2058);
-        let t2063: f64 = t2061 + t2062;
-        let t2064: f64 = t2060.plus(t2063);
-        let t2065: f64 = t1548.subtracted_from(t2064);
-        let t2066: f64 = -t2031;
-        let t2067: f64 = t1933 * t2024;
-        let t2068: f64 = t43 * t141;
-        let t2069: f64 = t331 * t340;
-        let t2070: f64 = t537 * t546;
-        let t2071: f64 = t740 * t749;
-        let t2072: f64 = t936 * t945;
-        let t2073: f64 = t1132 * t1141;
-        let t2074: f64 = t60 / t60;
-        let t2075: f64 = t1582 / t1581;
-        let t2076: f64 = t1696 / t1694;
-        let t2077: f64 = t1711 / t1708;
-        let t2078: f64 = t1915 / t1911;
-        let t2079: f64 = t1932 / t1927;
+        let t2039: f64 = t2032.minus(t2038);
+        let t2040: f64 = t1656 * t2039;
+        let t2041: f64 = t2031.minus(t2040);
+        let t2042: f64 = t2030.minus(t2041);
+        let t2043: f64 = t2028 + t2042;
+        let t2044: f64 = -t2043;
+        let t2045 = product(t1561, t2044);
+        let t2046: f64 = t1638 * t2039;
+        let t2047 = product(t1613, t2025);
+        let t2048: f64 = t1809 * t2021;
+        let t2049: f64 = t1780 * t1923;
+        let t2050 = product(t2014, t2049);
+        let t2051: f64 = t2045.plus(t2046);
+        let t2052: f64 = t2047.plus(t2048);
+        let t2053: f64 = t2051 + t2052;
+        let t2054: f64 = t2050.plus(t2053);
+        let t2055: f64 = t1538.subtracted_from(t2054);
+        let t2056: f64 = -t2021;
+        let t2057: f64 = t1923 * t2014;
+        let t2058: f64 = t43 * t131;
+        let t2059: f64 = t321 * t330;
+        let t2060: f64 = t527 * t536;
+        let t2061: f64 = t730 * t739;
+        let t2062: f64 = t926 * t935;
+        let t2063: f64 = t1122 * t1131;
+        let t2064: f64 = t60 / t60;
+        let t2065: f64 = t1572 / t1571;
+        let t2066: f64 = t1686 / t1684;
+        let t2067: f64 = t1701 / t1698;
+        let t2068: f64 = t1905 / t1901;
+        let t2069: f64 = t1922 / t1917;
         (
-            t2034,
-            t2049,
-            t2053,
+            t2024,
+            t2039,
+            t2043,
+            t2055,
+            t2056,
+            t2057,
+            t2058,
+            t2059,
+            t2060,
+            t2061,
+            t2062,
+            t2063,
+            t2064,
             t2065,
             t2066,
             t2067,
             t2068,
             t2069,
-            t2070,
-            t2071,
-            t2072,
-            t2073,
-            t2074,
-            t2075,
-            t2076,
-            t2077,
-            t2078,
-            t2079,
         )
     };
     (
-        [t2065, t2053, t2049, t2034, t2066, t2067],
+        [t2055, t2043, t2039, t2024, t2056, t2057],
         [
+            t2058,
+            t2059,
+            t2060,
+            t2061,
+            t2062,
+            t2063,
+            t2064,
+            t2065,
+            t2066,
+            t2067,
             t2068,
             t2069,
-            t2070,
-            t2071,
-            t2072,
-            t2073,
-            t2074,
-            t2075,
-            t2076,
-            t2077,
-            t2078,
-            t2079,
         ],
     )
 }

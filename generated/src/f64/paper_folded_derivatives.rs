@@ -2,9 +2,9 @@
 // model: paper; robot: the chapter's (Robot::default())
 //
 // Kernel operation counts (mul, div, add, neg, calls):
-//   inverse_dynamics_derivatives      1300    4   979   14  3 sin_cos
-//   forward_dynamics_derivatives      2146   10  1613   57  3 sin_cos
-//   inverse_dynamics_joint_derivatives  2350    6  2012   31  3 sqrt
+//   inverse_dynamics_derivatives      1152    6   868   18  3 sin_cos
+//   forward_dynamics_derivatives      1995   10  1575   64  3 sin_cos
+//   inverse_dynamics_joint_derivatives  1814    6  1710    8  3 sqrt
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -34,7 +34,7 @@
 /// - `d_accel`: `∂Γ/∂(ω̇; a_C)` (N·s²/rad, kg)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 1300 mul, 4 div, 979 add, 14 neg, 3 sin_cos (chapter convention: 1304m + 979a).
+/// Operations: 1152 mul, 6 div, 868 add, 18 neg, 3 sin_cos (chapter convention: 1158m + 868a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -64,198 +64,192 @@ pub fn inverse_dynamics_derivatives_separate(
         t2,
         t3,
         t4,
-        t5,
         t6,
         t7,
         t8,
-        t9,
         t10,
         t11,
-        t13,
+        t14,
+        t15,
         t16,
-        t18,
-        t20,
-        t21,
+        t17,
         t22,
-        t25,
-        t26,
         t27,
-        t29,
-        t30,
+        t28,
+        t33,
         t34,
-        t35,
         t37,
+        t38,
         t40,
+        t41,
         t42,
-        t44,
-        t48,
+        t43,
+        t45,
         t50,
-        t52,
-        t53,
+        t55,
         t56,
-        t57,
+        t58,
         t59,
-        t61,
-        t66,
+        t60,
+        t63,
+        t64,
+        t65,
         t68,
-        t70,
-        t71,
-        t72,
         t73,
-        t76,
-        t77,
-        t81,
+        t78,
+        t83,
+        t84,
         t86,
-        t92,
+        t87,
+        t88,
+        t89,
+        t90,
         t93,
-        t97,
-        t106,
+        t94,
+        t98,
+        t107,
+        t108,
+        t113,
         t116,
-        t117,
         t118,
-        t133,
-        t134,
-        t135,
+        t119,
+        t127,
+        t128,
+        t136,
         t138,
-        t142,
+        t141,
+        t147,
+        t148,
         t149,
-        t152,
-        t161,
-        t164,
-        t165,
-        t166,
-        t171,
-        t179,
-        t185,
-        t187,
-        t191,
-        t192,
-        t194,
-        t196,
-        t204,
-        t208,
-        t209,
-        t212,
-        t213,
+        t156,
+        t162,
+        t163,
+        t175,
+        t197,
+        t210,
+        t223,
         t224,
-        t229,
-        t236,
+        t237,
+        t238,
         t239,
-        t242,
+        t240,
+        t243,
+        t244,
+        t249,
+        t250,
+        t251,
         t255,
-        t256,
-        t259,
-        t271,
-        t274,
-        t278,
         t279,
-        t280,
-        t283,
         t284,
-        t285,
-        t286,
-        t300,
-        t306,
-        t314,
-        t316,
-        t317,
-        t333,
-        t344,
-        t345,
+        t292,
+        t294,
+        t296,
+        t297,
+        t298,
+        t299,
+        t307,
+        t308,
+        t309,
+        t310,
+        t339,
+        t341,
         t346,
-        t347,
-        t358,
-        t360,
-        t365,
-        t379,
-        t407,
-        t417,
-        t421,
-        t422,
-        t424,
-        t430,
-        t433,
-        t436,
-        t442,
-        t444,
-        t448,
-        t453,
-        t454,
-        t460,
-        t462,
-        t466,
-        t491,
+        t349,
+        t350,
+        t351,
+        t352,
+        t354,
+        t392,
+        t400,
+        t404,
+        t408,
+        t429,
+        t432,
+        t449,
+        t463,
+        t477,
+        t482,
+        t489,
+        t493,
+        t499,
         t508,
+        t511,
+        t514,
+        t519,
+        t525,
         t530,
-        t546,
-        t556,
-        t568,
-        t577,
-        t580,
-        t584,
-        t595,
-        t598,
-        t602,
-        t607,
+        t532,
+        t535,
+        t540,
+        t542,
+        t547,
+        t571,
+        t574,
+        t575,
+        t587,
+        t612,
         t615,
         t618,
-        t621,
-        t623,
-        t625,
-        t628,
-        t638,
-        t646,
-        t655,
-        t665,
-        t667,
-        t673,
-        t674,
-        t676,
-        t684,
-        t688,
-        t699,
+        t637,
+        t642,
+        t649,
+        t657,
+        t661,
+        t669,
+        t690,
+        t701,
+        t708,
         t715,
         t721,
-        t748,
-        t767,
-        t781,
-        t797,
-        t815,
+        t729,
+        t732,
+        t735,
+        t740,
+        t744,
+        t746,
+        t765,
+        t766,
+        t780,
+        t789,
+        t796,
+        t798,
+        t801,
+        t803,
+        t808,
+        t820,
         t828,
+        t833,
         t843,
-        t846,
         t850,
-        t852,
-        t856,
-        t875,
+        t855,
+        t859,
+        t863,
+        t868,
         t877,
-        t880,
-        t883,
-        t886,
         t896,
+        t897,
         t904,
+        t906,
         t909,
-        t913,
-        t914,
-        t916,
-        t917,
-        t919,
-        t922,
-        t925,
-        t927,
-        t934,
+        t921,
+        t926,
+        t935,
+        t937,
+        t941,
         t943,
-        t955,
-        t956,
-        t961,
-        t963,
-        t965,
-        t967,
-        t982,
-        t988,
-        t996,
+        t944,
+        t946,
+        t949,
+        t952,
+        t958,
+        t964,
+        t968,
+        t973,
+        t977,
+        t993,
+        t994,
+        t995,
         t997,
-        t998,
         t999,
         t1000,
         t1001,
@@ -263,1201 +257,1195 @@ pub fn inverse_dynamics_derivatives_separate(
     ) = {
         let t0: f64 = zc - 0.2;
         let t1 = product(wdy, t0);
-        let (t2, t3): (f64, f64) = sin_cos(beta);
-        let t4: f64 = 1.0 / t3;
-        let (t5, t6): (f64, f64) = sin_cos(gamma);
-        let t7: f64 = 1.0 / t6;
-        let (t8, t9): (f64, f64) = sin_cos(alpha);
-        let t10: f64 = t5 * t9;
-        let t11: f64 = t2 * t8;
-        let t12 = product(t6, t11);
-        let t13: f64 = t12.added_to(t10);
-        let t14: f64 = yc * t13;
-        let t15: f64 = t5 * t8;
-        let t16: f64 = t2 * t9;
-        let t17 = product(t6, t16);
-        let t18: f64 = t17.subtracted_from(t15);
-        let t19 = product(t0, t18);
-        let t20: f64 = t19.added_to(t14);
-        let t21: f64 = t4 * t7;
-        let t22: f64 = t20 * t21;
-        let t23: f64 = zc + 0.2;
-        let t24 = product(t18, t23);
-        let t25: f64 = t24.added_to(t14);
-        let t26: f64 = t21 * t25;
-        let t27: f64 = t22 + t26;
-        let t28 = product(xc, 6.68);
-        let t29: f64 = t27 * 1.67;
-        let t30: f64 = t28.minus(t29);
-        let t31 = product(wdy, t30);
-        let t32 = product(t6, t9);
-        let t33: f64 = t5 * t11;
-        let t34: f64 = t32.minus(t33);
-        let t35: f64 = 1.0 / t34;
-        let t36: f64 = xc - 0.2;
-        let t37: f64 = t3 * t5;
-        let t38 = product(t36, t37);
-        let t39 = product(t6, t8);
-        let t40: f64 = t2 * t5;
-        let t41: f64 = t9 * t40;
-        let t42: f64 = t39.plus(t41);
-        let t43: f64 = zc * t42;
-        let t44: f64 = t38.minus(t43);
-        let t45 = product(t35, t44);
-        let t46: f64 = xc + 0.2;
-        let t47 = product(t37, t46);
-        let t48: f64 = t47.subtracted_from(t43);
-        let t49: f64 = t35 * t48;
-        let t50: f64 = t45.minus(t49);
-        let t51 = product(yc, 6.68);
-        let t52: f64 = t50 * 1.67;
-        let t53: f64 = t51.plus(t52);
-        let t54: f64 = wdx * t53;
-        let t55: f64 = t31.minus(t54);
-        let t56: f64 = 1.0 / t9;
-        let t57: f64 = xc * t2;
-        let t58: f64 = yc - 0.2;
-        let t59: f64 = t3 * t8;
-        let t60 = product(t58, t59);
-        let t61: f64 = t60.subtracted_from(t57);
-        let t62: f64 = t4 * t56;
-        let t63 = product(t61, t62);
-        let t64: f64 = yc + 0.2;
-        let t65 = product(t59, t64);
-        let t66: f64 = t65.subtracted_from(t57);
-        let t67: f64 = t62 * t66;
-        let t68: f64 = t63.plus(t67);
-        let t69 = product(zc, 6.68);
-        let t70: f64 = t68 * 1.67;
-        let t71: f64 = t69.minus(t70);
-        let t72: f64 = wy * t71;
-        let t73: f64 = wz * t53;
-        let t74: f64 = t72 - t73;
-        let t75 = product(wy, t74);
-        let t76: f64 = wz * t30;
-        let t77: f64 = wx * t71;
-        let t78: f64 = t76 - t77;
-        let t79: f64 = wx * t78;
-        let t80: f64 = t75.minus(t79);
-        let t81: f64 = t55 + t80;
-        let t82 = product(az, 20.020000000000003);
-        let t83: f64 = t82.added_to(t81);
-        let t84: f64 = t83 + 196.39620000000005;
-        let t85: f64 = xc + t22;
-        let t86: f64 = t85 * 2.5;
-        let t87: f64 = t84 * t86;
-        let t88 = product(wdz, t53);
-        let t89: f64 = wdy * t71;
-        let t90: f64 = t88.minus(t89);
-        let t91 = product(wz, t78);
-        let t92: f64 = wx * t53;
-        let t93: f64 = wy * t30;
-        let t94: f64 = t92 - t93;
-        let t95: f64 = wy * t94;
-        let t96: f64 = t91.minus(t95);
-        let t97: f64 = t90 + t96;
-        let t98 = product(yc, wdz);
-        let t99 = product(wz, vy);
-        let t100: f64 = wy * vz;
-        let t101: f64 = t99.minus(t100);
-        let t102: f64 = t98.plus(t101);
-        let t103 = product(yc, t0);
-        let t104: f64 = yc * t23;
-        let t105: f64 = t103.plus(t104);
-        let t106: f64 = zc * t35;
-        let t107 = product(t44, t106);
-        let t108: f64 = t48 * t106;
-        let t109: f64 = t107.minus(t108);
-        let t110: f64 = t58 * t62;
-        let t111 = product(t61, t110);
-        let t112: f64 = t62 * t64;
-        let t113: f64 = t66 * t112;
-        let t114: f64 = t111.plus(t113);
-        let t115: f64 = t109 - t114;
-        let t116: f64 = t105 + t115;
-        let t117: f64 = t116 * 1.67;
-        let t118: f64 = wy * t117;
-        let t119: f64 = xc * t56;
-        let t120: f64 = t4 * t119;
-        let t121 = product(t61, t120);
-        let t122: f64 = t66 * t120;
-        let t123: f64 = t121.plus(t122);
-        let t124: f64 = t0 * t21;
-        let t125 = product(t20, t124);
-        let t126: f64 = t21 * t23;
-        let t127: f64 = t25 * t126;
-        let t128: f64 = t125.plus(t127);
-        let t129 = product(zc, t36);
-        let t130: f64 = zc * t46;
-        let t131: f64 = t129.plus(t130);
-        let t132: f64 = t128 - t131;
-        let t133: f64 = t123 + t132;
-        let t134: f64 = t133 * 1.67;
-        let t135: f64 = wx * t134;
-        let t136: f64 = yc * yc;
-        let t137: f64 = xc * xc;
-        let t138: f64 = t136 + t137;
-        let t139 = product(t58, t58);
-        let t140: f64 = t64 * t64;
-        let t141: f64 = t139.plus(t140);
-        let t142: f64 = t35 * t35;
-        let t143: f64 = t44 * t44;
-        let t144 = product(t142, t143);
-        let t145: f64 = t48 * t48;
-        let t146: f64 = t142 * t145;
-        let t147: f64 = t144.plus(t146);
-        let t148: f64 = t141 + t147;
-        let t149: f64 = t4 * t4;
-        let t150: f64 = t7 * t7;
-        let t151: f64 = t20 * t20;
-        let t152: f64 = t149 * t150;
-        let t153 = product(t151, t152);
-        let t154: f64 = t25 * t25;
-        let t155: f64 = t152 * t154;
-        let t156: f64 = t153.plus(t155);
-        let t157 = product(t36, t36);
-        let t158: f64 = t46 * t46;
-        let t159: f64 = t157.plus(t158);
-        let t160: f64 = t156 + t159;
-        let t161: f64 = t148 + t160;
-        let t162 = product(t138, 3.34);
-        let t163: f64 = t161 * 1.67;
-        let t164: f64 = t162.plus(t163);
-        let t165: f64 = wz * t164;
-        let t166: f64 = t135 + t165;
-        let t167: f64 = t166 - t118;
-        let t168 = product(wx, t167);
-        let t169: f64 = ax * t71;
-        let t170: f64 = t168.plus(t169);
-        let t171: f64 = az + 9.81;
-        let t172 = product(t30, t171);
-        let t173 = product(ax, 20.020000000000003);
-        let t174: f64 = t173.added_to(t97);
-        let t175: f64 = t0 * t174;
-        let t176: f64 = t172.plus(t175);
-        let t177: f64 = t170 - t176;
-        let t178 = product(t22, t84);
-        let t179: f64 = wdx * t2;
-        let t180 = product(wz, t18);
-        let t181: f64 = wx * t3;
-        let t182 = product(t6, t181);
-        let t183: f64 = wy * t13;
-        let t184: f64 = t182.plus(t183);
-        let t185: f64 = t180.plus(t184);
-        let t186: f64 = wx * t5;
-        let t187: f64 = t3 * t186;
-        let t188 = product(wy, t34);
-        let t189: f64 = t188.subtracted_from(t187);
-        let t190 = product(wz, t42);
-        let t191: f64 = t190.subtracted_from(t189);
-        let t192: f64 = t191 * 0.22443999999999997;
-        let t193 = product(t185, t192);
-        let t194: f64 = t185 * 0.4119400000000001;
-        let t195 = product(t191, t194);
-        let t196: f64 = wdy * t8;
-        let t197 = product(wdz, t9);
-        let t198: f64 = t197.subtracted_from(t196);
-        let t199: f64 = t198 * 0.22443999999999997;
-        let t200: f64 = t3 * t199;
-        let t201: f64 = t179 * 0.22443999999999997;
-        let t202: f64 = t195.plus(t201);
-        let t203: f64 = t193.plus(t200);
-        let t204: f64 = t202 - t203;
-        let t205 = product(t59, t204);
-        let t206: f64 = wz * t9;
-        let t207: f64 = t3 * t206;
-        let t208: f64 = wx * t2;
-        let t209: f64 = wy * t8;
-        let t210: f64 = t3 * t209;
-        let t211: f64 = t208 - t210;
-        let t212: f64 = t207 + t211;
-        let t213: f64 = t212 * 0.22443999999999997;
-        let t214: f64 = t191 * t213;
-        let t215 = product(t192, t212);
-        let t216 = product(wdz, t18);
-        let t217: f64 = wdx * t3;
-        let t218 = product(t6, t217);
-        let t219: f64 = wdy * t13;
+        let t2: f64 = yc - 0.2;
+        let t3: f64 = yc + 0.2;
+        let t4: f64 = t2 + t3;
+        let (t5, t6): (f64, f64) = sin_cos(alpha);
+        let (t7, t8): (f64, f64) = sin_cos(gamma);
+        let t9 = product(t6, t8);
+        let (t10, t11): (f64, f64) = sin_cos(beta);
+        let t12: f64 = t5 * t10;
+        let t13: f64 = t7 * t12;
+        let t14: f64 = t9.minus(t13);
+        let t15: f64 = 1.0 / t14;
+        let t16: f64 = t7 * t11;
+        let t17: f64 = xc - 0.2;
+        let t18 = product(t16, t17);
+        let t19 = product(t5, t8);
+        let t20: f64 = t7 * t10;
+        let t21: f64 = t6 * t20;
+        let t22: f64 = t19.plus(t21);
+        let t23: f64 = zc * t22;
+        let t24: f64 = t18.minus(t23);
+        let t25 = product(t15, t24);
+        let t26: f64 = t25.subtracted_from(yc);
+        let t27: f64 = yc - t26;
+        let t28: f64 = xc + 0.2;
+        let t29 = product(t16, t28);
+        let t30: f64 = t29.subtracted_from(t23);
+        let t31 = product(t15, t30);
+        let t32: f64 = t31.added_to(yc);
+        let t33: f64 = yc - t32;
+        let t34: f64 = t27 + t33;
+        let t35: f64 = t4 + t34;
+        let t36 = product(yc, 3.34);
+        let t37: f64 = t35 * 1.67;
+        let t38: f64 = t36.plus(t37);
+        let t39 = product(wdz, t38);
+        let t40: f64 = zc + 0.2;
+        let t41: f64 = t0 + t40;
+        let t42: f64 = t6 * t11;
+        let t43: f64 = 1.0 / t42;
+        let t44: f64 = xc * t10;
+        let t45: f64 = t5 * t11;
+        let t46 = product(t2, t45);
+        let t47: f64 = t46.subtracted_from(t44);
+        let t48 = product(t43, t47);
+        let t49: f64 = t48.added_to(zc);
+        let t50: f64 = zc - t49;
+        let t51 = product(t3, t45);
+        let t52: f64 = t51.subtracted_from(t44);
+        let t53 = product(t43, t52);
+        let t54: f64 = t53.added_to(zc);
+        let t55: f64 = zc - t54;
+        let t56: f64 = t50 + t55;
+        let t57: f64 = t41 + t56;
+        let t58: f64 = zc * 3.34;
+        let t59: f64 = t57 * 1.67;
+        let t60: f64 = t58 + t59;
+        let t61: f64 = wdy * t60;
+        let t62: f64 = t39.minus(t61);
+        let t63: f64 = t17 + t28;
+        let t64: f64 = t8 * t11;
+        let t65: f64 = 1.0 / t64;
+        let t66 = product(t6, t7);
+        let t67: f64 = t8 * t12;
+        let t68: f64 = t66.plus(t67);
+        let t69: f64 = yc * t68;
+        let t70: f64 = t5 * t7;
+        let t71: f64 = t6 * t10;
+        let t72 = product(t8, t71);
+        let t73: f64 = t72.subtracted_from(t70);
+        let t74 = product(t0, t73);
+        let t75: f64 = t74.added_to(t69);
+        let t76 = product(t65, t75);
+        let t77: f64 = t76.added_to(xc);
+        let t78: f64 = xc - t77;
+        let t79 = product(t40, t73);
+        let t80: f64 = t79.added_to(t69);
+        let t81 = product(t65, t80);
+        let t82: f64 = t81.added_to(xc);
+        let t83: f64 = xc - t82;
+        let t84: f64 = t78 + t83;
+        let t85: f64 = t63 + t84;
+        let t86: f64 = xc * 3.34;
+        let t87: f64 = t85 * 1.67;
+        let t88: f64 = t86 + t87;
+        let t89: f64 = wz * t88;
+        let t90: f64 = wx * t60;
+        let t91: f64 = t89 - t90;
+        let t92 = product(wz, t91);
+        let t93: f64 = wx * t38;
+        let t94: f64 = wy * t88;
+        let t95: f64 = t93 - t94;
+        let t96: f64 = wy * t95;
+        let t97: f64 = t92.minus(t96);
+        let t98: f64 = t62 + t97;
+        let t99 = product(yc, wdz);
+        let t100 = product(wz, vy);
+        let t101: f64 = wy * vz;
+        let t102: f64 = t100.minus(t101);
+        let t103: f64 = t99.plus(t102);
+        let t104 = product(wdy, t88);
+        let t105: f64 = wdx * t38;
+        let t106: f64 = t104.minus(t105);
+        let t107: f64 = wy * t60;
+        let t108: f64 = wz * t38;
+        let t109: f64 = t107 - t108;
+        let t110 = product(wy, t109);
+        let t111: f64 = wx * t91;
+        let t112: f64 = t110.minus(t111);
+        let t113: f64 = t106 + t112;
+        let t114 = product(az, 20.020000000000003);
+        let t115: f64 = t114.added_to(t113);
+        let t116: f64 = t115 + 196.39620000000005;
+        let t117: f64 = t0 - t40;
+        let t118: f64 = 1.0 / t117;
+        let t119: f64 = t78 - xc;
+        let t120: f64 = t116 * t118;
+        let t121 = product(t119, t120);
+        let t122 = product(wdx, t64);
+        let t123: f64 = wdy * t68;
+        let t124: f64 = wdz * t73;
+        let t125: f64 = t122.plus(t123);
+        let t126: f64 = t124 + t125;
+        let t127: f64 = t126 * 0.4119400000000001;
+        let t128: f64 = t68 * t127;
+        let t129: f64 = wdx * t16;
+        let t130 = product(wdy, t14);
+        let t131: f64 = wdz * t22;
+        let t132 = product(wx, t64);
+        let t133: f64 = wy * t68;
+        let t134: f64 = wz * t73;
+        let t135: f64 = t132.plus(t133);
+        let t136: f64 = t134 + t135;
+        let t137: f64 = wx * t10;
+        let t138: f64 = wy * t45;
+        let t139 = product(wz, t42);
+        let t140: f64 = t139.added_to(t137);
+        let t141: f64 = t140 - t138;
+        let t142: f64 = t136 * t141;
+        let t143: f64 = t130.plus(t131);
+        let t144: f64 = t129 - t143;
+        let t145 = product(t144, 0.22443999999999997);
+        let t146: f64 = t142 * 0.1875000000000001;
+        let t147: f64 = t145.minus(t146);
+        let t148: f64 = t14 * t147;
+        let t149: f64 = wdx * t10;
+        let t150: f64 = wdy * t45;
+        let t151 = product(wdz, t42);
+        let t152: f64 = wx * t16;
+        let t153 = product(wy, t14);
+        let t154: f64 = wz * t22;
+        let t155: f64 = t153.plus(t154);
+        let t156: f64 = t152 - t155;
+        let t157: f64 = t136 * t156;
+        let t158: f64 = t151.added_to(t149);
+        let t159: f64 = t158 - t150;
+        let t160 = product(t159, 0.22443999999999997);
+        let t161: f64 = t157 * 0.1875000000000001;
+        let t162: f64 = t160.plus(t161);
+        let t163: f64 = t45 * t162;
+        let t164 = product(xc, t2);
+        let t165: f64 = xc * t3;
+        let t166: f64 = t164.plus(t165);
+        let t167 = product(yc, t78);
+        let t168: f64 = yc * t83;
+        let t169: f64 = t167.plus(t168);
+        let t170 = product(t17, t27);
+        let t171: f64 = t28 * t33;
+        let t172: f64 = t170.plus(t171);
+        let t173: f64 = t169 + t172;
+        let t174: f64 = t166 + t173;
+        let t175: f64 = t174 * 1.67;
+        let t176 = product(wdx, t175);
+        let t177: f64 = zc * zc;
+        let t178: f64 = xc * xc;
+        let t179: f64 = t177 + t178;
+        let t180 = product(t0, t0);
+        let t181: f64 = t40 * t40;
+        let t182: f64 = t180.plus(t181);
+        let t183 = product(t50, t50);
+        let t184: f64 = t55 * t55;
+        let t185: f64 = t183.plus(t184);
+        let t186: f64 = t182 + t185;
+        let t187 = product(t78, t78);
+        let t188: f64 = t83 * t83;
+        let t189: f64 = t187.plus(t188);
+        let t190 = product(t17, t17);
+        let t191: f64 = t28 * t28;
+        let t192: f64 = t190.plus(t191);
+        let t193: f64 = t189 + t192;
+        let t194: f64 = t186 + t193;
+        let t195 = product(t179, 3.34);
+        let t196: f64 = t194 * 1.67;
+        let t197: f64 = t195.plus(t196);
+        let t198 = product(wdy, t197);
+        let t199 = product(t2, t50);
+        let t200: f64 = t3 * t55;
+        let t201: f64 = t199.plus(t200);
+        let t202 = product(yc, t0);
+        let t203: f64 = yc * t40;
+        let t204: f64 = t202.plus(t203);
+        let t205 = product(zc, t27);
+        let t206: f64 = zc * t33;
+        let t207: f64 = t205.plus(t206);
+        let t208: f64 = t204 + t207;
+        let t209: f64 = t201 + t208;
+        let t210: f64 = t209 * 1.67;
+        let t211: f64 = wdz * t210;
+        let t212 = product(xc, t50);
+        let t213: f64 = xc * t55;
+        let t214: f64 = t212.plus(t213);
+        let t215 = product(t0, t78);
+        let t216: f64 = t40 * t83;
+        let t217: f64 = t215.plus(t216);
+        let t218 = product(zc, t17);
+        let t219: f64 = zc * t28;
         let t220: f64 = t218.plus(t219);
-        let t221: f64 = t216.plus(t220);
-        let t222: f64 = t221 * 0.4119400000000001;
-        let t223: f64 = t215.plus(t222);
-        let t224: f64 = t223 - t214;
-        let t225 = product(t13, t224);
-        let t226 = product(t194, t212);
-        let t227: f64 = t185 * t213;
-        let t228: f64 = wdx * t5;
-        let t229: f64 = t3 * t228;
-        let t230 = product(wdy, t34);
-        let t231: f64 = t230.subtracted_from(t229);
-        let t232 = product(wdz, t42);
-        let t233: f64 = t232.subtracted_from(t231);
-        let t234 = product(t233, 0.22443999999999997);
-        let t235: f64 = t234.added_to(t227);
-        let t236: f64 = t226.subtracted_from(t235);
-        let t237: f64 = t34 * t236;
-        let t238: f64 = t225.minus(t237);
-        let t239: f64 = t205.minus(t238);
-        let t240: f64 = t178.minus(t239);
-        let t241: f64 = yc * t4;
-        let t242: f64 = t7 * t241;
-        let t243 = product(t20, t242);
-        let t244: f64 = t25 * t242;
-        let t245: f64 = t243.plus(t244);
-        let t246: f64 = t35 * t36;
-        let t247 = product(t44, t246);
-        let t248: f64 = t35 * t46;
-        let t249: f64 = t48 * t248;
-        let t250: f64 = t247.minus(t249);
-        let t251 = product(xc, t58);
-        let t252: f64 = xc * t64;
-        let t253: f64 = t251.plus(t252);
-        let t254: f64 = t250 + t253;
-        let t255: f64 = t245 - t254;
-        let t256: f64 = t255 * 1.67;
-        let t257 = product(wdx, t256);
-        let t258: f64 = zc * zc;
-        let t259: f64 = t137 + t258;
-        let t260 = product(t0, t0);
-        let t261: f64 = t23 * t23;
-        let t262: f64 = t260.plus(t261);
-        let t263: f64 = t56 * t56;
-        let t264: f64 = t61 * t61;
-        let t265: f64 = t149 * t263;
-        let t266 = product(t264, t265);
-        let t267: f64 = t66 * t66;
-        let t268: f64 = t265 * t267;
-        let t269: f64 = t266.plus(t268);
-        let t270: f64 = t262 + t269;
-        let t271: f64 = t160 + t270;
-        let t272 = product(t259, 3.34);
-        let t273: f64 = t271 * 1.67;
-        let t274: f64 = t272.plus(t273);
-        let t275: f64 = wdy * t274;
-        let t276: f64 = t257.plus(t275);
-        let t277 = product(wdz, t117);
-        let t278: f64 = wz * t134;
-        let t279: f64 = t136 + t258;
-        let t280: f64 = t148 + t270;
-        let t281 = product(t279, 3.34);
-        let t282: f64 = t280 * 1.67;
-        let t283: f64 = t281.plus(t282);
-        let t284: f64 = wx * t283;
-        let t285: f64 = wy * t256;
-        let t286: f64 = t284 + t285;
-        let t287: f64 = t278 + t286;
-        let t288: f64 = wz * t287;
-        let t289: f64 = t277.minus(t288);
-        let t290: f64 = t276 - t289;
-        let t291: f64 = t240 + t290;
-        let t292: f64 = t177 - t291;
-        let t293 = product(ax, 22.020000000000003);
-        let t294: f64 = t1.subtracted_from(t102);
-        let t295: f64 = t294 * 2.0;
-        let t296: f64 = t292 * 2.5;
-        let t297: f64 = t293.plus(t295);
-        let t298: f64 = t97 + t297;
-        let t299: f64 = t87 + t296;
-        let t300: f64 = t298 - t299;
-        let t301 = product(wdy, t23);
-        let t302: f64 = ax + t102;
-        let t303: f64 = t301.subtracted_from(t302);
-        let t304 = product(t303, 2.0);
-        let t305: f64 = t304.added_to(t87);
-        let t306: f64 = t296 + t305;
-        let t307 = product(wdz, t36);
-        let t308 = product(wdx, t71);
-        let t309: f64 = wdz * t30;
-        let t310: f64 = t308.minus(t309);
-        let t311 = product(wx, t94);
-        let t312: f64 = wz * t74;
-        let t313: f64 = t311.minus(t312);
-        let t314: f64 = t310 + t313;
-        let t315 = product(ay, 20.020000000000003);
-        let t316: f64 = t315.added_to(t314);
-        let t317: f64 = t86 + 0.5;
-        let t318 = product(t316, t317);
-        let t319 = product(wz, vx);
-        let t320: f64 = t319.subtracted_from(ay);
-        let t321 = product(wx, vz);
-        let t322: f64 = zc * wdx;
-        let t323: f64 = t321.plus(t322);
-        let t324: f64 = t320 + t323;
-        let t325 = product(wy, t287);
-        let t326: f64 = ay * t30;
-        let t327: f64 = t325.plus(t326);
-        let t328 = product(ax, t53);
-        let t329: f64 = yc * t174;
-        let t330: f64 = t328.minus(t329);
-        let t331: f64 = t327 - t330;
-        let t332 = product(t22, t316);
-        let t333: f64 = t3 * t9;
-        let t334 = product(t204, t333);
-        let t335 = product(t18, t224);
-        let t336: f64 = t42 * t236;
-        let t337: f64 = t335.minus(t336);
-        let t338: f64 = t334.plus(t337);
-        let t339: f64 = t332.minus(t338);
-        let t340 = product(wdx, t134);
-        let t341: f64 = wdy * t117;
-        let t342: f64 = t340.minus(t341);
-        let t343 = product(wdz, t164);
-        let t344: f64 = wz * t117;
-        let t345: f64 = wx * t256;
-        let t346: f64 = wy * t274;
-        let t347: f64 = t345 + t346;
-        let t348: f64 = t347 - t344;
-        let t349: f64 = wx * t348;
-        let t350: f64 = t343.plus(t349);
-        let t351: f64 = t342 + t350;
-        let t352: f64 = t339 - t351;
-        let t353: f64 = t331 + t352;
-        let t354: f64 = t307.subtracted_from(t324);
-        let t355: f64 = t354 * 2.0;
-        let t356: f64 = t353 * 2.5;
-        let t357: f64 = t318.plus(t355);
-        let t358: f64 = t357 - t356;
-        let t359 = product(wdz, t46);
-        let t360: f64 = t86 - 0.5;
-        let t361 = product(t316, t360);
-        let t362: f64 = t359.subtracted_from(t324);
-        let t363 = product(t362, 2.0);
-        let t364: f64 = t363.added_to(t356);
-        let t365: f64 = t361.subtracted_from(t364);
-        let t366 = product(wdx, t58);
-        let t367 = product(xc, wdy);
-        let t368 = product(wy, vx);
-        let t369: f64 = wx * vy;
-        let t370: f64 = t368.minus(t369);
-        let t371: f64 = t367.plus(t370);
-        let t372 = product(ay, t71);
-        let t373: f64 = t0 * t316;
-        let t374: f64 = t372.minus(t373);
-        let t375 = product(yc, t84);
-        let t376: f64 = t2 * t204;
-        let t377: f64 = t375.plus(t376);
-        let t378: f64 = t374 + t377;
-        let t379: f64 = t3 * t6;
-        let t380 = product(t224, t379);
-        let t381: f64 = t37 * t236;
-        let t382: f64 = t380.plus(t381);
-        let t383 = product(wdx, t283);
-        let t384: f64 = wdy * t256;
-        let t385: f64 = t383.plus(t384);
-        let t386: f64 = t382 + t385;
-        let t387 = product(wdz, t134);
-        let t388: f64 = wy * t167;
-        let t389: f64 = t387.plus(t388);
-        let t390 = product(wz, t348);
-        let t391: f64 = t53 * t171;
-        let t392: f64 = t390.plus(t391);
-        let t393: f64 = t389 - t392;
-        let t394: f64 = t386 + t393;
-        let t395: f64 = t378 + t394;
-        let t396: f64 = ay * 10.010000000000002;
-        let t397: f64 = az * 12.010000000000002;
-        let t398: f64 = t366.subtracted_from(t371);
-        let t399 = product(t398, 2.0);
-        let t400: f64 = t81 - t314;
-        let t401 = product(t400, 0.5);
-        let t402: f64 = t395 * 2.5;
-        let t403: f64 = t399.added_to(t397);
-        let t404: f64 = t401.plus(t402);
-        let t405: f64 = t403 + t404;
-        let t406: f64 = t405 + 117.81810000000003;
-        let t407: f64 = t406 - t396;
-        let t408 = product(wdx, t64);
-        let t409: f64 = t408.subtracted_from(t371);
-        let t410 = product(t409, 2.0);
-        let t411: f64 = t81 + t314;
-        let t412: f64 = t411 * 0.5;
-        let t413: f64 = t396 + t397;
-        let t414: f64 = t410.plus(t412);
-        let t415: f64 = t413 + t414;
-        let t416: f64 = t415 + 117.81810000000003;
-        let t417: f64 = t416 - t402;
-        let t418: f64 = t42 * t142;
-        let t419 = product(t44, t418);
-        let t420: f64 = t48 * t418;
-        let t421: f64 = t419.minus(t420);
-        let t422: f64 = zc * 3.34;
-        let t423: f64 = t421 * 1.67;
-        let t424: f64 = t422 - t423;
-        let t425 = product(wdx, t424);
-        let t426: f64 = t8 * t263;
-        let t427: f64 = t4 * t426;
-        let t428 = product(t61, t427);
-        let t429: f64 = t66 * t427;
-        let t430: f64 = t428.plus(t429);
-        let t431 = product(yc, 3.34);
-        let t432: f64 = t430 * 1.67;
-        let t433: f64 = t431.minus(t432);
-        let t434 = product(wy, t433);
-        let t435: f64 = wz * t424;
-        let t436: f64 = t434.plus(t435);
-        let t437: f64 = wy * t436;
-        let t438: f64 = t425.plus(t437);
-        let t439: f64 = yc * t18;
-        let t440 = product(zc, t13);
-        let t441: f64 = t440.subtracted_from(t439);
-        let t442: f64 = t441 * 3.34;
-        let t443: f64 = wdy * t4;
-        let t444: f64 = t7 * t443;
-        let t445 = product(t442, t444);
-        let t446 = product(wx, t433);
-        let t447: f64 = wz * t4;
-        let t448: f64 = t7 * t447;
-        let t449: f64 = t442 * t448;
-        let t450: f64 = t446.subtracted_from(t449);
-        let t451: f64 = wx * t450;
-        let t452: f64 = t445.minus(t451);
-        let t453: f64 = t438 + t452;
-        let t454: f64 = t86 * t453;
-        let t455 = product(wdy, t433);
-        let t456: f64 = wdz * t424;
-        let t457: f64 = t455.plus(t456);
-        let t458 = product(wx, t424);
-        let t459: f64 = wy * t4;
-        let t460: f64 = t7 * t459;
-        let t461: f64 = t442 * t460;
-        let t462: f64 = t458.plus(t461);
-        let t463 = product(wy, t462);
-        let t464: f64 = wz * t450;
-        let t465: f64 = t463.plus(t464);
-        let t466: f64 = t457 - t465;
-        let t467 = product(t0, t466);
-        let t468: f64 = t22 * t453;
-        let t469: f64 = t467.minus(t468);
-        let t470 = product(wdy, t18);
-        let t471: f64 = wdz * t13;
-        let t472 = product(wy, t42);
-        let t473: f64 = wz * t34;
-        let t474: f64 = t472.minus(t473);
-        let t475 = product(t213, t474);
-        let t476: f64 = wy * t9;
-        let t477 = product(t3, t476);
-        let t478: f64 = wz * t8;
-        let t479: f64 = t3 * t478;
-        let t480: f64 = t477.plus(t479);
-        let t481: f64 = t480 * 0.22443999999999997;
-        let t482 = product(t191, t481);
-        let t483 = product(t192, t480);
-        let t484: f64 = t474 * 0.22443999999999997;
-        let t485: f64 = t212 * t484;
-        let t486: f64 = t470.minus(t471);
-        let t487: f64 = t486 * 0.4119400000000001;
-        let t488: f64 = t475.plus(t487);
-        let t489: f64 = t483.plus(t488);
-        let t490: f64 = t482.plus(t485);
-        let t491: f64 = t489 - t490;
-        let t492 = product(t13, t491);
-        let t493 = product(wdy, t42);
-        let t494: f64 = wdz * t34;
-        let t495 = product(t194, t480);
-        let t496 = product(wy, t18);
-        let t497: f64 = wz * t13;
-        let t498: f64 = t496.minus(t497);
-        let t499: f64 = t498 * 0.4119400000000001;
-        let t500 = product(t212, t499);
-        let t501 = product(t213, t498);
-        let t502: f64 = t185 * t481;
-        let t503: f64 = t493.minus(t494);
-        let t504: f64 = t503 * 0.22443999999999997;
-        let t505: f64 = t495.plus(t504);
-        let t506: f64 = t500.plus(t505);
-        let t507: f64 = t501.plus(t502);
-        let t508: f64 = t506 - t507;
-        let t509: f64 = t34 * t508;
-        let t510: f64 = t492.plus(t509);
-        let t511: f64 = t338 + t510;
-        let t512: f64 = t469 + t511;
-        let t513 = product(t0, t13);
-        let t514: f64 = t513.subtracted_from(t439);
-        let t515: f64 = t20 * t152;
-        let t516 = product(t514, t515);
-        let t517 = product(t13, t23);
-        let t518: f64 = t517.subtracted_from(t439);
-        let t519: f64 = t25 * t152;
-        let t520: f64 = t518 * t519;
-        let t521: f64 = t516.plus(t520);
-        let t522: f64 = t56 * t263;
-        let t523: f64 = t8 * t522;
-        let t524: f64 = t149 * t523;
-        let t525 = product(t264, t524);
-        let t526: f64 = t267 * t524;
-        let t527: f64 = t525.plus(t526);
-        let t528: f64 = t114 - t527;
-        let t529: f64 = t521 + t528;
-        let t530: f64 = t529 * 3.34;
-        let t531 = product(wdy, t530);
-        let t532: f64 = ax * t433;
-        let t533: f64 = t531.plus(t532);
-        let t534 = product(t192, t498);
-        let t535 = product(t185, t484);
-        let t536: f64 = t191 * t499;
-        let t537: f64 = t194 * t474;
-        let t538 = product(wdy, t9);
-        let t539: f64 = wdz * t8;
+        let t221: f64 = t217 + t220;
+        let t222: f64 = t214 + t221;
+        let t223: f64 = t222 * 1.67;
+        let t224: f64 = wz * t223;
+        let t225: f64 = yc * yc;
+        let t226: f64 = t177 + t225;
+        let t227 = product(t27, t27);
+        let t228: f64 = t33 * t33;
+        let t229: f64 = t227.plus(t228);
+        let t230 = product(t2, t2);
+        let t231: f64 = t3 * t3;
+        let t232: f64 = t230.plus(t231);
+        let t233: f64 = t229 + t232;
+        let t234: f64 = t186 + t233;
+        let t235 = product(t226, 3.34);
+        let t236: f64 = t234 * 1.67;
+        let t237: f64 = t235.plus(t236);
+        let t238: f64 = wx * t237;
+        let t239: f64 = wy * t175;
+        let t240: f64 = t238 - t239;
+        let t241: f64 = t240 - t224;
+        let t242 = product(wz, t241);
+        let t243: f64 = wy * t210;
+        let t244: f64 = wx * t223;
+        let t245: f64 = t178 + t225;
+        let t246: f64 = t193 + t233;
+        let t247 = product(t245, 3.34);
+        let t248: f64 = t246 * 1.67;
+        let t249: f64 = t247.plus(t248);
+        let t250: f64 = wz * t249;
+        let t251: f64 = t244 - t250;
+        let t252: f64 = t243 + t251;
+        let t253: f64 = wx * t252;
+        let t254 = product(ax, t60);
+        let t255: f64 = az + 9.81;
+        let t256 = product(t88, t255);
+        let t257 = product(ax, 20.020000000000003);
+        let t258: f64 = t257.added_to(t98);
+        let t259: f64 = t0 * t258;
+        let t260: f64 = t78 * t116;
+        let t261: f64 = t198.added_to(t128);
+        let t262: f64 = t242.plus(t253);
+        let t263: f64 = t256.plus(t259);
+        let t264: f64 = t261 + t262;
+        let t265: f64 = t263 + t264;
+        let t266: f64 = t148 + t163;
+        let t267: f64 = t176.plus(t211);
+        let t268: f64 = t254.plus(t260);
+        let t269: f64 = t266 + t267;
+        let t270: f64 = t268 + t269;
+        let t271: f64 = t265 - t270;
+        let t272: f64 = t118 * t271;
+        let t273: f64 = t121.plus(t272);
+        let t274 = product(ax, 22.020000000000003);
+        let t275: f64 = t1.subtracted_from(t103);
+        let t276: f64 = t275 * 2.0;
+        let t277: f64 = t274.plus(t276);
+        let t278: f64 = t98 + t277;
+        let t279: f64 = t278 - t273;
+        let t280 = product(wdy, t40);
+        let t281: f64 = ax + t103;
+        let t282: f64 = t280.subtracted_from(t281);
+        let t283 = product(t282, 2.0);
+        let t284: f64 = t283.added_to(t273);
+        let t285 = product(wdz, t17);
+        let t286 = product(wdx, t60);
+        let t287: f64 = wdz * t88;
+        let t288: f64 = t286.minus(t287);
+        let t289 = product(wx, t95);
+        let t290: f64 = wz * t109;
+        let t291: f64 = t289.minus(t290);
+        let t292: f64 = t288 + t291;
+        let t293 = product(ay, 20.020000000000003);
+        let t294: f64 = t293.added_to(t292);
+        let t295: f64 = t17 - t28;
+        let t296: f64 = 1.0 / t295;
+        let t297: f64 = t78 - t17;
+        let t298: f64 = t296 * t297;
+        let t299: f64 = t298 + 1.0;
+        let t300 = product(t294, t299);
+        let t301: f64 = t73 * t127;
+        let t302: f64 = t22 * t147;
+        let t303: f64 = t42 * t162;
+        let t304 = product(wdx, t223);
+        let t305 = product(wdy, t210);
+        let t306 = product(wdz, t249);
+        let t307: f64 = wz * t210;
+        let t308: f64 = wx * t175;
+        let t309: f64 = wy * t197;
+        let t310: f64 = t308 - t309;
+        let t311: f64 = t307 + t310;
+        let t312: f64 = wx * t311;
+        let t313 = product(wy, t241);
+        let t314: f64 = ay * t88;
+        let t315: f64 = ax * t38;
+        let t316 = product(yc, t258);
+        let t317 = product(t78, t294);
+        let t318: f64 = t301 + t303;
+        let t319: f64 = t306.plus(t315);
+        let t320: f64 = t318 + t319;
+        let t321: f64 = t317.plus(t320);
+        let t322: f64 = t304.added_to(t302);
+        let t323: f64 = t305.plus(t312);
+        let t324: f64 = t313.plus(t314);
+        let t325: f64 = t322 + t323;
+        let t326: f64 = t316.plus(t324);
+        let t327: f64 = t325 + t326;
+        let t328: f64 = t321 - t327;
+        let t329: f64 = t296 * t328;
+        let t330 = product(wz, vx);
+        let t331: f64 = t330.subtracted_from(ay);
+        let t332 = product(wx, vz);
+        let t333: f64 = zc * wdx;
+        let t334: f64 = t332.plus(t333);
+        let t335: f64 = t331 + t334;
+        let t336: f64 = t285.subtracted_from(t335);
+        let t337: f64 = t336 * 2.0;
+        let t338: f64 = t300.plus(t337);
+        let t339: f64 = t338 - t329;
+        let t340 = product(wdz, t28);
+        let t341: f64 = t294 * t296;
+        let t342 = product(t297, t341);
+        let t343: f64 = t340.subtracted_from(t335);
+        let t344 = product(t343, 2.0);
+        let t345: f64 = t344.added_to(t329);
+        let t346: f64 = t342.subtracted_from(t345);
+        let t347 = product(wdx, t2);
+        let t348: f64 = t2 - t3;
+        let t349: f64 = 1.0 / t348;
+        let t350: f64 = yc - t2;
+        let t351: f64 = t349 * t350;
+        let t352: f64 = t351 + 1.0;
+        let t353 = product(t116, t352);
+        let t354: f64 = t0 - zc;
+        let t355: f64 = t294 * t349;
+        let t356 = product(t354, t355);
+        let t357 = product(t64, t127);
+        let t358: f64 = t16 * t147;
+        let t359: f64 = t10 * t162;
+        let t360 = product(wdx, t237);
+        let t361 = product(wdy, t175);
+        let t362: f64 = wdz * t223;
+        let t363 = product(wy, t252);
+        let t364 = product(wz, t311);
+        let t365: f64 = t38 * t255;
+        let t366: f64 = ay * t60;
+        let t367 = product(t0, t294);
+        let t368 = product(yc, t116);
+        let t369: f64 = t357.plus(t358);
+        let t370: f64 = t360.added_to(t359);
+        let t371: f64 = t364.plus(t366);
+        let t372: f64 = t369 + t370;
+        let t373: f64 = t368.plus(t371);
+        let t374: f64 = t372 + t373;
+        let t375: f64 = t361.plus(t362);
+        let t376: f64 = t363.plus(t365);
+        let t377: f64 = t375 + t376;
+        let t378: f64 = t367.plus(t377);
+        let t379: f64 = t374 - t378;
+        let t380: f64 = t349 * t379;
+        let t381: f64 = t356.plus(t380);
+        let t382 = product(wx, vy);
+        let t383: f64 = t382.subtracted_from(az);
+        let t384 = product(wy, vx);
+        let t385: f64 = xc * wdy;
+        let t386: f64 = t384.plus(t385);
+        let t387: f64 = t383 + t386;
+        let t388: f64 = t347.subtracted_from(t387);
+        let t389: f64 = t388 * 2.0;
+        let t390: f64 = t353.plus(t389);
+        let t391: f64 = t390 + 19.62;
+        let t392: f64 = t391 - t381;
+        let t393 = product(wdx, t3);
+        let t394: f64 = t116 * t349;
+        let t395 = product(t350, t394);
+        let t396: f64 = t393.subtracted_from(t387);
+        let t397 = product(t396, 2.0);
+        let t398: f64 = t397.added_to(t381);
+        let t399: f64 = t398 + 19.62;
+        let t400: f64 = t395.subtracted_from(t399);
+        let t401 = product(wdy, t73);
+        let t402: f64 = wdz * t68;
+        let t403: f64 = t401.minus(t402);
+        let t404: f64 = t403 * 0.4119400000000001;
+        let t405 = product(t68, t404);
+        let t406: f64 = yc * t73;
+        let t407 = product(t0, t68);
+        let t408: f64 = t407.subtracted_from(t406);
+        let t409: f64 = t65 * t78;
+        let t410 = product(t408, t409);
+        let t411 = product(t40, t68);
+        let t412: f64 = t411.subtracted_from(t406);
+        let t413: f64 = t65 * t83;
+        let t414: f64 = t412 * t413;
+        let t415: f64 = t410.plus(t414);
+        let t416: f64 = t43 * t43;
+        let t417: f64 = t45 * t416;
+        let t418 = product(t47, t417);
+        let t419: f64 = t42 * t43;
+        let t420: f64 = t2 * t419;
+        let t421: f64 = t418.minus(t420);
+        let t422 = product(t50, t421);
+        let t423 = product(t52, t417);
+        let t424: f64 = t3 * t419;
+        let t425: f64 = t423.minus(t424);
+        let t426: f64 = t55 * t425;
+        let t427: f64 = t422.plus(t426);
+        let t428: f64 = t415 - t427;
+        let t429: f64 = t428 * 3.34;
+        let t430 = product(wdy, t429);
+        let t431: f64 = t421 + t425;
+        let t432: f64 = t431 * 1.67;
+        let t433 = product(ax, t432);
+        let t434 = product(wdy, t22);
+        let t435: f64 = wdz * t14;
+        let t436 = product(wy, t73);
+        let t437: f64 = wz * t68;
+        let t438: f64 = t436.minus(t437);
+        let t439 = product(t141, t438);
+        let t440 = product(wy, t6);
+        let t441: f64 = wz * t5;
+        let t442: f64 = t440.plus(t441);
+        let t443: f64 = t11 * t136;
+        let t444: f64 = t442 * t443;
+        let t445: f64 = t434.minus(t435);
+        let t446 = product(t445, 0.22443999999999997);
+        let t447: f64 = t439.plus(t444);
+        let t448: f64 = t447 * 0.1875000000000001;
+        let t449: f64 = t446.plus(t448);
+        let t450 = product(t14, t449);
+        let t451 = product(t156, t438);
+        let t452 = product(wy, t22);
+        let t453: f64 = wz * t14;
+        let t454: f64 = t452.minus(t453);
+        let t455: f64 = t136 * t454;
+        let t456 = product(wdy, t6);
+        let t457: f64 = wdz * t5;
+        let t458: f64 = t456.plus(t457);
+        let t459: f64 = t458 * 0.22443999999999997;
+        let t460 = product(t11, t459);
+        let t461: f64 = t451.minus(t455);
+        let t462: f64 = t461 * 0.1875000000000001;
+        let t463: f64 = t460.plus(t462);
+        let t464: f64 = t45 * t463;
+        let t465: f64 = t15 * t15;
+        let t466: f64 = t22 * t465;
+        let t467: f64 = t24 * t466;
+        let t468: f64 = zc * t14;
+        let t469: f64 = t15 * t468;
+        let t470: f64 = t467 - t469;
+        let t471 = product(t17, t470);
+        let t472: f64 = t30 * t466;
+        let t473: f64 = t469 + t472;
+        let t474: f64 = t28 * t473;
+        let t475 = product(zc, t68);
+        let t476: f64 = t475.subtracted_from(t406);
+        let t477: f64 = t476 * 3.34;
+        let t478: f64 = yc * t65;
+        let t479 = product(t477, t478);
+        let t480: f64 = t471.minus(t474);
+        let t481: f64 = t480 * 1.67;
+        let t482: f64 = t479.plus(t481);
+        let t483 = product(wdx, t482);
+        let t484 = product(t2, t421);
+        let t485: f64 = t3 * t425;
+        let t486: f64 = t467 - t472;
+        let t487 = product(t486, 1.67);
+        let t488: f64 = t469 * 3.34;
+        let t489: f64 = t487.minus(t488);
+        let t490 = product(zc, t489);
+        let t491: f64 = t484.plus(t485);
+        let t492: f64 = t491 * 1.67;
+        let t493: f64 = t490.minus(t492);
+        let t494: f64 = wdz * t493;
+        let t495 = product(t27, t470);
+        let t496: f64 = t33 * t473;
+        let t497: f64 = t495.minus(t496);
+        let t498: f64 = t427 - t497;
+        let t499: f64 = t498 * 3.34;
+        let t500 = product(wx, t499);
+        let t501: f64 = wy * t482;
+        let t502 = product(t0, t408);
+        let t503: f64 = t40 * t412;
+        let t504: f64 = t502.plus(t503);
+        let t505: f64 = t504 * 1.67;
+        let t506 = product(t65, t505);
+        let t507: f64 = xc * t432;
+        let t508: f64 = t506.minus(t507);
+        let t509 = product(wz, t508);
+        let t510: f64 = t500.plus(t501);
+        let t511: f64 = t509.plus(t510);
+        let t512 = product(wz, t511);
+        let t513: f64 = t415 + t497;
+        let t514: f64 = t513 * 3.34;
+        let t515 = product(wz, t514);
+        let t516 = product(wx, t508);
+        let t517: f64 = wy * t493;
+        let t518: f64 = t516.plus(t517);
+        let t519: f64 = t515.subtracted_from(t518);
+        let t520 = product(wx, t519);
+        let t521 = product(wdy, t432);
+        let t522: f64 = wdz * t489;
+        let t523: f64 = t521.plus(t522);
+        let t524 = product(wx, t432);
+        let t525: f64 = wz * t65;
+        let t526: f64 = t477 * t525;
+        let t527: f64 = t524.plus(t526);
+        let t528 = product(wz, t527);
+        let t529 = product(wx, t489);
+        let t530: f64 = wy * t65;
+        let t531: f64 = t477 * t530;
+        let t532: f64 = t529.minus(t531);
+        let t533: f64 = wy * t532;
+        let t534: f64 = t528.minus(t533);
+        let t535: f64 = t523 + t534;
+        let t536: f64 = t0 * t535;
+        let t537 = product(wdx, t489);
+        let t538 = product(wy, t432);
+        let t539: f64 = wz * t489;
         let t540: f64 = t538.plus(t539);
-        let t541: f64 = t540 * 0.22443999999999997;
-        let t542 = product(t3, t541);
-        let t543: f64 = t535.plus(t536);
-        let t544: f64 = t542.plus(t543);
-        let t545: f64 = t534.plus(t537);
-        let t546: f64 = t544 - t545;
-        let t547 = product(t59, t546);
-        let t548 = product(t242, t442);
-        let t549 = product(t36, t44);
-        let t550: f64 = t46 * t48;
+        let t541: f64 = wy * t540;
+        let t542: f64 = wdy * t65;
+        let t543 = product(t477, t542);
+        let t544 = product(wx, t527);
+        let t545: f64 = t537.plus(t541);
+        let t546: f64 = t544.plus(t545);
+        let t547: f64 = t543.subtracted_from(t546);
+        let t548 = product(t78, t547);
+        let t549 = product(t255, t477);
+        let t550: f64 = t116 * t408;
         let t551: f64 = t549.minus(t550);
-        let t552: f64 = t551 * 1.67;
-        let t553: f64 = t418 * t552;
-        let t554 = product(t131, 1.67);
-        let t555: f64 = t548.plus(t553);
-        let t556: f64 = t554.minus(t555);
-        let t557: f64 = wdx * t556;
-        let t558: f64 = t547.plus(t557);
-        let t559: f64 = t533 - t558;
-        let t560 = product(zc, t423);
-        let t561: f64 = t114 * 1.67;
-        let t562: f64 = t8 * t56;
-        let t563 = product(t561, t562);
-        let t564: f64 = t258 * 3.34;
-        let t565: f64 = t141 * 1.67;
-        let t566: f64 = t563.plus(t564);
-        let t567: f64 = t560.plus(t565);
-        let t568: f64 = t566 - t567;
-        let t569 = product(wdz, t568);
-        let t570: f64 = t35 * t142;
-        let t571: f64 = t42 * t570;
-        let t572 = product(t143, t571);
-        let t573: f64 = t145 * t571;
-        let t574: f64 = t572.plus(t573);
-        let t575: f64 = t109 - t574;
-        let t576: f64 = t528 + t575;
-        let t577: f64 = t576 * 3.34;
-        let t578 = product(wx, t577);
-        let t579 = product(wy, t556);
-        let t580: f64 = yc * t8;
-        let t581: f64 = t3 * t580;
-        let t582: f64 = t57 - t581;
-        let t583: f64 = t582 * 3.34;
-        let t584: f64 = xc * t8;
-        let t585: f64 = t263 * t584;
-        let t586 = product(t583, t585);
-        let t587 = product(t0, t514);
-        let t588: f64 = t23 * t518;
-        let t589: f64 = t587.plus(t588);
-        let t590: f64 = t589 * 1.67;
-        let t591: f64 = t7 * t590;
-        let t592: f64 = t586.minus(t591);
-        let t593 = product(t4, t592);
-        let t594: f64 = t253 * 1.67;
-        let t595: f64 = t593.subtracted_from(t594);
-        let t596: f64 = wz * t595;
-        let t597: f64 = t578.plus(t596);
-        let t598: f64 = t579.subtracted_from(t597);
-        let t599: f64 = wz * t598;
-        let t600: f64 = t569.minus(t599);
-        let t601: f64 = t521 + t575;
-        let t602: f64 = t601 * 3.34;
-        let t603 = product(wz, t602);
-        let t604: f64 = wx * t595;
-        let t605 = product(wy, t568);
-        let t606: f64 = t603.plus(t604);
-        let t607: f64 = t605.subtracted_from(t606);
-        let t608 = product(wx, t607);
-        let t609: f64 = t21 * t171;
-        let t610: f64 = t442 * t609;
-        let t611: f64 = t608.plus(t610);
-        let t612: f64 = t600 + t611;
-        let t613: f64 = t559 - t612;
-        let t614: f64 = t512 + t613;
-        let t615: f64 = t614 * 2.5;
-        let t616: f64 = t454 + t466;
-        let t617: f64 = t615 + t616;
-        let t618: f64 = -t617;
-        let t619: f64 = t2 * t149;
-        let t620: f64 = t7 * t619;
-        let t621: f64 = t20 * t620;
-        let t622: f64 = t6 * t581;
-        let t623: f64 = t6 * t333;
-        let t624 = product(t0, t623);
-        let t625: f64 = t624.subtracted_from(t622);
-        let t626 = product(t21, t625);
-        let t627: f64 = t626.added_to(t621);
-        let t628: f64 = t627 * 2.5;
-        let t629 = product(t84, t628);
-        let t630: f64 = t2 * t4;
-        let t631 = product(t25, t630);
-        let t632 = product(t23, t623);
-        let t633: f64 = t632.subtracted_from(t622);
-        let t634: f64 = t631.plus(t633);
-        let t635: f64 = t634 * 1.67;
-        let t636 = product(t21, t635);
-        let t637: f64 = t627 * 1.67;
-        let t638: f64 = t636.plus(t637);
-        let t639 = product(wz, t638);
-        let t640: f64 = xc * t3;
-        let t641 = product(t4, t583);
-        let t642: f64 = t580 * 3.34;
-        let t643: f64 = t641.plus(t642);
-        let t644 = product(t2, t643);
-        let t645: f64 = t640 * 3.34;
-        let t646: f64 = t644.plus(t645);
-        let t647: f64 = wx * t56;
-        let t648: f64 = t4 * t647;
-        let t649: f64 = t646 * t648;
-        let t650: f64 = t639.minus(t649);
-        let t651 = product(wx, t650);
-        let t652: f64 = wy * t56;
-        let t653: f64 = t4 * t652;
-        let t654 = product(t646, t653);
-        let t655: f64 = zc * t5;
-        let t656: f64 = t9 * t655;
-        let t657: f64 = t3 * t656;
-        let t658 = product(t52, t59);
-        let t659: f64 = t57 * 3.34;
-        let t660: f64 = t658.subtracted_from(t659);
-        let t661 = product(t5, t660);
-        let t662: f64 = t657 * 3.34;
-        let t663: f64 = t661.plus(t662);
-        let t664: f64 = t35 * t663;
-        let t665: f64 = -t664;
-        let t666: f64 = wz * t665;
-        let t667: f64 = t654.plus(t666);
-        let t668: f64 = wy * t667;
-        let t669: f64 = t651.minus(t668);
-        let t670 = product(wdx, t665);
-        let t671: f64 = wdy * t638;
-        let t672: f64 = t670.plus(t671);
-        let t673: f64 = t669 - t672;
-        let t674: f64 = -t673;
-        let t675: f64 = t86 * t674;
-        let t676: f64 = t629.minus(t675);
-        let t677: f64 = wdy * t56;
-        let t678: f64 = t4 * t677;
-        let t679 = product(t646, t678);
-        let t680: f64 = wdz * t665;
-        let t681: f64 = t679.plus(t680);
-        let t682 = product(wx, t665);
-        let t683: f64 = wy * t638;
-        let t684: f64 = t682.plus(t683);
-        let t685 = product(wy, t684);
-        let t686: f64 = wz * t650;
-        let t687: f64 = t685.plus(t686);
-        let t688: f64 = t681 - t687;
-        let t689: f64 = t4 * t149;
-        let t690: f64 = t2 * t689;
-        let t691: f64 = t150 * t690;
-        let t692 = product(t151, t691);
-        let t693: f64 = t515 * t625;
-        let t694: f64 = t692.plus(t693);
-        let t695 = product(t154, t691);
-        let t696: f64 = t519 * t633;
-        let t697: f64 = t695.plus(t696);
-        let t698: f64 = t694 + t697;
-        let t699: f64 = t2 * t263;
-        let t700: f64 = t689 * t699;
-        let t701 = product(t264, t700);
-        let t702 = product(t11, t58);
-        let t703: f64 = t702.added_to(t640);
-        let t704: f64 = t61 * t265;
-        let t705: f64 = t703 * t704;
-        let t706: f64 = t701.plus(t705);
-        let t707 = product(t267, t700);
-        let t708 = product(t11, t64);
-        let t709: f64 = t708.added_to(t640);
-        let t710: f64 = t66 * t265;
-        let t711: f64 = t709 * t710;
-        let t712: f64 = t707.plus(t711);
-        let t713: f64 = t706 + t712;
-        let t714: f64 = t698 + t713;
-        let t715: f64 = t714 * 3.34;
-        let t716 = product(wdy, t715);
-        let t717: f64 = t84 * t621;
-        let t718: f64 = t716.plus(t717);
-        let t719: f64 = t21 * t84;
-        let t720 = product(t625, t719);
-        let t721: f64 = wz * t5;
-        let t722: f64 = t9 * t721;
-        let t723 = product(t3, t722);
-        let t724 = product(t5, t208);
-        let t725: f64 = t5 * t209;
-        let t726: f64 = t3 * t725;
-        let t727: f64 = t724.minus(t726);
-        let t728: f64 = t723.plus(t727);
-        let t729 = product(t213, t728);
-        let t730 = product(t2, t209);
-        let t731: f64 = t730.added_to(t181);
-        let t732: f64 = wz * t2;
-        let t733 = product(t9, t732);
-        let t734: f64 = t733.subtracted_from(t731);
-        let t735: f64 = t734 * 0.22443999999999997;
-        let t736 = product(t191, t735);
-        let t737: f64 = t192 * t734;
-        let t738: f64 = t728 * 0.22443999999999997;
-        let t739: f64 = t212 * t738;
-        let t740: f64 = t198 * 0.4119400000000001;
-        let t741 = product(t3, t740);
-        let t742: f64 = t179 * 0.4119400000000001;
-        let t743: f64 = t741.subtracted_from(t742);
-        let t744 = product(t6, t743);
-        let t745: f64 = t736.plus(t739);
-        let t746: f64 = t744.plus(t745);
-        let t747: f64 = t729.plus(t737);
-        let t748: f64 = t746 - t747;
-        let t749: f64 = t13 * t748;
-        let t750: f64 = t720.minus(t749);
-        let t751: f64 = t718 + t750;
-        let t752 = product(t194, t734);
-        let t753 = product(t6, t207);
-        let t754 = product(t6, t208);
-        let t755: f64 = t6 * t210;
-        let t756: f64 = t754.minus(t755);
-        let t757: f64 = t753.plus(t756);
-        let t758: f64 = t757 * 0.4119400000000001;
-        let t759 = product(t212, t758);
-        let t760: f64 = t213 * t757;
-        let t761: f64 = t185 * t735;
-        let t762: f64 = t201 - t200;
-        let t763 = product(t5, t762);
-        let t764: f64 = t752.plus(t760);
-        let t765: f64 = t763.plus(t764);
-        let t766: f64 = t759.plus(t761);
-        let t767: f64 = t765 - t766;
-        let t768 = product(t34, t767);
-        let t769: f64 = t11 * t204;
-        let t770: f64 = t768.plus(t769);
-        let t771 = product(t192, t757);
-        let t772 = product(t185, t738);
-        let t773 = product(t191, t758);
-        let t774: f64 = t194 * t728;
-        let t775: f64 = t2 * t199;
-        let t776: f64 = t217 * 0.22443999999999997;
-        let t777: f64 = t771.plus(t776);
-        let t778: f64 = t772.plus(t775);
-        let t779: f64 = t777 + t778;
-        let t780: f64 = t773.plus(t774);
-        let t781: f64 = t779 - t780;
-        let t782 = product(t59, t781);
-        let t783 = product(yc, t638);
-        let t784 = product(t36, t40);
-        let t785: f64 = t784.added_to(t657);
-        let t786 = product(t36, t785);
-        let t787 = product(t40, t46);
-        let t788: f64 = t787.added_to(t657);
-        let t789: f64 = t46 * t788;
-        let t790: f64 = t250 * 1.67;
-        let t791: f64 = t3 * t15;
-        let t792 = product(t790, t791);
-        let t793: f64 = t786.plus(t789);
-        let t794: f64 = t793 * 1.67;
-        let t795: f64 = t792.subtracted_from(t794);
-        let t796: f64 = t35 * t795;
-        let t797: f64 = t783.plus(t796);
-        let t798: f64 = wdx * t797;
-        let t799: f64 = t782.minus(t798);
-        let t800: f64 = t770 - t799;
-        let t801: f64 = t751 + t800;
-        let t802 = product(t106, t663);
-        let t803 = product(t58, t703);
-        let t804: f64 = t64 * t709;
-        let t805 = product(t58, t61);
-        let t806: f64 = t64 * t66;
-        let t807: f64 = t805.plus(t806);
-        let t808: f64 = t807 * 1.67;
-        let t809 = product(t630, t808);
-        let t810: f64 = t803.plus(t804);
-        let t811: f64 = t810 * 1.67;
-        let t812: f64 = t809.plus(t811);
-        let t813: f64 = t62 * t812;
-        let t814: f64 = t802.plus(t813);
-        let t815: f64 = -t814;
-        let t816 = product(wdz, t815);
-        let t817: f64 = t570 * t791;
-        let t818 = product(t143, t817);
-        let t819: f64 = t44 * t142;
-        let t820: f64 = t785 * t819;
-        let t821: f64 = t818.minus(t820);
-        let t822 = product(t145, t817);
-        let t823: f64 = t48 * t142;
-        let t824: f64 = t788 * t823;
-        let t825: f64 = t822.plus(t824);
-        let t826: f64 = t821 + t825;
-        let t827: f64 = t713 + t826;
-        let t828: f64 = t827 * 3.34;
-        let t829 = product(wx, t828);
-        let t830: f64 = wy * t797;
-        let t831 = product(t119, t646);
-        let t832 = product(t0, t625);
-        let t833: f64 = t23 * t633;
-        let t834 = product(t0, t20);
-        let t835: f64 = t23 * t25;
-        let t836: f64 = t834.plus(t835);
-        let t837: f64 = t836 * 1.67;
-        let t838 = product(t630, t837);
-        let t839: f64 = t832.plus(t833);
-        let t840: f64 = t839 * 1.67;
-        let t841: f64 = t838.plus(t840);
-        let t842: f64 = t7 * t841;
-        let t843: f64 = t831.plus(t842);
-        let t844 = product(t447, t843);
-        let t845: f64 = t829.plus(t830);
-        let t846: f64 = t844.plus(t845);
-        let t847: f64 = wz * t846;
-        let t848: f64 = t816.minus(t847);
-        let t849: f64 = t698 + t826;
+        let t552: f64 = t65 * t551;
+        let t553: f64 = t405.added_to(t301);
+        let t554: f64 = t450.added_to(t303);
+        let t555: f64 = t483.plus(t494);
+        let t556: f64 = t553 + t554;
+        let t557: f64 = t512.plus(t555);
+        let t558: f64 = t556 + t557;
+        let t559: f64 = t430.added_to(t302);
+        let t560: f64 = t433.plus(t464);
+        let t561: f64 = t520.plus(t536);
+        let t562: f64 = t548.plus(t552);
+        let t563: f64 = t559 + t560;
+        let t564: f64 = t561 + t562;
+        let t565: f64 = t563 + t564;
+        let t566: f64 = t558 - t565;
+        let t567 = product(t118, t566);
+        let t568: f64 = t65 * t116;
+        let t569: f64 = t118 * t568;
+        let t570 = product(t408, t569);
+        let t571: f64 = t118 * t119;
+        let t572: f64 = t547 * t571;
+        let t573: f64 = t570.minus(t572);
+        let t574: f64 = t567.minus(t573);
+        let t575: f64 = t535 + t574;
+        let t576: f64 = t65 * t65;
+        let t577: f64 = t8 * t10;
+        let t578: f64 = t576 * t577;
+        let t579 = product(t75, t578);
+        let t580: f64 = yc * t5;
+        let t581: f64 = t11 * t580;
+        let t582: f64 = t8 * t581;
+        let t583: f64 = t8 * t42;
+        let t584 = product(t0, t583);
+        let t585: f64 = t584.subtracted_from(t582);
+        let t586: f64 = t65 * t585;
+        let t587: f64 = t579.plus(t586);
+        let t588 = product(t78, t587);
+        let t589 = product(t80, t578);
+        let t590 = product(t40, t583);
+        let t591: f64 = t590.subtracted_from(t582);
+        let t592: f64 = t65 * t591;
+        let t593: f64 = t589.plus(t592);
+        let t594: f64 = t83 * t593;
+        let t595: f64 = t588.plus(t594);
+        let t596: f64 = t71 * t416;
+        let t597 = product(t47, t596);
+        let t598: f64 = xc * t11;
+        let t599 = product(t2, t12);
+        let t600: f64 = t599.added_to(t598);
+        let t601: f64 = t43 * t600;
+        let t602: f64 = t597.plus(t601);
+        let t603 = product(t50, t602);
+        let t604 = product(t52, t596);
+        let t605 = product(t3, t12);
+        let t606: f64 = t605.added_to(t598);
+        let t607: f64 = t43 * t606;
+        let t608: f64 = t604.plus(t607);
+        let t609: f64 = t55 * t608;
+        let t610: f64 = t603.plus(t609);
+        let t611: f64 = t595 + t610;
+        let t612: f64 = t611 * 3.34;
+        let t613 = product(wdy, t612);
+        let t614: f64 = t602 + t608;
+        let t615: f64 = t614 * 1.67;
+        let t616 = product(ax, t615);
+        let t617: f64 = t587 + t593;
+        let t618: f64 = t617 * 1.67;
+        let t619: f64 = t255 * t618;
+        let t620 = product(wdy, t615);
+        let t621: f64 = t11 * t70;
+        let t622: f64 = t465 * t621;
+        let t623 = product(t24, t622);
+        let t624 = product(t17, t20);
+        let t625: f64 = zc * t7;
+        let t626: f64 = t6 * t625;
+        let t627: f64 = t11 * t626;
+        let t628: f64 = t624.plus(t627);
+        let t629: f64 = t15 * t628;
+        let t630: f64 = t623.minus(t629);
+        let t631 = product(t30, t622);
+        let t632 = product(t20, t28);
+        let t633: f64 = t632.added_to(t627);
+        let t634: f64 = t15 * t633;
+        let t635: f64 = t631.plus(t634);
+        let t636: f64 = t630 - t635;
+        let t637: f64 = t636 * 1.67;
+        let t638: f64 = wdz * t637;
+        let t639: f64 = t620.plus(t638);
+        let t640 = product(wx, t637);
+        let t641: f64 = wy * t618;
+        let t642: f64 = t640.plus(t641);
+        let t643 = product(wy, t642);
+        let t644 = product(wz, t618);
+        let t645: f64 = wx * t615;
+        let t646: f64 = t644.minus(t645);
+        let t647: f64 = wz * t646;
+        let t648: f64 = t643.plus(t647);
+        let t649: f64 = t639 - t648;
+        let t650: f64 = t0 * t649;
+        let t651 = product(t116, t587);
+        let t652 = product(wdx, t637);
+        let t653: f64 = wdy * t618;
+        let t654 = product(wx, t646);
+        let t655 = product(wy, t615);
+        let t656: f64 = wz * t637;
+        let t657: f64 = t655.plus(t656);
+        let t658 = product(wy, t657);
+        let t659: f64 = t652.plus(t653);
+        let t660: f64 = t658.plus(t659);
+        let t661: f64 = t654.subtracted_from(t660);
+        let t662: f64 = t78 * t661;
+        let t663 = product(wdy, t5);
+        let t664: f64 = wdz * t6;
+        let t665: f64 = t663.minus(t664);
+        let t666: f64 = t665 * 0.4119400000000001;
+        let t667 = product(t11, t666);
+        let t668: f64 = t149 * 0.4119400000000001;
+        let t669: f64 = t667.subtracted_from(t668);
+        let t670: f64 = t8 * t68;
+        let t671 = product(t669, t670);
+        let t672 = product(wy, t5);
+        let t673: f64 = wz * t6;
+        let t674: f64 = t672.minus(t673);
+        let t675 = product(t11, t674);
+        let t676: f64 = t675.subtracted_from(t137);
+        let t677: f64 = t8 * t141;
+        let t678 = product(t676, t677);
+        let t679: f64 = wx * t11;
+        let t680 = product(t10, t674);
+        let t681: f64 = t680.added_to(t679);
+        let t682: f64 = t136 * t681;
+        let t683: f64 = t665 * 0.22443999999999997;
+        let t684 = product(t11, t683);
+        let t685: f64 = t149 * 0.22443999999999997;
+        let t686: f64 = t684.subtracted_from(t685);
+        let t687 = product(t7, t686);
+        let t688: f64 = t678.subtracted_from(t682);
+        let t689: f64 = t688 * 0.1875000000000001;
+        let t690: f64 = t687.plus(t689);
+        let t691 = product(t14, t690);
+        let t692: f64 = wdx * t11;
+        let t693 = product(t10, t683);
+        let t694 = product(t8, t156);
+        let t695: f64 = t7 * t136;
+        let t696: f64 = t694.plus(t695);
+        let t697: f64 = t696 * 0.1875000000000001;
+        let t698 = product(t676, t697);
+        let t699: f64 = t692 * 0.22443999999999997;
+        let t700: f64 = t693.plus(t699);
+        let t701: f64 = t698.subtracted_from(t700);
+        let t702: f64 = t45 * t701;
+        let t703 = product(t17, t630);
+        let t704: f64 = t28 * t635;
+        let t705 = product(yc, t618);
+        let t706: f64 = t703.subtracted_from(t704);
+        let t707: f64 = t706 * 1.67;
+        let t708: f64 = t705.plus(t707);
+        let t709: f64 = wdx * t708;
+        let t710 = product(t2, t602);
+        let t711: f64 = t3 * t608;
+        let t712 = product(zc, t637);
+        let t713: f64 = t710.plus(t711);
+        let t714: f64 = t713 * 1.67;
+        let t715: f64 = t712.minus(t714);
+        let t716 = product(wdz, t715);
+        let t717 = product(t33, t635);
+        let t718: f64 = t27 * t630;
+        let t719: f64 = t717.minus(t718);
+        let t720: f64 = t610 + t719;
+        let t721: f64 = t720 * 3.34;
+        let t722 = product(wx, t721);
+        let t723 = product(wy, t708);
+        let t724 = product(t0, t587);
+        let t725: f64 = t40 * t593;
+        let t726 = product(xc, t615);
+        let t727: f64 = t724.plus(t725);
+        let t728: f64 = t727 * 1.67;
+        let t729: f64 = t726.plus(t728);
+        let t730: f64 = wz * t729;
+        let t731: f64 = t723.plus(t730);
+        let t732: f64 = t722.minus(t731);
+        let t733: f64 = wz * t732;
+        let t734: f64 = t595 + t719;
+        let t735: f64 = t734 * 3.34;
+        let t736 = product(wz, t735);
+        let t737 = product(wx, t729);
+        let t738: f64 = wy * t715;
+        let t739: f64 = t736.plus(t738);
+        let t740: f64 = t737.minus(t739);
+        let t741 = product(wx, t740);
+        let t742 = product(t8, t127);
+        let t743: f64 = t7 * t147;
+        let t744: f64 = t742.plus(t743);
+        let t745 = product(t11, t744);
+        let t746: f64 = t745.added_to(t359);
+        let t747 = product(t5, t746);
+        let t748: f64 = t616.plus(t650);
+        let t749: f64 = t651.plus(t662);
+        let t750: f64 = t691.plus(t709);
+        let t751: f64 = t748 + t749;
+        let t752: f64 = t747.plus(t750);
+        let t753: f64 = t751 + t752;
+        let t754: f64 = t613.plus(t619);
+        let t755: f64 = t671.plus(t702);
+        let t756: f64 = t716.plus(t733);
+        let t757: f64 = t754 + t755;
+        let t758: f64 = t741.plus(t756);
+        let t759: f64 = t757 + t758;
+        let t760: f64 = t753 - t759;
+        let t761 = product(t118, t760);
+        let t762 = product(t571, t661);
+        let t763: f64 = t120 * t587;
+        let t764: f64 = t762.plus(t763);
+        let t765: f64 = t761.minus(t764);
+        let t766: f64 = t649 - t765;
+        let t767: f64 = t68 * t465;
+        let t768 = product(t24, t767);
+        let t769 = product(t17, t64);
+        let t770: f64 = zc * t73;
+        let t771: f64 = t769.plus(t770);
+        let t772: f64 = t15 * t771;
+        let t773: f64 = t768.plus(t772);
+        let t774 = product(t30, t767);
+        let t775 = product(t28, t64);
+        let t776: f64 = t775.added_to(t770);
+        let t777: f64 = t15 * t776;
+        let t778: f64 = t774.minus(t777);
+        let t779: f64 = t773 - t778;
+        let t780: f64 = t779 * 1.67;
+        let t781 = product(wdz, t780);
+        let t782 = product(wx, t780);
+        let t783: f64 = t16 * t576;
+        let t784 = product(t75, t783);
+        let t785: f64 = yc * t14;
+        let t786 = product(t0, t22);
+        let t787: f64 = t786.added_to(t785);
+        let t788: f64 = t65 * t787;
+        let t789: f64 = t784.plus(t788);
+        let t790 = product(t80, t783);
+        let t791 = product(t22, t40);
+        let t792: f64 = t791.added_to(t785);
+        let t793: f64 = t65 * t792;
+        let t794: f64 = t790.plus(t793);
+        let t795: f64 = t789 + t794;
+        let t796: f64 = t795 * 1.67;
+        let t797: f64 = wy * t796;
+        let t798: f64 = t782.plus(t797);
+        let t799: f64 = wy * t798;
+        let t800: f64 = t781.minus(t799);
+        let t801: f64 = wz * wz;
+        let t802 = product(t796, t801);
+        let t803: f64 = t802.subtracted_from(t800);
+        let t804 = product(t14, t127);
+        let t805: f64 = wdx * t7;
+        let t806 = product(t11, t805);
+        let t807: f64 = t806.minus(t143);
+        let t808: f64 = t807 * 0.4119400000000001;
+        let t809 = product(t68, t808);
+        let t810: f64 = t68 * t147;
+        let t811 = product(t8, t692);
+        let t812: f64 = wx * t7;
+        let t813 = product(t11, t812);
+        let t814: f64 = t813.minus(t155);
+        let t815: f64 = t141 * t814;
+        let t816: f64 = t811.added_to(t123);
+        let t817: f64 = t124 + t816;
+        let t818 = product(t817, 0.22443999999999997);
+        let t819: f64 = t815 * 0.1875000000000001;
+        let t820: f64 = t818.plus(t819);
+        let t821: f64 = t14 * t820;
+        let t822 = product(t156, t814);
+        let t823 = product(t8, t679);
+        let t824: f64 = t823.added_to(t133);
+        let t825: f64 = t134 + t824;
+        let t826: f64 = t136 * t825;
+        let t827: f64 = t822.minus(t826);
+        let t828: f64 = t827 * 0.1875000000000001;
+        let t829 = product(t45, t828);
+        let t830 = product(t78, t789);
+        let t831: f64 = t83 * t794;
+        let t832: f64 = t830.plus(t831);
+        let t833: f64 = t832 * 3.34;
+        let t834 = product(wdy, t833);
+        let t835: f64 = t255 * t796;
+        let t836: f64 = t0 * t803;
+        let t837 = product(t116, t789);
+        let t838 = product(t17, t773);
+        let t839: f64 = t28 * t778;
+        let t840 = product(yc, t796);
+        let t841: f64 = t838.subtracted_from(t839);
+        let t842: f64 = t841 * 1.67;
+        let t843: f64 = t840.plus(t842);
+        let t844: f64 = wdx * t843;
+        let t845: f64 = zc * wdz;
+        let t846 = product(t780, t845);
+        let t847 = product(t27, t773);
+        let t848: f64 = t33 * t778;
+        let t849: f64 = t847.minus(t848);
         let t850: f64 = t849 * 3.34;
-        let t851 = product(wz, t850);
-        let t852: f64 = wx * t4;
-        let t853: f64 = t843 * t852;
-        let t854 = product(wy, t815);
-        let t855: f64 = t851.plus(t853);
-        let t856: f64 = t854.subtracted_from(t855);
-        let t857 = product(wx, t856);
-        let t858: f64 = ax * t56;
-        let t859: f64 = t4 * t858;
-        let t860: f64 = t646 * t859;
-        let t861: f64 = t857.minus(t860);
-        let t862: f64 = t848 + t861;
-        let t863 = product(t171, t638);
-        let t864: f64 = t0 * t688;
-        let t865: f64 = t863.minus(t864);
-        let t866 = product(t22, t674);
-        let t867: f64 = t6 * t59;
-        let t868 = product(t224, t867);
-        let t869: f64 = t236 * t791;
-        let t870: f64 = t868.plus(t869);
-        let t871: f64 = t866.minus(t870);
-        let t872: f64 = t865 + t871;
-        let t873: f64 = t862 + t872;
-        let t874: f64 = t801 - t873;
-        let t875: f64 = t874 * 2.5;
-        let t876: f64 = t688 + t875;
-        let t877: f64 = t876 - t676;
-        let t878: f64 = t4 * t5;
-        let t879: f64 = t150 * t878;
-        let t880: f64 = t20 * t879;
-        let t881: f64 = yc * t34;
-        let t882 = product(t0, t42);
-        let t883: f64 = t882.added_to(t881);
-        let t884 = product(t21, t883);
-        let t885: f64 = t884.added_to(t880);
-        let t886: f64 = t885 * 2.5;
-        let t887 = product(t84, t886);
-        let t888: f64 = t5 * t7;
-        let t889 = product(t25, t888);
-        let t890 = product(t23, t42);
-        let t891: f64 = t890.added_to(t881);
-        let t892: f64 = t889.plus(t891);
-        let t893: f64 = t892 * 1.67;
-        let t894 = product(t21, t893);
-        let t895: f64 = t885 * 1.67;
-        let t896: f64 = t894.plus(t895);
-        let t897: f64 = wx * wz;
-        let t898 = product(t896, t897);
-        let t899: f64 = zc * t18;
-        let t900 = product(t6, t640);
-        let t901 = product(t13, t52);
-        let t902: f64 = t900.added_to(t899);
-        let t903: f64 = t902 * 3.34;
-        let t904: f64 = t901.plus(t903);
-        let t905: f64 = wy * wz;
-        let t906: f64 = t35 * t905;
-        let t907: f64 = t904 * t906;
-        let t908: f64 = t898.minus(t907);
-        let t909: f64 = wdx * t35;
-        let t910 = product(t904, t909);
-        let t911: f64 = wdy * t896;
-        let t912: f64 = t910.plus(t911);
-        let t913: f64 = t908 - t912;
-        let t914: f64 = -t913;
-        let t915: f64 = t86 * t914;
-        let t916: f64 = t887.minus(t915);
-        let t917: f64 = wdz * t35;
-        let t918 = product(t904, t917);
-        let t919: f64 = wx * t35;
-        let t920 = product(t904, t919);
-        let t921: f64 = wy * t896;
-        let t922: f64 = t920.plus(t921);
-        let t923: f64 = wy * t922;
-        let t924: f64 = t918.minus(t923);
-        let t925: f64 = wz * wz;
-        let t926 = product(t896, t925);
-        let t927: f64 = t926.subtracted_from(t924);
-        let t928 = product(t22, t914);
-        let t929 = product(t34, t224);
-        let t930: f64 = t185 * 0.22443999999999997;
-        let t931 = product(t212, t930);
-        let t932 = product(t233, 0.4119400000000001);
-        let t933: f64 = t932.added_to(t227);
-        let t934: f64 = t931.subtracted_from(t933);
-        let t935: f64 = t13 * t934;
-        let t936: f64 = t929.minus(t935);
-        let t937: f64 = t928.minus(t936);
-        let t938 = product(t13, t236);
-        let t939: f64 = t191 * 0.4119400000000001;
-        let t940 = product(t212, t939);
-        let t941: f64 = t221 * 0.22443999999999997;
-        let t942: f64 = t940.plus(t941);
-        let t943: f64 = t942 - t214;
-        let t944: f64 = t34 * t943;
-        let t945: f64 = t938.minus(t944);
-        let t946: f64 = t7 * t150;
-        let t947: f64 = t5 * t149;
-        let t948: f64 = t946 * t947;
-        let t949 = product(t151, t948);
-        let t950: f64 = t515 * t883;
-        let t951: f64 = t949.plus(t950);
-        let t952 = product(t154, t948);
-        let t953: f64 = t519 * t891;
-        let t954: f64 = t952.plus(t953);
-        let t955: f64 = t951 + t954;
-        let t956: f64 = t955 * 3.34;
-        let t957 = product(wdy, t956);
-        let t958: f64 = t84 * t880;
-        let t959: f64 = t957.plus(t958);
-        let t960: f64 = t945 + t959;
-        let t961: f64 = t937 - t960;
-        let t962 = product(t719, t883);
-        let t963: f64 = t185 * 0.1875000000000001;
-        let t964 = product(t185, t963);
-        let t965: f64 = t191 * 0.1875000000000001;
-        let t966: f64 = t191 * t965;
-        let t967: f64 = t964.minus(t966);
-        let t968: f64 = t59 * t967;
-        let t969: f64 = t962.minus(t968);
-        let t970 = product(yc, t896);
-        let t971 = product(t36, t379);
-        let t972: f64 = t971.added_to(t899);
-        let t973 = product(t36, t972);
-        let t974 = product(t46, t379);
-        let t975: f64 = t974.added_to(t899);
-        let t976: f64 = t46 * t975;
-        let t977 = product(t13, t790);
-        let t978: f64 = t973.plus(t976);
-        let t979: f64 = t978 * 1.67;
-        let t980: f64 = t977.plus(t979);
-        let t981: f64 = t35 * t980;
-        let t982: f64 = t970.minus(t981);
-        let t983 = product(wdx, t982);
-        let t984: f64 = zc * wdz;
-        let t985: f64 = t35 * t984;
-        let t986: f64 = t904 * t985;
-        let t987: f64 = t983.minus(t986);
-        let t988: f64 = t969 + t987;
-        let t989: f64 = t13 * t570;
-        let t990 = product(t143, t989);
-        let t991: f64 = t819 * t972;
-        let t992: f64 = t990.plus(t991);
-        let t993 = product(t145, t989);
-        let t994: f64 = t823 * t975;
-        let t995: f64 = t993.minus(t994);
-        let t996: f64 = t992 + t995;
-        let t997: f64 = t996 * 3.34;
-        let t998 = product(wx, t997);
-        let t999: f64 = wy * t982;
-        let t1000 = product(t0, t883);
-        let t1001: f64 = t23 * t891;
-        let t1002 = product(t837, t888);
+        let t851 = product(wx, t850);
+        let t852 = product(t0, t789);
+        let t853: f64 = t40 * t794;
+        let t854: f64 = t852.plus(t853);
+        let t855: f64 = t854 * 1.67;
+        let t856: f64 = wz * t855;
+        let t857 = product(wy, t843);
+        let t858: f64 = t851.plus(t856);
+        let t859: f64 = t857.plus(t858);
+        let t860 = product(wz, t859);
+        let t861 = product(wx, t855);
+        let t862: f64 = t832 - t849;
+        let t863: f64 = t862 * 3.34;
+        let t864 = product(wz, t863);
+        let t865: f64 = zc * wy;
+        let t866: f64 = t780 * t865;
+        let t867: f64 = t864.plus(t866);
+        let t868: f64 = t861.minus(t867);
+        let t869: f64 = wx * t868;
+        let t870 = product(wdx, t780);
+        let t871: f64 = wdy * t796;
+        let t872 = product(wx, t796);
+        let t873: f64 = wy * t780;
+        let t874: f64 = t872.minus(t873);
+        let t875 = product(wz, t874);
+        let t876: f64 = t870.plus(t871);
+        let t877: f64 = t875.subtracted_from(t876);
+        let t878: f64 = t78 * t877;
+        let t879: f64 = t804.plus(t810);
+        let t880: f64 = t829.plus(t836);
+        let t881: f64 = t837.plus(t844);
+        let t882: f64 = t860.plus(t878);
+        let t883: f64 = t879 + t880;
+        let t884: f64 = t881 + t882;
+        let t885: f64 = t883 + t884;
+        let t886: f64 = t809.plus(t821);
+        let t887: f64 = t834.plus(t835);
+        let t888: f64 = t846.plus(t869);
+        let t889: f64 = t886 + t887;
+        let t890: f64 = t888 + t889;
+        let t891: f64 = t885 - t890;
+        let t892 = product(t118, t891);
+        let t893 = product(t120, t789);
+        let t894: f64 = t571 * t877;
+        let t895: f64 = t893.plus(t894);
+        let t896: f64 = t892.minus(t895);
+        let t897: f64 = t803 - t896;
+        let t898: f64 = wdy * t10;
+        let t899 = product(t43, t898);
+        let t900: f64 = wdz * t16;
+        let t901: f64 = t15 * t900;
+        let t902: f64 = t899.plus(t901);
+        let t903: f64 = t15 * t152;
+        let t904: f64 = wy * 6.68;
+        let t905 = product(t903, 3.34);
+        let t906: f64 = t905.subtracted_from(t904);
+        let t907 = product(wy, t906);
+        let t908: f64 = t43 * t137;
+        let t909: f64 = wz * 6.68;
+        let t910 = product(t908, 3.34);
+        let t911: f64 = t910.added_to(t909);
+        let t912: f64 = wz * t911;
+        let t913: f64 = t907.plus(t912);
+        let t914: f64 = t10 * t43;
+        let t915 = product(t50, t914);
+        let t916: f64 = t55 * t914;
+        let t917: f64 = t915.plus(t916);
+        let t918: f64 = xc * 6.68;
+        let t919: f64 = t63 - t917;
+        let t920 = product(t919, 3.34);
+        let t921: f64 = t920.added_to(t918);
+        let t922 = product(wdy, t921);
+        let t923: f64 = ax * t10;
+        let t924: f64 = t43 * t923;
+        let t925 = product(t902, 3.34);
+        let t926: f64 = t925.added_to(t913);
+        let t927 = product(t0, t926);
+        let t928: f64 = t15 * t129;
+        let t929 = product(wx, t911);
+        let t930: f64 = wy * t10;
+        let t931 = product(t43, t930);
+        let t932: f64 = wz * t16;
+        let t933: f64 = t15 * t932;
+        let t934: f64 = t931.plus(t933);
+        let t935: f64 = t934 * 3.34;
+        let t936 = product(wy, t935);
+        let t937: f64 = wdy * 6.68;
+        let t938: f64 = t928 * 3.34;
+        let t939: f64 = t929.plus(t938);
+        let t940: f64 = t936.plus(t939);
+        let t941: f64 = t937 - t940;
+        let t942 = product(t78, t941);
+        let t943: f64 = t63 * 1.67;
+        let t944: f64 = t15 * t16;
+        let t945 = product(t943, t944);
+        let t946: f64 = t945.added_to(t37);
+        let t947: f64 = wdx * t946;
+        let t948: f64 = zc * t944;
+        let t949: f64 = t4 * 1.67;
+        let t950 = product(t914, t949);
+        let t951: f64 = t948 * 3.34;
+        let t952: f64 = t950.subtracted_from(t951);
+        let t953 = product(wdz, t952);
+        let t954 = product(t27, t944);
+        let t955: f64 = t33 * t944;
+        let t956: f64 = t954.plus(t955);
+        let t957: f64 = t917 - t956;
+        let t958: f64 = t957 * 3.34;
+        let t959 = product(wx, t958);
+        let t960 = product(xc, t914);
+        let t961: f64 = t960.subtracted_from(zc);
+        let t962 = product(t961, 3.34);
+        let t963: f64 = t56 * 1.67;
+        let t964: f64 = t962.plus(t963);
+        let t965: f64 = wz * t964;
+        let t966 = product(wy, t946);
+        let t967: f64 = t959.plus(t965);
+        let t968: f64 = t966.plus(t967);
+        let t969: f64 = wz * t968;
+        let t970 = product(wx, t964);
+        let t971: f64 = t63 + t956;
+        let t972 = product(t971, 3.34);
+        let t973: f64 = t972.added_to(t918);
+        let t974 = product(wz, t973);
+        let t975: f64 = wy * t952;
+        let t976: f64 = t970.plus(t975);
+        let t977: f64 = t974.subtracted_from(t976);
+        let t978: f64 = wx * t977;
+        let t979: f64 = az * 6.68;
+        let t980 = product(t924, 3.34);
+        let t981: f64 = t922.plus(t979);
+        let t982: f64 = t927.plus(t978);
+        let t983: f64 = t980.plus(65.5308);
+        let t984: f64 = t981 + t982;
+        let t985: f64 = t983 + t984;
+        let t986: f64 = t942.plus(t947);
+        let t987: f64 = t953.plus(t969);
+        let t988: f64 = t986 + t987;
+        let t989: f64 = t985 - t988;
+        let t990 = product(t118, t989);
+        let t991 = product(t571, t941);
+        let t992: f64 = t991.subtracted_from(t120);
+        let t993: f64 = t990.minus(t992);
+        let t994: f64 = t926 - t993;
+        let t995: f64 = t43 * t150;
+        let t996: f64 = t68 * t530;
+        let t997: f64 = wx * 6.68;
+        let t998 = product(t996, 3.34);
+        let t999: f64 = t998.added_to(t997);
+        let t1000 = product(wy, t999);
+        let t1001 = product(t68, t525);
+        let t1002: f64 = wx * t45;
         (
             t0,
             t2,
             t3,
             t4,
-            t5,
             t6,
             t7,
             t8,
-            t9,
             t10,
             t11,
-            t13,
+            t14,
+            t15,
             t16,
-            t18,
-            t20,
-            t21,
+            t17,
             t22,
-            t25,
-            t26,
             t27,
-            t29,
-            t30,
+            t28,
+            t33,
             t34,
-            t35,
             t37,
+            t38,
             t40,
+            t41,
             t42,
-            t44,
-            t48,
+            t43,
+            t45,
             t50,
-            t52,
-            t53,
+            t55,
             t56,
-            t57,
+            t58,
             t59,
-            t61,
-            t66,
+            t60,
+            t63,
+            t64,
+            t65,
             t68,
-            t70,
-            t71,
-            t72,
             t73,
-            t76,
-            t77,
-            t81,
+            t78,
+            t83,
+            t84,
             t86,
-            t92,
+            t87,
+            t88,
+            t89,
+            t90,
             t93,
-            t97,
-            t106,
+            t94,
+            t98,
+            t107,
+            t108,
+            t113,
             t116,
-            t117,
             t118,
-            t133,
-            t134,
-            t135,
+            t119,
+            t127,
+            t128,
+            t136,
             t138,
-            t142,
+            t141,
+            t147,
+            t148,
             t149,
-            t152,
-            t161,
-            t164,
-            t165,
-            t166,
-            t171,
-            t179,
-            t185,
-            t187,
-            t191,
-            t192,
-            t194,
-            t196,
-            t204,
-            t208,
-            t209,
-            t212,
-            t213,
+            t156,
+            t162,
+            t163,
+            t175,
+            t197,
+            t210,
+            t223,
             t224,
-            t229,
-            t236,
+            t237,
+            t238,
             t239,
-            t242,
+            t240,
+            t243,
+            t244,
+            t249,
+            t250,
+            t251,
             t255,
-            t256,
-            t259,
-            t271,
-            t274,
-            t278,
             t279,
-            t280,
-            t283,
             t284,
-            t285,
-            t286,
-            t300,
-            t306,
-            t314,
-            t316,
-            t317,
-            t333,
-            t344,
-            t345,
+            t292,
+            t294,
+            t296,
+            t297,
+            t298,
+            t299,
+            t307,
+            t308,
+            t309,
+            t310,
+            t339,
+            t341,
             t346,
-            t347,
-            t358,
-            t360,
-            t365,
-            t379,
-            t407,
-            t417,
-            t421,
-            t422,
-            t424,
-            t430,
-            t433,
-            t436,
-            t442,
-            t444,
-            t448,
-            t453,
-            t454,
-            t460,
-            t462,
-            t466,
-            t491,
+            t349,
+            t350,
+            t351,
+            t352,
+            t354,
+            t392,
+            t400,
+            t404,
+            t408,
+            t429,
+            t432,
+            t449,
+            t463,
+            t477,
+            t482,
+            t489,
+            t493,
+            t499,
             t508,
+            t511,
+            t514,
+            t519,
+            t525,
             t530,
-            t546,
-            t556,
-            t568,
-            t577,
-            t580,
-            t584,
-            t595,
-            t598,
-            t602,
-            t607,
+            t532,
+            t535,
+            t540,
+            t542,
+            t547,
+            t571,
+            t574,
+            t575,
+            t587,
+            t612,
             t615,
             t618,
-            t621,
-            t623,
-            t625,
-            t628,
-            t638,
-            t646,
-            t655,
-            t665,
-            t667,
-            t673,
-            t674,
-            t676,
-            t684,
-            t688,
-            t699,
+            t637,
+            t642,
+            t649,
+            t657,
+            t661,
+            t669,
+            t690,
+            t701,
+            t708,
             t715,
             t721,
-            t748,
-            t767,
-            t781,
-            t797,
-            t815,
+            t729,
+            t732,
+            t735,
+            t740,
+            t744,
+            t746,
+            t765,
+            t766,
+            t780,
+            t789,
+            t796,
+            t798,
+            t801,
+            t803,
+            t808,
+            t820,
             t828,
+            t833,
             t843,
-            t846,
             t850,
-            t852,
-            t856,
-            t875,
+            t855,
+            t859,
+            t863,
+            t868,
             t877,
-            t880,
-            t883,
-            t886,
             t896,
+            t897,
             t904,
+            t906,
             t909,
-            t913,
-            t914,
-            t916,
-            t917,
-            t919,
-            t922,
-            t925,
-            t927,
-            t934,
+            t921,
+            t926,
+            t935,
+            t937,
+            t941,
             t943,
-            t955,
-            t956,
-            t961,
-            t963,
-            t965,
-            t967,
-            t982,
-            t988,
-            t996,
+            t944,
+            t946,
+            t949,
+            t952,
+            t958,
+            t964,
+            t968,
+            t973,
+            t977,
+            t993,
+            t994,
+            t995,
             t997,
-            t998,
             t999,
             t1000,
             t1001,
@@ -1465,1576 +1453,1261 @@ pub fn inverse_dynamics_derivatives_separate(
         )
     };
     let (
-        t1029,
-        t1030,
-        t1136,
-        t1225,
-        t1312,
-        t1313,
-        t1314,
-        t1316,
-        t1320,
-        t1324,
-        t1367,
-        t1422,
-        t1475,
-        t1513,
-        t1548,
-        t1583,
-        t1585,
-        t1589,
-        t1593,
-        t1598,
-        t1602,
-        t1606,
-        t1633,
-        t1669,
-        t1699,
-        t1731,
-        t1760,
-        t1788,
-        t1791,
-        t1794,
-        t1797,
+        t1092,
+        t1187,
+        t1188,
+        t1190,
+        t1192,
+        t1241,
+        t1286,
+        t1331,
+        t1368,
+        t1407,
+        t1446,
+        t1448,
+        t1450,
+        t1452,
+        t1455,
+        t1457,
+        t1460,
+        t1462,
+        t1489,
+        t1523,
+        t1555,
+        t1580,
+        t1608,
+        t1632,
+        t1634,
+        t1636,
+        t1638,
+        t1641,
+        t1644,
+        t1646,
+        t1676,
+        t1706,
+        t1737,
+        t1738,
+        t1739,
+        t1740,
+        t1741,
+        t1743,
+        t1745,
+        t1764,
+        t1781,
+        t1799,
+        t1800,
+        t1801,
+        t1804,
         t1806,
-        t1816,
-        t1824,
-        t1826,
-        t1842,
-        t1848,
-        t1857,
-        t1859,
+        t1809,
+        t1825,
+        t1843,
+        t1860,
         t1861,
-        t1866,
-        t1868,
-        t1870,
-        t1876,
-        t1888,
-        t1898,
-        t1900,
-        t1903,
-        t1905,
-        t1910,
-        t1922,
-        t1928,
+        t1864,
+        t1867,
+        t1869,
+        t1877,
+        t1879,
+        t1883,
+        t1887,
+        t1906,
+        t1920,
+        t1923,
+        t1925,
+        t1933,
+        t1934,
+        t1936,
+        t1938,
+        t1939,
         t1940,
-        t1941,
-        t1942,
-        t1943,
-        t1944,
-        t1945,
         t1947,
-        t1948,
-        t1951,
-        t1953,
-        t1968,
-        t1969,
-        t1972,
-        t1973,
+        t1949,
+        t1955,
+        t1959,
+        t1961,
+        t1976,
+        t1978,
+        t1979,
+        t1983,
+        t1987,
         t1988,
-        t1989,
-        t1992,
+        t1993,
         t1994,
-        t1995,
+        t1996,
         t1997,
         t1999,
+        t2000,
+        t2001,
         t2002,
     ) = {
-        let t1003: f64 = t1000.plus(t1001);
-        let t1004: f64 = t1003 * 1.67;
-        let t1005: f64 = t1002.plus(t1004);
-        let t1006 = product(t448, t1005);
-        let t1007: f64 = t998.plus(t999);
-        let t1008: f64 = t1006.plus(t1007);
-        let t1009 = product(wz, t1008);
-        let t1010: f64 = t955 + t996;
-        let t1011: f64 = t1010 * 3.34;
-        let t1012 = product(wz, t1011);
-        let t1013: f64 = t7 * t852;
-        let t1014: f64 = t1005 * t1013;
-        let t1015: f64 = zc * wy;
-        let t1016: f64 = t35 * t1015;
-        let t1017 = product(t904, t1016);
-        let t1018: f64 = t1012.plus(t1014);
-        let t1019: f64 = t1017.subtracted_from(t1018);
-        let t1020: f64 = wx * t1019;
-        let t1021: f64 = t1009.minus(t1020);
-        let t1022 = product(t171, t896);
-        let t1023: f64 = t0 * t927;
-        let t1024: f64 = t1022.minus(t1023);
-        let t1025: f64 = t1021 - t1024;
-        let t1026: f64 = t988 + t1025;
-        let t1027: f64 = t961 - t1026;
-        let t1028 = product(t1027, 2.5);
-        let t1029: f64 = t1028.added_to(t916);
-        let t1030: f64 = t927 - t1029;
-        let t1031: f64 = ax * t2;
-        let t1032: f64 = t56 * t1031;
-        let t1033: f64 = t4 * t1032;
-        let t1034: f64 = t35 * t229;
-        let t1035: f64 = t56 * t208;
-        let t1036: f64 = t4 * t1035;
-        let t1037: f64 = wz * 6.68;
-        let t1038 = product(t1036, 3.34);
-        let t1039: f64 = t1038.added_to(t1037);
-        let t1040 = product(wx, t1039);
-        let t1041: f64 = wy * t2;
-        let t1042: f64 = t56 * t1041;
-        let t1043 = product(t4, t1042);
-        let t1044: f64 = t3 * t721;
-        let t1045: f64 = t35 * t1044;
-        let t1046: f64 = t1043.plus(t1045);
-        let t1047: f64 = t1046 * 3.34;
-        let t1048: f64 = wy * t1047;
-        let t1049: f64 = t1040.plus(t1048);
-        let t1050: f64 = wdy * 6.68;
-        let t1051 = product(t1034, 3.34);
-        let t1052: f64 = t1051.added_to(t1049);
-        let t1053: f64 = t1050 - t1052;
-        let t1054 = product(t86, t1053);
-        let t1055: f64 = wdy * t2;
-        let t1056: f64 = t56 * t1055;
-        let t1057 = product(t4, t1056);
-        let t1058: f64 = wdz * t5;
-        let t1059: f64 = t3 * t1058;
-        let t1060: f64 = t35 * t1059;
-        let t1061: f64 = t1057.plus(t1060);
-        let t1062: f64 = t35 * t187;
-        let t1063: f64 = wy * 6.68;
-        let t1064 = product(t1062, 3.34);
-        let t1065: f64 = t1064.subtracted_from(t1063);
-        let t1066 = product(wy, t1065);
-        let t1067: f64 = wz * t1039;
-        let t1068: f64 = t1066.plus(t1067);
-        let t1069: f64 = t149 * t699;
-        let t1070 = product(t61, t1069);
-        let t1071: f64 = t66 * t1069;
-        let t1072: f64 = t1070.plus(t1071);
-        let t1073: f64 = xc * 13.36;
-        let t1074 = product(t1072, 3.34);
-        let t1075: f64 = t1074.added_to(t1073);
-        let t1076 = product(wdy, t1075);
-        let t1077: f64 = t1061 * 3.34;
-        let t1078: f64 = t1068 + t1077;
-        let t1079: f64 = t0 * t1078;
-        let t1080: f64 = t1076.plus(t1079);
-        let t1081 = product(t22, t1053);
-        let t1082: f64 = xc * t5;
-        let t1083: f64 = t3 * t1082;
-        let t1084 = product(t35, t1083);
-        let t1085: f64 = t1084.added_to(yc);
-        let t1086 = product(t1085, 3.34);
-        let t1087: f64 = t1086.added_to(t52);
-        let t1088: f64 = wdx * t1087;
-        let t1089: f64 = t1081.minus(t1088);
-        let t1090: f64 = t1080 + t1089;
-        let t1091: f64 = t3 * t655;
-        let t1092 = product(t35, t1091);
-        let t1093: f64 = yc * t2;
-        let t1094: f64 = t56 * t1093;
-        let t1095: f64 = t4 * t1094;
-        let t1096: f64 = t1092.minus(t1095);
-        let t1097: f64 = t1096 * 3.34;
-        let t1098 = product(wdz, t1097);
-        let t1099: f64 = t37 * t142;
-        let t1100 = product(t44, t1099);
-        let t1101: f64 = t48 * t1099;
-        let t1102: f64 = t1100.minus(t1101);
-        let t1103: f64 = t1072 + t1102;
-        let t1104: f64 = t1103 * 3.34;
-        let t1105 = product(wx, t1104);
-        let t1106: f64 = t56 * t57;
-        let t1107 = product(t4, t1106);
-        let t1108: f64 = t1107.subtracted_from(zc);
-        let t1109 = product(t1108, 3.34);
-        let t1110: f64 = t1109.minus(t70);
-        let t1111 = product(wz, t1110);
-        let t1112: f64 = wy * t1087;
-        let t1113: f64 = t1111.plus(t1112);
-        let t1114: f64 = t1105.minus(t1113);
-        let t1115: f64 = wz * t1114;
-        let t1116: f64 = t1098.minus(t1115);
-        let t1117 = product(wx, t1110);
-        let t1118 = product(t1102, 3.34);
-        let t1119: f64 = t1118.added_to(t1073);
-        let t1120 = product(wz, t1119);
-        let t1121: f64 = wy * t1097;
-        let t1122: f64 = t1117.plus(t1121);
-        let t1123: f64 = t1120.subtracted_from(t1122);
-        let t1124 = product(wx, t1123);
-        let t1125: f64 = t1124.minus(t81);
-        let t1126: f64 = t1116 - t1125;
-        let t1127: f64 = t1090 - t1126;
-        let t1128: f64 = az * 33.35000000000001;
-        let t1129: f64 = t1033 * 8.35;
-        let t1130: f64 = t1127 * 2.5;
-        let t1131: f64 = t1068 + t1129;
-        let t1132: f64 = t1077 + t1130;
-        let t1133: f64 = t1131 + t1132;
-        let t1134: f64 = t1054.plus(t1128);
-        let t1135: f64 = t1134 + 327.1635000000001;
-        let t1136: f64 = t1133 - t1135;
-        let t1137: f64 = t56 * t196;
-        let t1138: f64 = t13 * t444;
-        let t1139 = product(t13, t448);
-        let t1140: f64 = wx * t8;
-        let t1141: f64 = t56 * t1140;
-        let t1142: f64 = t1139.plus(t1141);
-        let t1143: f64 = t1142 * 3.34;
-        let t1144 = product(wx, t1143);
-        let t1145: f64 = t56 * t209;
-        let t1146 = product(t1145, 3.34);
-        let t1147: f64 = t1146.subtracted_from(t1037);
-        let t1148: f64 = wy * t1147;
-        let t1149: f64 = t1144.minus(t1148);
-        let t1150: f64 = wdx * 6.68;
-        let t1151 = product(t1138, 3.34);
-        let t1152: f64 = t1151.added_to(t1150);
-        let t1153: f64 = t1152 - t1149;
-        let t1154: f64 = t86 * t1153;
-        let t1155: f64 = t13 * t460;
-        let t1156: f64 = wx * 6.68;
-        let t1157 = product(t1155, 3.34);
-        let t1158: f64 = t1157.added_to(t1156);
-        let t1159 = product(wy, t1158);
-        let t1160: f64 = wz * t1143;
-        let t1161: f64 = t1159.plus(t1160);
-        let t1162: f64 = ax * t8;
-        let t1163 = product(t56, t1162);
-        let t1164: f64 = t13 * t21;
-        let t1165: f64 = t171 * t1164;
-        let t1166: f64 = t1163.plus(t1165);
-        let t1167: f64 = t13 * t152;
-        let t1168 = product(t20, t1167);
-        let t1169: f64 = t25 * t1167;
-        let t1170: f64 = t1168.plus(t1169);
-        let t1171: f64 = yc * 13.36;
-        let t1172 = product(t1170, 3.34);
-        let t1173: f64 = t1172.added_to(t1171);
-        let t1174 = product(wz, t1173);
-        let t1175 = product(t56, t584);
-        let t1176: f64 = zc * t4;
-        let t1177: f64 = t7 * t1176;
-        let t1178: f64 = t13 * t1177;
-        let t1179: f64 = t1175.subtracted_from(t1178);
-        let t1180: f64 = t1179 * 3.34;
-        let t1181: f64 = wx * t1180;
-        let t1182 = product(t56, t580);
-        let t1183: f64 = t1182.added_to(zc);
-        let t1184 = product(t1183, 3.34);
-        let t1185: f64 = t1184.minus(t70);
-        let t1186 = product(wy, t1185);
-        let t1187: f64 = t1174.plus(t1181);
-        let t1188: f64 = t1186.subtracted_from(t1187);
-        let t1189 = product(wx, t1188);
-        let t1190 = product(t13, t242);
-        let t1191: f64 = t1190.subtracted_from(xc);
-        let t1192 = product(t1191, 3.34);
-        let t1193: f64 = t1192.minus(t29);
-        let t1194 = product(wdx, t1193);
-        let t1195: f64 = t430 - t1170;
-        let t1196: f64 = t1195 * 3.34;
-        let t1197: f64 = wdy * t1196;
-        let t1198: f64 = t1194.plus(t1197);
-        let t1199: f64 = t1189.plus(t1198);
-        let t1200: f64 = wdz * 6.68;
-        let t1201 = product(t1137, 3.34);
-        let t1202: f64 = t1201.added_to(t1161);
-        let t1203: f64 = t1200 - t1202;
-        let t1204 = product(t0, t1203);
-        let t1205: f64 = t22 * t1153;
-        let t1206: f64 = t1204.minus(t1205);
-        let t1207 = product(wdz, t1185);
-        let t1208 = product(t430, 3.34);
-        let t1209: f64 = t1208.subtracted_from(t1171);
-        let t1210 = product(wx, t1209);
-        let t1211 = product(wy, t1193);
-        let t1212: f64 = wz * t1180;
-        let t1213: f64 = t1210.plus(t1212);
-        let t1214: f64 = t1211.subtracted_from(t1213);
-        let t1215: f64 = wz * t1214;
-        let t1216: f64 = t1207.minus(t1215);
-        let t1217: f64 = t1206 - t1216;
-        let t1218: f64 = t1199 - t1217;
-        let t1219 = product(wdz, 8.68);
-        let t1220: f64 = t1166 * 8.35;
-        let t1221: f64 = t1218 * 2.5;
-        let t1222: f64 = t1219.added_to(t1154);
-        let t1223: f64 = t1220 + t1221;
-        let t1224: f64 = t1202 + t1223;
-        let t1225: f64 = t1222 - t1224;
-        let t1226: f64 = t42 * t917;
-        let t1227: f64 = t18 * t21;
-        let t1228: f64 = t171 * t1227;
-        let t1229 = product(t42, t909);
-        let t1230: f64 = t18 * t444;
-        let t1231: f64 = t1229.minus(t1230);
-        let t1232: f64 = t18 * t448;
-        let t1233 = product(t1232, 3.34);
-        let t1234: f64 = t1233.added_to(t1156);
-        let t1235 = product(wx, t1234);
-        let t1236: f64 = wz * t35;
-        let t1237: f64 = t42 * t1236;
-        let t1238 = product(t1237, 3.34);
-        let t1239: f64 = t1238.added_to(t1063);
-        let t1240: f64 = wy * t1239;
-        let t1241: f64 = t1235.plus(t1240);
-        let t1242 = product(t1231, 3.34);
-        let t1243: f64 = t1242.added_to(t1241);
-        let t1244 = product(t86, t1243);
-        let t1245 = product(t42, t919);
-        let t1246: f64 = t18 * t460;
-        let t1247: f64 = t1245.minus(t1246);
-        let t1248: f64 = t1247 * 3.34;
-        let t1249 = product(wy, t1248);
-        let t1250: f64 = wz * t1234;
-        let t1251: f64 = t1249.minus(t1250);
-        let t1252: f64 = t18 * t152;
-        let t1253 = product(t20, t1252);
-        let t1254: f64 = t25 * t1252;
-        let t1255: f64 = t1253.plus(t1254);
-        let t1256: f64 = zc * 13.36;
-        let t1257 = product(t1255, 3.34);
-        let t1258: f64 = t1257.added_to(t1256);
-        let t1259 = product(wdy, t1258);
-        let t1260 = product(t42, t106);
-        let t1261: f64 = t1260.subtracted_from(yc);
-        let t1262 = product(t1261, 3.34);
-        let t1263: f64 = t1262.added_to(t52);
-        let t1264: f64 = wdz * t1263;
-        let t1265: f64 = t1259.minus(t1264);
-        let t1266: f64 = t1226 * 3.34;
-        let t1267: f64 = t1050 + t1266;
-        let t1268: f64 = t1267 - t1251;
-        let t1269 = product(t0, t1268);
-        let t1270: f64 = t22 * t1243;
-        let t1271: f64 = t1269.minus(t1270);
-        let t1272: f64 = t1265 - t1271;
-        let t1273 = product(t18, t242);
-        let t1274: f64 = xc * t35;
-        let t1275: f64 = t42 * t1274;
-        let t1276: f64 = t1273.plus(t1275);
-        let t1277: f64 = t1276 * 3.34;
-        let t1278 = product(wdx, t1277);
-        let t1279 = product(t421, 3.34);
-        let t1280: f64 = t1279.subtracted_from(t1256);
-        let t1281 = product(wx, t1280);
-        let t1282: f64 = wy * t1277;
-        let t1283 = product(t18, t1177);
-        let t1284: f64 = t1283.subtracted_from(xc);
-        let t1285 = product(t1284, 3.34);
-        let t1286: f64 = t1285.minus(t29);
-        let t1287 = product(wz, t1286);
-        let t1288: f64 = t1281.plus(t1282);
-        let t1289: f64 = t1287.subtracted_from(t1288);
-        let t1290: f64 = wz * t1289;
-        let t1291: f64 = t1278.plus(t1290);
-        let t1292 = product(wy, t1263);
-        let t1293: f64 = t421 - t1255;
-        let t1294: f64 = t1293 * 3.34;
-        let t1295: f64 = wz * t1294;
-        let t1296 = product(wx, t1286);
-        let t1297: f64 = t1292.plus(t1295);
-        let t1298: f64 = t1296.plus(t1297);
-        let t1299 = product(wx, t1298);
-        let t1300: f64 = t1299.added_to(t97);
-        let t1301: f64 = t1291 + t1300;
-        let t1302: f64 = t1272 + t1301;
-        let t1303 = product(wdy, 8.68);
-        let t1304: f64 = ax * 33.35000000000001;
-        let t1305: f64 = t1228 * 8.35;
-        let t1306: f64 = t1302 * 2.5;
-        let t1307: f64 = t1251 + t1304;
-        let t1308: f64 = t1306 + t1307;
-        let t1309: f64 = t1303.added_to(t1266);
-        let t1310: f64 = t1244.plus(t1305);
-        let t1311: f64 = t1309 + t1310;
-        let t1312: f64 = t1308 - t1311;
-        let t1313: f64 = t454 + t615;
-        let t1314: f64 = t676 - t875;
-        let t1315: f64 = t1129 + t1130;
-        let t1316: f64 = t1135 - t1315;
-        let t1317: f64 = wdz * 2.0;
-        let t1318: f64 = t1220 + t1317;
-        let t1319: f64 = t1221 + t1318;
-        let t1320: f64 = t1319 - t1154;
-        let t1321 = product(wdy, 2.0);
-        let t1322: f64 = t1321.added_to(t1304);
-        let t1323: f64 = t1306 + t1322;
-        let t1324: f64 = t1310 - t1323;
-        let t1325 = product(wz, t436);
-        let t1326: f64 = wdx * t433;
-        let t1327: f64 = t1325.minus(t1326);
-        let t1328: f64 = wdz * t4;
-        let t1329: f64 = t7 * t1328;
-        let t1330 = product(t442, t1329);
-        let t1331: f64 = wx * t462;
-        let t1332: f64 = t1330.plus(t1331);
-        let t1333: f64 = t1327 + t1332;
-        let t1334 = product(t317, t1333);
-        let t1335 = product(yc, t466);
-        let t1336: f64 = t22 * t1333;
-        let t1337: f64 = t1335.plus(t1336);
-        let t1338 = product(t18, t491);
-        let t1339: f64 = t42 * t508;
-        let t1340: f64 = t1338.plus(t1339);
-        let t1341: f64 = t239 + t1340;
-        let t1342: f64 = t1337 - t1341;
-        let t1343 = product(wdz, t602);
-        let t1344: f64 = ax * t424;
-        let t1345: f64 = t1343.plus(t1344);
-        let t1346 = product(t333, t546);
-        let t1347: f64 = wdx * t595;
-        let t1348: f64 = t1346.plus(t1347);
-        let t1349: f64 = t1345 + t1348;
-        let t1350 = product(wdy, t568);
-        let t1351 = product(wy, t530);
-        let t1352 = product(wx, t556);
-        let t1353: f64 = wz * t568;
-        let t1354: f64 = t1352.plus(t1353);
-        let t1355: f64 = t1351.subtracted_from(t1354);
-        let t1356: f64 = wx * t1355;
-        let t1357: f64 = t1350.plus(t1356);
-        let t1358 = product(wy, t598);
-        let t1359: f64 = ay * t4;
-        let t1360: f64 = t7 * t1359;
-        let t1361: f64 = t442 * t1360;
-        let t1362: f64 = t1358.minus(t1361);
-        let t1363: f64 = t1357 + t1362;
-        let t1364: f64 = t1349 - t1363;
-        let t1365: f64 = t1342 - t1364;
-        let t1366: f64 = t1365 * 2.5;
-        let t1367: f64 = t1334.subtracted_from(t1366);
-        let t1368: f64 = t316 * t628;
-        let t1369 = product(wdz, t638);
-        let t1370: f64 = wdx * t56;
-        let t1371: f64 = t4 * t1370;
-        let t1372: f64 = t646 * t1371;
-        let t1373: f64 = t1369.minus(t1372);
-        let t1374 = product(wz, t667);
-        let t1375: f64 = wx * t684;
-        let t1376: f64 = t1374.plus(t1375);
-        let t1377: f64 = t1373 + t1376;
-        let t1378 = product(t317, t1377);
-        let t1379 = product(wdz, t850);
-        let t1380: f64 = t316 * t621;
-        let t1381: f64 = t1379.minus(t1380);
-        let t1382: f64 = t21 * t316;
-        let t1383 = product(t625, t1382);
-        let t1384: f64 = t18 * t748;
-        let t1385: f64 = t1383.plus(t1384);
-        let t1386: f64 = t1381 - t1385;
-        let t1387 = product(t42, t767);
-        let t1388: f64 = t16 * t204;
-        let t1389: f64 = t1387.minus(t1388);
-        let t1390 = product(t333, t781);
-        let t1391: f64 = wdx * t4;
-        let t1392: f64 = t843 * t1391;
-        let t1393: f64 = t1390.plus(t1392);
-        let t1394: f64 = t1389 + t1393;
-        let t1395: f64 = t1386 + t1394;
-        let t1396 = product(wdy, t815);
-        let t1397 = product(wy, t715);
-        let t1398: f64 = wx * t797;
-        let t1399 = product(wz, t815);
-        let t1400: f64 = t1397.plus(t1398);
-        let t1401: f64 = t1399.subtracted_from(t1400);
-        let t1402: f64 = wx * t1401;
-        let t1403: f64 = t1396.minus(t1402);
-        let t1404 = product(wy, t846);
-        let t1405: f64 = ay * t638;
-        let t1406: f64 = t1404.minus(t1405);
-        let t1407: f64 = t1403 + t1406;
-        let t1408 = product(ax, t665);
-        let t1409: f64 = yc * t688;
-        let t1410: f64 = t1408.minus(t1409);
-        let t1411 = product(t22, t1377);
-        let t1412 = product(t224, t623);
-        let t1413: f64 = t3 * t10;
-        let t1414: f64 = t236 * t1413;
-        let t1415: f64 = t1412.plus(t1414);
-        let t1416: f64 = t1411.plus(t1415);
-        let t1417: f64 = t1410 - t1416;
-        let t1418: f64 = t1407 - t1417;
-        let t1419: f64 = t1395 - t1418;
-        let t1420: f64 = t1419 * 2.5;
-        let t1421: f64 = t1378.added_to(t1368);
-        let t1422: f64 = t1420 + t1421;
-        let t1423: f64 = t316 * t886;
-        let t1424 = product(wx, t922);
-        let t1425 = product(wdz, t896);
-        let t1426: f64 = t35 * t925;
-        let t1427: f64 = t904 * t1426;
+        let t1003: f64 = t43 * t1002;
+        let t1004: f64 = t1001.plus(t1003);
+        let t1005: f64 = t1004 * 3.34;
+        let t1006: f64 = wz * t1005;
+        let t1007: f64 = t1000.plus(t1006);
+        let t1008: f64 = t65 * t68;
+        let t1009 = product(yc, t1008);
+        let t1010: f64 = t1009.subtracted_from(xc);
+        let t1011 = product(t1010, 3.34);
+        let t1012: f64 = t84 * 1.67;
+        let t1013: f64 = t1011.plus(t1012);
+        let t1014 = product(wdx, t1013);
+        let t1015 = product(t78, t1008);
+        let t1016: f64 = t83 * t1008;
+        let t1017: f64 = t1015.plus(t1016);
+        let t1018: f64 = t43 * t45;
+        let t1019 = product(t50, t1018);
+        let t1020: f64 = t55 * t1018;
+        let t1021: f64 = t1019.plus(t1020);
+        let t1022: f64 = t1017 - t1021;
+        let t1023: f64 = t1022 * 3.34;
+        let t1024: f64 = wdy * t1023;
+        let t1025: f64 = ax * t45;
+        let t1026: f64 = t43 * t1025;
+        let t1027: f64 = wdz * 6.68;
+        let t1028 = product(t995, 3.34);
+        let t1029: f64 = t1028.added_to(t1007);
+        let t1030: f64 = t1027 - t1029;
+        let t1031 = product(t0, t1030);
+        let t1032: f64 = t68 * t542;
+        let t1033 = product(wx, t1005);
+        let t1034: f64 = t43 * t138;
+        let t1035 = product(t1034, 3.34);
+        let t1036: f64 = t1035.subtracted_from(t909);
+        let t1037 = product(wy, t1036);
+        let t1038: f64 = wdx * 6.68;
+        let t1039 = product(t1032, 3.34);
+        let t1040: f64 = t1039.added_to(t1038);
+        let t1041: f64 = t1037.plus(t1040);
+        let t1042: f64 = t1033.subtracted_from(t1041);
+        let t1043: f64 = t78 * t1042;
+        let t1044 = product(t949, t1018);
+        let t1045: f64 = t1044.added_to(t59);
+        let t1046 = product(wdz, t1045);
+        let t1047: f64 = yc * 6.68;
+        let t1048: f64 = t4 + t1021;
+        let t1049 = product(t1048, 3.34);
+        let t1050: f64 = t1049.added_to(t1047);
+        let t1051 = product(wx, t1050);
+        let t1052 = product(wy, t1013);
+        let t1053: f64 = xc * t1018;
+        let t1054: f64 = t41 * 1.67;
+        let t1055 = product(t1008, t1054);
+        let t1056: f64 = t1053 * 3.34;
+        let t1057: f64 = t1055.minus(t1056);
+        let t1058: f64 = wz * t1057;
+        let t1059: f64 = t1051.plus(t1058);
+        let t1060: f64 = t1052.subtracted_from(t1059);
+        let t1061 = product(wz, t1060);
+        let t1062: f64 = t4 - t1017;
+        let t1063 = product(t1062, 3.34);
+        let t1064: f64 = t1063.added_to(t1047);
+        let t1065 = product(wz, t1064);
+        let t1066: f64 = wx * t1057;
+        let t1067 = product(wy, t1045);
+        let t1068: f64 = t1065.plus(t1066);
+        let t1069: f64 = t1067.subtracted_from(t1068);
+        let t1070: f64 = wx * t1069;
+        let t1071 = product(az, 16.680000000000003);
+        let t1072: f64 = t1071.added_to(t113);
+        let t1073: f64 = t1072 + 163.63080000000005;
+        let t1074: f64 = t1008 * t1073;
+        let t1075 = product(t1026, 3.34);
+        let t1076: f64 = t1014.plus(t1024);
+        let t1077: f64 = t1046.plus(t1070);
+        let t1078: f64 = t1076 + t1077;
+        let t1079: f64 = t1075.plus(t1078);
+        let t1080: f64 = t1031.plus(t1043);
+        let t1081: f64 = t1061.plus(t1074);
+        let t1082: f64 = t1080 + t1081;
+        let t1083: f64 = t1079 - t1082;
+        let t1084 = product(t118, t1083);
+        let t1085 = product(t571, t1042);
+        let t1086: f64 = t116 * t1008;
+        let t1087: f64 = t118 * t1086;
+        let t1088: f64 = t1085.plus(t1087);
+        let t1089: f64 = t1084.plus(t1088);
+        let t1090 = product(wdz, 8.68);
+        let t1091: f64 = t1090.added_to(t1089);
+        let t1092: f64 = t1091 - t1029;
+        let t1093: f64 = wdz * t15;
+        let t1094: f64 = t22 * t1093;
+        let t1095: f64 = wx * t15;
+        let t1096 = product(t22, t1095);
+        let t1097: f64 = t73 * t530;
+        let t1098: f64 = t1096.minus(t1097);
+        let t1099: f64 = t1098 * 3.34;
+        let t1100 = product(wy, t1099);
+        let t1101: f64 = t73 * t525;
+        let t1102 = product(t1101, 3.34);
+        let t1103: f64 = t1102.added_to(t997);
+        let t1104: f64 = wz * t1103;
+        let t1105: f64 = t1100.minus(t1104);
+        let t1106: f64 = t65 * t73;
+        let t1107 = product(t78, t1106);
+        let t1108: f64 = t83 * t1106;
+        let t1109: f64 = t1107.plus(t1108);
+        let t1110: f64 = zc * 6.68;
+        let t1111: f64 = t41 - t1109;
+        let t1112 = product(t1111, 3.34);
+        let t1113: f64 = t1112.added_to(t1110);
+        let t1114 = product(wdy, t1113);
+        let t1115: f64 = t15 * t22;
+        let t1116 = product(zc, t1115);
+        let t1117: f64 = t1116.subtracted_from(yc);
+        let t1118 = product(t1117, 3.34);
+        let t1119: f64 = t34 * 1.67;
+        let t1120: f64 = t1118.plus(t1119);
+        let t1121 = product(wdz, t1120);
+        let t1122: f64 = t1094 * 3.34;
+        let t1123: f64 = t937 + t1122;
+        let t1124: f64 = t1123 - t1105;
+        let t1125: f64 = t0 * t1124;
+        let t1126: f64 = wdx * t15;
+        let t1127 = product(t22, t1126);
+        let t1128: f64 = t73 * t542;
+        let t1129 = product(wx, t1103);
+        let t1130: f64 = wz * t15;
+        let t1131: f64 = t22 * t1130;
+        let t1132 = product(t1131, 3.34);
+        let t1133: f64 = t1132.added_to(t904);
+        let t1134 = product(wy, t1133);
+        let t1135: f64 = t1127.minus(t1128);
+        let t1136: f64 = t1135 * 3.34;
+        let t1137: f64 = t1129.plus(t1136);
+        let t1138: f64 = t1134.plus(t1137);
+        let t1139 = product(t78, t1138);
+        let t1140: f64 = yc * t1106;
+        let t1141 = product(t943, t1115);
+        let t1142: f64 = t1140 * 3.34;
+        let t1143: f64 = t1141.plus(t1142);
+        let t1144 = product(wdx, t1143);
+        let t1145 = product(t27, t1115);
+        let t1146: f64 = t33 * t1115;
+        let t1147: f64 = t1145.plus(t1146);
+        let t1148: f64 = t41 - t1147;
+        let t1149 = product(t1148, 3.34);
+        let t1150: f64 = t1149.added_to(t1110);
+        let t1151 = product(wx, t1150);
+        let t1152: f64 = wy * t1143;
+        let t1153 = product(t1054, t1106);
+        let t1154: f64 = t1153.subtracted_from(t87);
+        let t1155 = product(wz, t1154);
+        let t1156: f64 = t1151.plus(t1152);
+        let t1157: f64 = t1155.subtracted_from(t1156);
+        let t1158: f64 = wz * t1157;
+        let t1159 = product(wy, t1120);
+        let t1160: f64 = t1109 + t1147;
+        let t1161: f64 = t1160 * 3.34;
+        let t1162: f64 = wz * t1161;
+        let t1163 = product(wx, t1154);
+        let t1164: f64 = t1159.plus(t1162);
+        let t1165: f64 = t1163.plus(t1164);
+        let t1166 = product(wx, t1165);
+        let t1167: f64 = t1073 * t1106;
+        let t1168: f64 = ax * 13.340000000000003;
+        let t1169: f64 = t1114.plus(t1168);
+        let t1170: f64 = t1144.plus(t1158);
+        let t1171: f64 = t1166.plus(t1167);
+        let t1172: f64 = t1169 + t1170;
+        let t1173: f64 = t98 + t1171;
+        let t1174: f64 = t1172 + t1173;
+        let t1175: f64 = t1121.plus(t1125);
+        let t1176: f64 = t1139.plus(t1175);
+        let t1177: f64 = t1174 - t1176;
+        let t1178 = product(t118, t1177);
+        let t1179 = product(t571, t1138);
+        let t1180: f64 = t116 * t1106;
+        let t1181: f64 = t118 * t1180;
+        let t1182: f64 = t1179.minus(t1181);
+        let t1183: f64 = t1178.plus(t1182);
+        let t1184 = product(wdy, 8.68);
+        let t1185: f64 = t1184.added_to(t1122);
+        let t1186: f64 = t1183 + t1185;
+        let t1187: f64 = t1105 - t1186;
+        let t1188: f64 = -t574;
+        let t1189: f64 = wdz * 2.0;
+        let t1190: f64 = t1189 - t1089;
+        let t1191: f64 = wdy * 2.0;
+        let t1192: f64 = t1183 - t1191;
+        let t1193 = product(wdx, t432);
+        let t1194 = product(wz, t540);
+        let t1195: f64 = wdz * t65;
+        let t1196: f64 = t477 * t1195;
+        let t1197: f64 = wx * t532;
+        let t1198: f64 = t1193.plus(t1196);
+        let t1199: f64 = t1194.plus(t1197);
+        let t1200: f64 = t1198 - t1199;
+        let t1201 = product(t299, t1200);
+        let t1202: f64 = t65 * t294;
+        let t1203: f64 = t296 * t1202;
+        let t1204 = product(t408, t1203);
+        let t1205 = product(t73, t404);
+        let t1206 = product(wdz, t514);
+        let t1207 = product(ax, t489);
+        let t1208 = product(t22, t449);
+        let t1209 = product(t42, t463);
+        let t1210: f64 = wdx * t508;
+        let t1211 = product(wdy, t493);
+        let t1212 = product(wy, t429);
+        let t1213 = product(wx, t482);
+        let t1214: f64 = wz * t493;
+        let t1215: f64 = t1213.plus(t1214);
+        let t1216: f64 = t1212.subtracted_from(t1215);
+        let t1217: f64 = wx * t1216;
+        let t1218: f64 = wy * t511;
+        let t1219 = product(yc, t535);
+        let t1220: f64 = t78 * t1200;
+        let t1221 = product(ay, t477);
+        let t1222: f64 = t294 * t408;
+        let t1223: f64 = t1221.minus(t1222);
+        let t1224 = product(t65, t1223);
+        let t1225: f64 = t1206.added_to(t128);
+        let t1226: f64 = t1207.plus(t1218);
+        let t1227: f64 = t1225 + t1226;
+        let t1228: f64 = t1205.added_to(t148);
+        let t1229: f64 = t1208.added_to(t163);
+        let t1230: f64 = t1209.plus(t1210);
+        let t1231: f64 = t1211.plus(t1217);
+        let t1232: f64 = t1219.plus(t1220);
+        let t1233: f64 = t1228 + t1229;
+        let t1234: f64 = t1230 + t1231;
+        let t1235: f64 = t1224.plus(t1232);
+        let t1236: f64 = t1233 + t1234;
+        let t1237: f64 = t1235 + t1236;
+        let t1238: f64 = t1227 - t1237;
+        let t1239: f64 = t296 * t1238;
+        let t1240: f64 = t1204.minus(t1239);
+        let t1241: f64 = t1201.subtracted_from(t1240);
+        let t1242 = product(wdz, t618);
+        let t1243 = product(wdx, t615);
+        let t1244: f64 = wz * t657;
+        let t1245 = product(wx, t642);
+        let t1246: f64 = t1242.plus(t1244);
+        let t1247: f64 = t1245.plus(t1246);
+        let t1248: f64 = t1243.subtracted_from(t1247);
+        let t1249 = product(t299, t1248);
+        let t1250 = product(t341, t587);
+        let t1251 = product(wdz, t735);
+        let t1252 = product(ay, t618);
+        let t1253: f64 = ax * t637;
+        let t1254: f64 = yc * t649;
+        let t1255 = product(t294, t587);
+        let t1256 = product(t78, t1248);
+        let t1257: f64 = t8 * t73;
+        let t1258: f64 = t669 * t1257;
+        let t1259: f64 = t22 * t690;
+        let t1260 = product(t42, t701);
+        let t1261: f64 = wdx * t729;
+        let t1262 = product(wdy, t715);
+        let t1263 = product(wy, t612);
+        let t1264 = product(wx, t708);
+        let t1265: f64 = wz * t715;
+        let t1266: f64 = t1263.plus(t1265);
+        let t1267: f64 = t1264.minus(t1266);
+        let t1268 = product(wx, t1267);
+        let t1269: f64 = wy * t732;
+        let t1270: f64 = t6 * t746;
+        let t1271: f64 = t1251.plus(t1254);
+        let t1272: f64 = t1255.plus(t1258);
+        let t1273: f64 = t1262.plus(t1270);
+        let t1274: f64 = t1271 + t1272;
+        let t1275: f64 = t1273 + t1274;
+        let t1276: f64 = t1252.plus(t1253);
+        let t1277: f64 = t1256.plus(t1259);
+        let t1278: f64 = t1260.plus(t1261);
+        let t1279: f64 = t1268.plus(t1269);
+        let t1280: f64 = t1276 + t1277;
+        let t1281: f64 = t1278 + t1279;
+        let t1282: f64 = t1280 + t1281;
+        let t1283: f64 = t1275 - t1282;
+        let t1284: f64 = t296 * t1283;
+        let t1285: f64 = t1250.minus(t1284);
+        let t1286: f64 = t1249.minus(t1285);
+        let t1287 = product(wdz, t796);
+        let t1288: f64 = t780 * t801;
+        let t1289 = product(wx, t798);
+        let t1290: f64 = t1287.plus(t1288);
+        let t1291: f64 = t1289.plus(t1290);
+        let t1292 = product(t299, t1291);
+        let t1293 = product(t341, t789);
+        let t1294 = product(t22, t127);
+        let t1295 = product(t73, t808);
+        let t1296: f64 = t73 * t147;
+        let t1297: f64 = t22 * t820;
+        let t1298 = product(t42, t828);
+        let t1299 = product(wdx, t855);
+        let t1300: f64 = wdz * t863;
+        let t1301: f64 = ay * t796;
+        let t1302 = product(yc, t803);
+        let t1303: f64 = t294 * t789;
+        let t1304 = product(t78, t1291);
+        let t1305 = product(wy, t833);
+        let t1306 = product(wx, t843);
+        let t1307: f64 = zc * wz;
+        let t1308: f64 = t780 * t1307;
+        let t1309: f64 = t1305.plus(t1308);
+        let t1310: f64 = t1306.minus(t1309);
+        let t1311: f64 = wx * t1310;
+        let t1312 = product(wy, t859);
+        let t1313 = product(zc, wdy);
+        let t1314: f64 = t1313.subtracted_from(ax);
+        let t1315 = product(t780, t1314);
+        let t1316: f64 = t1294.plus(t1296);
+        let t1317: f64 = t1299.plus(t1301);
+        let t1318: f64 = t1304.plus(t1311);
+        let t1319: f64 = t1316 + t1317;
+        let t1320: f64 = t1315.plus(t1318);
+        let t1321: f64 = t1319 + t1320;
+        let t1322: f64 = t1295.plus(t1297);
+        let t1323: f64 = t1298.plus(t1300);
+        let t1324: f64 = t1302.plus(t1303);
+        let t1325: f64 = t1322 + t1323;
+        let t1326: f64 = t1312.plus(t1324);
+        let t1327: f64 = t1325 + t1326;
+        let t1328: f64 = t1321 - t1327;
+        let t1329: f64 = t296 * t1328;
+        let t1330: f64 = t1293.plus(t1329);
+        let t1331: f64 = t1292.minus(t1330);
+        let t1332: f64 = t43 * t149;
+        let t1333 = product(wz, t935);
+        let t1334 = product(wx, t906);
+        let t1335 = product(t1332, 3.34);
+        let t1336: f64 = t1335.added_to(t1027);
+        let t1337: f64 = t1334.plus(t1336);
+        let t1338: f64 = t1333.subtracted_from(t1337);
+        let t1339 = product(t299, t1338);
+        let t1340 = product(wdx, t964);
+        let t1341 = product(wdz, t973);
+        let t1342: f64 = ax * t16;
+        let t1343: f64 = t15 * t1342;
+        let t1344 = product(yc, t926);
+        let t1345: f64 = t78 * t1338;
+        let t1346 = product(wdy, t952);
+        let t1347 = product(wy, t921);
+        let t1348 = product(wx, t946);
+        let t1349: f64 = wz * t952;
+        let t1350: f64 = t1348.plus(t1349);
+        let t1351: f64 = t1347.subtracted_from(t1350);
+        let t1352: f64 = wx * t1351;
+        let t1353: f64 = wy * t968;
+        let t1354: f64 = ay * 6.68;
+        let t1355 = product(t1343, 3.34);
+        let t1356: f64 = t1340.plus(t1354);
+        let t1357: f64 = t1344.plus(t1345);
+        let t1358: f64 = t1346.plus(t1352);
+        let t1359: f64 = t1356 + t1357;
+        let t1360: f64 = t1358 + t1359;
+        let t1361: f64 = t1341.plus(t1353);
+        let t1362: f64 = t1355.plus(t1361);
+        let t1363: f64 = t1360 - t1362;
+        let t1364 = product(t296, t1363);
+        let t1365: f64 = t1364.subtracted_from(t341);
+        let t1366: f64 = t1339.added_to(t1189);
+        let t1367: f64 = t1365 + t1366;
+        let t1368: f64 = -t1367;
+        let t1369 = product(t68, t1195);
+        let t1370: f64 = wdx * t45;
+        let t1371: f64 = t43 * t1370;
+        let t1372 = product(wz, t1036);
+        let t1373 = product(wx, t999);
+        let t1374: f64 = t1369.plus(t1371);
+        let t1375: f64 = t1374 * 3.34;
+        let t1376: f64 = t1372.plus(t1375);
+        let t1377: f64 = t1373.plus(t1376);
+        let t1378 = product(t299, t1377);
+        let t1379: f64 = t294 * t1008;
+        let t1380 = product(t296, t1379);
+        let t1381 = product(wdz, t1064);
+        let t1382 = product(yc, t1030);
+        let t1383: f64 = t78 * t1377;
+        let t1384 = product(wdx, t1057);
+        let t1385 = product(wdy, t1045);
+        let t1386 = product(wx, t1013);
+        let t1387: f64 = wy * t1023;
+        let t1388 = product(wz, t1045);
+        let t1389: f64 = t1386.plus(t1387);
+        let t1390: f64 = t1388.plus(t1389);
+        let t1391: f64 = wx * t1390;
+        let t1392 = product(wy, t1060);
+        let t1393 = product(ay, 16.680000000000003);
+        let t1394: f64 = t1393.added_to(t292);
+        let t1395: f64 = t1008 * t1394;
+        let t1396: f64 = t1382.added_to(t1168);
+        let t1397: f64 = t1385.plus(t1391);
+        let t1398: f64 = t1392.plus(t1395);
+        let t1399: f64 = t1396 + t1397;
+        let t1400: f64 = t98 + t1398;
+        let t1401: f64 = t1399 + t1400;
+        let t1402: f64 = t1381.plus(t1383);
+        let t1403: f64 = t1384.plus(t1402);
+        let t1404: f64 = t1401 - t1403;
+        let t1405: f64 = t296 * t1404;
+        let t1406: f64 = t1380.minus(t1405);
+        let t1407: f64 = t1378.minus(t1406);
+        let t1408: f64 = t73 * t1195;
+        let t1409 = product(wz, t1133);
+        let t1410: f64 = wx * t1099;
+        let t1411 = product(t1408, 3.34);
+        let t1412: f64 = t1411.added_to(t1038);
+        let t1413: f64 = t1409.plus(t1410);
+        let t1414: f64 = t1412 - t1413;
+        let t1415 = product(t299, t1414);
+        let t1416: f64 = t294 * t1106;
+        let t1417 = product(t296, t1416);
+        let t1418 = product(wdy, t1120);
+        let t1419: f64 = wdz * t1161;
+        let t1420: f64 = ax * t15;
+        let t1421: f64 = t22 * t1420;
+        let t1422 = product(yc, t1124);
+        let t1423: f64 = t78 * t1414;
+        let t1424 = product(wdx, t1154);
+        let t1425 = product(wy, t1113);
+        let t1426 = product(wz, t1120);
+        let t1427: f64 = wx * t1143;
         let t1428: f64 = t1425.plus(t1427);
-        let t1429: f64 = t1424.plus(t1428);
-        let t1430 = product(t317, t1429);
-        let t1431 = product(t42, t224);
-        let t1432: f64 = t18 * t934;
-        let t1433: f64 = t1431.minus(t1432);
-        let t1434 = product(t18, t236);
-        let t1435: f64 = t42 * t943;
-        let t1436: f64 = t1434.minus(t1435);
-        let t1437: f64 = t1433 + t1436;
-        let t1438 = product(wdz, t1011);
-        let t1439: f64 = t316 * t880;
-        let t1440: f64 = t1438.minus(t1439);
-        let t1441 = product(t883, t1382);
-        let t1442: f64 = t333 * t967;
-        let t1443: f64 = t1441.minus(t1442);
-        let t1444: f64 = t1440 - t1443;
-        let t1445: f64 = t1437 + t1444;
-        let t1446: f64 = t7 * t1391;
-        let t1447 = product(t1005, t1446);
-        let t1448: f64 = zc * wdy;
-        let t1449: f64 = t35 * t1448;
-        let t1450: f64 = t904 * t1449;
-        let t1451: f64 = t1447.minus(t1450);
-        let t1452 = product(wy, t956);
-        let t1453: f64 = wx * t982;
-        let t1454: f64 = zc * wz;
-        let t1455: f64 = t35 * t1454;
-        let t1456 = product(t904, t1455);
-        let t1457: f64 = t1452.plus(t1453);
-        let t1458: f64 = t1456.subtracted_from(t1457);
-        let t1459 = product(wx, t1458);
-        let t1460: f64 = wy * t1008;
-        let t1461: f64 = t1459.minus(t1460);
-        let t1462: f64 = t1451 + t1461;
-        let t1463 = product(ay, t896);
-        let t1464: f64 = ax * t35;
-        let t1465: f64 = t904 * t1464;
-        let t1466: f64 = t1463.plus(t1465);
-        let t1467 = product(yc, t927);
-        let t1468: f64 = t22 * t1429;
-        let t1469: f64 = t1467.plus(t1468);
-        let t1470: f64 = t1466 - t1469;
-        let t1471: f64 = t1462 + t1470;
-        let t1472: f64 = t1445 + t1471;
-        let t1473: f64 = t1472 * 2.5;
-        let t1474: f64 = t1430.added_to(t1423);
-        let t1475: f64 = t1473 + t1474;
-        let t1476: f64 = ax * t5;
-        let t1477: f64 = t3 * t1476;
-        let t1478: f64 = t35 * t1477;
-        let t1479: f64 = t56 * t179;
-        let t1480: f64 = t4 * t1479;
-        let t1481 = product(wx, t1065);
-        let t1482: f64 = wz * t1047;
-        let t1483: f64 = t1481.minus(t1482);
-        let t1484 = product(t1480, 3.34);
-        let t1485: f64 = t1484.added_to(t1200);
-        let t1486: f64 = t1483 + t1485;
-        let t1487 = product(t317, t1486);
-        let t1488 = product(wdx, t1110);
-        let t1489: f64 = wdz * t1119;
-        let t1490: f64 = t1488.minus(t1489);
-        let t1491 = product(yc, t1078);
-        let t1492: f64 = t22 * t1486;
-        let t1493: f64 = t1491.minus(t1492);
-        let t1494: f64 = t1490 + t1493;
-        let t1495 = product(wdy, t1097);
-        let t1496 = product(wy, t1075);
-        let t1497 = product(wx, t1087);
-        let t1498: f64 = wz * t1097;
-        let t1499: f64 = t1497.plus(t1498);
-        let t1500: f64 = t1496.subtracted_from(t1499);
-        let t1501: f64 = wx * t1500;
-        let t1502: f64 = t1495.plus(t1501);
-        let t1503 = product(wy, t1114);
-        let t1504: f64 = t1503.minus(t314);
-        let t1505: f64 = t1502 + t1504;
-        let t1506: f64 = t1494 + t1505;
-        let t1507: f64 = ay * 33.35000000000001;
-        let t1508: f64 = t1478 * 8.35;
-        let t1509: f64 = t1506 * 2.5;
-        let t1510: f64 = t1507 + t1508;
-        let t1511: f64 = t1487.added_to(t1317);
-        let t1512: f64 = t1509 + t1511;
-        let t1513: f64 = t1510 - t1512;
-        let t1514: f64 = t13 * t1360;
-        let t1515 = product(t13, t1329);
-        let t1516: f64 = wdx * t8;
-        let t1517: f64 = t56 * t1516;
-        let t1518: f64 = t1515.plus(t1517);
-        let t1519 = product(wz, t1147);
-        let t1520: f64 = wx * t1158;
-        let t1521: f64 = t1519.plus(t1520);
-        let t1522 = product(t1518, 3.34);
-        let t1523: f64 = t1522.added_to(t1521);
-        let t1524 = product(t317, t1523);
-        let t1525 = product(wdz, t1173);
-        let t1526: f64 = yc * t1203;
-        let t1527: f64 = t1525.minus(t1526);
-        let t1528 = product(t22, t1523);
-        let t1529: f64 = wdx * t1180;
-        let t1530: f64 = t1528.minus(t1529);
-        let t1531: f64 = t1527 - t1530;
-        let t1532 = product(wdy, t1185);
-        let t1533 = product(wx, t1193);
-        let t1534: f64 = wy * t1196;
-        let t1535 = product(wz, t1185);
-        let t1536: f64 = t1533.plus(t1534);
-        let t1537: f64 = t1535.plus(t1536);
-        let t1538: f64 = wx * t1537;
-        let t1539: f64 = t1532.plus(t1538);
-        let t1540 = product(wy, t1214);
-        let t1541: f64 = t1540.added_to(t97);
-        let t1542: f64 = t1539 + t1541;
-        let t1543: f64 = t1531 - t1542;
-        let t1544: f64 = t1514 * 8.35;
-        let t1545: f64 = t1543 * 2.5;
-        let t1546: f64 = t1524.plus(t1544);
-        let t1547: f64 = t1545 + t1546;
-        let t1548: f64 = t1547 - t1304;
-        let t1549: f64 = t18 * t1329;
-        let t1550 = product(wz, t1239);
-        let t1551: f64 = wx * t1248;
-        let t1552: f64 = t1550.plus(t1551);
-        let t1553 = product(t1549, 3.34);
-        let t1554: f64 = t1553.added_to(t1150);
-        let t1555: f64 = t1554 - t1552;
-        let t1556 = product(t317, t1555);
-        let t1557 = product(t18, t1360);
-        let t1558: f64 = t42 * t1464;
-        let t1559: f64 = t1557.minus(t1558);
-        let t1560 = product(wy, t1289);
-        let t1561 = product(wdy, t1263);
-        let t1562: f64 = wdz * t1294;
-        let t1563: f64 = t1561.plus(t1562);
-        let t1564: f64 = t1560.plus(t1563);
-        let t1565 = product(yc, t1268);
-        let t1566: f64 = t22 * t1555;
-        let t1567: f64 = t1565.minus(t1566);
-        let t1568 = product(wdx, t1286);
-        let t1569 = product(wy, t1258);
-        let t1570 = product(wz, t1263);
-        let t1571: f64 = wx * t1277;
-        let t1572: f64 = t1569.plus(t1571);
-        let t1573: f64 = t1570.subtracted_from(t1572);
-        let t1574: f64 = wx * t1573;
-        let t1575: f64 = t1568.minus(t1574);
-        let t1576: f64 = t1567 - t1575;
-        let t1577: f64 = t1564 - t1576;
-        let t1578: f64 = wdx * 2.0;
-        let t1579: f64 = t1559 * 8.35;
-        let t1580: f64 = t1577 * 2.5;
-        let t1581: f64 = t1556.plus(t1578);
-        let t1582: f64 = t1579 + t1581;
-        let t1583: f64 = t1582 - t1580;
-        let t1584 = product(t360, t1333);
-        let t1585: f64 = t1584.minus(t1366);
-        let t1586 = product(t360, t1377);
-        let t1587: f64 = t1586.added_to(t1368);
-        let t1588: f64 = t1420 + t1587;
-        let t1589: f64 = -t1588;
-        let t1590 = product(t360, t1429);
-        let t1591: f64 = t1590.added_to(t1423);
-        let t1592: f64 = t1473 + t1591;
-        let t1593: f64 = -t1592;
-        let t1594 = product(t360, t1486);
-        let t1595: f64 = t1594.added_to(t1509);
-        let t1596: f64 = t1317 + t1507;
-        let t1597: f64 = t1508 + t1596;
-        let t1598: f64 = t1595 - t1597;
-        let t1599 = product(t360, t1523);
-        let t1600: f64 = t1599.added_to(t1544);
-        let t1601: f64 = t1545 + t1600;
-        let t1602: f64 = t1304 - t1601;
-        let t1603 = product(t360, t1555);
-        let t1604: f64 = t1578 + t1580;
-        let t1605: f64 = t1603.added_to(t1579);
-        let t1606: f64 = t1604 - t1605;
-        let t1607 = product(wy, t607);
-        let t1608: f64 = wz * t1355;
-        let t1609: f64 = t1607.plus(t1608);
-        let t1610 = product(t0, t1333);
-        let t1611: f64 = yc * t453;
-        let t1612: f64 = t1610.plus(t1611);
-        let t1613: f64 = t1609 - t1612;
-        let t1614 = product(t379, t491);
-        let t1615: f64 = t37 * t508;
-        let t1616: f64 = t1614.minus(t1615);
-        let t1617 = product(wdx, t577);
-        let t1618: f64 = t171 * t424;
-        let t1619: f64 = t1617.minus(t1618);
-        let t1620: f64 = t1616 + t1619;
-        let t1621 = product(ay, t433);
-        let t1622: f64 = t2 * t546;
-        let t1623: f64 = t1621.minus(t1622);
-        let t1624 = product(wdy, t556);
-        let t1625: f64 = wdz * t595;
-        let t1626: f64 = t1624.minus(t1625);
-        let t1627: f64 = t1623 + t1626;
-        let t1628: f64 = t1620 - t1627;
-        let t1629: f64 = t1613 + t1628;
-        let t1630: f64 = t453 + t1333;
-        let t1631 = product(t1630, 0.5);
-        let t1632: f64 = t1629 * 2.5;
-        let t1633: f64 = t1631.minus(t1632);
-        let t1634 = product(yc, t674);
-        let t1635: f64 = t2 * t6;
-        let t1636 = product(t224, t1635);
-        let t1637: f64 = t40 * t236;
-        let t1638: f64 = t1636.plus(t1637);
-        let t1639: f64 = t1634.plus(t1638);
-        let t1640 = product(wdx, t828);
-        let t1641: f64 = t3 * t204;
-        let t1642: f64 = t1640.plus(t1641);
-        let t1643 = product(t379, t748);
-        let t1644: f64 = t37 * t767;
-        let t1645: f64 = t1643.plus(t1644);
-        let t1646: f64 = t1642 - t1645;
-        let t1647: f64 = t1639 - t1646;
-        let t1648 = product(t2, t781);
-        let t1649: f64 = wdy * t797;
-        let t1650: f64 = t1648.plus(t1649);
-        let t1651 = product(t843, t1328);
-        let t1652: f64 = wy * t856;
-        let t1653: f64 = t1651.plus(t1652);
-        let t1654: f64 = t1650 + t1653;
-        let t1655 = product(wz, t1401);
-        let t1656: f64 = t171 * t665;
-        let t1657: f64 = t1655.plus(t1656);
-        let t1658: f64 = ay * t56;
-        let t1659: f64 = t4 * t1658;
-        let t1660 = product(t646, t1659);
-        let t1661: f64 = t0 * t1377;
-        let t1662: f64 = t1660.plus(t1661);
-        let t1663: f64 = t1657 + t1662;
-        let t1664: f64 = t1654 - t1663;
-        let t1665: f64 = t1647 - t1664;
-        let t1666: f64 = t673 - t1377;
-        let t1667 = product(t1666, 0.5);
-        let t1668: f64 = t1665 * 2.5;
-        let t1669: f64 = t1667.minus(t1668);
-        let t1670: f64 = t35 * t171;
-        let t1671 = product(t904, t1670);
-        let t1672: f64 = t0 * t1429;
-        let t1673: f64 = t1671.plus(t1672);
-        let t1674 = product(yc, t914);
-        let t1675 = product(t37, t224);
-        let t1676: f64 = t379 * t934;
-        let t1677: f64 = t1675.plus(t1676);
-        let t1678: f64 = t1674.plus(t1677);
-        let t1679: f64 = t1673 + t1678;
-        let t1680 = product(t236, t379);
-        let t1681: f64 = t37 * t943;
-        let t1682: f64 = t1680.plus(t1681);
-        let t1683 = product(wdx, t997);
-        let t1684: f64 = t2 * t967;
-        let t1685: f64 = t1683.plus(t1684);
-        let t1686: f64 = t1682 + t1685;
-        let t1687 = product(wdy, t982);
-        let t1688: f64 = t1005 * t1329;
-        let t1689: f64 = t1687.plus(t1688);
-        let t1690 = product(wy, t1019);
-        let t1691: f64 = wz * t1458;
-        let t1692: f64 = t1690.minus(t1691);
-        let t1693: f64 = t1689 + t1692;
-        let t1694: f64 = t1686 + t1693;
-        let t1695: f64 = t1679 - t1694;
-        let t1696: f64 = t913 - t1429;
-        let t1697 = product(t1696, 0.5);
-        let t1698: f64 = t1695 * 2.5;
-        let t1699: f64 = t1697.minus(t1698);
-        let t1700: f64 = t35 * t37;
-        let t1701 = product(t171, t1700);
-        let t1702: f64 = ay * t2;
-        let t1703: f64 = t56 * t1702;
-        let t1704: f64 = t4 * t1703;
-        let t1705: f64 = t1701.plus(t1704);
-        let t1706 = product(wz, t1500);
-        let t1707 = product(wdx, t1104);
-        let t1708: f64 = wdz * t1110;
-        let t1709: f64 = t1707.minus(t1708);
-        let t1710: f64 = t1706.plus(t1709);
-        let t1711 = product(t0, t1486);
-        let t1712: f64 = yc * t1053;
-        let t1713: f64 = t1711.plus(t1712);
-        let t1714 = product(wdy, t1087);
-        let t1715: f64 = wy * t1123;
-        let t1716: f64 = t1714.plus(t1715);
-        let t1717: f64 = t1713 - t1716;
-        let t1718: f64 = t1710 + t1717;
-        let t1719: f64 = wdy * 5.34;
-        let t1720: f64 = wdz * 3.34;
-        let t1721: f64 = t1480 - t1034;
-        let t1722 = product(t1721, 1.67);
-        let t1723: f64 = t1483 - t1049;
-        let t1724: f64 = t1723 * 0.5;
-        let t1725: f64 = t1705 * 8.35;
-        let t1726: f64 = t1718 * 2.5;
-        let t1727: f64 = t1719 + t1720;
-        let t1728: f64 = t1722.plus(t1724);
-        let t1729: f64 = t1727 + t1728;
-        let t1730: f64 = t1726 + t1729;
-        let t1731: f64 = t1730 - t1725;
-        let t1732: f64 = ay * t8;
-        let t1733: f64 = t56 * t1732;
-        let t1734 = product(wdx, t1209);
-        let t1735: f64 = wdy * t1193;
-        let t1736: f64 = t1734.minus(t1735);
-        let t1737 = product(t0, t1523);
-        let t1738: f64 = yc * t1153;
-        let t1739: f64 = t1737.plus(t1738);
-        let t1740: f64 = t1736 - t1739;
-        let t1741 = product(wdz, t1180);
-        let t1742: f64 = wy * t1188;
-        let t1743: f64 = t1741.plus(t1742);
-        let t1744 = product(wz, t1537);
-        let t1745: f64 = t1744.added_to(t81);
-        let t1746: f64 = t1743 + t1745;
-        let t1747: f64 = t1740 + t1746;
-        let t1748: f64 = wdx * 5.34;
-        let t1749: f64 = t1138 + t1518;
-        let t1750 = product(t1749, 1.67);
-        let t1751: f64 = t1733 * 8.35;
-        let t1752: f64 = t1149 - t1521;
-        let t1753 = product(t1752, 0.5);
-        let t1754: f64 = t1747 * 2.5;
-        let t1755: f64 = t1128 + t1751;
-        let t1756: f64 = t1753.plus(t1754);
-        let t1757: f64 = t1755 + t1756;
-        let t1758: f64 = t1757 + 327.1635000000001;
-        let t1759: f64 = t1750.added_to(t1748);
-        let t1760: f64 = t1758 - t1759;
-        let t1761: f64 = t35 * t42;
-        let t1762: f64 = t171 * t1761;
-        let t1763 = product(wdx, t1280);
-        let t1764: f64 = t0 * t1555;
-        let t1765: f64 = t1763.minus(t1764);
-        let t1766 = product(yc, t1243);
-        let t1767: f64 = wdy * t1277;
-        let t1768: f64 = t1766.plus(t1767);
-        let t1769: f64 = t1765 + t1768;
-        let t1770 = product(wdz, t1286);
-        let t1771: f64 = wy * t1298;
-        let t1772: f64 = t1770.plus(t1771);
-        let t1773 = product(wz, t1573);
-        let t1774: f64 = t1773.added_to(t314);
-        let t1775: f64 = t1772 + t1774;
-        let t1776: f64 = t1769 - t1775;
-        let t1777 = product(wdx, 3.34);
-        let t1778: f64 = t1231 - t1549;
-        let t1779 = product(t1778, 1.67);
-        let t1780: f64 = t1762 * 8.35;
-        let t1781: f64 = t1241 + t1552;
-        let t1782 = product(t1781, 0.5);
-        let t1783: f64 = t1776 * 2.5;
-        let t1784: f64 = t1779.plus(t1780);
-        let t1785: f64 = t1782.plus(t1783);
-        let t1786: f64 = t1784 + t1785;
-        let t1787: f64 = t1777.added_to(t1507);
-        let t1788: f64 = t1786 - t1787;
-        let t1789: f64 = t453 - t1333;
-        let t1790 = product(t1789, 0.5);
-        let t1791: f64 = t1790.added_to(t1632);
-        let t1792: f64 = t673 + t1377;
-        let t1793 = product(t1792, 0.5);
-        let t1794: f64 = t1793.added_to(t1668);
-        let t1795: f64 = t913 + t1429;
-        let t1796 = product(t1795, 0.5);
-        let t1797: f64 = t1796.added_to(t1698);
-        let t1798: f64 = t1034 + t1480;
-        let t1799 = product(t1798, 1.67);
-        let t1800: f64 = t1049 + t1483;
-        let t1801 = product(t1800, 0.5);
-        let t1802: f64 = t1719 + t1725;
-        let t1803: f64 = t1799.added_to(t1720);
-        let t1804: f64 = t1801.added_to(t1726);
-        let t1805: f64 = t1803 + t1804;
-        let t1806: f64 = t1802 - t1805;
-        let t1807: f64 = t1518 - t1138;
-        let t1808 = product(t1807, 1.67);
-        let t1809: f64 = t1149 + t1521;
-        let t1810: f64 = t1809 * 0.5;
-        let t1811: f64 = t1808.plus(t1810);
-        let t1812: f64 = t1128 + t1748;
-        let t1813: f64 = t1751 + t1754;
-        let t1814: f64 = t1812 + t1813;
-        let t1815: f64 = t1814 + 327.1635000000001;
-        let t1816: f64 = t1811 - t1815;
-        let t1817: f64 = t1231 + t1549;
-        let t1818 = product(t1817, 1.67);
-        let t1819: f64 = t1241 - t1552;
-        let t1820: f64 = t1819 * 0.5;
-        let t1821: f64 = t1818.plus(t1820);
-        let t1822: f64 = t1787 + t1821;
-        let t1823: f64 = t1780 + t1783;
-        let t1824: f64 = t1822 - t1823;
-        let t1825 = product(t77, 2.0);
-        let t1826: f64 = t1825.subtracted_from(t76);
-        let t1827 = product(t86, t1826);
-        let t1828: f64 = wy * t53;
-        let t1829: f64 = wz * t71;
-        let t1830: f64 = t1828 + t1829;
-        let t1831: f64 = t118 - t165;
-        let t1832 = product(wz, t283);
-        let t1833: f64 = t0 * t1830;
-        let t1834: f64 = t1832.minus(t1833);
-        let t1835: f64 = t1831 + t1834;
-        let t1836 = product(t22, t1826);
-        let t1837: f64 = t13 * 0.0;
-        let t1838: f64 = t1836.plus(t1837);
-        let t1839 = product(t2, t963);
-        let t1840: f64 = t212 * 0.1875000000000001;
-        let t1841: f64 = t379 * t1840;
-        let t1842: f64 = t1839.plus(t1841);
-        let t1843 = product(t34, t1842);
-        let t1844 = product(t5, t963);
-        let t1845: f64 = t6 * t965;
-        let t1846: f64 = t1844.plus(t1845);
-        let t1847: f64 = t3 * t1846;
-        let t1848: f64 = -t1847;
-        let t1849: f64 = t59 * t1848;
-        let t1850: f64 = t1843.plus(t1849);
-        let t1851: f64 = t1838 - t1850;
-        let t1852: f64 = t1835 - t1851;
-        let t1853: f64 = t135 * 5.0;
-        let t1854: f64 = t1852 * 2.5;
-        let t1855: f64 = t1827.plus(t1854);
-        let t1856: f64 = t1830 + t1853;
+        let t1429: f64 = t1426.subtracted_from(t1428);
+        let t1430 = product(wx, t1429);
+        let t1431: f64 = wy * t1157;
+        let t1432 = product(t1106, t1394);
+        let t1433: f64 = t1421 * 3.34;
+        let t1434: f64 = t1418.plus(t1419);
+        let t1435: f64 = t1424.plus(t1431);
+        let t1436: f64 = t1432.plus(t1433);
+        let t1437: f64 = t1434 + t1435;
+        let t1438: f64 = t1436 + t1437;
+        let t1439: f64 = t1422.plus(t1423);
+        let t1440: f64 = t1430.plus(t1439);
+        let t1441: f64 = t1438 - t1440;
+        let t1442: f64 = t296 * t1441;
+        let t1443: f64 = t1417.minus(t1442);
+        let t1444: f64 = wdx * 2.0;
+        let t1445: f64 = t1415.plus(t1444);
+        let t1446: f64 = t1445 - t1443;
+        let t1447 = product(t298, t1200);
+        let t1448: f64 = t1447.minus(t1240);
+        let t1449 = product(t298, t1248);
+        let t1450: f64 = t1449.subtracted_from(t1285);
+        let t1451 = product(t298, t1291);
+        let t1452: f64 = t1451.subtracted_from(t1330);
+        let t1453 = product(t298, t1338);
+        let t1454: f64 = t1453.added_to(t1365);
+        let t1455: f64 = t1454 - t1189;
+        let t1456 = product(t298, t1377);
+        let t1457: f64 = t1456.subtracted_from(t1406);
+        let t1458 = product(t298, t1414);
+        let t1459: f64 = t1443 + t1444;
+        let t1460: f64 = t1458.subtracted_from(t1459);
+        let t1461 = product(t352, t547);
+        let t1462: f64 = t349 * t354;
+        let t1463 = product(t1200, t1462);
+        let t1464 = product(t64, t404);
+        let t1465: f64 = wdx * t499;
+        let t1466 = product(t255, t489);
+        let t1467: f64 = ay * t432;
+        let t1468 = product(t16, t449);
+        let t1469 = product(t10, t463);
+        let t1470: f64 = wdy * t482;
+        let t1471 = product(wdz, t508);
+        let t1472: f64 = wy * t519;
+        let t1473: f64 = wz * t1216;
+        let t1474 = product(t0, t1200);
+        let t1475 = product(yc, t547);
+        let t1476: f64 = t1464.plus(t1465);
+        let t1477: f64 = t1466.plus(t1467);
+        let t1478: f64 = t1469.plus(t1470);
+        let t1479: f64 = t1471.plus(t1472);
+        let t1480: f64 = t1476 + t1477;
+        let t1481: f64 = t1478 + t1479;
+        let t1482: f64 = t1480 + t1481;
+        let t1483: f64 = t1475.plus(t1482);
+        let t1484: f64 = t1468.plus(t1473);
+        let t1485: f64 = t1474.plus(t1484);
+        let t1486: f64 = t1483 - t1485;
+        let t1487: f64 = t349 * t1486;
+        let t1488: f64 = t1463.plus(t1487);
+        let t1489: f64 = t1461.subtracted_from(t1488);
+        let t1490 = product(t352, t661);
+        let t1491 = product(t1248, t1462);
+        let t1492 = product(t11, t162);
+        let t1493 = product(wdx, t721);
+        let t1494: f64 = t255 * t637;
+        let t1495 = product(ay, t615);
+        let t1496: f64 = t0 * t1248;
+        let t1497 = product(yc, t661);
+        let t1498: f64 = t8 * t64;
+        let t1499: f64 = t669 * t1498;
+        let t1500 = product(t16, t690);
+        let t1501: f64 = t10 * t701;
+        let t1502 = product(wdy, t708);
+        let t1503: f64 = wdz * t729;
+        let t1504 = product(wy, t740);
+        let t1505: f64 = wz * t1267;
+        let t1506 = product(t10, t744);
+        let t1507: f64 = t1493.plus(t1494);
+        let t1508: f64 = t1495.plus(t1496);
+        let t1509: f64 = t1497.plus(t1499);
+        let t1510: f64 = t1500.plus(t1505);
+        let t1511: f64 = t1507 + t1508;
+        let t1512: f64 = t1509 + t1510;
+        let t1513: f64 = t1511 + t1512;
+        let t1514: f64 = t1506.plus(t1513);
+        let t1515: f64 = t1492.plus(t1501);
+        let t1516: f64 = t1502.plus(t1503);
+        let t1517: f64 = t1515 + t1516;
+        let t1518: f64 = t1504.plus(t1517);
+        let t1519: f64 = t1514 - t1518;
+        let t1520: f64 = t349 * t1519;
+        let t1521: f64 = t1491.minus(t1520);
+        let t1522: f64 = t1490.plus(t1521);
+        let t1523: f64 = -t1522;
+        let t1524 = product(t352, t877);
+        let t1525 = product(t1291, t1462);
+        let t1526 = product(t64, t808);
+        let t1527 = product(t16, t820);
+        let t1528: f64 = t10 * t828;
+        let t1529: f64 = wdx * t850;
+        let t1530 = product(wdz, t855);
+        let t1531 = product(t255, t780);
+        let t1532: f64 = t0 * t1291;
+        let t1533: f64 = wdy * t843;
+        let t1534 = product(wy, t868);
+        let t1535 = product(wz, t1310);
+        let t1536: f64 = yc * t877;
+        let t1537 = product(t7, t127);
+        let t1538: f64 = t8 * t147;
+        let t1539: f64 = t1537.minus(t1538);
+        let t1540 = product(t11, t1539);
+        let t1541: f64 = t1526.plus(t1528);
+        let t1542: f64 = t1531.plus(t1532);
+        let t1543: f64 = t1535.plus(t1536);
+        let t1544: f64 = t1541 + t1542;
+        let t1545: f64 = t1540.plus(t1543);
+        let t1546: f64 = t1544 + t1545;
+        let t1547: f64 = t1527.plus(t1529);
+        let t1548: f64 = t1530.plus(t1533);
+        let t1549: f64 = t1547 + t1548;
+        let t1550: f64 = t1534.plus(t1549);
+        let t1551: f64 = t1546 - t1550;
+        let t1552: f64 = t349 * t1551;
+        let t1553: f64 = t1525.minus(t1552);
+        let t1554: f64 = t1524.plus(t1553);
+        let t1555: f64 = -t1554;
+        let t1556 = product(t352, t941);
+        let t1557 = product(t1338, t1462);
+        let t1558 = product(wdx, t958);
+        let t1559: f64 = wdz * t964;
+        let t1560 = product(t255, t944);
+        let t1561: f64 = ay * t10;
+        let t1562: f64 = t43 * t1561;
+        let t1563 = product(t0, t1338);
+        let t1564: f64 = yc * t941;
+        let t1565 = product(wdy, t946);
+        let t1566: f64 = wy * t977;
+        let t1567 = product(wz, t1351);
+        let t1568: f64 = t1560.plus(t1562);
+        let t1569 = product(t1568, 3.34);
+        let t1570: f64 = t1558.plus(t1559);
+        let t1571: f64 = t1565.plus(t1566);
+        let t1572: f64 = t1570 + t1571;
+        let t1573: f64 = t1569.plus(t1572);
+        let t1574: f64 = t1563.plus(t1564);
+        let t1575: f64 = t1567.plus(t1574);
+        let t1576: f64 = t1573 - t1575;
+        let t1577: f64 = t349 * t1576;
+        let t1578: f64 = t1557.plus(t1577);
+        let t1579: f64 = t1556.added_to(t1191);
+        let t1580: f64 = t1578 + t1579;
+        let t1581 = product(t352, t1042);
+        let t1582 = product(t1377, t1462);
+        let t1583 = product(wdx, t1050);
+        let t1584 = product(wdy, t1013);
+        let t1585: f64 = ay * t45;
+        let t1586: f64 = t43 * t1585;
+        let t1587: f64 = t0 * t1377;
+        let t1588 = product(yc, t1042);
+        let t1589 = product(wdz, t1057);
+        let t1590: f64 = wy * t1069;
+        let t1591 = product(wz, t1390);
+        let t1592: f64 = az * 13.340000000000003;
+        let t1593 = product(t1586, 3.34);
+        let t1594: f64 = t1583.plus(t1592);
+        let t1595: f64 = t1589.plus(t1590);
+        let t1596: f64 = t1591.added_to(t113);
+        let t1597: f64 = t1593.plus(130.86540000000005);
+        let t1598: f64 = t1594 + t1595;
+        let t1599: f64 = t1596 + t1597;
+        let t1600: f64 = t1598 + t1599;
+        let t1601: f64 = t1584.plus(t1587);
+        let t1602: f64 = t1588.plus(t1601);
+        let t1603: f64 = t1600 - t1602;
+        let t1604: f64 = t349 * t1603;
+        let t1605: f64 = t1582.plus(t1604);
+        let t1606: f64 = t1581.added_to(t1444);
+        let t1607: f64 = t1605 + t1606;
+        let t1608: f64 = -t1607;
+        let t1609 = product(t352, t1138);
+        let t1610 = product(t1414, t1462);
+        let t1611 = product(wdx, t1150);
+        let t1612: f64 = t255 * t1115;
+        let t1613 = product(t0, t1414);
+        let t1614: f64 = yc * t1138;
+        let t1615 = product(wdy, t1143);
+        let t1616 = product(wdz, t1154);
+        let t1617: f64 = wy * t1165;
+        let t1618 = product(wz, t1429);
+        let t1619: f64 = ay * 13.340000000000003;
+        let t1620: f64 = t1612 * 3.34;
+        let t1621: f64 = t1613.plus(t1619);
+        let t1622: f64 = t1616.plus(t1617);
+        let t1623: f64 = t1618.added_to(t292);
+        let t1624: f64 = t1621 + t1622;
+        let t1625: f64 = t1623 + t1624;
+        let t1626: f64 = t1611.plus(t1614);
+        let t1627: f64 = t1615.plus(t1620);
+        let t1628: f64 = t1626 + t1627;
+        let t1629: f64 = t1625 - t1628;
+        let t1630: f64 = t349 * t1629;
+        let t1631: f64 = t1610.minus(t1630);
+        let t1632: f64 = t1609.minus(t1631);
+        let t1633 = product(t351, t547);
+        let t1634: f64 = t1633.minus(t1488);
+        let t1635 = product(t351, t661);
+        let t1636: f64 = t1635.added_to(t1521);
+        let t1637 = product(t351, t877);
+        let t1638: f64 = t1637.added_to(t1553);
+        let t1639 = product(t351, t941);
+        let t1640: f64 = t1639.added_to(t1578);
+        let t1641: f64 = t1191 - t1640;
+        let t1642 = product(t351, t1042);
+        let t1643: f64 = t1642.added_to(t1605);
+        let t1644: f64 = t1643 - t1444;
+        let t1645 = product(t351, t1138);
+        let t1646: f64 = t1645.subtracted_from(t1631);
+        let t1647: f64 = wy * t38;
+        let t1648: f64 = wz * t60;
+        let t1649: f64 = t1647 + t1648;
+        let t1650 = product(t90, 2.0);
+        let t1651: f64 = t1650.subtracted_from(t89);
+        let t1652 = product(t571, t1651);
+        let t1653 = product(t64, t141);
+        let t1654: f64 = t10 * t136;
+        let t1655: f64 = t1653.plus(t1654);
+        let t1656: f64 = t1655 * 0.1875000000000001;
+        let t1657 = product(t14, t1656);
+        let t1658 = product(t64, t156);
+        let t1659: f64 = t16 * t136;
+        let t1660: f64 = t1658.plus(t1659);
+        let t1661: f64 = t1660 * 0.1875000000000001;
+        let t1662 = product(t45, t1661);
+        let t1663: f64 = wz * t237;
+        let t1664 = product(t0, t1649);
+        let t1665 = product(t78, t1651);
+        let t1666 = product(t244, 2.0);
+        let t1667: f64 = t1666.added_to(t243);
+        let t1668: f64 = t1657.plus(t1663);
+        let t1669: f64 = t1667 + t1668;
+        let t1670: f64 = t1665.plus(t1669);
+        let t1671: f64 = t1662.added_to(t250);
+        let t1672: f64 = t1664.plus(t1671);
+        let t1673: f64 = t1670 - t1672;
+        let t1674: f64 = t118 * t1673;
+        let t1675: f64 = t1652.minus(t1674);
+        let t1676: f64 = t1675 - t1649;
+        let t1677 = product(t107, 2.0);
+        let t1678: f64 = t1677.minus(t108);
+        let t1679 = product(t571, t1678);
+        let t1680: f64 = wz * t175;
+        let t1681 = product(t68, t141);
+        let t1682: f64 = t45 * t136;
+        let t1683: f64 = t1681.minus(t1682);
+        let t1684: f64 = t1683 * 0.1875000000000001;
+        let t1685 = product(t14, t1684);
+        let t1686 = product(t68, t156);
+        let t1687: f64 = t14 * t136;
+        let t1688: f64 = t1686.minus(t1687);
+        let t1689: f64 = t1688 * 0.1875000000000001;
+        let t1690 = product(t45, t1689);
+        let t1691: f64 = wx * t210;
+        let t1692 = product(t94, 2.0);
+        let t1693: f64 = t1692.subtracted_from(t93);
+        let t1694 = product(t0, t1693);
+        let t1695: f64 = t78 * t1678;
+        let t1696: f64 = t1690.added_to(t1680);
+        let t1697: f64 = t1694.plus(t1695);
+        let t1698: f64 = t1696 + t1697;
+        let t1699: f64 = t1685.plus(t1691);
+        let t1700: f64 = t1698 - t1699;
+        let t1701: f64 = t118 * t1700;
+        let t1702: f64 = t1679.minus(t1701);
+        let t1703: f64 = t94 - vz;
+        let t1704 = product(t1703, 2.0);
+        let t1705: f64 = t93 + t1702;
+        let t1706: f64 = t1704.minus(t1705);
+        let t1707: f64 = wx * t88;
+        let t1708: f64 = t1647 + t1707;
+        let t1709 = product(t571, t1708);
+        let t1710 = product(t73, t141);
+        let t1711: f64 = t42 * t136;
+        let t1712: f64 = t1710.plus(t1711);
+        let t1713: f64 = t1712 * 0.1875000000000001;
+        let t1714 = product(t14, t1713);
+        let t1715 = product(t73, t156);
+        let t1716: f64 = t22 * t136;
+        let t1717: f64 = t1715.minus(t1716);
+        let t1718: f64 = t1717 * 0.1875000000000001;
+        let t1719 = product(t45, t1718);
+        let t1720 = product(wx, t249);
+        let t1721 = product(t89, 2.0);
+        let t1722: f64 = t1721.minus(t90);
+        let t1723: f64 = t0 * t1722;
+        let t1724 = product(t78, t1708);
+        let t1725: f64 = t224 * 2.0;
+        let t1726: f64 = t1714.plus(t1723);
+        let t1727: f64 = t1724.added_to(t240);
+        let t1728: f64 = t1726 + t1727;
+        let t1729: f64 = t1719.plus(t1725);
+        let t1730: f64 = t1720.plus(t1729);
+        let t1731: f64 = t1728 - t1730;
+        let t1732: f64 = t118 * t1731;
+        let t1733: f64 = t1709.minus(t1732);
+        let t1734: f64 = vy + t89;
+        let t1735 = product(t1734, 2.0);
+        let t1736: f64 = t1735.added_to(t1733);
+        let t1737: f64 = t1736 - t90;
+        let t1738: f64 = wz * 2.0;
+        let t1739: f64 = wy * 2.0;
+        let t1740: f64 = -t1739;
+        let t1741: f64 = -t1675;
+        let t1742: f64 = vz * 2.0;
+        let t1743: f64 = t1702 - t1742;
+        let t1744: f64 = vy * 2.0;
+        let t1745: f64 = t1744 - t1733;
+        let t1746 = product(t93, 2.0);
+        let t1747: f64 = t1746.minus(t94);
+        let t1748 = product(t299, t1747);
+        let t1749 = product(t22, t1656);
+        let t1750 = product(t42, t1661);
+        let t1751 = product(wy, t237);
+        let t1752: f64 = yc * t1649;
+        let t1753 = product(t78, t1747);
+        let t1754 = product(t308, 2.0);
+        let t1755: f64 = t1754.added_to(t307);
+        let t1756: f64 = t1751.plus(t1755);
+        let t1757: f64 = t1749.added_to(t309);
+        let t1758: f64 = t1750.plus(t1752);
+        let t1759: f64 = t1757 + t1758;
+        let t1760: f64 = t1753.plus(t1759);
+        let t1761: f64 = t1756 - t1760;
+        let t1762: f64 = t296 * t1761;
+        let t1763: f64 = t1748.added_to(t1742);
+        let t1764: f64 = t1762 + t1763;
+        let t1765: f64 = t1648 + t1707;
+        let t1766 = product(t299, t1765);
+        let t1767 = product(t22, t1684);
+        let t1768 = product(t42, t1689);
+        let t1769: f64 = wx * t197;
+        let t1770 = product(yc, t1693);
+        let t1771 = product(t78, t1765);
+        let t1772: f64 = t239 * 2.0;
+        let t1773: f64 = t1771.added_to(t238);
+        let t1774: f64 = t1767.added_to(t224);
+        let t1775: f64 = t1768.plus(t1769);
+        let t1776: f64 = t1770.plus(t1772);
+        let t1777: f64 = t1774 + t1775;
+        let t1778: f64 = t1776 + t1777;
+        let t1779: f64 = t1773 - t1778;
+        let t1780: f64 = t296 * t1779;
+        let t1781: f64 = t1766.subtracted_from(t1780);
+        let t1782 = product(t108, 2.0);
+        let t1783: f64 = t1782.subtracted_from(t107);
+        let t1784 = product(t299, t1783);
+        let t1785: f64 = wy * t223;
+        let t1786 = product(t22, t1713);
+        let t1787 = product(t42, t1718);
+        let t1788 = product(yc, t1722);
+        let t1789 = product(t78, t1783);
+        let t1790: f64 = t1786.added_to(t1785);
+        let t1791: f64 = t1787.plus(t1790);
+        let t1792: f64 = t1788.added_to(t1691);
+        let t1793: f64 = t1789.plus(t1792);
+        let t1794: f64 = t1791 - t1793;
+        let t1795: f64 = t296 * t1794;
+        let t1796: f64 = vx * 2.0;
+        let t1797: f64 = t1784.plus(t1796);
+        let t1798: f64 = t1795 + t1797;
+        let t1799: f64 = -t1798;
+        let t1800: f64 = -t1738;
+        let t1801: f64 = wx * 2.0;
+        let t1802 = product(t298, t1747);
+        let t1803: f64 = t1802.added_to(t1762);
+        let t1804: f64 = t1742 - t1803;
+        let t1805 = product(t298, t1765);
+        let t1806: f64 = t1805.minus(t1780);
+        let t1807 = product(t298, t1783);
+        let t1808: f64 = t1807.added_to(t1795);
+        let t1809: f64 = t1808 - t1796;
+        let t1810 = product(t352, t1651);
+        let t1811 = product(t1462, t1747);
+        let t1812 = product(t16, t1656);
+        let t1813 = product(t10, t1661);
+        let t1814 = product(t0, t1747);
+        let t1815: f64 = yc * t1651;
+        let t1816: f64 = t1812.added_to(t1785);
+        let t1817: f64 = t1814.plus(t1815);
+        let t1818: f64 = t1816 + t1817;
+        let t1819: f64 = t1813.added_to(t1680);
+        let t1820: f64 = t1818 - t1819;
+        let t1821: f64 = t349 * t1820;
+        let t1822: f64 = t1811.minus(t1821);
+        let t1823: f64 = t1810.added_to(t1744);
+        let t1824: f64 = t1822 + t1823;
+        let t1825: f64 = -t1824;
+        let t1826 = product(t352, t1678);
+        let t1827 = product(t1462, t1765);
+        let t1828 = product(t16, t1684);
+        let t1829 = product(t10, t1689);
+        let t1830 = product(wz, t197);
+        let t1831: f64 = t0 * t1765;
+        let t1832 = product(yc, t1678);
+        let t1833: f64 = t243 * 2.0;
+        let t1834: f64 = t1828.plus(t1833);
+        let t1835: f64 = t1830.added_to(t251);
+        let t1836: f64 = t1834 + t1835;
+        let t1837: f64 = t1829.plus(t1831);
+        let t1838: f64 = t1832.plus(t1837);
+        let t1839: f64 = t1836 - t1838;
+        let t1840: f64 = t349 * t1839;
+        let t1841: f64 = t1827.plus(t1840);
+        let t1842: f64 = t1826.added_to(t1796);
+        let t1843: f64 = t1841 + t1842;
+        let t1844 = product(t352, t1708);
+        let t1845 = product(t1462, t1783);
+        let t1846 = product(t16, t1713);
+        let t1847 = product(t10, t1718);
+        let t1848 = product(wy, t249);
+        let t1849: f64 = t0 * t1783;
+        let t1850: f64 = yc * t1708;
+        let t1851: f64 = t307 * 2.0;
+        let t1852: f64 = t1847.plus(t1851);
+        let t1853: f64 = t1848.plus(t1849);
+        let t1854: f64 = t1852 + t1853;
+        let t1855: f64 = t310 + t1854;
+        let t1856: f64 = t1846.plus(t1850);
         let t1857: f64 = t1855 - t1856;
-        let t1858 = product(t72, 2.0);
-        let t1859: f64 = t1858.minus(t73);
-        let t1860: f64 = t86 * t1859;
-        let t1861: f64 = t13 * 0.4119400000000001;
-        let t1862 = product(t212, t1861);
-        let t1863 = product(t13, t213);
-        let t1864: f64 = t59 * t963;
-        let t1865: f64 = t1863.plus(t1864);
-        let t1866: f64 = t1862.subtracted_from(t1865);
-        let t1867 = product(t34, t1866);
-        let t1868: f64 = wz * t256;
-        let t1869 = product(t13, t192);
-        let t1870: f64 = t34 * 0.22443999999999997;
-        let t1871 = product(t185, t1870);
-        let t1872: f64 = t191 * t1861;
-        let t1873: f64 = t34 * t194;
-        let t1874: f64 = t1869.plus(t1873);
-        let t1875: f64 = t1871.plus(t1872);
-        let t1876: f64 = t1874 - t1875;
-        let t1877 = product(t59, t1876);
-        let t1878: f64 = t1877.added_to(t1868);
-        let t1879: f64 = t1867.minus(t1878);
-        let t1880: f64 = wx * t117;
-        let t1881 = product(t93, 2.0);
-        let t1882: f64 = t1881.subtracted_from(t92);
-        let t1883 = product(t0, t1882);
-        let t1884: f64 = t1883.subtracted_from(t1880);
-        let t1885 = product(t22, t1859);
-        let t1886 = product(t34, t213);
-        let t1887: f64 = t212 * t1870;
-        let t1888: f64 = t1886.minus(t1887);
-        let t1889: f64 = t13 * t1888;
-        let t1890: f64 = t1885.plus(t1889);
-        let t1891: f64 = t1884 + t1890;
-        let t1892: f64 = t1879 - t1891;
-        let t1893: f64 = t93 - vz;
-        let t1894 = product(t1893, 2.0);
-        let t1895: f64 = t1892 * 2.5;
-        let t1896: f64 = t92 + t1860;
-        let t1897: f64 = t1895 + t1896;
-        let t1898: f64 = t1894.minus(t1897);
-        let t1899: f64 = wx * t30;
-        let t1900: f64 = t1828 + t1899;
-        let t1901: f64 = t86 * t1900;
-        let t1902 = product(t18, t192);
-        let t1903: f64 = t42 * 0.22443999999999997;
-        let t1904 = product(t185, t1903);
-        let t1905: f64 = t18 * 0.4119400000000001;
-        let t1906: f64 = t191 * t1905;
-        let t1907: f64 = t42 * t194;
-        let t1908: f64 = t1902.plus(t1907);
-        let t1909: f64 = t1904.plus(t1906);
-        let t1910: f64 = t1908 - t1909;
-        let t1911 = product(t59, t1910);
-        let t1912: f64 = wx * t164;
-        let t1913: f64 = t1911.minus(t1912);
-        let t1914: f64 = t286 + t1913;
-        let t1915 = product(t76, 2.0);
-        let t1916: f64 = t1915.minus(t77);
-        let t1917 = product(t0, t1916);
-        let t1918: f64 = t22 * t1900;
-        let t1919: f64 = t1917.minus(t1918);
-        let t1920 = product(t42, t213);
-        let t1921: f64 = t212 * t1903;
-        let t1922: f64 = t1920.minus(t1921);
-        let t1923 = product(t13, t1922);
-        let t1924 = product(t212, t1905);
-        let t1925 = product(t18, t213);
-        let t1926: f64 = t333 * t963;
-        let t1927: f64 = t1924.plus(t1926);
-        let t1928: f64 = t1925.subtracted_from(t1927);
-        let t1929: f64 = t34 * t1928;
-        let t1930: f64 = t1923.plus(t1929);
-        let t1931: f64 = t1919 + t1930;
-        let t1932: f64 = t1914 + t1931;
-        let t1933: f64 = vy + t76;
-        let t1934 = product(t1933, 2.0);
-        let t1935: f64 = t278 * 5.0;
-        let t1936: f64 = t1932 * 2.5;
-        let t1937: f64 = t1934.added_to(t1901);
-        let t1938: f64 = t1935 + t1936;
-        let t1939: f64 = t1937 + t1938;
-        let t1940: f64 = t1939 - t77;
-        let t1941: f64 = wz * 2.0;
-        let t1942: f64 = wy * 2.0;
-        let t1943: f64 = -t1942;
-        let t1944: f64 = t1853 - t1855;
-        let t1945: f64 = vz * 2.0;
-        let t1946: f64 = t1860 + t1895;
-        let t1947: f64 = t1946 - t1945;
-        let t1948: f64 = vy * 2.0;
-        let t1949: f64 = t1901 + t1935;
-        let t1950: f64 = t1936 + t1949;
-        let t1951: f64 = t1948 - t1950;
-        let t1952 = product(t92, 2.0);
-        let t1953: f64 = t1952.minus(t93);
-        let t1954 = product(t317, t1953);
-        let t1955: f64 = t346 - t344;
-        let t1956 = product(wy, t283);
-        let t1957: f64 = yc * t1830;
-        let t1958: f64 = t1956.minus(t1957);
-        let t1959: f64 = t1955 - t1958;
-        let t1960 = product(t22, t1953);
-        let t1961: f64 = t18 * 0.0;
-        let t1962: f64 = t1960.plus(t1961);
-        let t1963 = product(t42, t1842);
-        let t1964: f64 = t333 * t1848;
-        let t1965: f64 = t1963.minus(t1964);
-        let t1966: f64 = t1962 - t1965;
-        let t1967: f64 = t1959 - t1966;
-        let t1968: f64 = t345 * 5.0;
-        let t1969: f64 = t1967 * 2.5;
-        let t1970: f64 = t1945 + t1968;
-        let t1971: f64 = t1954.plus(t1969);
-        let t1972: f64 = t1970 + t1971;
-        let t1973: f64 = t1829 + t1899;
-        let t1974 = product(t317, t1973);
-        let t1975: f64 = t278 + t284;
-        let t1976 = product(t333, t1876);
-        let t1977: f64 = wx * t274;
-        let t1978: f64 = t1976.minus(t1977);
-        let t1979: f64 = t1975 + t1978;
-        let t1980 = product(yc, t1882);
-        let t1981: f64 = t22 * t1973;
-        let t1982: f64 = t1980.plus(t1981);
-        let t1983 = product(t18, t1888);
-        let t1984: f64 = t42 * t1866;
-        let t1985: f64 = t1983.minus(t1984);
-        let t1986: f64 = t1982 + t1985;
-        let t1987: f64 = t1979 - t1986;
-        let t1988: f64 = t285 * 5.0;
-        let t1989: f64 = t1987 * 2.5;
-        let t1990: f64 = t1974.plus(t1988);
-        let t1991: f64 = t1989 + t1990;
-        let t1992: f64 = -t1991;
-        let t1993 = product(t73, 2.0);
-        let t1994: f64 = t1993.subtracted_from(t72);
-        let t1995 = product(t317, t1994);
-        let t1996 = product(t42, t1928);
-        let t1997: f64 = wy * t134;
-        let t1998: f64 = t1880 + t1997;
-        let t1999: f64 = t1996.minus(t1998);
-        let t2000 = product(t333, t1910);
-        let t2001: f64 = yc * t1916;
-        let t2002: f64 = t2000.plus(t2001);
+        let t1858: f64 = t349 * t1857;
+        let t1859: f64 = t1845.minus(t1858);
+        let t1860: f64 = t1844.subtracted_from(t1859);
+        let t1861: f64 = -t1801;
+        let t1862 = product(t351, t1651);
+        let t1863: f64 = t1862.added_to(t1822);
+        let t1864: f64 = t1863 - t1744;
+        let t1865 = product(t351, t1678);
+        let t1866: f64 = t1865.added_to(t1841);
+        let t1867: f64 = t1796 - t1866;
+        let t1868 = product(t351, t1708);
+        let t1869: f64 = t1868.minus(t1859);
+        let t1870: f64 = t38 * t118;
+        let t1871 = product(t119, t1870);
+        let t1872: f64 = t64 * t68;
+        let t1873 = product(t38, t78);
+        let t1874 = product(t14, t16);
+        let t1875: f64 = t10 * t45;
+        let t1876: f64 = t1874.plus(t1875);
+        let t1877: f64 = t1872 * 0.4119400000000001;
+        let t1878 = product(t1876, 0.22443999999999997);
+        let t1879: f64 = t1878.added_to(t175);
+        let t1880: f64 = t1873.plus(t1877);
+        let t1881: f64 = t1879 - t1880;
+        let t1882: f64 = t118 * t1881;
+        let t1883: f64 = t1871.plus(t1882);
+        let t1884: f64 = t40 + t56;
+        let t1885: f64 = t88 * t118;
+        let t1886 = product(t119, t1885);
+        let t1887: f64 = t0 * t60;
+        let t1888: f64 = t68 * t68;
+        let t1889 = product(t14, t14);
+        let t1890: f64 = t45 * t45;
+        let t1891: f64 = t78 * t88;
+        let t1892 = product(t1888, 0.4119400000000001);
+        let t1893: f64 = t1889.plus(t1890);
+        let t1894: f64 = t1893 * 0.22443999999999997;
+        let t1895: f64 = t1892.plus(t1894);
+        let t1896: f64 = t197 + t1895;
+        let t1897: f64 = t1887 + t1891;
+        let t1898: f64 = t1896 - t1897;
+        let t1899: f64 = t118 * t1898;
+        let t1900: f64 = t1886.plus(t1899);
+        let t1901 = product(t0, 3.67);
+        let t1902: f64 = t1884 * 1.67;
+        let t1903: f64 = t1901.added_to(t58);
+        let t1904: f64 = t1900 + t1902;
+        let t1905: f64 = t1903 + t1904;
+        let t1906: f64 = -t1905;
+        let t1907: f64 = t68 * t73;
+        let t1908 = product(t0, t38);
+        let t1909 = product(t42, t45);
+        let t1910: f64 = t14 * t22;
+        let t1911: f64 = t1909.minus(t1910);
+        let t1912: f64 = t1907 * 0.4119400000000001;
+        let t1913 = product(t1911, 0.22443999999999997);
+        let t1914: f64 = t1913.added_to(t210);
+        let t1915: f64 = t1908.plus(t1912);
+        let t1916: f64 = t1914 - t1915;
+        let t1917: f64 = t118 * t1916;
+        let t1918 = product(yc, 5.34);
+        let t1919: f64 = t1918.added_to(t1917);
+        let t1920: f64 = t37 + t1919;
+        let t1921 = product(t0, 18.35);
+        let t1922: f64 = t58 + t1902;
+        let t1923: f64 = t1921.minus(t1922);
+        let t1924: f64 = t118 * t1923;
+        let t1925: f64 = 22.020000000000003 - t1924;
+        let t1926 = product(t78, 18.35);
+        let t1927: f64 = t63 + t83;
+        let t1928 = product(t1927, 1.67);
+        let t1929: f64 = t1928.added_to(t86);
+        let t1930: f64 = t1926.minus(t1929);
+        let t1931: f64 = t118 * t1930;
+        let t1932: f64 = t571 * 20.020000000000003;
+        let t1933: f64 = t1931 - t1932;
+        let t1934: f64 = -t1883;
+        let t1935 = product(t40, 2.0);
+        let t1936: f64 = t1935.subtracted_from(t1900);
+        let t1937 = product(yc, 2.0);
+        let t1938: f64 = t1937.minus(t1917);
+        let t1939: f64 = t1924 + 2.0;
+        let t1940: f64 = t1932 - t1931;
+        let t1941 = product(t60, t299);
+        let t1942: f64 = t64 * t73;
+        let t1943 = product(t60, t78);
+        let t1944 = product(t16, t22);
+        let t1945: f64 = t10 * t42;
+        let t1946: f64 = t1944.minus(t1945);
+        let t1947: f64 = t1942 * 0.4119400000000001;
+        let t1948 = product(t1946, 0.22443999999999997);
+        let t1949: f64 = t1948.added_to(t223);
+        let t1950: f64 = t1943.plus(t1947);
+        let t1951: f64 = t1949 - t1950;
+        let t1952: f64 = t296 * t1951;
+        let t1953: f64 = zc * 2.0;
+        let t1954: f64 = t1941.plus(t1953);
+        let t1955: f64 = t1952 + t1954;
+        let t1956 = product(yc, t60);
+        let t1957: f64 = t1956.added_to(t1912);
+        let t1958: f64 = t1914 - t1957;
+        let t1959: f64 = t296 * t1958;
+        let t1960 = product(t88, t299);
+        let t1961: f64 = yc * t38;
+        let t1962: f64 = t73 * t73;
+        let t1963 = product(t22, t22);
+        let t1964: f64 = t42 * t42;
+        let t1965 = product(t1962, 0.4119400000000001);
+        let t1966: f64 = t1963.plus(t1964);
+        let t1967: f64 = t1966 * 0.22443999999999997;
+        let t1968: f64 = t1965.plus(t1967);
+        let t1969: f64 = t249 + t1968;
+        let t1970: f64 = t1891 + t1961;
+        let t1971: f64 = t1969 - t1970;
+        let t1972: f64 = t296 * t1971;
+        let t1973: f64 = t17 * 2.0;
+        let t1974: f64 = t1960.plus(t1973);
+        let t1975: f64 = t1972 + t1974;
+        let t1976: f64 = -t1975;
+        let t1977 = product(yc, 16.680000000000003);
+        let t1978: f64 = t1977.minus(t37);
+        let t1979: f64 = t296 * t1978;
+        let t1980: f64 = t296 * t1930;
+        let t1981: f64 = t298 * 20.020000000000003;
+        let t1982: f64 = t1981 + 22.020000000000003;
+        let t1983: f64 = t1982 - t1980;
+        let t1984: f64 = t60 * t296;
+        let t1985 = product(t297, t1984);
+        let t1986: f64 = t1985.added_to(t1952);
+        let t1987: f64 = t1953 - t1986;
+        let t1988: f64 = -t1959;
+        let t1989: f64 = t88 * t296;
+        let t1990 = product(t297, t1989);
+        let t1991 = product(t28, 2.0);
+        let t1992: f64 = t1990.added_to(t1972);
+        let t1993: f64 = t1991.subtracted_from(t1992);
+        let t1994: f64 = -t1979;
+        let t1995: f64 = t1980 + 2.0;
+        let t1996: f64 = t1995 - t1981;
+        let t1997 = product(t38, t352);
+        let t1998: f64 = t60 * t349;
+        let t1999 = product(t354, t1998);
+        let t2000: f64 = t64 * t64;
+        let t2001 = product(t16, t16);
+        let t2002: f64 = t10 * t10;
         (
-            t1029,
-            t1030,
-            t1136,
-            t1225,
-            t1312,
-            t1313,
-            t1314,
-            t1316,
-            t1320,
-            t1324,
-            t1367,
-            t1422,
-            t1475,
-            t1513,
-            t1548,
-            t1583,
-            t1585,
-            t1589,
-            t1593,
-            t1598,
-            t1602,
-            t1606,
-            t1633,
-            t1669,
-            t1699,
-            t1731,
-            t1760,
-            t1788,
-            t1791,
-            t1794,
-            t1797,
+            t1092,
+            t1187,
+            t1188,
+            t1190,
+            t1192,
+            t1241,
+            t1286,
+            t1331,
+            t1368,
+            t1407,
+            t1446,
+            t1448,
+            t1450,
+            t1452,
+            t1455,
+            t1457,
+            t1460,
+            t1462,
+            t1489,
+            t1523,
+            t1555,
+            t1580,
+            t1608,
+            t1632,
+            t1634,
+            t1636,
+            t1638,
+            t1641,
+            t1644,
+            t1646,
+            t1676,
+            t1706,
+            t1737,
+            t1738,
+            t1739,
+            t1740,
+            t1741,
+            t1743,
+            t1745,
+            t1764,
+            t1781,
+            t1799,
+            t1800,
+            t1801,
+            t1804,
             t1806,
-            t1816,
-            t1824,
-            t1826,
-            t1842,
-            t1848,
-            t1857,
-            t1859,
+            t1809,
+            t1825,
+            t1843,
+            t1860,
             t1861,
-            t1866,
-            t1868,
-            t1870,
-            t1876,
-            t1888,
-            t1898,
-            t1900,
-            t1903,
-            t1905,
-            t1910,
-            t1922,
-            t1928,
+            t1864,
+            t1867,
+            t1869,
+            t1877,
+            t1879,
+            t1883,
+            t1887,
+            t1906,
+            t1920,
+            t1923,
+            t1925,
+            t1933,
+            t1934,
+            t1936,
+            t1938,
+            t1939,
             t1940,
-            t1941,
-            t1942,
-            t1943,
-            t1944,
-            t1945,
             t1947,
-            t1948,
-            t1951,
-            t1953,
-            t1968,
-            t1969,
-            t1972,
-            t1973,
+            t1949,
+            t1955,
+            t1959,
+            t1961,
+            t1976,
+            t1978,
+            t1979,
+            t1983,
+            t1987,
             t1988,
-            t1989,
-            t1992,
+            t1993,
             t1994,
-            t1995,
+            t1996,
             t1997,
             t1999,
+            t2000,
+            t2001,
             t2002,
         )
     };
-    let (
-        t2011,
-        t2012,
-        t2013,
-        t2017,
-        t2020,
-        t2023,
-        t2042,
-        t2062,
-        t2081,
-        t2082,
-        t2088,
-        t2093,
-        t2097,
-        t2111,
-        t2134,
-        t2149,
-        t2152,
-        t2153,
-        t2158,
-        t2159,
-        t2160,
-        t2166,
-        t2170,
-        t2171,
-        t2186,
-        t2193,
-        t2213,
-        t2216,
-        t2218,
-        t2224,
-        t2225,
-        t2232,
-        t2233,
-        t2234,
-        t2257,
-        t2270,
-        t2282,
-        t2283,
-        t2285,
-        t2295,
-        t2299,
-        t2300,
-        t2302,
-    ) = {
-        let t2003 = product(t22, t1994);
-        let t2004: f64 = t18 * t1922;
-        let t2005: f64 = t2003.plus(t2004);
-        let t2006: f64 = t2002 - t2005;
-        let t2007: f64 = t1999 - t2006;
-        let t2008: f64 = vx * 2.0;
-        let t2009: f64 = t2007 * 2.5;
-        let t2010: f64 = t1995.plus(t2008);
-        let t2011: f64 = t2009 - t2010;
-        let t2012: f64 = -t1941;
-        let t2013: f64 = wx * 2.0;
-        let t2014 = product(t360, t1953);
-        let t2015: f64 = t2014.added_to(t1968);
-        let t2016: f64 = t1969 + t2015;
-        let t2017: f64 = t1945 - t2016;
-        let t2018 = product(t360, t1973);
-        let t2019: f64 = t2018.added_to(t1988);
-        let t2020: f64 = t1989 + t2019;
-        let t2021 = product(t360, t1994);
-        let t2022: f64 = t2008 + t2009;
-        let t2023: f64 = t2021.minus(t2022);
-        let t2024 = product(t2, t1848);
-        let t2025: f64 = t1997 - t1868;
-        let t2026: f64 = t2024.minus(t2025);
-        let t2027 = product(t0, t1953);
-        let t2028: f64 = yc * t1826;
-        let t2029: f64 = t2027.plus(t2028);
-        let t2030: f64 = t3 * 0.0;
-        let t2031 = product(t6, t2030);
-        let t2032: f64 = t37 * t1842;
-        let t2033: f64 = t2031.plus(t2032);
-        let t2034: f64 = t2029 + t2033;
-        let t2035: f64 = t2026 + t2034;
-        let t2036: f64 = t93 - t76;
-        let t2037 = product(t2036, 0.5);
-        let t2038: f64 = t2035 * 2.5;
-        let t2039: f64 = t2037.added_to(t77);
-        let t2040: f64 = t92 + t1948;
-        let t2041: f64 = t2038 + t2040;
-        let t2042: f64 = t2039 - t2041;
-        let t2043 = product(t2, t1876);
-        let t2044: f64 = wz * t274;
-        let t2045: f64 = t2043.plus(t2044);
-        let t2046: f64 = t166 - t2045;
-        let t2047 = product(t0, t1973);
-        let t2048: f64 = yc * t1859;
-        let t2049: f64 = t2047.plus(t2048);
-        let t2050 = product(t379, t1888);
-        let t2051: f64 = t37 * t1866;
-        let t2052: f64 = t2050.plus(t2051);
-        let t2053: f64 = t2049 + t2052;
-        let t2054: f64 = t2046 + t2053;
-        let t2055: f64 = t1973 - t73;
-        let t2056 = product(t2055, 0.5);
-        let t2057: f64 = t118 * 5.0;
-        let t2058: f64 = t2054 * 2.5;
-        let t2059: f64 = t72 + t2008;
-        let t2060: f64 = t2056.plus(t2058);
-        let t2061: f64 = t2059 + t2060;
-        let t2062: f64 = t2061 - t2057;
-        let t2063 = product(t2, t1910);
-        let t2064: f64 = wy * t164;
-        let t2065: f64 = t2063.minus(t2064);
-        let t2066: f64 = t347 + t2065;
-        let t2067 = product(t0, t1994);
-        let t2068: f64 = yc * t1900;
-        let t2069: f64 = t2067.minus(t2068);
-        let t2070 = product(t379, t1922);
-        let t2071: f64 = t37 * t1928;
-        let t2072: f64 = t2070.minus(t2071);
-        let t2073: f64 = t2069 + t2072;
-        let t2074: f64 = t2066 - t2073;
-        let t2075: f64 = t72 - t1900;
-        let t2076 = product(t2075, 0.5);
-        let t2077: f64 = t344 * 5.0;
-        let t2078 = product(t2074, 2.5);
-        let t2079: f64 = t2076.plus(t2077);
-        let t2080: f64 = t2078.added_to(t73);
-        let t2081: f64 = t2079 - t2080;
-        let t2082: f64 = -t2013;
-        let t2083: f64 = t76 + t93;
-        let t2084 = product(t2083, 0.5);
-        let t2085: f64 = t77 + t92;
-        let t2086: f64 = t2038 + t2085;
-        let t2087: f64 = t2084.added_to(t1948);
-        let t2088: f64 = t2086 - t2087;
-        let t2089: f64 = t73 + t1973;
-        let t2090 = product(t2089, 0.5);
-        let t2091: f64 = t2057 + t2059;
-        let t2092: f64 = t2090.added_to(t2058);
-        let t2093: f64 = t2091 - t2092;
-        let t2094: f64 = t72 + t1900;
-        let t2095 = product(t2094, 0.5);
-        let t2096: f64 = t2095.added_to(t2077);
-        let t2097: f64 = t2080 - t2096;
-        let t2098: f64 = t13 * t379;
-        let t2099: f64 = t22 * t53;
-        let t2100 = product(t53, t86);
-        let t2101 = product(t34, t37);
-        let t2102: f64 = t3 * t11;
-        let t2103: f64 = t2101.plus(t2102);
-        let t2104: f64 = t2098 * 1.0298500000000002;
-        let t2105 = product(t2099, 2.5);
-        let t2106: f64 = t255 * 4.175;
-        let t2107: f64 = t2103 * 0.5610999999999999;
-        let t2108: f64 = t2100.plus(t2104);
-        let t2109: f64 = t2106 + t2108;
-        let t2110: f64 = t2105.plus(t2107);
-        let t2111: f64 = t2109 - t2110;
-        let t2112: f64 = t8 * t8;
-        let t2113: f64 = t3 * t3;
-        let t2114: f64 = t2112 * t2113;
-        let t2115: f64 = t30 * t86;
-        let t2116: f64 = t0 * t71;
-        let t2117 = product(t13, t1861);
-        let t2118: f64 = t2117.subtracted_from(t2116);
-        let t2119 = product(t34, t1870);
-        let t2120: f64 = t22 * t30;
-        let t2121: f64 = t2119.plus(t2120);
-        let t2122: f64 = t2118 - t2121;
-        let t2123 = product(zc, 8.68);
-        let t2124: f64 = t2114 * 0.5610999999999999;
-        let t2125 = product(t259, 8.35);
-        let t2126: f64 = t271 * 4.175;
-        let t2127: f64 = t2122 * 2.5;
-        let t2128: f64 = t70 + t2124;
-        let t2129: f64 = t2125.plus(t2126);
-        let t2130: f64 = t2128 + t2129;
-        let t2131: f64 = t2130 + 0.4;
-        let t2132: f64 = t2123.added_to(t2115);
-        let t2133: f64 = t2127 + t2132;
-        let t2134: f64 = t2131 - t2133;
-        let t2135: f64 = t8 * t9;
-        let t2136: f64 = t2113 * t2135;
-        let t2137 = product(t0, t53);
-        let t2138 = product(t13, t1905);
-        let t2139: f64 = t34 * t1903;
-        let t2140: f64 = t2138.plus(t2139);
-        let t2141: f64 = t2137.plus(t2140);
-        let t2142 = product(yc, 8.68);
-        let t2143: f64 = t2136 * 0.5610999999999999;
-        let t2144: f64 = t116 * 4.175;
-        let t2145: f64 = t2141 * 2.5;
-        let t2146: f64 = t2142.added_to(t52);
-        let t2147: f64 = t2145 + t2146;
-        let t2148: f64 = t2143 + t2144;
-        let t2149: f64 = t2147 - t2148;
-        let t2150 = product(zc, 33.35000000000001);
-        let t2151: f64 = t68 * 4.175;
-        let t2152: f64 = t2150.plus(t2151);
-        let t2153: f64 = t2152 + 12.010000000000002;
-        let t2154 = product(xc, 33.35000000000001);
-        let t2155: f64 = t22 * 4.174999999999997;
-        let t2156: f64 = t26 * 4.175;
-        let t2157: f64 = t2154.plus(t2155);
-        let t2158: f64 = t2156 + t2157;
-        let t2159: f64 = -t2158;
-        let t2160: f64 = t2110 - t2109;
-        let t2161: f64 = zc * 2.0;
-        let t2162: f64 = t2115 + t2127;
-        let t2163: f64 = t2124 + t2161;
-        let t2164: f64 = t2129 + t2163;
-        let t2165: f64 = t2164 + 0.4;
-        let t2166: f64 = t2162 - t2165;
-        let t2167 = product(yc, 2.0);
-        let t2168: f64 = t2167.added_to(t2143);
-        let t2169: f64 = t2144 + t2168;
-        let t2170: f64 = t2169 - t2145;
-        let t2171: f64 = 12.010000000000002 - t2152;
-        let t2172: f64 = t18 * t379;
-        let t2173: f64 = t22 * t71;
-        let t2174 = product(t71, t317);
-        let t2175 = product(t37, t42);
-        let t2176: f64 = t3 * t16;
-        let t2177: f64 = t2175.minus(t2176);
-        let t2178: f64 = t2172 * 1.0298500000000002;
-        let t2179: f64 = t2173 * 2.5;
-        let t2180: f64 = t133 * 4.175;
-        let t2181: f64 = t2177 * 0.5610999999999999;
-        let t2182: f64 = t2161 + t2178;
-        let t2183: f64 = t2174.plus(t2180);
-        let t2184: f64 = t2182 + t2183;
-        let t2185: f64 = t2179 + t2181;
-        let t2186: f64 = t2184 - t2185;
-        let t2187 = product(yc, t71);
-        let t2188 = product(t18, t1861);
-        let t2189: f64 = t42 * t1870;
-        let t2190: f64 = t2188.plus(t2189);
-        let t2191: f64 = t2187.plus(t2190);
-        let t2192: f64 = t2191 * 2.5;
-        let t2193: f64 = t2192 - t2148;
-        let t2194: f64 = t9 * t9;
-        let t2195: f64 = t2113 * t2194;
-        let t2196 = product(t30, t317);
-        let t2197: f64 = yc * t53;
-        let t2198: f64 = t2197 - t2120;
-        let t2199 = product(t18, t1905);
-        let t2200: f64 = t42 * t1903;
-        let t2201: f64 = t2199.plus(t2200);
-        let t2202: f64 = t2198 - t2201;
-        let t2203: f64 = xc * 2.0;
-        let t2204: f64 = t2195 * 0.5610999999999999;
-        let t2205: f64 = t138 * 8.35;
-        let t2206: f64 = t161 * 4.175;
-        let t2207: f64 = t2202 * 2.5;
-        let t2208: f64 = t2204 + t2205;
-        let t2209: f64 = t2206 + 0.4;
-        let t2210: f64 = t2208 + t2209;
-        let t2211: f64 = t2196.plus(t2203);
-        let t2212: f64 = t2207 + t2211;
-        let t2213: f64 = t2210 - t2212;
-        let t2214: f64 = yc * 33.35000000000001;
-        let t2215: f64 = t50 * 4.175;
-        let t2216: f64 = t2215 - t2214;
-        let t2217: f64 = t2156 + 12.010000000000002;
-        let t2218: f64 = t2157 + t2217;
-        let t2219 = product(t71, t360);
-        let t2220: f64 = t2161 + t2179;
-        let t2221: f64 = t2181 + t2220;
-        let t2222: f64 = t2219.added_to(t2178);
-        let t2223: f64 = t2180 + t2222;
-        let t2224: f64 = t2221 - t2223;
-        let t2225: f64 = t2148 - t2192;
-        let t2226 = product(t30, t360);
-        let t2227: f64 = t2226.added_to(t2207);
-        let t2228: f64 = t2203 + t2204;
-        let t2229: f64 = t2205 + t2206;
-        let t2230: f64 = t2228 + t2229;
-        let t2231: f64 = t2230 + 0.4;
-        let t2232: f64 = t2227 - t2231;
-        let t2233: f64 = t2214 - t2215;
-        let t2234: f64 = 12.010000000000002 - t2158;
-        let t2235: f64 = t6 * t6;
-        let t2236: f64 = t2113 * t2235;
-        let t2237: f64 = t5 * t5;
-        let t2238 = product(t2113, t2237);
-        let t2239: f64 = t2 * t2;
-        let t2240: f64 = t2238.plus(t2239);
-        let t2241: f64 = t2116 + t2197;
-        let t2242: f64 = yc * 5.34;
-        let t2243: f64 = t2236 * 1.0298500000000002;
-        let t2244: f64 = t68 - t50;
-        let t2245 = product(t2244, 0.835);
-        let t2246: f64 = t279 * 8.35;
-        let t2247: f64 = t280 * 4.175;
-        let t2248: f64 = t2240 * 0.5610999999999999;
-        let t2249: f64 = t2241 * 2.5;
-        let t2250: f64 = t2245.added_to(t2243);
-        let t2251: f64 = t2246 + t2247;
-        let t2252: f64 = t2248 + 0.4;
-        let t2253: f64 = t2250 + t2251;
-        let t2254: f64 = t2252 + t2253;
-        let t2255: f64 = t422 + t2242;
-        let t2256: f64 = t2249 + t2255;
-        let t2257: f64 = t2254 - t2256;
-        let t2258 = product(yc, t30);
-        let t2259 = product(t379, t1861);
-        let t2260: f64 = t37 * t1870;
-        let t2261: f64 = t2259.minus(t2260);
-        let t2262: f64 = t2258.plus(t2261);
-        let t2263: f64 = xc * 5.34;
-        let t2264: f64 = t2102 * 0.5610999999999999;
-        let t2265: f64 = t27 * 0.835;
-        let t2266: f64 = t2262 * 2.5;
-        let t2267: f64 = t2106 + t2263;
-        let t2268: f64 = t2266 + t2267;
-        let t2269: f64 = t2264 + t2265;
-        let t2270: f64 = t2268 - t2269;
-        let t2271 = product(t0, t30);
-        let t2272 = product(t379, t1905);
-        let t2273: f64 = t37 * t1903;
-        let t2274: f64 = t2272.minus(t2273);
-        let t2275: f64 = t2271.plus(t2274);
-        let t2276 = product(xc, 3.34);
-        let t2277: f64 = t2176 * 0.5610999999999999;
-        let t2278 = product(t2275, 2.5);
-        let t2279: f64 = t2276.plus(t2277);
-        let t2280: f64 = t2278.added_to(t2180);
-        let t2281: f64 = t2279 + t2280;
-        let t2282: f64 = t2281 - t2265;
-        let t2283: f64 = -t2152;
-        let t2284: f64 = t2214 + 12.010000000000002;
-        let t2285: f64 = t2284 - t2215;
-        let t2286: f64 = t50 + t68;
-        let t2287 = product(t2286, 0.835);
-        let t2288: f64 = t422 + t2249;
-        let t2289: f64 = t2242 + t2243;
-        let t2290: f64 = t2287.added_to(t2246);
-        let t2291: f64 = t2247 + t2248;
-        let t2292: f64 = t2289 + t2290;
-        let t2293: f64 = t2291 + 0.4;
-        let t2294: f64 = t2292 + t2293;
-        let t2295: f64 = t2288 - t2294;
-        let t2296: f64 = t2263 + t2264;
-        let t2297: f64 = t2106 + t2265;
-        let t2298: f64 = t2266 + t2297;
-        let t2299: f64 = t2296 - t2298;
-        let t2300: f64 = t2265 - t2281;
-        let t2301: f64 = t2215 + 12.010000000000002;
-        let t2302: f64 = t2301 - t2214;
-        (
-            t2011,
-            t2012,
-            t2013,
-            t2017,
-            t2020,
-            t2023,
-            t2042,
-            t2062,
-            t2081,
-            t2082,
-            t2088,
-            t2093,
-            t2097,
-            t2111,
-            t2134,
-            t2149,
-            t2152,
-            t2153,
-            t2158,
-            t2159,
-            t2160,
-            t2166,
-            t2170,
-            t2171,
-            t2186,
-            t2193,
-            t2213,
-            t2216,
-            t2218,
-            t2224,
-            t2225,
-            t2232,
-            t2233,
-            t2234,
-            t2257,
-            t2270,
-            t2282,
-            t2283,
-            t2285,
-            t2295,
-            t2299,
-            t2300,
-            t2302,
-        )
+    let (t2015, t2023, t2030, t2033, t2037, t2042, t2045, t2046, t2047, t2049) = {
+        let t2003 = product(t2000, 0.4119400000000001);
+        let t2004: f64 = t2001.plus(t2002);
+        let t2005: f64 = t2004 * 0.22443999999999997;
+        let t2006: f64 = t2003.plus(t2005);
+        let t2007: f64 = t237 + t2006;
+        let t2008: f64 = t1887 + t1961;
+        let t2009: f64 = t2007 - t2008;
+        let t2010: f64 = t349 * t2009;
+        let t2011: f64 = t1999.plus(t2010);
+        let t2012: f64 = t2 * 2.0;
+        let t2013: f64 = t1997.plus(t2012);
+        let t2014: f64 = t2011 + t2013;
+        let t2015: f64 = -t2014;
+        let t2016 = product(t88, t352);
+        let t2017 = product(yc, t88);
+        let t2018: f64 = t2017.added_to(t1877);
+        let t2019: f64 = t1879 - t2018;
+        let t2020: f64 = t349 * t2019;
+        let t2021: f64 = xc * 2.0;
+        let t2022: f64 = t2016.plus(t2021);
+        let t2023: f64 = t2020 + t2022;
+        let t2024: f64 = t88 * t349;
+        let t2025 = product(t354, t2024);
+        let t2026 = product(t0, t88);
+        let t2027: f64 = t2026.added_to(t1947);
+        let t2028: f64 = t1949 - t2027;
+        let t2029: f64 = t349 * t2028;
+        let t2030: f64 = t2025.plus(t2029);
+        let t2031: f64 = t349 * t1923;
+        let t2032: f64 = t1462 * 20.020000000000003;
+        let t2033: f64 = t2031 - t2032;
+        let t2034: f64 = t349 * t1978;
+        let t2035: f64 = t351 * 20.020000000000003;
+        let t2036: f64 = t2035 + 22.020000000000003;
+        let t2037: f64 = t2036 - t2034;
+        let t2038: f64 = t38 * t349;
+        let t2039 = product(t350, t2038);
+        let t2040 = product(t3, 2.0);
+        let t2041: f64 = t2039.added_to(t2011);
+        let t2042: f64 = t2040.subtracted_from(t2041);
+        let t2043 = product(t350, t2024);
+        let t2044: f64 = t2043.added_to(t2020);
+        let t2045: f64 = t2021 - t2044;
+        let t2046: f64 = -t2030;
+        let t2047: f64 = t2032 - t2031;
+        let t2048: f64 = t2034 + 2.0;
+        let t2049: f64 = t2048 - t2035;
+        (t2015, t2023, t2030, t2033, t2037, t2042, t2045, t2046, t2047, t2049)
     };
     (
-        [t300, t306, t358, t365, t407, t417],
+        [t279, t284, t339, t346, t392, t400],
         [
-            [t618, t877, t1030, t1136, t1225, t1312],
-            [t1313, t1314, t1029, t1316, t1320, t1324],
-            [t1367, t1422, t1475, t1513, t1548, t1583],
-            [t1585, t1589, t1593, t1598, t1602, t1606],
-            [t1633, t1669, t1699, t1731, t1760, t1788],
-            [t1791, t1794, t1797, t1806, t1816, t1824],
+            [t575, t766, t897, t994, t1092, t1187],
+            [t1188, t765, t896, t993, t1190, t1192],
+            [t1241, t1286, t1331, t1368, t1407, t1446],
+            [t1448, t1450, t1452, t1455, t1457, t1460],
+            [t1489, t1523, t1555, t1580, t1608, t1632],
+            [t1634, t1636, t1638, t1641, t1644, t1646],
         ],
         [
-            [t1857, t1898, t1940, 0.0, t1941, t1943],
-            [t1944, t1947, t1951, 0.0, t1941, t1943],
-            [t1972, t1992, t2011, t2012, 0.0, t2013],
-            [t2017, t2020, t2023, t2012, 0.0, t2013],
-            [t2042, t2062, t2081, t1942, t2082, 0.0],
-            [t2088, t2093, t2097, t1942, t2082, 0.0],
+            [t1676, t1706, t1737, 0.0, t1738, t1740],
+            [t1741, t1743, t1745, 0.0, t1738, t1740],
+            [t1764, t1781, t1799, t1800, 0.0, t1801],
+            [t1804, t1806, t1809, t1800, 0.0, t1801],
+            [t1825, t1843, t1860, t1739, t1861, 0.0],
+            [t1864, t1867, t1869, t1739, t1861, 0.0],
         ],
         [
-            [t2111, t2134, t2149, t2153, 0.0, t2159],
-            [t2160, t2166, t2170, t2171, 0.0, t2158],
-            [t2186, t2193, t2213, t2216, t2218, 0.0],
-            [t2224, t2225, t2232, t2233, t2234, 0.0],
-            [t2257, t2270, t2282, 0.0, t2283, t2285],
-            [t2295, t2299, t2300, 0.0, t2152, t2302],
+            [t1883, t1906, t1920, t1925, 0.0, t1933],
+            [t1934, t1936, t1938, t1939, 0.0, t1940],
+            [t1955, t1959, t1976, t1979, t1983, 0.0],
+            [t1987, t1988, t1993, t1994, t1996, 0.0],
+            [t2015, t2023, t2030, 0.0, t2033, t2037],
+            [t2042, t2045, t2046, 0.0, t2047, t2049],
         ],
-        [t379, t34, t333],
+        [t64, t14, t42],
     )
 }
 /// Forward dynamics and its exact Jacobians: `a = (ω̇; a_C)`, `∂a/∂X`, `∂a/∂V`, `∂a/∂Γ`.
@@ -3061,7 +2734,7 @@ pub fn inverse_dynamics_derivatives_separate(
 /// - `d_gamma`: `∂a/∂Γ` (rad/s²/N, m/s²/N)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 2146 mul, 10 div, 1613 add, 57 neg, 3 sin_cos (chapter convention: 2156m + 1613a).
+/// Operations: 1995 mul, 10 div, 1575 add, 64 neg, 3 sin_cos (chapter convention: 2005m + 1575a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -3090,4774 +2763,4596 @@ pub fn forward_dynamics_derivatives_separate(
         t2,
         t3,
         t5,
-        t9,
-        t13,
+        t6,
+        t7,
         t14,
-        t24,
-        t25,
+        t15,
+        t19,
+        t20,
+        t21,
+        t22,
         t27,
         t29,
-        t30,
-        t31,
         t32,
-        t33,
+        t34,
         t36,
-        t38,
         t39,
-        t40,
-        t41,
-        t43,
-        t45,
-        t46,
-        t50,
+        t42,
+        t44,
+        t47,
+        t49,
         t52,
+        t53,
         t55,
-        t56,
-        t57,
-        t58,
-        t59,
-        t60,
-        t62,
-        t63,
-        t64,
+        t61,
         t67,
-        t68,
-        t83,
-        t85,
+        t82,
+        t86,
         t87,
-        t98,
-        t101,
-        t102,
+        t97,
+        t100,
+        t103,
         t104,
-        t105,
-        t109,
-        t122,
-        t124,
-        t126,
-        t137,
+        t107,
+        t110,
+        t113,
+        t123,
         t139,
-        t157,
-        t165,
-        t172,
-        t174,
-        t175,
-        t177,
-        t178,
-        t179,
-        t181,
-        t201,
+        t159,
+        t160,
+        t182,
+        t187,
         t206,
-        t212,
-        t216,
-        t226,
+        t224,
+        t225,
+        t228,
+        t229,
         t231,
-        t248,
-        t253,
+        t232,
+        t235,
+        t238,
+        t239,
+        t241,
+        t242,
+        t251,
         t254,
         t255,
-        t262,
+        t257,
+        t260,
+        t263,
         t264,
-        t265,
-        t278,
+        t266,
+        t271,
+        t273,
         t279,
+        t280,
+        t281,
         t282,
-        t284,
-        t289,
+        t286,
+        t287,
+        t290,
         t291,
-        t296,
-        t300,
-        t301,
-        t304,
-        t311,
-        t315,
-        t320,
-        t321,
-        t323,
-        t327,
+        t294,
+        t302,
+        t307,
+        t313,
+        t314,
+        t316,
+        t319,
+        t330,
+        t331,
+        t332,
+        t333,
+        t334,
+        t337,
         t338,
-        t340,
-        t341,
-        t343,
-        t344,
+        t339,
         t347,
+        t348,
         t349,
-        t350,
-        t354,
-        t358,
+        t353,
+        t356,
         t360,
-        t364,
-        t365,
         t367,
-        t371,
-        t373,
         t374,
+        t375,
         t377,
         t378,
-        t379,
+        t383,
+        t384,
         t385,
+        t388,
+        t390,
         t391,
-        t392,
-        t395,
         t396,
         t397,
-        t402,
-        t403,
+        t398,
         t404,
-        t409,
-        t410,
-        t411,
-        t412,
-        t414,
-        t415,
-        t417,
-        t418,
-        t420,
-        t422,
-        t439,
+        t405,
+        t406,
+        t425,
+        t435,
+        t440,
+        t441,
         t442,
         t443,
-        t444,
-        t445,
-        t456,
-        t460,
-        t461,
+        t450,
+        t451,
+        t472,
+        t473,
         t483,
-        t484,
         t493,
-        t508,
-        t509,
-        t548,
-        t550,
-        t554,
-        t556,
+        t494,
+        t532,
+        t534,
+        t538,
+        t540,
+        t544,
+        t546,
+        t551,
+        t553,
+        t555,
+        t557,
+        t559,
         t561,
-        t563,
-        t568,
-        t570,
-        t572,
-        t574,
-        t576,
-        t577,
-        t587,
+        t578,
+        t579,
+        t580,
+        t582,
+        t583,
+        t585,
+        t588,
+        t590,
+        t591,
+        t594,
         t595,
-        t596,
         t597,
-        t599,
-        t600,
+        t601,
         t602,
+        t603,
+        t604,
         t605,
-        t608,
-        t611,
+        t606,
+        t607,
         t612,
-        t614,
-        t618,
-        t619,
-        t620,
-        t621,
-        t622,
-        t623,
+        t613,
         t624,
-        t629,
-        t630,
-        t632,
-        t650,
-        t655,
-        t667,
-        t676,
+        t648,
+        t659,
+        t663,
+        t672,
         t680,
-        t683,
+        t687,
         t692,
-        t696,
-        t712,
+        t706,
         t717,
-        t722,
         t735,
-        t745,
-        t759,
-        t760,
+        t736,
+        t749,
+        t754,
+        t772,
+        t773,
+        t776,
         t778,
-        t784,
+        t779,
+        t781,
+        t785,
+        t786,
         t787,
-        t788,
-        t796,
+        t789,
         t797,
-        t799,
-        t802,
         t805,
-        t806,
-        t808,
-        t819,
-        t822,
-        t823,
         t824,
-        t825,
-        t826,
-        t827,
-        t845,
-        t854,
-        t870,
+        t835,
+        t843,
+        t849,
+        t855,
+        t872,
         t882,
-        t889,
         t894,
-        t895,
-        t901,
-        t919,
-        t929,
+        t900,
+        t910,
+        t917,
+        t936,
+        t937,
         t941,
-        t950,
-        t956,
-        t965,
-        t966,
-        t972,
-        t974,
+        t952,
+        t957,
+        t960,
+        t970,
+        t976,
+        t978,
         t980,
-        t985,
-        t986,
-        t992,
-        t997,
+        t981,
+        t984,
+        t991,
+        t996,
         t998,
-        t1000,
-        t1001,
         t1002,
     ) = {
         let t0: f64 = yc * yc;
         let t1: f64 = zc * zc;
         let (t2, t3): (f64, f64) = sin_cos(beta);
         let t4: f64 = t2 * t2;
-        let t5: f64 = yc - 0.2;
-        let t6: f64 = yc * 2.0;
-        let t7: f64 = t6 - 0.4;
-        let t8 = product(t5, t7);
-        let t9: f64 = yc + 0.2;
-        let t10: f64 = t6 + 0.4;
-        let t11 = product(t9, t10);
-        let t12: f64 = t3 * t3;
-        let (t13, t14): (f64, f64) = sin_cos(gamma);
-        let t15: f64 = t14 * t14;
-        let t16: f64 = t13 * t13;
-        let t17 = product(t15, 0.4119400000000001);
-        let t18: f64 = t16 * 0.22443999999999997;
-        let t19: f64 = t17.plus(t18);
-        let t20: f64 = t12 * t19;
-        let t21 = product(t5, t5);
-        let t22: f64 = t9 * t9;
-        let t23: f64 = t21.plus(t22);
-        let (t24, t25): (f64, f64) = sin_cos(alpha);
-        let t26 = product(t14, t25);
-        let t27: f64 = t2 * t24;
-        let t28: f64 = t13 * t27;
-        let t29: f64 = t26.minus(t28);
-        let t30: f64 = 1.0 / t29;
-        let t31: f64 = t30 * t30;
-        let t32: f64 = xc - 0.2;
-        let t33: f64 = t3 * t13;
-        let t34 = product(t32, t33);
-        let t35 = product(t14, t24);
-        let t36: f64 = t2 * t13;
-        let t37: f64 = t25 * t36;
-        let t38: f64 = t35.plus(t37);
-        let t39: f64 = zc * t38;
-        let t40: f64 = t34.minus(t39);
-        let t41: f64 = t40 * t40;
-        let t42 = product(t31, t41);
-        let t43: f64 = xc + 0.2;
-        let t44 = product(t33, t43);
-        let t45: f64 = t44.subtracted_from(t39);
-        let t46: f64 = t45 * t45;
-        let t47: f64 = t31 * t46;
-        let t48: f64 = t42.plus(t47);
-        let t49: f64 = t23 + t48;
-        let t50: f64 = zc - 0.2;
-        let t51 = product(t50, t50);
-        let t52: f64 = zc + 0.2;
-        let t53: f64 = t52 * t52;
-        let t54: f64 = t51.plus(t53);
-        let t55: f64 = 1.0 / t25;
-        let t56: f64 = t55 * t55;
-        let t57: f64 = 1.0 / t3;
-        let t58: f64 = t57 * t57;
-        let t59: f64 = xc * t2;
-        let t60: f64 = t3 * t24;
-        let t61 = product(t5, t60);
-        let t62: f64 = t61.subtracted_from(t59);
-        let t63: f64 = t62 * t62;
-        let t64: f64 = t56 * t58;
-        let t65 = product(t63, t64);
-        let t66 = product(t9, t60);
-        let t67: f64 = t66.subtracted_from(t59);
+        let t5: f64 = t3 * t3;
+        let (t6, t7): (f64, f64) = sin_cos(gamma);
+        let t8: f64 = t7 * t7;
+        let t9: f64 = t6 * t6;
+        let t10 = product(t8, 0.4119400000000001);
+        let t11: f64 = t9 * 0.22443999999999997;
+        let t12: f64 = t10.plus(t11);
+        let t13 = product(t5, t12);
+        let (t14, t15): (f64, f64) = sin_cos(alpha);
+        let t16 = product(t7, t15);
+        let t17: f64 = t2 * t14;
+        let t18: f64 = t6 * t17;
+        let t19: f64 = t16.minus(t18);
+        let t20: f64 = 1.0 / t19;
+        let t21: f64 = xc - 0.2;
+        let t22: f64 = t3 * t6;
+        let t23 = product(t21, t22);
+        let t24 = product(t7, t14);
+        let t25: f64 = t2 * t6;
+        let t26: f64 = t15 * t25;
+        let t27: f64 = t24.plus(t26);
+        let t28: f64 = zc * t27;
+        let t29: f64 = t23.minus(t28);
+        let t30 = product(t20, t29);
+        let t31: f64 = t30.subtracted_from(yc);
+        let t32: f64 = yc - t31;
+        let t33 = product(t32, t32);
+        let t34: f64 = xc + 0.2;
+        let t35 = product(t22, t34);
+        let t36: f64 = t35.subtracted_from(t28);
+        let t37 = product(t20, t36);
+        let t38: f64 = t37.added_to(yc);
+        let t39: f64 = yc - t38;
+        let t40: f64 = t39 * t39;
+        let t41: f64 = t33.plus(t40);
+        let t42: f64 = yc - 0.2;
+        let t43 = product(t42, t42);
+        let t44: f64 = yc + 0.2;
+        let t45: f64 = t44 * t44;
+        let t46: f64 = t43.plus(t45);
+        let t47: f64 = zc - 0.2;
+        let t48 = product(t47, t47);
+        let t49: f64 = zc + 0.2;
+        let t50: f64 = t49 * t49;
+        let t51: f64 = t48.plus(t50);
+        let t52: f64 = 1.0 / t15;
+        let t53: f64 = 1.0 / t3;
+        let t54: f64 = xc * t2;
+        let t55: f64 = t3 * t14;
+        let t56 = product(t42, t55);
+        let t57: f64 = t56.subtracted_from(t54);
+        let t58: f64 = t52 * t53;
+        let t59 = product(t57, t58);
+        let t60: f64 = t59.added_to(zc);
+        let t61: f64 = zc - t60;
+        let t62 = product(t61, t61);
+        let t63 = product(t44, t55);
+        let t64: f64 = t63.subtracted_from(t54);
+        let t65 = product(t58, t64);
+        let t66: f64 = t65.added_to(zc);
+        let t67: f64 = zc - t66;
         let t68: f64 = t67 * t67;
-        let t69: f64 = t64 * t68;
-        let t70: f64 = t65.plus(t69);
-        let t71: f64 = t54 + t70;
-        let t72: f64 = t49 + t71;
-        let t73 = product(t0, 3.34);
-        let t74: f64 = t1 * 7.34;
-        let t75: f64 = t4 * 0.22443999999999997;
-        let t76: f64 = t72 * 1.67;
-        let t77: f64 = t73.plus(t74);
-        let t78: f64 = t8.plus(t75);
-        let t79: f64 = t11.plus(t20);
+        let t69: f64 = t62.plus(t68);
+        let t70: f64 = t51 + t69;
+        let t71 = product(t0, 3.34);
+        let t72: f64 = t1 * 7.34;
+        let t73: f64 = t4 * 0.22443999999999997;
+        let t74: f64 = t41 + t70;
+        let t75 = product(t74, 1.67);
+        let t76: f64 = t46 * 3.67;
+        let t77: f64 = t71.plus(t72);
+        let t78: f64 = t13.plus(t73);
+        let t79: f64 = t75.plus(t76);
         let t80: f64 = t77 + t78;
-        let t81: f64 = t76 + t79;
-        let t82: f64 = t80 + t81;
-        let t83: f64 = 1.0 / t82;
-        let t84: f64 = t2 * t25;
-        let t85: f64 = t13 * t24;
-        let t86 = product(t14, t84);
-        let t87: f64 = t86.subtracted_from(t85);
-        let t88: f64 = t14 * t87;
-        let t89 = product(t13, t38);
-        let t90: f64 = t89.subtracted_from(t84);
-        let t91 = product(t90, 0.22443999999999997);
-        let t92: f64 = t88 * 0.4119400000000001;
-        let t93: f64 = t91.plus(t92);
-        let t94: f64 = t3 * t93;
-        let t95 = product(zc, t32);
-        let t96: f64 = zc * t43;
-        let t97: f64 = t95.plus(t96);
-        let t98: f64 = 1.0 / t14;
-        let t99 = product(t13, t25);
-        let t100: f64 = t14 * t27;
-        let t101: f64 = t99.plus(t100);
-        let t102: f64 = yc * t101;
-        let t103 = product(t50, t87);
-        let t104: f64 = t103.added_to(t102);
-        let t105: f64 = t57 * t98;
-        let t106: f64 = t50 * t105;
-        let t107 = product(t104, t106);
-        let t108 = product(t52, t87);
-        let t109: f64 = t108.added_to(t102);
-        let t110: f64 = t52 * t105;
-        let t111: f64 = t109 * t110;
-        let t112: f64 = t107.plus(t111);
-        let t113: f64 = xc * t55;
-        let t114: f64 = t57 * t113;
-        let t115 = product(t62, t114);
-        let t116: f64 = t67 * t114;
-        let t117: f64 = t115.plus(t116);
-        let t118: f64 = t112 + t117;
-        let t119: f64 = t97 * 3.67;
-        let t120: f64 = t118 * 1.67;
-        let t121: f64 = t94 + t120;
-        let t122: f64 = t121 - t119;
-        let t123: f64 = xc * xc;
-        let t124: f64 = t87 * 0.4119400000000001;
-        let t125 = product(t87, t124);
-        let t126: f64 = t38 * 0.22443999999999997;
-        let t127: f64 = t38 * t126;
-        let t128: f64 = t25 * t25;
-        let t129: f64 = t12 * t128;
-        let t130: f64 = xc * 2.0;
-        let t131: f64 = t130 - 0.4;
-        let t132 = product(t32, t131);
-        let t133: f64 = t130 + 0.4;
-        let t134: f64 = t43 * t133;
-        let t135: f64 = t122 * t122;
-        let t136 = product(t83, t135);
-        let t137: f64 = t101 * 0.4119400000000001;
-        let t138 = product(t101, t137);
-        let t139: f64 = t29 * 0.22443999999999997;
-        let t140: f64 = t29 * t139;
-        let t141: f64 = t24 * t24;
-        let t142: f64 = t12 * t141;
-        let t143: f64 = zc * 2.0;
-        let t144: f64 = t143 - 0.4;
-        let t145 = product(t50, t144);
-        let t146: f64 = t143 + 0.4;
-        let t147: f64 = t52 * t146;
-        let t148: f64 = t14 * t101;
-        let t149 = product(t13, t29);
-        let t150: f64 = t149.added_to(t27);
-        let t151 = product(t150, 0.22443999999999997);
-        let t152: f64 = t148 * 0.4119400000000001;
-        let t153: f64 = t151.minus(t152);
-        let t154 = product(t3, t153);
-        let t155: f64 = xc * yc;
-        let t156: f64 = yc * t57;
-        let t157: f64 = t98 * t156;
-        let t158 = product(t104, t157);
-        let t159: f64 = t109 * t157;
-        let t160: f64 = t158.plus(t159);
-        let t161: f64 = t30 * t43;
-        let t162 = product(t45, t161);
-        let t163: f64 = t30 * t32;
-        let t164: f64 = t40 * t163;
-        let t165: f64 = t162.minus(t164);
-        let t166 = product(xc, t5);
-        let t167: f64 = xc * t9;
-        let t168: f64 = t166.plus(t167);
-        let t169: f64 = t165 - t168;
-        let t170: f64 = t160 + t169;
-        let t171: f64 = t155 * 4.0;
-        let t172: f64 = t170 * 1.67;
-        let t173: f64 = t154.plus(t171);
-        let t174: f64 = t172 - t173;
-        let t175: f64 = t174 * t174;
-        let t176: f64 = t83 * t175;
-        let t177: f64 = t98 * t98;
-        let t178: f64 = t104 * t104;
-        let t179: f64 = t58 * t177;
-        let t180 = product(t178, t179);
-        let t181: f64 = t109 * t109;
-        let t182: f64 = t179 * t181;
-        let t183: f64 = t180.plus(t182);
-        let t184 = product(t32, t32);
-        let t185: f64 = t43 * t43;
-        let t186: f64 = t184.plus(t185);
-        let t187: f64 = t183 + t186;
-        let t188: f64 = t71 + t187;
-        let t189: f64 = t1 * 3.34;
-        let t190 = product(t123, 7.34);
-        let t191 = product(t142, 0.22443999999999997);
-        let t192: f64 = t188 * 1.67;
-        let t193: f64 = t190.added_to(t189);
-        let t194: f64 = t138.plus(t140);
-        let t195: f64 = t145.plus(t147);
-        let t196: f64 = t191.plus(t192);
-        let t197: f64 = t193 + t194;
-        let t198: f64 = t195 + t196;
-        let t199: f64 = t197 + t198;
-        let t200: f64 = t199 - t176;
-        let t201: f64 = 1.0 / t200;
-        let t202 = product(t87, t137);
-        let t203: f64 = t38 * t139;
-        let t204: f64 = t24 * t25;
-        let t205: f64 = t12 * t204;
-        let t206: f64 = t83 * t174;
-        let t207 = product(t122, t206);
-        let t208: f64 = yc * zc;
-        let t209 = product(yc, t50);
-        let t210: f64 = yc * t52;
-        let t211: f64 = t209.plus(t210);
-        let t212: f64 = zc * t30;
-        let t213 = product(t40, t212);
-        let t214: f64 = t45 * t212;
-        let t215: f64 = t213.minus(t214);
-        let t216: f64 = t55 * t57;
-        let t217: f64 = t5 * t216;
-        let t218 = product(t62, t217);
-        let t219: f64 = t9 * t216;
-        let t220: f64 = t67 * t219;
-        let t221: f64 = t218.plus(t220);
-        let t222: f64 = t215 - t221;
-        let t223: f64 = t211 + t222;
-        let t224: f64 = t205 * 0.22443999999999997;
-        let t225 = product(t208, 4.0);
-        let t226: f64 = t223 * 1.67;
-        let t227: f64 = t207.plus(t224);
-        let t228: f64 = t225.plus(t226);
-        let t229: f64 = t227 + t228;
-        let t230: f64 = t202.plus(t203);
-        let t231: f64 = t229 - t230;
-        let t232: f64 = t231 * t231;
-        let t233: f64 = t201 * t232;
-        let t234: f64 = t49 + t187;
-        let t235 = product(t0, 7.34);
-        let t236: f64 = t123 * 3.34;
-        let t237 = product(t129, 0.22443999999999997);
-        let t238: f64 = t234 * 1.67;
-        let t239: f64 = t235.plus(t236);
-        let t240: f64 = t125.plus(t127);
-        let t241: f64 = t132.plus(t134);
-        let t242: f64 = t237.plus(t238);
-        let t243: f64 = t239 + t240;
-        let t244: f64 = t241 + t242;
-        let t245: f64 = t243 + t244;
-        let t246: f64 = t136.plus(t233);
-        let t247: f64 = t245 - t246;
-        let t248: f64 = 1.0 / t247;
-        let t249 = product(t30, t40);
-        let t250: f64 = t30 * t45;
-        let t251: f64 = t249.minus(t250);
-        let t252: f64 = yc * 10.68;
-        let t253: f64 = t251 * 1.67;
-        let t254: f64 = t252 + t253;
-        let t255: f64 = t83 * t254;
-        let t256 = product(t122, t255);
-        let t257 = product(t174, t255);
-        let t258 = product(t104, t105);
-        let t259: f64 = t105 * t109;
-        let t260: f64 = t258.plus(t259);
-        let t261: f64 = xc * 10.68;
-        let t262: f64 = t260 * 1.67;
-        let t263: f64 = t257.plus(t261);
-        let t264: f64 = t263 - t262;
-        let t265: f64 = t201 * t231;
-        let t266: f64 = t264 * t265;
-        let t267: f64 = t256.plus(t266);
-        let t268: f64 = t254 * t254;
-        let t269 = product(t83, t268);
-        let t270: f64 = t264 * t264;
-        let t271: f64 = t201 * t270;
-        let t272: f64 = t267 * t267;
-        let t273 = product(t248, t272);
-        let t274 = product(t62, t216);
-        let t275: f64 = t67 * t216;
-        let t276: f64 = t274.plus(t275);
-        let t277 = product(zc, 10.68);
-        let t278: f64 = t276 * 1.67;
-        let t279: f64 = t277.minus(t278);
-        let t280: f64 = t279 * t279;
-        let t281 = product(t201, t280);
-        let t282: f64 = t201 * t279;
-        let t283 = product(t231, t282);
-        let t284: f64 = t283.subtracted_from(t254);
-        let t285: f64 = t284 * t284;
-        let t286: f64 = t248 * t285;
-        let t287: f64 = t281.plus(t286);
-        let t288: f64 = t287 - 24.020000000000003;
-        let t289: f64 = 1.0 / t288;
-        let t290 = product(t264, t282);
-        let t291: f64 = t248 * t284;
-        let t292: f64 = t267 * t291;
-        let t293: f64 = t290.minus(t292);
-        let t294: f64 = t293 * t293;
-        let t295 = product(t289, t294);
-        let t296: f64 = t174 * t201;
-        let t297 = product(t231, t296);
-        let t298: f64 = t297.added_to(t94);
-        let t299: f64 = t120 + t298;
-        let t300: f64 = t299 - t119;
-        let t301: f64 = t83 * t279;
-        let t302 = product(t300, t301);
-        let t303: f64 = t302.added_to(t261);
-        let t304: f64 = t303 - t262;
-        let t305: f64 = t304 * t304;
-        let t306 = product(t248, t305);
-        let t307: f64 = t83 * t280;
-        let t308: f64 = t174 * t307;
-        let t309 = product(t201, t308);
-        let t310: f64 = t291 * t304;
-        let t311: f64 = t309.minus(t310);
-        let t312: f64 = t311 * t311;
-        let t313 = product(t289, t312);
-        let t314 = product(t176, t201);
-        let t315: f64 = t314.plus(1.0);
-        let t316: f64 = t307 * t315;
-        let t317: f64 = t306.plus(t316);
-        let t318: f64 = t313.plus(24.020000000000003);
-        let t319: f64 = t317 - t318;
-        let t320: f64 = 1.0 / t319;
-        let t321: f64 = t248 * t304;
-        let t322 = product(t267, t321);
-        let t323: f64 = t289 * t311;
-        let t324 = product(t293, t323);
-        let t325 = product(t264, t296);
-        let t326: f64 = t325.added_to(t252);
-        let t327: f64 = t253 + t326;
-        let t328: f64 = t301 * t327;
-        let t329: f64 = t322.plus(t328);
-        let t330: f64 = t324.subtracted_from(t329);
-        let t331: f64 = t330 * t330;
-        let t332: f64 = t320 * t331;
-        let t333: f64 = t269.plus(t271);
-        let t334: f64 = t273.plus(t333);
-        let t335: f64 = t295.plus(t332);
-        let t336: f64 = t335 + 24.020000000000003;
-        let t337: f64 = t334 - t336;
-        let t338: f64 = 1.0 / t337;
-        let t339 = product(xc, 6.68);
-        let t340: f64 = t339.minus(t262);
-        let t341: f64 = wz * t340;
-        let t342 = product(zc, 6.68);
-        let t343: f64 = t342.minus(t278);
-        let t344: f64 = wx * t343;
-        let t345: f64 = t341 - t344;
-        let t346 = product(wx, t345);
-        let t347: f64 = wy * t343;
-        let t348 = product(yc, 6.68);
-        let t349: f64 = t348.added_to(t253);
-        let t350: f64 = wz * t349;
-        let t351: f64 = t347 - t350;
-        let t352 = product(wy, t351);
-        let t353 = product(wz, t87);
-        let t354: f64 = wx * t3;
-        let t355 = product(t14, t354);
-        let t356: f64 = wy * t101;
-        let t357: f64 = t355.plus(t356);
-        let t358: f64 = t353.plus(t357);
-        let t359: f64 = wx * t13;
-        let t360: f64 = t3 * t359;
-        let t361 = product(wy, t29);
-        let t362: f64 = t361.subtracted_from(t360);
-        let t363 = product(wz, t38);
-        let t364: f64 = t363.subtracted_from(t362);
-        let t365: f64 = t364 * 0.22443999999999997;
-        let t366 = product(t358, t365);
-        let t367: f64 = t358 * 0.4119400000000001;
-        let t368: f64 = t364 * t367;
-        let t369: f64 = t366.minus(t368);
-        let t370 = product(t2, t369);
-        let t371: f64 = wy * t226;
-        let t372: f64 = t118 - t97;
-        let t373: f64 = t372 * 1.67;
-        let t374: f64 = wx * t373;
-        let t375: f64 = t0 + t123;
-        let t376 = product(t375, 3.34);
-        let t377: f64 = t376.added_to(t238);
-        let t378: f64 = wz * t377;
-        let t379: f64 = t374 + t378;
-        let t380: f64 = t379 - t371;
-        let t381: f64 = wy * t380;
-        let t382: f64 = t370.minus(t381);
-        let t383 = product(wx, vy);
-        let t384: f64 = wy * vx;
-        let t385: f64 = t383.minus(t384);
-        let t386: f64 = t385 * 2.0;
-        let t387: f64 = g6 + t386;
-        let t388: f64 = t387 - 19.62;
-        let t389 = product(t9, t388);
-        let t390: f64 = t389.subtracted_from(t382);
-        let t391: f64 = wz * t226;
-        let t392: f64 = wx * t172;
-        let t393: f64 = t1 + t123;
-        let t394 = product(t393, 3.34);
-        let t395: f64 = t394.added_to(t192);
-        let t396: f64 = wy * t395;
-        let t397: f64 = t392 + t396;
-        let t398: f64 = t397 - t391;
-        let t399 = product(wz, t398);
-        let t400 = product(wz, vx);
-        let t401: f64 = wx * vz;
-        let t402: f64 = t400.minus(t401);
-        let t403: f64 = g3 + g4;
-        let t404: f64 = t402 * 4.0;
-        let t405: f64 = t403 + t404;
-        let t406: f64 = zc * t405;
-        let t407: f64 = t399.plus(t406);
-        let t408: f64 = wz * t25;
-        let t409: f64 = t3 * t408;
-        let t410: f64 = wx * t2;
-        let t411: f64 = wy * t24;
-        let t412: f64 = t3 * t411;
-        let t413: f64 = t410 - t412;
-        let t414: f64 = t409 + t413;
-        let t415: f64 = t414 * 0.22443999999999997;
-        let t416 = product(t364, t415);
-        let t417: f64 = t365 * t414;
-        let t418: f64 = t416.minus(t417);
-        let t419 = product(t14, t418);
-        let t420: f64 = t367 * t414;
-        let t421 = product(t358, t415);
-        let t422: f64 = t421.subtracted_from(t420);
-        let t423: f64 = t13 * t422;
-        let t424: f64 = t419.plus(t423);
-        let t425 = product(t3, t424);
-        let t426: f64 = g5 + t386;
-        let t427: f64 = t426 - 19.62;
-        let t428: f64 = t5 * t427;
-        let t429: f64 = t425.minus(t428);
-        let t430: f64 = t407 + t429;
-        let t431: f64 = t390 + t430;
-        let t432: f64 = yc * 65.5308;
-        let t433: f64 = t251 * 16.3827;
-        let t434: f64 = t432 + t433;
-        let t435: f64 = t431 + t434;
-        let t436: f64 = t254 * t435;
-        let t437: f64 = t83 * t436;
-        let t438 = product(t60, t369);
-        let t439: f64 = wz * t373;
-        let t440: f64 = t0 + t1;
-        let t441 = product(t440, 3.34);
-        let t442: f64 = t441.added_to(t76);
-        let t443: f64 = wx * t442;
-        let t444: f64 = wy * t172;
-        let t445: f64 = t443 + t444;
-        let t446: f64 = t439 + t445;
-        let t447: f64 = wz * t446;
-        let t448: f64 = t438.plus(t447);
-        let t449: f64 = t83 * t435;
-        let t450 = product(t174, t449);
-        let t451: f64 = wx * t380;
-        let t452: f64 = t450.minus(t451);
-        let t453: f64 = t448 + t452;
-        let t454 = product(wy, vz);
-        let t455: f64 = wz * vy;
-        let t456: f64 = t454.minus(t455);
-        let t457: f64 = t456 * 2.0;
-        let t458: f64 = g1 + t457;
-        let t459 = product(t50, t458);
-        let t460: f64 = g5 + g6;
-        let t461: f64 = t385 * 4.0;
-        let t462: f64 = t460 + t461;
-        let t463: f64 = t462 - 39.24;
-        let t464: f64 = xc * t463;
-        let t465: f64 = t459.minus(t464);
-        let t466: f64 = g2 + t457;
-        let t467 = product(t52, t466);
-        let t468 = product(t29, t422);
-        let t469: f64 = t101 * t418;
+        let t81: f64 = t79 + t80;
+        let t82: f64 = 1.0 / t81;
+        let t83: f64 = t2 * t15;
+        let t84: f64 = t6 * t14;
+        let t85 = product(t7, t83);
+        let t86: f64 = t85.subtracted_from(t84);
+        let t87: f64 = t7 * t86;
+        let t88 = product(t6, t27);
+        let t89: f64 = t88.subtracted_from(t83);
+        let t90 = product(t89, 0.22443999999999997);
+        let t91: f64 = t87 * 0.4119400000000001;
+        let t92: f64 = t90.plus(t91);
+        let t93: f64 = t3 * t92;
+        let t94 = product(zc, t21);
+        let t95: f64 = zc * t34;
+        let t96: f64 = t94.plus(t95);
+        let t97: f64 = 1.0 / t7;
+        let t98 = product(t6, t15);
+        let t99: f64 = t7 * t17;
+        let t100: f64 = t98.plus(t99);
+        let t101: f64 = yc * t100;
+        let t102 = product(t47, t86);
+        let t103: f64 = t102.added_to(t101);
+        let t104: f64 = t53 * t97;
+        let t105 = product(t103, t104);
+        let t106: f64 = t105.added_to(xc);
+        let t107: f64 = xc - t106;
+        let t108 = product(t47, t107);
+        let t109 = product(t49, t86);
+        let t110: f64 = t109.added_to(t101);
+        let t111 = product(t104, t110);
+        let t112: f64 = t111.added_to(xc);
+        let t113: f64 = xc - t112;
+        let t114: f64 = t49 * t113;
+        let t115: f64 = t108.plus(t114);
+        let t116 = product(xc, t61);
+        let t117: f64 = xc * t67;
+        let t118: f64 = t116.plus(t117);
+        let t119: f64 = t115 + t118;
+        let t120: f64 = t96 * 3.67;
+        let t121: f64 = t119 * 1.67;
+        let t122: f64 = t120 + t121;
+        let t123: f64 = t122 - t93;
+        let t124: f64 = xc * xc;
+        let t125: f64 = t86 * 0.4119400000000001;
+        let t126 = product(t86, t125);
+        let t127: f64 = t27 * 0.22443999999999997;
+        let t128: f64 = t27 * t127;
+        let t129: f64 = t15 * t15;
+        let t130: f64 = t5 * t129;
+        let t131: f64 = t123 * t123;
+        let t132 = product(t82, t131);
+        let t133: f64 = t100 * 0.4119400000000001;
+        let t134 = product(t100, t133);
+        let t135: f64 = t19 * 0.22443999999999997;
+        let t136: f64 = t19 * t135;
+        let t137: f64 = t14 * t14;
+        let t138: f64 = t5 * t137;
+        let t139: f64 = t7 * t100;
+        let t140 = product(t6, t19);
+        let t141: f64 = t140.added_to(t17);
+        let t142 = product(t141, 0.22443999999999997);
+        let t143: f64 = t139 * 0.4119400000000001;
+        let t144: f64 = t142.minus(t143);
+        let t145 = product(t3, t144);
+        let t146 = product(xc, t42);
+        let t147: f64 = xc * t44;
+        let t148: f64 = t146.plus(t147);
+        let t149 = product(yc, t107);
+        let t150: f64 = yc * t113;
+        let t151: f64 = t149.plus(t150);
+        let t152 = product(t21, t32);
+        let t153: f64 = t34 * t39;
+        let t154: f64 = t152.plus(t153);
+        let t155: f64 = t151 + t154;
+        let t156: f64 = t148 * 3.67;
+        let t157 = product(t155, 1.67);
+        let t158: f64 = t145.plus(t156);
+        let t159: f64 = t157.plus(t158);
+        let t160: f64 = t159 * t159;
+        let t161: f64 = t82 * t160;
+        let t162 = product(t107, t107);
+        let t163: f64 = t113 * t113;
+        let t164: f64 = t162.plus(t163);
+        let t165 = product(t21, t21);
+        let t166: f64 = t34 * t34;
+        let t167: f64 = t165.plus(t166);
+        let t168: f64 = t164 + t167;
+        let t169 = product(t1, 3.34);
+        let t170: f64 = t124 * 7.34;
+        let t171 = product(t138, 0.22443999999999997);
+        let t172: f64 = t51 * 3.67;
+        let t173: f64 = t69 + t168;
+        let t174 = product(t173, 1.67);
+        let t175: f64 = t169.plus(t170);
+        let t176: f64 = t134.plus(t136);
+        let t177: f64 = t171.plus(t172);
+        let t178: f64 = t175 + t176;
+        let t179: f64 = t174.plus(t177);
+        let t180: f64 = t178 + t179;
+        let t181: f64 = t180 - t161;
+        let t182: f64 = 1.0 / t181;
+        let t183 = product(t86, t133);
+        let t184: f64 = t27 * t135;
+        let t185: f64 = t14 * t15;
+        let t186: f64 = t5 * t185;
+        let t187: f64 = t82 * t159;
+        let t188 = product(t123, t187);
+        let t189 = product(yc, t47);
+        let t190: f64 = yc * t49;
+        let t191: f64 = t189.plus(t190);
+        let t192 = product(zc, t32);
+        let t193: f64 = zc * t39;
+        let t194: f64 = t192.plus(t193);
+        let t195 = product(t42, t61);
+        let t196: f64 = t44 * t67;
+        let t197: f64 = t195.plus(t196);
+        let t198: f64 = t194 + t197;
+        let t199: f64 = t186 * 0.22443999999999997;
+        let t200 = product(t191, 3.67);
+        let t201: f64 = t198 * 1.67;
+        let t202: f64 = t188.plus(t199);
+        let t203: f64 = t200.plus(t201);
+        let t204: f64 = t202 + t203;
+        let t205: f64 = t183.plus(t184);
+        let t206: f64 = t204 - t205;
+        let t207: f64 = t206 * t206;
+        let t208: f64 = t182 * t207;
+        let t209: f64 = t41 + t46;
+        let t210 = product(t0, 7.34);
+        let t211: f64 = t124 * 3.34;
+        let t212 = product(t130, 0.22443999999999997);
+        let t213: f64 = t164 + t209;
+        let t214: f64 = t213 * 1.67;
+        let t215 = product(t167, 3.67);
+        let t216: f64 = t210.plus(t211);
+        let t217: f64 = t126.plus(t128);
+        let t218: f64 = t212.plus(t214);
+        let t219: f64 = t216 + t217;
+        let t220: f64 = t215.plus(t218);
+        let t221: f64 = t219 + t220;
+        let t222: f64 = t132.plus(t208);
+        let t223: f64 = t221 - t222;
+        let t224: f64 = 1.0 / t223;
+        let t225: f64 = t42 + t44;
+        let t226: f64 = t32 + t39;
+        let t227: f64 = yc * 3.34;
+        let t228: f64 = t225 * 3.67;
+        let t229: f64 = t226 * 1.67;
+        let t230: f64 = t227 + t228;
+        let t231: f64 = t229 + t230;
+        let t232: f64 = t82 * t231;
+        let t233 = product(t123, t232);
+        let t234 = product(t159, t232);
+        let t235: f64 = t21 + t34;
+        let t236: f64 = t107 + t113;
+        let t237: f64 = t235 + t236;
+        let t238: f64 = xc * 7.34;
+        let t239: f64 = t237 * 1.67;
+        let t240: f64 = t238 + t239;
+        let t241: f64 = t234.subtracted_from(t240);
+        let t242: f64 = t182 * t206;
+        let t243: f64 = t241 * t242;
+        let t244: f64 = t233.minus(t243);
+        let t245: f64 = t231 * t231;
+        let t246 = product(t82, t245);
+        let t247: f64 = t241 * t241;
+        let t248: f64 = t182 * t247;
+        let t249: f64 = t244 * t244;
+        let t250 = product(t224, t249);
+        let t251: f64 = t47 + t49;
+        let t252: f64 = t61 + t67;
+        let t253: f64 = zc * 3.34;
+        let t254: f64 = t251 * 3.67;
+        let t255: f64 = t252 * 1.67;
+        let t256: f64 = t253 + t254;
+        let t257: f64 = t255 + t256;
+        let t258: f64 = t257 * t257;
+        let t259 = product(t182, t258);
+        let t260: f64 = t182 * t257;
+        let t261 = product(t206, t260);
+        let t262: f64 = t225 + t226;
+        let t263: f64 = yc * 7.34;
+        let t264: f64 = t262 * 1.67;
+        let t265: f64 = t263 + t264;
+        let t266: f64 = t261.subtracted_from(t265);
+        let t267: f64 = t266 * t266;
+        let t268: f64 = t224 * t267;
+        let t269: f64 = t259.plus(t268);
+        let t270: f64 = t269 - 24.020000000000003;
+        let t271: f64 = 1.0 / t270;
+        let t272 = product(t241, t260);
+        let t273: f64 = t224 * t266;
+        let t274: f64 = t244 * t273;
+        let t275: f64 = t272.plus(t274);
+        let t276: f64 = t275 * t275;
+        let t277 = product(t271, t276);
+        let t278: f64 = t251 + t252;
+        let t279: f64 = zc * 7.34;
+        let t280: f64 = t278 * 1.67;
+        let t281: f64 = t279 + t280;
+        let t282: f64 = t159 * t182;
+        let t283 = product(t206, t282);
+        let t284: f64 = t283.added_to(t120);
+        let t285: f64 = t121 + t284;
+        let t286: f64 = t285 - t93;
+        let t287: f64 = t82 * t281;
+        let t288 = product(t286, t287);
+        let t289: f64 = xc * 3.34;
+        let t290: f64 = t235 * 3.67;
+        let t291: f64 = t236 * 1.67;
+        let t292: f64 = t289 + t290;
+        let t293: f64 = t291 + t292;
+        let t294: f64 = t288.subtracted_from(t293);
+        let t295: f64 = t294 * t294;
+        let t296 = product(t224, t295);
+        let t297: f64 = t257 * t281;
+        let t298: f64 = t82 * t297;
+        let t299: f64 = t159 * t298;
+        let t300 = product(t182, t299);
+        let t301: f64 = t273 * t294;
+        let t302: f64 = t300.plus(t301);
+        let t303: f64 = t302 * t302;
+        let t304 = product(t271, t303);
+        let t305: f64 = t281 * t281;
+        let t306 = product(t161, t182);
+        let t307: f64 = t306.plus(1.0);
+        let t308: f64 = t82 * t305;
+        let t309: f64 = t307 * t308;
+        let t310: f64 = t296.plus(t309);
+        let t311: f64 = t304.plus(24.020000000000003);
+        let t312: f64 = t310 - t311;
+        let t313: f64 = 1.0 / t312;
+        let t314: f64 = t224 * t294;
+        let t315 = product(t244, t314);
+        let t316: f64 = t271 * t302;
+        let t317 = product(t275, t316);
+        let t318 = product(t241, t282);
+        let t319: f64 = t318.subtracted_from(t231);
+        let t320: f64 = t287 * t319;
+        let t321: f64 = t317.plus(t320);
+        let t322: f64 = t315.subtracted_from(t321);
+        let t323: f64 = t322 * t322;
+        let t324: f64 = t313 * t323;
+        let t325: f64 = t246.plus(t248);
+        let t326: f64 = t250.plus(t325);
+        let t327: f64 = t277.plus(t324);
+        let t328: f64 = t327 + 24.020000000000003;
+        let t329: f64 = t326 - t328;
+        let t330: f64 = 1.0 / t329;
+        let t331: f64 = t239 + t289;
+        let t332: f64 = wz * t331;
+        let t333: f64 = t253 + t280;
+        let t334: f64 = wx * t333;
+        let t335: f64 = t332 - t334;
+        let t336 = product(wx, t335);
+        let t337: f64 = wy * t333;
+        let t338: f64 = t227 + t264;
+        let t339: f64 = wz * t338;
+        let t340: f64 = t337 - t339;
+        let t341 = product(wy, t340);
+        let t342: f64 = wx * t3;
+        let t343 = product(t7, t342);
+        let t344: f64 = wy * t100;
+        let t345 = product(wz, t86);
+        let t346: f64 = t343.plus(t344);
+        let t347: f64 = t345.plus(t346);
+        let t348: f64 = wx * t2;
+        let t349: f64 = wy * t14;
+        let t350 = product(wz, t15);
+        let t351: f64 = t350.subtracted_from(t349);
+        let t352 = product(t3, t351);
+        let t353: f64 = t352.subtracted_from(t348);
+        let t354 = product(t22, t353);
+        let t355: f64 = wx * t6;
+        let t356: f64 = t3 * t355;
+        let t357 = product(wy, t19);
+        let t358: f64 = wz * t27;
+        let t359: f64 = t357.plus(t358);
+        let t360: f64 = t356 - t359;
+        let t361: f64 = t2 * t360;
+        let t362: f64 = t354.minus(t361);
+        let t363: f64 = t362 * 0.1875000000000001;
+        let t364 = product(t347, t363);
+        let t365 = product(wx, vy);
+        let t366: f64 = wy * vx;
+        let t367: f64 = t365.minus(t366);
+        let t368: f64 = t367 * 2.0;
+        let t369: f64 = g6 + t368;
+        let t370: f64 = t369 - 19.62;
+        let t371: f64 = t44 * t370;
+        let t372: f64 = t364.minus(t371);
+        let t373: f64 = t191 + t198;
+        let t374: f64 = t373 * 1.67;
+        let t375: f64 = wy * t374;
+        let t376: f64 = t96 + t119;
+        let t377: f64 = t376 * 1.67;
+        let t378: f64 = wx * t377;
+        let t379: f64 = t0 + t124;
+        let t380 = product(t379, 3.34);
+        let t381: f64 = t168 + t209;
+        let t382: f64 = t381 * 1.67;
+        let t383: f64 = t380.plus(t382);
+        let t384: f64 = wz * t383;
+        let t385: f64 = t378 - t384;
+        let t386: f64 = t375 + t385;
+        let t387 = product(wy, t386);
+        let t388: f64 = wz * t374;
+        let t389: f64 = t148 + t155;
+        let t390: f64 = t389 * 1.67;
+        let t391: f64 = wx * t390;
+        let t392: f64 = t1 + t124;
+        let t393 = product(t392, 3.34);
+        let t394: f64 = t70 + t168;
+        let t395: f64 = t394 * 1.67;
+        let t396: f64 = t393.plus(t395);
+        let t397: f64 = wy * t396;
+        let t398: f64 = t391 - t397;
+        let t399: f64 = t388 + t398;
+        let t400: f64 = wz * t399;
+        let t401: f64 = t387.minus(t400);
+        let t402 = product(wz, vx);
+        let t403: f64 = wx * vz;
+        let t404: f64 = t402.minus(t403);
+        let t405: f64 = g3 + g4;
+        let t406: f64 = t404 * 4.0;
+        let t407: f64 = t405 + t406;
+        let t408 = product(zc, t407);
+        let t409: f64 = g5 + t368;
+        let t410: f64 = t409 - 19.62;
+        let t411: f64 = t42 * t410;
+        let t412: f64 = t408.minus(t411);
+        let t413: f64 = t401 + t412;
+        let t414: f64 = t372 + t413;
+        let t415: f64 = yc * 32.7654;
+        let t416: f64 = t262 * 16.3827;
+        let t417: f64 = t415 + t416;
+        let t418: f64 = t414 + t417;
+        let t419: f64 = t231 * t418;
+        let t420: f64 = t82 * t419;
+        let t421: f64 = t82 * t418;
+        let t422 = product(t159, t421);
+        let t423 = product(wy, vz);
+        let t424: f64 = wz * vy;
+        let t425: f64 = t423.minus(t424);
+        let t426: f64 = t425 * 2.0;
+        let t427: f64 = g2 + t426;
+        let t428 = product(t49, t427);
+        let t429 = product(t19, t353);
+        let t430: f64 = t55 * t360;
+        let t431: f64 = t429.minus(t430);
+        let t432: f64 = t431 * 0.1875000000000001;
+        let t433: f64 = t347 * t432;
+        let t434: f64 = t428.plus(t433);
+        let t435: f64 = wz * t377;
+        let t436: f64 = t0 + t1;
+        let t437 = product(t436, 3.34);
+        let t438: f64 = t70 + t209;
+        let t439: f64 = t438 * 1.67;
+        let t440: f64 = t437.plus(t439);
+        let t441: f64 = wx * t440;
+        let t442: f64 = wy * t390;
+        let t443: f64 = t441 - t442;
+        let t444: f64 = t443 - t435;
+        let t445 = product(wz, t444);
+        let t446: f64 = wx * t386;
+        let t447: f64 = t445.plus(t446);
+        let t448: f64 = g1 + t426;
+        let t449 = product(t47, t448);
+        let t450: f64 = g5 + g6;
+        let t451: f64 = t367 * 4.0;
+        let t452: f64 = t450 + t451;
+        let t453: f64 = t452 - 39.24;
+        let t454: f64 = xc * t453;
+        let t455: f64 = t449.minus(t454);
+        let t456: f64 = t447 + t455;
+        let t457: f64 = t434 + t456;
+        let t458: f64 = xc * 32.7654;
+        let t459: f64 = t237 * 16.3827;
+        let t460: f64 = t457 + t458;
+        let t461: f64 = t459 + t460;
+        let t462: f64 = t422.subtracted_from(t461);
+        let t463: f64 = t182 * t462;
+        let t464 = product(t241, t463);
+        let t465 = product(wx, t399);
+        let t466: f64 = wy * t444;
+        let t467: f64 = t465.plus(t466);
+        let t468 = product(t123, t421);
+        let t469: f64 = t206 * t463;
         let t470: f64 = t468.minus(t469);
-        let t471: f64 = t467.plus(t470);
-        let t472: f64 = t465 + t471;
-        let t473: f64 = t453 + t472;
-        let t474: f64 = xc * 65.5308;
-        let t475: f64 = t260 * 16.3827;
-        let t476: f64 = t473 + t474;
-        let t477: f64 = t476 - t475;
-        let t478: f64 = t201 * t477;
-        let t479 = product(t264, t478);
-        let t480 = product(wy, t446);
-        let t481: f64 = t122 * t449;
-        let t482: f64 = t480.minus(t481);
-        let t483: f64 = g1 + g2;
-        let t484: f64 = t456 * 4.0;
-        let t485: f64 = t483 + t484;
-        let t486 = product(yc, t485);
-        let t487: f64 = t231 * t478;
-        let t488: f64 = t486.minus(t487);
-        let t489: f64 = t482 + t488;
-        let t490 = product(t87, t418);
-        let t491: f64 = t38 * t422;
-        let t492: f64 = t490.minus(t491);
-        let t493: f64 = t3 * t25;
-        let t494 = product(t369, t493);
-        let t495: f64 = wx * t398;
-        let t496: f64 = t494.minus(t495);
-        let t497: f64 = t492 + t496;
-        let t498: f64 = t402 * 2.0;
-        let t499: f64 = g3 + t498;
-        let t500 = product(t32, t499);
-        let t501: f64 = g4 + t498;
-        let t502: f64 = t43 * t501;
-        let t503: f64 = t500.plus(t502);
-        let t504: f64 = t497 - t503;
-        let t505: f64 = t489 + t504;
-        let t506: f64 = t248 * t505;
-        let t507: f64 = t267 * t506;
-        let t508: f64 = wx * t349;
-        let t509: f64 = wy * t340;
-        let t510: f64 = t508 - t509;
-        let t511 = product(wy, t510);
-        let t512: f64 = wz * t345;
-        let t513: f64 = t511.minus(t512);
-        let t514: f64 = t483 + t513;
-        let t515 = product(t282, t477);
-        let t516: f64 = t284 * t506;
-        let t517: f64 = t515.plus(t516);
-        let t518: f64 = t514 - t517;
-        let t519: f64 = t484 + t518;
-        let t520: f64 = t289 * t519;
-        let t521: f64 = t293 * t520;
-        let t522 = product(t296, t477);
-        let t523: f64 = t522.added_to(t432);
-        let t524: f64 = t431 + t433;
-        let t525: f64 = t523 + t524;
-        let t526 = product(t301, t525);
-        let t527: f64 = t526.subtracted_from(t403);
-        let t528 = product(wz, t351);
-        let t529: f64 = wx * t510;
-        let t530: f64 = t528.minus(t529);
-        let t531 = product(t304, t506);
-        let t532: f64 = t311 * t520;
-        let t533: f64 = t531.minus(t532);
-        let t534: f64 = t530 + t533;
-        let t535: f64 = t527 + t534;
-        let t536: f64 = t404 + t535;
-        let t537: f64 = t320 * t536;
-        let t538 = product(t330, t537);
-        let t539: f64 = t346.plus(t437);
-        let t540: f64 = t479.plus(t521);
-        let t541: f64 = t538.added_to(t460);
-        let t542: f64 = t539 + t540;
-        let t543: f64 = t461 + t541;
-        let t544: f64 = t542 + t543;
-        let t545: f64 = t352.plus(t507);
-        let t546: f64 = t545 + 235.63620000000006;
-        let t547: f64 = t544 - t546;
-        let t548: f64 = t267 * t338;
-        let t549 = product(t547, t548);
-        let t550: f64 = t330 * t338;
-        let t551 = product(t547, t550);
-        let t552: f64 = t551.added_to(t535);
-        let t553: f64 = t404 + t552;
-        let t554: f64 = t311 * t320;
-        let t555 = product(t553, t554);
-        let t556: f64 = t293 * t338;
-        let t557 = product(t547, t556);
-        let t558: f64 = t557.added_to(t518);
-        let t559: f64 = t484 + t558;
-        let t560: f64 = t555.subtracted_from(t559);
-        let t561: f64 = t284 * t289;
-        let t562: f64 = t560 * t561;
-        let t563: f64 = t304 * t320;
-        let t564 = product(t553, t563);
-        let t565: f64 = t549.plus(t562);
-        let t566: f64 = t505 + t565;
-        let t567: f64 = t564.subtracted_from(t566);
-        let t568: f64 = t122 * t248;
-        let t569 = product(t567, t568);
-        let t570: f64 = t254 * t338;
-        let t571: f64 = t547 * t570;
-        let t572: f64 = t231 * t248;
-        let t573 = product(t567, t572);
-        let t574: f64 = t264 * t338;
-        let t575: f64 = t547 * t574;
-        let t576: f64 = t289 * t560;
-        let t577: f64 = t206 * t320;
-        let t578 = product(t553, t577);
-        let t579: f64 = t578.added_to(t576);
-        let t580 = product(t279, t579);
-        let t581: f64 = t580.added_to(t474);
-        let t582: f64 = t473 + t581;
-        let t583: f64 = t573.plus(t575);
-        let t584: f64 = t475 + t583;
-        let t585: f64 = t582 - t584;
-        let t586 = product(t296, t585);
-        let t587: f64 = t279 * t320;
-        let t588 = product(t553, t587);
-        let t589: f64 = t586.added_to(t432);
-        let t590: f64 = t588.added_to(t431);
-        let t591: f64 = t589 + t590;
-        let t592: f64 = t433 + t591;
-        let t593: f64 = t569.plus(t571);
-        let t594: f64 = t592 - t593;
-        let t595: f64 = t83 * t594;
-        let t596: f64 = t289 * t293;
-        let t597: f64 = t338 * t596;
-        let t598 = product(t547, t597);
-        let t599: f64 = t320 * t330;
-        let t600: f64 = t338 * t599;
-        let t601 = product(t547, t600);
-        let t602: f64 = t601.added_to(t537);
-        let t603 = product(t323, t602);
-        let t604: f64 = t603.subtracted_from(t520);
-        let t605: f64 = t598.plus(t604);
-        let t606 = product(t282, t605);
-        let t607: f64 = t174 * t301;
-        let t608: f64 = t201 * t607;
-        let t609: f64 = t602 * t608;
-        let t610: f64 = t606.plus(t609);
-        let t611: f64 = t201 * t264;
-        let t612: f64 = t338 * t611;
-        let t613 = product(t547, t612);
-        let t614: f64 = t248 * t265;
-        let t615 = product(t567, t614);
-        let t616: f64 = t615.subtracted_from(t478);
-        let t617: f64 = t613.minus(t616);
-        let t618: f64 = t610 - t617;
-        let t619: f64 = -t618;
-        let t620: f64 = t248 * t567;
-        let t621: f64 = -t605;
-        let t622: f64 = -t602;
-        let t623: f64 = t338 * t547;
-        let t624: f64 = -t623;
-        let t625: f64 = yc * t87;
-        let t626 = product(zc, t101);
-        let t627: f64 = t626.subtracted_from(t625);
-        let t628: f64 = t627 * 3.34;
-        let t629: f64 = t201 * t585;
-        let t630: f64 = t105 * t628;
-        let t631 = product(t629, t630);
-        let t632: f64 = t101 * t620;
-        let t633 = product(t87, t629);
-        let t634 = product(wy, t38);
-        let t635: f64 = wz * t29;
-        let t636: f64 = t634.minus(t635);
-        let t637 = product(t415, t636);
-        let t638: f64 = wy * t25;
-        let t639 = product(t3, t638);
-        let t640: f64 = wz * t24;
-        let t641: f64 = t3 * t640;
-        let t642: f64 = t639.plus(t641);
-        let t643: f64 = t642 * 0.22443999999999997;
-        let t644: f64 = t364 * t643;
-        let t645: f64 = t637.minus(t644);
-        let t646 = product(t365, t642);
-        let t647: f64 = t636 * 0.22443999999999997;
-        let t648: f64 = t414 * t647;
-        let t649: f64 = t646.minus(t648);
-        let t650: f64 = t645 + t649;
-        let t651: f64 = t633.added_to(t632);
-        let t652 = product(t651, 0.4119400000000001);
-        let t653: f64 = t652.subtracted_from(t650);
-        let t654 = product(t14, t653);
-        let t655: f64 = t29 * t620;
-        let t656 = product(t38, t629);
-        let t657 = product(t367, t642);
-        let t658 = product(wy, t87);
-        let t659: f64 = wz * t101;
-        let t660: f64 = t658.minus(t659);
-        let t661: f64 = t660 * 0.4119400000000001;
-        let t662: f64 = t414 * t661;
-        let t663: f64 = t657.plus(t662);
-        let t664 = product(t415, t660);
-        let t665: f64 = t358 * t643;
-        let t666: f64 = t664.plus(t665);
-        let t667: f64 = t663 - t666;
-        let t668: f64 = t656.added_to(t655);
-        let t669 = product(t668, 0.22443999999999997);
-        let t670: f64 = t669.subtracted_from(t667);
-        let t671: f64 = t13 * t670;
-        let t672: f64 = t654.minus(t671);
-        let t673 = product(t3, t672);
-        let t674 = product(t50, t101);
-        let t675: f64 = t674.subtracted_from(t625);
-        let t676: f64 = t104 * t179;
-        let t677 = product(t675, t676);
-        let t678 = product(t52, t101);
-        let t679: f64 = t678.subtracted_from(t625);
-        let t680: f64 = t109 * t179;
-        let t681: f64 = t679 * t680;
-        let t682: f64 = t677.plus(t681);
-        let t683: f64 = t30 * t31;
-        let t684: f64 = t38 * t683;
-        let t685 = product(t41, t684);
-        let t686: f64 = t46 * t684;
-        let t687: f64 = t685.plus(t686);
-        let t688: f64 = t215 - t687;
-        let t689: f64 = t682 + t688;
-        let t690: f64 = t689 * 3.34;
-        let t691 = product(wz, t690);
-        let t692: f64 = yc * t24;
-        let t693: f64 = t3 * t692;
-        let t694: f64 = t59 - t693;
-        let t695: f64 = t694 * 3.34;
-        let t696: f64 = xc * t24;
-        let t697: f64 = t56 * t696;
-        let t698 = product(t695, t697);
-        let t699 = product(t50, t675);
-        let t700: f64 = t52 * t679;
-        let t701: f64 = t699.plus(t700);
-        let t702: f64 = t701 * 1.67;
-        let t703: f64 = t98 * t702;
-        let t704: f64 = t698.minus(t703);
-        let t705 = product(t57, t704);
-        let t706: f64 = t168 * 1.67;
+        let t471: f64 = t467 + t470;
+        let t472: f64 = g1 + g2;
+        let t473: f64 = t425 * 4.0;
+        let t474: f64 = t472 + t473;
+        let t475 = product(yc, t474);
+        let t476: f64 = t404 * 2.0;
+        let t477: f64 = g3 + t476;
+        let t478: f64 = t21 * t477;
+        let t479: f64 = t475.minus(t478);
+        let t480: f64 = g4 + t476;
+        let t481 = product(t34, t480);
+        let t482 = product(t27, t353);
+        let t483: f64 = t3 * t15;
+        let t484: f64 = t360 * t483;
+        let t485: f64 = t482.plus(t484);
+        let t486: f64 = t485 * 0.1875000000000001;
+        let t487: f64 = t347 * t486;
+        let t488: f64 = t481.plus(t487);
+        let t489: f64 = t479 - t488;
+        let t490: f64 = t471 + t489;
+        let t491: f64 = t224 * t490;
+        let t492: f64 = t244 * t491;
+        let t493: f64 = wx * t338;
+        let t494: f64 = wy * t331;
+        let t495: f64 = t493 - t494;
+        let t496 = product(wy, t495);
+        let t497: f64 = wz * t335;
+        let t498: f64 = t496.minus(t497);
+        let t499: f64 = t472 + t498;
+        let t500 = product(t260, t462);
+        let t501: f64 = t266 * t491;
+        let t502: f64 = t500.plus(t501);
+        let t503: f64 = t499 - t502;
+        let t504: f64 = t473 + t503;
+        let t505: f64 = t271 * t504;
+        let t506 = product(t275, t505);
+        let t507 = product(t282, t462);
+        let t508: f64 = t414 + t415;
+        let t509: f64 = t416 + t508;
+        let t510: f64 = t507.subtracted_from(t509);
+        let t511 = product(t287, t510);
+        let t512: f64 = t511.subtracted_from(t405);
+        let t513 = product(wz, t340);
+        let t514: f64 = wx * t495;
+        let t515: f64 = t513.minus(t514);
+        let t516 = product(t294, t491);
+        let t517: f64 = t302 * t505;
+        let t518: f64 = t516.plus(t517);
+        let t519: f64 = t515 + t518;
+        let t520: f64 = t512 + t519;
+        let t521: f64 = t406 + t520;
+        let t522: f64 = t313 * t521;
+        let t523: f64 = t322 * t522;
+        let t524: f64 = t336.plus(t420);
+        let t525: f64 = t464.plus(t492);
+        let t526: f64 = t506.plus(t523);
+        let t527: f64 = t524 + t525;
+        let t528: f64 = t452 + t526;
+        let t529: f64 = t527 + t528;
+        let t530: f64 = t341.plus(235.63620000000006);
+        let t531: f64 = t529 - t530;
+        let t532: f64 = t244 * t330;
+        let t533 = product(t531, t532);
+        let t534: f64 = t322 * t330;
+        let t535 = product(t531, t534);
+        let t536: f64 = t535.added_to(t520);
+        let t537: f64 = t406 + t536;
+        let t538: f64 = t302 * t313;
+        let t539 = product(t537, t538);
+        let t540: f64 = t275 * t330;
+        let t541: f64 = t531 * t540;
+        let t542: f64 = t539.plus(t541);
+        let t543: f64 = t504 + t542;
+        let t544: f64 = t266 * t271;
+        let t545 = product(t543, t544);
+        let t546: f64 = t294 * t313;
+        let t547: f64 = t537 * t546;
+        let t548: f64 = t545.added_to(t490);
+        let t549: f64 = t533.plus(t547);
+        let t550: f64 = t548 - t549;
+        let t551: f64 = t123 * t224;
+        let t552 = product(t550, t551);
+        let t553: f64 = t231 * t330;
+        let t554 = product(t531, t553);
+        let t555: f64 = t206 * t224;
+        let t556 = product(t550, t555);
+        let t557: f64 = t257 * t271;
+        let t558 = product(t543, t557);
+        let t559: f64 = t241 * t330;
+        let t560: f64 = t531 * t559;
+        let t561: f64 = t281 * t313;
+        let t562 = product(t537, t561);
+        let t563: f64 = t562.added_to(t414);
+        let t564: f64 = t417 + t563;
+        let t565 = product(t187, t564);
+        let t566: f64 = t558.added_to(t458);
+        let t567: f64 = t457 + t459;
+        let t568: f64 = t566 + t567;
+        let t569: f64 = t556.plus(t560);
+        let t570: f64 = t565.plus(t569);
+        let t571: f64 = t568 - t570;
+        let t572: f64 = t282 * t571;
+        let t573: f64 = t552.added_to(t415);
+        let t574: f64 = t416 + t563;
+        let t575: f64 = t573 + t574;
+        let t576: f64 = t554.plus(t572);
+        let t577: f64 = t575 - t576;
+        let t578: f64 = t82 * t577;
+        let t579: f64 = t271 * t275;
+        let t580: f64 = t330 * t579;
+        let t581 = product(t531, t580);
+        let t582: f64 = t313 * t322;
+        let t583: f64 = t330 * t582;
+        let t584 = product(t531, t583);
+        let t585: f64 = t584.added_to(t522);
+        let t586 = product(t316, t585);
+        let t587: f64 = t586.added_to(t505);
+        let t588: f64 = t581.plus(t587);
+        let t589 = product(t260, t588);
+        let t590: f64 = t159 * t287;
+        let t591: f64 = t182 * t590;
+        let t592: f64 = t585 * t591;
+        let t593: f64 = t589.minus(t592);
+        let t594: f64 = t182 * t241;
+        let t595: f64 = t330 * t594;
+        let t596 = product(t531, t595);
+        let t597: f64 = t224 * t242;
+        let t598 = product(t550, t597);
+        let t599: f64 = t598.subtracted_from(t463);
+        let t600: f64 = t596.minus(t599);
+        let t601: f64 = t593 - t600;
+        let t602: f64 = -t601;
+        let t603: f64 = t224 * t550;
+        let t604: f64 = -t588;
+        let t605: f64 = -t585;
+        let t606: f64 = t330 * t531;
+        let t607: f64 = -t606;
+        let t608: f64 = yc * t86;
+        let t609 = product(zc, t100);
+        let t610: f64 = t609.subtracted_from(t608);
+        let t611: f64 = t610 * 3.34;
+        let t612: f64 = t182 * t571;
+        let t613: f64 = t104 * t611;
+        let t614 = product(t612, t613);
+        let t615 = product(t47, t100);
+        let t616: f64 = t615.subtracted_from(t608);
+        let t617: f64 = t104 * t107;
+        let t618 = product(t616, t617);
+        let t619 = product(t49, t100);
+        let t620: f64 = t619.subtracted_from(t608);
+        let t621: f64 = t104 * t113;
+        let t622: f64 = t620 * t621;
+        let t623: f64 = t618.plus(t622);
+        let t624: f64 = t20 * t20;
+        let t625: f64 = t27 * t624;
+        let t626: f64 = t29 * t625;
+        let t627: f64 = zc - t626;
+        let t628 = product(t32, t627);
+        let t629: f64 = t36 * t625;
+        let t630: f64 = zc + t629;
+        let t631: f64 = t39 * t630;
+        let t632: f64 = t628.plus(t631);
+        let t633: f64 = t623 - t632;
+        let t634: f64 = t633 * 3.34;
+        let t635 = product(wz, t634);
+        let t636 = product(t47, t616);
+        let t637: f64 = t49 * t620;
+        let t638: f64 = t636.plus(t637);
+        let t639: f64 = t638 * 1.67;
+        let t640 = product(t104, t639);
+        let t641: f64 = t52 * t52;
+        let t642: f64 = t14 * t641;
+        let t643: f64 = t53 * t642;
+        let t644: f64 = t57 * t643;
+        let t645: f64 = t64 * t643;
+        let t646: f64 = t644 + t645;
+        let t647 = product(t646, 1.67);
+        let t648: f64 = t647.subtracted_from(t227);
+        let t649: f64 = xc * t648;
+        let t650: f64 = t640.plus(t649);
+        let t651 = product(wx, t650);
+        let t652: f64 = t644 + 0.2;
+        let t653: f64 = yc - t652;
+        let t654 = product(t42, t653);
+        let t655: f64 = t44 - t645;
+        let t656: f64 = t44 * t655;
+        let t657: f64 = t629 - t626;
+        let t658 = product(t657, 1.67);
+        let t659: f64 = t658.added_to(t253);
+        let t660 = product(zc, t659);
+        let t661: f64 = t654.plus(t656);
+        let t662: f64 = t661 * 1.67;
+        let t663: f64 = t660.minus(t662);
+        let t664: f64 = wy * t663;
+        let t665: f64 = t635.plus(t664);
+        let t666: f64 = t651.minus(t665);
+        let t667 = product(wy, t666);
+        let t668 = product(t61, t653);
+        let t669: f64 = t67 * t655;
+        let t670: f64 = t668.plus(t669);
+        let t671: f64 = t623 + t670;
+        let t672: f64 = t671 * 3.34;
+        let t673 = product(wy, t672);
+        let t674 = product(t21, t627);
+        let t675: f64 = t34 * t630;
+        let t676: f64 = yc * t104;
+        let t677 = product(t611, t676);
+        let t678: f64 = t674.plus(t675);
+        let t679: f64 = t678 * 1.67;
+        let t680: f64 = t677.minus(t679);
+        let t681 = product(wx, t680);
+        let t682: f64 = wz * t663;
+        let t683: f64 = t673.plus(t682);
+        let t684: f64 = t681.minus(t683);
+        let t685: f64 = wz * t684;
+        let t686: f64 = t667.minus(t685);
+        let t687: f64 = t100 * t603;
+        let t688 = product(t86, t612);
+        let t689: f64 = t688.added_to(t687);
+        let t690: f64 = t689 * 0.4119400000000001;
+        let t691 = product(t7, t690);
+        let t692: f64 = t19 * t603;
+        let t693 = product(t27, t612);
+        let t694 = product(wy, t86);
+        let t695: f64 = wz * t100;
+        let t696: f64 = t694.minus(t695);
+        let t697 = product(t353, t696);
+        let t698 = product(wy, t15);
+        let t699: f64 = wz * t14;
+        let t700: f64 = t698.plus(t699);
+        let t701: f64 = t3 * t347;
+        let t702: f64 = t700 * t701;
+        let t703: f64 = t697.plus(t702);
+        let t704: f64 = t693.added_to(t692);
+        let t705 = product(t704, 0.22443999999999997);
+        let t706: f64 = t703 * 0.1875000000000001;
         let t707: f64 = t705.subtracted_from(t706);
-        let t708: f64 = wx * t707;
-        let t709: f64 = t31 * t38;
-        let t710 = product(t45, t709);
-        let t711: f64 = t40 * t709;
-        let t712: f64 = t710.minus(t711);
-        let t713: f64 = t712 * 1.67;
-        let t714: f64 = -t713;
-        let t715 = product(zc, t714);
-        let t716: f64 = t221 * 1.67;
-        let t717: f64 = t24 * t55;
-        let t718 = product(t716, t717);
-        let t719: f64 = t23 * 1.67;
-        let t720: f64 = t718.added_to(t189);
-        let t721: f64 = t715.plus(t719);
-        let t722: f64 = t720 - t721;
-        let t723 = product(wy, t722);
-        let t724: f64 = t691.plus(t708);
-        let t725: f64 = t723.subtracted_from(t724);
-        let t726 = product(wy, t725);
-        let t727: f64 = t55 * t56;
-        let t728: f64 = t24 * t727;
-        let t729: f64 = t58 * t728;
-        let t730 = product(t63, t729);
-        let t731: f64 = t68 * t729;
-        let t732: f64 = t730.plus(t731);
-        let t733: f64 = t221 - t732;
-        let t734: f64 = t682 + t733;
-        let t735: f64 = t734 * 3.34;
-        let t736 = product(wy, t735);
-        let t737 = product(t157, t628);
-        let t738 = product(t32, t40);
-        let t739: f64 = t43 * t45;
-        let t740: f64 = t738.minus(t739);
-        let t741: f64 = t740 * 1.67;
-        let t742: f64 = t709 * t741;
-        let t743 = product(t97, 1.67);
-        let t744: f64 = t737.plus(t742);
-        let t745: f64 = t743.minus(t744);
-        let t746 = product(wx, t745);
-        let t747: f64 = wz * t722;
+        let t708: f64 = t6 * t707;
+        let t709: f64 = t691.plus(t708);
+        let t710 = product(t3, t709);
+        let t711: f64 = t710.subtracted_from(t686);
+        let t712: f64 = t632 - t670;
+        let t713: f64 = t712 * 3.34;
+        let t714 = product(t578, t713);
+        let t715: f64 = t603 * t650;
+        let t716: f64 = t714.plus(t715);
+        let t717: f64 = t606 - 9.81;
+        let t718 = product(t659, t717);
+        let t719 = product(t360, t696);
+        let t720 = product(wy, t27);
+        let t721: f64 = wz * t19;
+        let t722: f64 = t720.minus(t721);
+        let t723: f64 = t347 * t722;
+        let t724 = product(t14, t603);
+        let t725: f64 = t15 * t612;
+        let t726: f64 = t724.minus(t725);
+        let t727: f64 = t726 * 0.22443999999999997;
+        let t728 = product(t3, t727);
+        let t729: f64 = t719.minus(t723);
+        let t730: f64 = t729 * 0.1875000000000001;
+        let t731: f64 = t728.plus(t730);
+        let t732: f64 = t2 * t731;
+        let t733: f64 = t718.plus(t732);
+        let t734: f64 = t716 + t733;
+        let t735: f64 = t711 + t734;
+        let t736: f64 = t313 * t537;
+        let t737 = product(t648, t736);
+        let t738: f64 = t612 * t680;
+        let t739: f64 = t737.minus(t738);
+        let t740: f64 = t735 + t739;
+        let t741: f64 = t232 * t740;
+        let t742 = product(t187, t740);
+        let t743 = product(t613, t717);
+        let t744: f64 = t347 * t360;
+        let t745: f64 = t2 * t578;
+        let t746 = product(t15, t603);
+        let t747: f64 = t14 * t612;
         let t748: f64 = t746.plus(t747);
-        let t749: f64 = t736.subtracted_from(t748);
-        let t750: f64 = wz * t749;
-        let t751: f64 = t726.plus(t750);
-        let t752: f64 = t673.plus(t751);
-        let t753: f64 = t688 + t733;
-        let t754: f64 = t753 * 3.34;
-        let t755 = product(t595, t754);
-        let t756: f64 = t620 * t707;
-        let t757: f64 = t755.plus(t756);
-        let t758 = product(zc, 3.34);
-        let t759: f64 = t758.added_to(t713);
-        let t760: f64 = t623 - 9.81;
-        let t761 = product(t759, t760);
-        let t762 = product(t365, t660);
-        let t763 = product(t358, t647);
-        let t764: f64 = t364 * t661;
-        let t765: f64 = t367 * t636;
-        let t766 = product(t24, t620);
-        let t767: f64 = t25 * t629;
-        let t768: f64 = t766.minus(t767);
-        let t769: f64 = t768 * 0.22443999999999997;
-        let t770 = product(t3, t769);
-        let t771: f64 = t762.plus(t765);
-        let t772: f64 = t763.plus(t764);
-        let t773: f64 = t770.plus(t772);
-        let t774: f64 = t771 - t773;
-        let t775: f64 = t2 * t774;
-        let t776: f64 = t761.minus(t775);
-        let t777: f64 = t757 + t776;
-        let t778: f64 = t752 + t777;
-        let t779 = product(t629, t745);
-        let t780: f64 = t24 * t56;
-        let t781: f64 = t57 * t780;
-        let t782 = product(t62, t781);
-        let t783: f64 = t67 * t781;
-        let t784: f64 = t782.plus(t783);
-        let t785 = product(yc, 3.34);
-        let t786: f64 = t784 * 1.67;
-        let t787: f64 = t785.minus(t786);
-        let t788: f64 = t320 * t553;
-        let t789: f64 = t787 * t788;
-        let t790: f64 = t779.plus(t789);
-        let t791: f64 = t778 + t790;
-        let t792: f64 = t255 * t791;
-        let t793 = product(t29, t629);
-        let t794 = product(t38, t620);
-        let t795: f64 = t33 * t595;
-        let t796: f64 = t794.minus(t795);
-        let t797: f64 = t793.minus(t796);
-        let t798 = product(t797, 0.22443999999999997);
-        let t799: f64 = t798.subtracted_from(t422);
-        let t800 = product(t38, t799);
-        let t801 = product(t101, t629);
-        let t802: f64 = t3 * t14;
-        let t803 = product(t595, t802);
-        let t804: f64 = t87 * t620;
-        let t805: f64 = t803.plus(t804);
-        let t806: f64 = t801.minus(t805);
-        let t807 = product(t806, 0.4119400000000001);
-        let t808: f64 = t807.added_to(t418);
-        let t809: f64 = t87 * t808;
-        let t810: f64 = t800.minus(t809);
-        let t811 = product(t629, t735);
-        let t812: f64 = t576 * t787;
-        let t813: f64 = t811.plus(t812);
-        let t814: f64 = t810 - t813;
-        let t815 = product(t101, t653);
-        let t816: f64 = t29 * t670;
-        let t817: f64 = t815.plus(t816);
-        let t818 = product(t630, t760);
-        let t819: f64 = t2 * t595;
-        let t820 = product(t25, t620);
-        let t821: f64 = t24 * t629;
-        let t822: f64 = t820.plus(t821);
-        let t823: f64 = t822 * 0.22443999999999997;
-        let t824: f64 = t3 * t823;
-        let t825: f64 = t369 - t824;
-        let t826: f64 = t819 * 0.22443999999999997;
-        let t827: f64 = t825 - t826;
-        let t828 = product(t25, t827);
-        let t829: f64 = t24 * t774;
-        let t830: f64 = t828.minus(t829);
-        let t831: f64 = t3 * t830;
-        let t832: f64 = t818.minus(t831);
-        let t833 = product(wx, t754);
-        let t834 = product(wy, t745);
-        let t835: f64 = wz * t707;
-        let t836: f64 = t833.plus(t835);
-        let t837: f64 = t834.subtracted_from(t836);
-        let t838 = product(wz, t837);
-        let t839: f64 = wx * t725;
-        let t840: f64 = t838.minus(t839);
-        let t841 = product(t595, t745);
-        let t842: f64 = t620 * t722;
-        let t843: f64 = t841.plus(t842);
-        let t844: f64 = t840 - t843;
-        let t845: f64 = t832 + t844;
-        let t846 = product(t206, t791);
-        let t847: f64 = t846.subtracted_from(t845);
-        let t848: f64 = t817 + t847;
-        let t849: f64 = t814 + t848;
-        let t850 = product(t611, t849);
-        let t851 = product(t576, t759);
-        let t852: f64 = t87 * t653;
-        let t853: f64 = t851.minus(t852);
-        let t854: f64 = t83 * t122;
-        let t855 = product(t791, t854);
-        let t856: f64 = t38 * t670;
-        let t857: f64 = t855.minus(t856);
-        let t858: f64 = t853 + t857;
-        let t859 = product(t24, t827);
-        let t860: f64 = t25 * t774;
-        let t861: f64 = t859.plus(t860);
-        let t862 = product(t3, t861);
-        let t863 = product(wx, t749);
-        let t864: f64 = wy * t837;
-        let t865: f64 = t863.plus(t864);
-        let t866: f64 = t862.plus(t865);
-        let t867 = product(t595, t707);
-        let t868: f64 = t620 * t690;
-        let t869: f64 = t867.plus(t868);
-        let t870: f64 = t866 - t869;
-        let t871 = product(t265, t849);
-        let t872: f64 = t871.subtracted_from(t870);
-        let t873 = product(t29, t799);
-        let t874: f64 = t101 * t808;
+        let t749: f64 = t748 * 0.22443999999999997;
+        let t750: f64 = t3 * t749;
+        let t751 = product(t744, 0.1875000000000001);
+        let t752: f64 = t745 * 0.22443999999999997;
+        let t753: f64 = t751.plus(t752);
+        let t754: f64 = t750 + t753;
+        let t755 = product(t15, t754);
+        let t756: f64 = t14 * t731;
+        let t757: f64 = t755.minus(t756);
+        let t758: f64 = t3 * t757;
+        let t759: f64 = t743.plus(t758);
+        let t760 = product(wx, t713);
+        let t761: f64 = wy * t680;
+        let t762 = product(wz, t650);
+        let t763: f64 = t760.plus(t761);
+        let t764: f64 = t762.plus(t763);
+        let t765 = product(wz, t764);
+        let t766: f64 = wx * t666;
+        let t767: f64 = t765.minus(t766);
+        let t768 = product(t578, t680);
+        let t769: f64 = t603 * t663;
+        let t770: f64 = t768.minus(t769);
+        let t771: f64 = t767 + t770;
+        let t772: f64 = t759 + t771;
+        let t773: f64 = t3 * t7;
+        let t774 = product(t578, t773);
+        let t775: f64 = t86 * t603;
+        let t776: f64 = t774.plus(t775);
+        let t777 = product(t100, t612);
+        let t778: f64 = t777.subtracted_from(t776);
+        let t779: f64 = t778 * 0.4119400000000001;
+        let t780 = product(t86, t779);
+        let t781: f64 = t347 * t353;
+        let t782 = product(t19, t612);
+        let t783 = product(t27, t603);
+        let t784: f64 = t22 * t578;
+        let t785: f64 = t783.minus(t784);
+        let t786: f64 = t782.minus(t785);
+        let t787: f64 = t781 * 0.1875000000000001;
+        let t788 = product(t786, 0.22443999999999997);
+        let t789: f64 = t788.subtracted_from(t787);
+        let t790: f64 = t27 * t789;
+        let t791: f64 = t780.plus(t790);
+        let t792: f64 = t772 + t791;
+        let t793 = product(t612, t672);
+        let t794: f64 = t100 * t690;
+        let t795: f64 = t793.minus(t794);
+        let t796 = product(t19, t707);
+        let t797: f64 = t271 * t543;
+        let t798: f64 = t648 * t797;
+        let t799: f64 = t796.minus(t798);
+        let t800: f64 = t795 + t799;
+        let t801: f64 = t792 + t800;
+        let t802: f64 = t742.plus(t801);
+        let t803 = product(t594, t802);
+        let t804 = product(t27, t707);
+        let t805: f64 = t82 * t123;
+        let t806: f64 = t740 * t805;
+        let t807: f64 = t804.plus(t806);
+        let t808 = product(t613, t736);
+        let t809: f64 = t659 * t797;
+        let t810: f64 = t808.plus(t809);
+        let t811: f64 = t807 - t810;
+        let t812 = product(t242, t802);
+        let t813 = product(t578, t650);
+        let t814: f64 = t603 * t634;
+        let t815: f64 = t813.minus(t814);
+        let t816 = product(t14, t754);
+        let t817: f64 = t15 * t731;
+        let t818: f64 = t816.plus(t817);
+        let t819 = product(t3, t818);
+        let t820 = product(wx, t684);
+        let t821: f64 = wy * t764;
+        let t822: f64 = t820.minus(t821);
+        let t823: f64 = t819.plus(t822);
+        let t824: f64 = t815 + t823;
+        let t825: f64 = t812.plus(t824);
+        let t826 = product(t612, t663);
+        let t827: f64 = t86 * t690;
+        let t828: f64 = t826.minus(t827);
+        let t829 = product(t100, t779);
+        let t830: f64 = t19 * t789;
+        let t831: f64 = t829.plus(t830);
+        let t832: f64 = t828 - t831;
+        let t833: f64 = t825 + t832;
+        let t834: f64 = t811 + t833;
+        let t835: f64 = t224 * t244;
+        let t836 = product(t834, t835);
+        let t837 = product(t612, t648);
+        let t838: f64 = t260 * t802;
+        let t839: f64 = t837.minus(t838);
+        let t840 = product(t273, t834);
+        let t841 = product(wx, t659);
+        let t842: f64 = wy * t53;
+        let t843: f64 = t97 * t842;
+        let t844: f64 = t611 * t843;
+        let t845: f64 = t841.plus(t844);
+        let t846 = product(wy, t845);
+        let t847 = product(wx, t648);
+        let t848: f64 = wz * t53;
+        let t849: f64 = t97 * t848;
+        let t850: f64 = t611 * t849;
+        let t851: f64 = t847.subtracted_from(t850);
+        let t852: f64 = wz * t851;
+        let t853: f64 = t846.plus(t852);
+        let t854 = product(t603, t659);
+        let t855: f64 = t854.subtracted_from(t853);
+        let t856: f64 = t840.plus(t855);
+        let t857: f64 = t839 + t856;
+        let t858: f64 = t579 * t857;
+        let t859 = product(t603, t613);
+        let t860: f64 = t578 * t648;
+        let t861: f64 = t859.minus(t860);
+        let t862 = product(wy, t648);
+        let t863: f64 = wz * t659;
+        let t864: f64 = t862.plus(t863);
+        let t865 = product(wz, t864);
+        let t866: f64 = wx * t845;
+        let t867: f64 = t865.plus(t866);
+        let t868 = product(t282, t802);
+        let t869: f64 = t868.added_to(t740);
+        let t870 = product(t287, t869);
+        let t871: f64 = t870.subtracted_from(t867);
+        let t872: f64 = t861 + t871;
+        let t873 = product(t314, t834);
+        let t874: f64 = t316 * t857;
         let t875: f64 = t873.minus(t874);
-        let t876 = product(t630, t788);
-        let t877: f64 = t629 * t722;
-        let t878: f64 = t876.minus(t877);
-        let t879: f64 = t875 + t878;
-        let t880: f64 = t872 + t879;
-        let t881: f64 = t858 + t880;
-        let t882: f64 = t248 * t267;
-        let t883 = product(t881, t882);
-        let t884 = product(t629, t787);
-        let t885: f64 = t282 * t849;
-        let t886: f64 = t884.minus(t885);
-        let t887 = product(wx, t759);
-        let t888: f64 = wy * t57;
-        let t889: f64 = t98 * t888;
-        let t890: f64 = t628 * t889;
-        let t891: f64 = t887.plus(t890);
-        let t892 = product(wy, t891);
-        let t893 = product(wx, t787);
-        let t894: f64 = wz * t57;
-        let t895: f64 = t98 * t894;
-        let t896: f64 = t628 * t895;
-        let t897: f64 = t893.subtracted_from(t896);
-        let t898: f64 = wz * t897;
-        let t899: f64 = t892.plus(t898);
-        let t900 = product(t620, t759);
-        let t901: f64 = t900.subtracted_from(t899);
-        let t902 = product(t291, t881);
-        let t903: f64 = t902.subtracted_from(t901);
-        let t904: f64 = t886 + t903;
-        let t905: f64 = t596 * t904;
-        let t906 = product(t620, t630);
-        let t907: f64 = t595 * t787;
-        let t908: f64 = t906.minus(t907);
-        let t909 = product(wy, t787);
-        let t910: f64 = wz * t759;
-        let t911: f64 = t909.plus(t910);
-        let t912 = product(wz, t911);
-        let t913: f64 = wx * t891;
-        let t914: f64 = t912.plus(t913);
-        let t915 = product(t296, t849);
-        let t916: f64 = t915.subtracted_from(t791);
-        let t917 = product(t301, t916);
-        let t918: f64 = t917.subtracted_from(t914);
-        let t919: f64 = t908 + t918;
-        let t920 = product(t323, t904);
-        let t921: f64 = t321 * t881;
-        let t922: f64 = t920.minus(t921);
-        let t923: f64 = t919 + t922;
-        let t924: f64 = t599 * t923;
-        let t925 = product(wx, t897);
-        let t926: f64 = wy * t911;
-        let t927: f64 = t925.minus(t926);
-        let t928 = product(t595, t759);
-        let t929: f64 = t928.subtracted_from(t927);
-        let t930: f64 = t631.plus(t792);
-        let t931: f64 = t883.plus(t924);
-        let t932: f64 = t930 + t931;
-        let t933: f64 = t929 + t932;
-        let t934: f64 = t850.plus(t905);
-        let t935: f64 = t933 - t934;
-        let t936 = product(t550, t935);
-        let t937: f64 = t936.added_to(t923);
-        let t938 = product(t554, t937);
-        let t939 = product(t556, t935);
-        let t940: f64 = t938.added_to(t904);
-        let t941: f64 = t939.subtracted_from(t940);
-        let t942 = product(t561, t941);
-        let t943: f64 = t563 * t937;
-        let t944 = product(t548, t935);
-        let t945: f64 = t942.plus(t943);
-        let t946: f64 = t881 + t945;
-        let t947: f64 = t944.subtracted_from(t946);
-        let t948 = product(t572, t947);
-        let t949 = product(t574, t935);
-        let t950: f64 = t289 * t941;
-        let t951 = product(t577, t937);
-        let t952: f64 = t951.subtracted_from(t950);
-        let t953: f64 = t279 * t952;
-        let t954: f64 = t949.plus(t953);
-        let t955: f64 = t849 + t954;
-        let t956: f64 = t948.subtracted_from(t955);
-        let t957 = product(t296, t956);
-        let t958 = product(t568, t947);
-        let t959: f64 = t587 * t937;
-        let t960: f64 = t570 * t935;
-        let t961: f64 = t958.plus(t959);
-        let t962: f64 = t791 + t961;
-        let t963: f64 = t957.plus(t960);
-        let t964: f64 = t962 - t963;
-        let t965: f64 = t83 * t964;
-        let t966: f64 = xc * t3;
-        let t967 = product(t57, t695);
-        let t968: f64 = t692 * 3.34;
-        let t969: f64 = t967.plus(t968);
-        let t970 = product(t2, t969);
-        let t971: f64 = t966 * 3.34;
-        let t972: f64 = t970.plus(t971);
-        let t973 = product(t113, t972);
-        let t974: f64 = t14 * t693;
-        let t975: f64 = t14 * t493;
-        let t976 = product(t50, t975);
-        let t977: f64 = t976.subtracted_from(t974);
-        let t978 = product(t50, t977);
-        let t979 = product(t52, t975);
-        let t980: f64 = t979.subtracted_from(t974);
-        let t981: f64 = t52 * t980;
-        let t982 = product(t50, t104);
-        let t983: f64 = t52 * t109;
-        let t984: f64 = t982.plus(t983);
-        let t985: f64 = t984 * 1.67;
-        let t986: f64 = t2 * t57;
-        let t987 = product(t985, t986);
-        let t988: f64 = t978.plus(t981);
-        let t989: f64 = t988 * 1.67;
-        let t990: f64 = t987.plus(t989);
-        let t991: f64 = t98 * t990;
-        let t992: f64 = t973.plus(t991);
-        let t993 = product(t620, t992);
-        let t994: f64 = t55 * t788;
-        let t995: f64 = t972 * t994;
-        let t996: f64 = t993.plus(t995);
-        let t997 = product(t57, t996);
-        let t998: f64 = t57 * t58;
-        let t999: f64 = t2 * t998;
-        let t1000: f64 = t177 * t999;
-        let t1001 = product(t178, t1000);
-        let t1002: f64 = t676 * t977;
+        let t876: f64 = t872 + t875;
+        let t877: f64 = t582 * t876;
+        let t878 = product(wx, t851);
+        let t879: f64 = wy * t864;
+        let t880: f64 = t878.minus(t879);
+        let t881 = product(t578, t659);
+        let t882: f64 = t881.subtracted_from(t880);
+        let t883: f64 = t614.plus(t741);
+        let t884: f64 = t836.plus(t877);
+        let t885: f64 = t883 + t884;
+        let t886: f64 = t882 + t885;
+        let t887: f64 = t803.plus(t858);
+        let t888: f64 = t886 - t887;
+        let t889 = product(t534, t888);
+        let t890: f64 = t889.added_to(t876);
+        let t891 = product(t538, t890);
+        let t892: f64 = t540 * t888;
+        let t893: f64 = t891.plus(t892);
+        let t894: f64 = t857 - t893;
+        let t895 = product(t544, t894);
+        let t896: f64 = t546 * t890;
+        let t897 = product(t532, t888);
+        let t898: f64 = t895.plus(t896);
+        let t899: f64 = t897.plus(t898);
+        let t900: f64 = t834 - t899;
+        let t901 = product(t555, t900);
+        let t902: f64 = t557 * t894;
+        let t903 = product(t559, t888);
+        let t904 = product(t561, t890);
+        let t905: f64 = t904.added_to(t740);
+        let t906: f64 = t187 * t905;
+        let t907: f64 = t901.plus(t902);
+        let t908: f64 = t903.plus(t906);
+        let t909: f64 = t907 + t908;
+        let t910: f64 = t801 + t909;
+        let t911 = product(t282, t910);
+        let t912: f64 = t551 * t900;
+        let t913 = product(t553, t888);
+        let t914: f64 = t911.plus(t912);
+        let t915: f64 = t905 + t914;
+        let t916: f64 = t913.subtracted_from(t915);
+        let t917: f64 = t82 * t916;
+        let t918: f64 = t53 * t53;
+        let t919: f64 = t2 * t918;
+        let t920: f64 = t97 * t919;
+        let t921 = product(t103, t920);
+        let t922: f64 = yc * t14;
+        let t923: f64 = t3 * t922;
+        let t924: f64 = t7 * t923;
+        let t925: f64 = t7 * t483;
+        let t926 = product(t47, t925);
+        let t927: f64 = t926.subtracted_from(t924);
+        let t928: f64 = t104 * t927;
+        let t929: f64 = t921.plus(t928);
+        let t930 = product(t110, t920);
+        let t931 = product(t49, t925);
+        let t932: f64 = t931.subtracted_from(t924);
+        let t933: f64 = t104 * t932;
+        let t934: f64 = t930.plus(t933);
+        let t935: f64 = t929 + t934;
+        let t936: f64 = t935 * 1.67;
+        let t937 = product(t612, t936);
+        let t938: f64 = t748 * 0.4119400000000001;
+        let t939 = product(t3, t938);
+        let t940: f64 = t745 * 0.4119400000000001;
+        let t941: f64 = t939.plus(t940);
+        let t942 = product(t8, t941);
+        let t943: f64 = t7 * t353;
+        let t944 = product(t353, t943);
+        let t945 = product(t2, t351);
+        let t946: f64 = t945.added_to(t342);
+        let t947: f64 = t347 * t946;
+        let t948: f64 = t750 + t752;
+        let t949 = product(t6, t948);
+        let t950: f64 = t944.minus(t947);
+        let t951: f64 = t950 * 0.1875000000000001;
+        let t952: f64 = t949.subtracted_from(t951);
+        let t953 = product(t6, t952);
+        let t954: f64 = t953.added_to(t750);
+        let t955: f64 = t753 + t954;
+        let t956: f64 = t942.subtracted_from(t955);
+        let t957 = product(t3, t956);
+        let t958 = product(t107, t929);
+        let t959: f64 = t113 * t934;
+        let t960: f64 = t958.plus(t959);
+        let t961: f64 = t3 * t84;
+        let t962: f64 = t624 * t961;
+        let t963 = product(t29, t962);
+        let t964 = product(t21, t25);
+        let t965: f64 = zc * t6;
+        let t966: f64 = t15 * t965;
+        let t967: f64 = t3 * t966;
+        let t968: f64 = t964.plus(t967);
+        let t969: f64 = t20 * t968;
+        let t970: f64 = t963.minus(t969);
+        let t971 = product(t32, t970);
+        let t972 = product(t36, t962);
+        let t973 = product(t25, t34);
+        let t974: f64 = t973.added_to(t967);
+        let t975: f64 = t20 * t974;
+        let t976: f64 = t972.plus(t975);
+        let t977: f64 = t39 * t976;
+        let t978: f64 = t971.minus(t977);
+        let t979: f64 = t960 - t978;
+        let t980: f64 = t979 * 3.34;
+        let t981 = product(wz, t980);
+        let t982 = product(t47, t929);
+        let t983: f64 = t49 * t934;
+        let t984: f64 = t2 * t52;
+        let t985: f64 = t918 * t984;
+        let t986 = product(t57, t985);
+        let t987: f64 = xc * t3;
+        let t988 = product(t17, t42);
+        let t989: f64 = t988.added_to(t987);
+        let t990: f64 = t58 * t989;
+        let t991: f64 = t986.plus(t990);
+        let t992 = product(t64, t985);
+        let t993 = product(t17, t44);
+        let t994: f64 = t993.added_to(t987);
+        let t995: f64 = t58 * t994;
+        let t996: f64 = t992.plus(t995);
+        let t997: f64 = t991 + t996;
+        let t998: f64 = t997 * 1.67;
+        let t999 = product(xc, t998);
+        let t1000: f64 = t982.plus(t983);
+        let t1001: f64 = t1000 * 1.67;
+        let t1002: f64 = t999.plus(t1001);
         (
             t2,
             t3,
             t5,
-            t9,
-            t13,
+            t6,
+            t7,
             t14,
-            t24,
-            t25,
+            t15,
+            t19,
+            t20,
+            t21,
+            t22,
             t27,
             t29,
-            t30,
-            t31,
             t32,
-            t33,
+            t34,
             t36,
-            t38,
             t39,
-            t40,
-            t41,
-            t43,
-            t45,
-            t46,
-            t50,
+            t42,
+            t44,
+            t47,
+            t49,
             t52,
+            t53,
             t55,
-            t56,
-            t57,
-            t58,
-            t59,
-            t60,
-            t62,
-            t63,
-            t64,
+            t61,
             t67,
-            t68,
-            t83,
-            t85,
+            t82,
+            t86,
             t87,
-            t98,
-            t101,
-            t102,
+            t97,
+            t100,
+            t103,
             t104,
-            t105,
-            t109,
-            t122,
-            t124,
-            t126,
-            t137,
+            t107,
+            t110,
+            t113,
+            t123,
             t139,
-            t157,
-            t165,
-            t172,
-            t174,
-            t175,
-            t177,
-            t178,
-            t179,
-            t181,
-            t201,
+            t159,
+            t160,
+            t182,
+            t187,
             t206,
-            t212,
-            t216,
-            t226,
+            t224,
+            t225,
+            t228,
+            t229,
             t231,
-            t248,
-            t253,
+            t232,
+            t235,
+            t238,
+            t239,
+            t241,
+            t242,
+            t251,
             t254,
             t255,
-            t262,
+            t257,
+            t260,
+            t263,
             t264,
-            t265,
-            t278,
+            t266,
+            t271,
+            t273,
             t279,
+            t280,
+            t281,
             t282,
-            t284,
-            t289,
+            t286,
+            t287,
+            t290,
             t291,
-            t296,
-            t300,
-            t301,
-            t304,
-            t311,
-            t315,
-            t320,
-            t321,
-            t323,
-            t327,
+            t294,
+            t302,
+            t307,
+            t313,
+            t314,
+            t316,
+            t319,
+            t330,
+            t331,
+            t332,
+            t333,
+            t334,
+            t337,
             t338,
-            t340,
-            t341,
-            t343,
-            t344,
+            t339,
             t347,
+            t348,
             t349,
-            t350,
-            t354,
-            t358,
+            t353,
+            t356,
             t360,
-            t364,
-            t365,
             t367,
-            t371,
-            t373,
             t374,
+            t375,
             t377,
             t378,
-            t379,
+            t383,
+            t384,
             t385,
+            t388,
+            t390,
             t391,
-            t392,
-            t395,
             t396,
             t397,
-            t402,
-            t403,
+            t398,
             t404,
-            t409,
-            t410,
-            t411,
-            t412,
-            t414,
-            t415,
-            t417,
-            t418,
-            t420,
-            t422,
-            t439,
+            t405,
+            t406,
+            t425,
+            t435,
+            t440,
+            t441,
             t442,
             t443,
-            t444,
-            t445,
-            t456,
-            t460,
-            t461,
+            t450,
+            t451,
+            t472,
+            t473,
             t483,
-            t484,
             t493,
-            t508,
-            t509,
-            t548,
-            t550,
-            t554,
-            t556,
+            t494,
+            t532,
+            t534,
+            t538,
+            t540,
+            t544,
+            t546,
+            t551,
+            t553,
+            t555,
+            t557,
+            t559,
             t561,
-            t563,
-            t568,
-            t570,
-            t572,
-            t574,
-            t576,
-            t577,
-            t587,
+            t578,
+            t579,
+            t580,
+            t582,
+            t583,
+            t585,
+            t588,
+            t590,
+            t591,
+            t594,
             t595,
-            t596,
             t597,
-            t599,
-            t600,
+            t601,
             t602,
+            t603,
+            t604,
             t605,
-            t608,
-            t611,
+            t606,
+            t607,
             t612,
-            t614,
-            t618,
-            t619,
-            t620,
-            t621,
-            t622,
-            t623,
+            t613,
             t624,
-            t629,
-            t630,
-            t632,
-            t650,
-            t655,
-            t667,
-            t676,
+            t648,
+            t659,
+            t663,
+            t672,
             t680,
-            t683,
+            t687,
             t692,
-            t696,
-            t712,
+            t706,
             t717,
-            t722,
             t735,
-            t745,
-            t759,
-            t760,
+            t736,
+            t749,
+            t754,
+            t772,
+            t773,
+            t776,
             t778,
-            t784,
+            t779,
+            t781,
+            t785,
+            t786,
             t787,
-            t788,
-            t796,
+            t789,
             t797,
-            t799,
-            t802,
             t805,
-            t806,
-            t808,
-            t819,
-            t822,
-            t823,
             t824,
-            t825,
-            t826,
-            t827,
-            t845,
-            t854,
-            t870,
+            t835,
+            t843,
+            t849,
+            t855,
+            t872,
             t882,
-            t889,
             t894,
-            t895,
-            t901,
-            t919,
-            t929,
+            t900,
+            t910,
+            t917,
+            t936,
+            t937,
             t941,
-            t950,
-            t956,
-            t965,
-            t966,
-            t972,
-            t974,
+            t952,
+            t957,
+            t960,
+            t970,
+            t976,
+            t978,
             t980,
-            t985,
-            t986,
-            t992,
-            t997,
+            t981,
+            t984,
+            t991,
+            t996,
             t998,
-            t1000,
-            t1001,
             t1002,
         )
     };
     let (
-        t1054,
-        t1071,
-        t1093,
-        t1105,
-        t1177,
-        t1208,
-        t1233,
-        t1256,
-        t1280,
-        t1294,
-        t1301,
-        t1330,
-        t1336,
-        t1381,
-        t1387,
-        t1397,
-        t1399,
+        t1007,
+        t1011,
+        t1020,
+        t1027,
+        t1046,
+        t1058,
+        t1087,
+        t1107,
+        t1132,
+        t1149,
+        t1159,
+        t1167,
+        t1195,
+        t1211,
+        t1230,
+        t1269,
+        t1272,
+        t1284,
+        t1310,
+        t1334,
+        t1347,
+        t1361,
+        t1372,
+        t1380,
+        t1409,
+        t1410,
+        t1413,
+        t1415,
         t1421,
-        t1423,
-        t1436,
-        t1461,
-        t1487,
-        t1493,
-        t1505,
-        t1520,
-        t1533,
-        t1541,
-        t1570,
+        t1429,
+        t1435,
+        t1445,
+        t1449,
+        t1464,
+        t1466,
+        t1483,
+        t1490,
+        t1502,
+        t1523,
+        t1537,
+        t1560,
+        t1565,
+        t1567,
         t1572,
         t1574,
-        t1578,
-        t1585,
-        t1593,
-        t1601,
-        t1611,
-        t1618,
-        t1634,
+        t1591,
+        t1614,
+        t1622,
+        t1623,
+        t1625,
         t1635,
-        t1638,
-        t1660,
-        t1663,
-        t1673,
-        t1685,
-        t1691,
-        t1695,
-        t1705,
-        t1727,
-        t1732,
-        t1734,
-        t1739,
-        t1740,
-        t1741,
-        t1759,
-        t1771,
+        t1644,
+        t1652,
+        t1658,
+        t1667,
+        t1686,
+        t1692,
+        t1706,
+        t1717,
+        t1745,
+        t1769,
+        t1774,
         t1779,
-        t1789,
-        t1791,
-        t1801,
+        t1780,
+        t1790,
+        t1797,
         t1805,
-        t1813,
-        t1821,
-        t1824,
+        t1830,
+        t1831,
         t1833,
-        t1838,
-        t1851,
-        t1854,
-        t1869,
-        t1882,
-        t1892,
-        t1899,
-        t1909,
-        t1934,
-        t1939,
-        t1944,
-        t1945,
-        t1955,
-        t1962,
-        t1969,
-        t1992,
-        t1993,
-        t1994,
+        t1837,
+        t1842,
+        t1852,
+        t1863,
+        t1871,
+        t1879,
+        t1886,
+        t1887,
+        t1888,
+        t1893,
+        t1904,
+        t1912,
+        t1916,
+        t1917,
+        t1918,
+        t1935,
+        t1937,
+        t1938,
+        t1951,
+        t1956,
+        t1970,
+        t1976,
+        t1981,
+        t1989,
         t1995,
-        t1996,
-        t1997,
-        t1998,
+        t2001,
         t2002,
     ) = {
-        let t1003: f64 = t1001.plus(t1002);
-        let t1004 = product(t181, t1000);
-        let t1005: f64 = t680 * t980;
-        let t1006: f64 = t1004.plus(t1005);
-        let t1007: f64 = t1003 + t1006;
-        let t1008: f64 = t3 * t85;
-        let t1009: f64 = t683 * t1008;
-        let t1010 = product(t41, t1009);
-        let t1011 = product(t32, t36);
-        let t1012: f64 = zc * t13;
-        let t1013: f64 = t25 * t1012;
-        let t1014: f64 = t3 * t1013;
-        let t1015: f64 = t1011.plus(t1014);
-        let t1016: f64 = t31 * t40;
-        let t1017: f64 = t1015 * t1016;
-        let t1018: f64 = t1010.minus(t1017);
-        let t1019 = product(t46, t1009);
-        let t1020 = product(t36, t43);
-        let t1021: f64 = t1020.added_to(t1014);
-        let t1022: f64 = t31 * t45;
-        let t1023: f64 = t1021 * t1022;
-        let t1024: f64 = t1019.plus(t1023);
-        let t1025: f64 = t1018 + t1024;
-        let t1026: f64 = t1007 + t1025;
-        let t1027: f64 = t1026 * 3.34;
-        let t1028 = product(wz, t1027);
-        let t1029: f64 = wx * t57;
-        let t1030: f64 = t992 * t1029;
-        let t1031 = product(t60, t253);
-        let t1032: f64 = t59 * 3.34;
-        let t1033: f64 = t1031.subtracted_from(t1032);
-        let t1034 = product(t13, t1033);
-        let t1035: f64 = t1014 * 3.34;
-        let t1036: f64 = t1034.plus(t1035);
-        let t1037 = product(t212, t1036);
-        let t1038 = product(t5, t27);
-        let t1039: f64 = t1038.added_to(t966);
-        let t1040 = product(t5, t1039);
-        let t1041 = product(t9, t27);
-        let t1042: f64 = t1041.added_to(t966);
-        let t1043: f64 = t9 * t1042;
-        let t1044 = product(t5, t62);
-        let t1045: f64 = t9 * t67;
-        let t1046: f64 = t1044.plus(t1045);
-        let t1047: f64 = t1046 * 1.67;
-        let t1048 = product(t986, t1047);
-        let t1049: f64 = t1040.plus(t1043);
-        let t1050: f64 = t1049 * 1.67;
-        let t1051: f64 = t1048.plus(t1050);
-        let t1052: f64 = t216 * t1051;
-        let t1053: f64 = t1037.plus(t1052);
-        let t1054: f64 = -t1053;
-        let t1055 = product(wy, t1054);
-        let t1056: f64 = t1028.plus(t1030);
-        let t1057: f64 = t1055.subtracted_from(t1056);
-        let t1058 = product(wy, t1057);
-        let t1059: f64 = t2 * t56;
-        let t1060: f64 = t998 * t1059;
-        let t1061 = product(t63, t1060);
-        let t1062: f64 = t62 * t64;
-        let t1063: f64 = t1039 * t1062;
-        let t1064: f64 = t1061.plus(t1063);
-        let t1065 = product(t68, t1060);
-        let t1066: f64 = t64 * t67;
-        let t1067: f64 = t1042 * t1066;
-        let t1068: f64 = t1065.plus(t1067);
-        let t1069: f64 = t1064 + t1068;
-        let t1070: f64 = t1007 + t1069;
-        let t1071: f64 = t1070 * 3.34;
-        let t1072 = product(wy, t1071);
-        let t1073: f64 = zc * t87;
-        let t1074: f64 = t102 + t1073;
-        let t1075: f64 = t1074 * 3.34;
-        let t1076 = product(t986, t1075);
-        let t1077: f64 = zc * t25;
-        let t1078: f64 = t3 * t1077;
-        let t1079 = product(t14, t1078);
-        let t1080: f64 = t1079.subtracted_from(t974);
-        let t1081: f64 = t1080 * 3.34;
-        let t1082: f64 = t1076.plus(t1081);
-        let t1083 = product(t157, t1082);
-        let t1084 = product(t32, t1015);
-        let t1085: f64 = t43 * t1021;
-        let t1086: f64 = t165 * 1.67;
-        let t1087: f64 = -t1086;
-        let t1088 = product(t1008, t1087);
-        let t1089: f64 = t1084.plus(t1085);
-        let t1090: f64 = t1089 * 1.67;
-        let t1091: f64 = t1088.subtracted_from(t1090);
-        let t1092: f64 = t30 * t1091;
-        let t1093: f64 = t1083.plus(t1092);
-        let t1094: f64 = wx * t1093;
-        let t1095 = product(wz, t1054);
-        let t1096: f64 = t1072.plus(t1094);
-        let t1097: f64 = t1095.subtracted_from(t1096);
-        let t1098: f64 = wz * t1097;
-        let t1099: f64 = t1058.minus(t1098);
-        let t1100: f64 = t997.plus(t1099);
-        let t1101: f64 = t1025 + t1069;
-        let t1102: f64 = t1101 * 3.34;
-        let t1103 = product(t595, t1102);
-        let t1104: f64 = t30 * t1036;
-        let t1105: f64 = -t1104;
-        let t1106: f64 = t760 * t1105;
-        let t1107: f64 = t1103.plus(t1106);
-        let t1108 = product(t14, t409);
-        let t1109 = product(t14, t410);
-        let t1110: f64 = t14 * t412;
+        let t1003 = product(wx, t1002);
+        let t1004 = product(t42, t991);
+        let t1005: f64 = t44 * t996;
+        let t1006: f64 = t970 - t976;
+        let t1007: f64 = t1006 * 1.67;
+        let t1008 = product(zc, t1007);
+        let t1009: f64 = t1004.plus(t1005);
+        let t1010: f64 = t1009 * 1.67;
+        let t1011: f64 = t1008.minus(t1010);
+        let t1012: f64 = wy * t1011;
+        let t1013: f64 = t981.plus(t1012);
+        let t1014: f64 = t1003.minus(t1013);
+        let t1015 = product(wy, t1014);
+        let t1016 = product(t61, t991);
+        let t1017: f64 = t67 * t996;
+        let t1018: f64 = t1016.plus(t1017);
+        let t1019: f64 = t960 + t1018;
+        let t1020: f64 = t1019 * 3.34;
+        let t1021 = product(wy, t1020);
+        let t1022 = product(t21, t970);
+        let t1023: f64 = t34 * t976;
+        let t1024 = product(yc, t936);
+        let t1025: f64 = t1022.subtracted_from(t1023);
+        let t1026: f64 = t1025 * 1.67;
+        let t1027: f64 = t1024.plus(t1026);
+        let t1028 = product(wx, t1027);
+        let t1029: f64 = wz * t1011;
+        let t1030: f64 = t1021.plus(t1029);
+        let t1031: f64 = t1028.minus(t1030);
+        let t1032: f64 = wz * t1031;
+        let t1033: f64 = t1015.minus(t1032);
+        let t1034: f64 = t957.plus(t1033);
+        let t1035: f64 = t978 - t1018;
+        let t1036: f64 = t1035 * 3.34;
+        let t1037 = product(t578, t1036);
+        let t1038: f64 = t603 * t1002;
+        let t1039: f64 = t1037.plus(t1038);
+        let t1040 = product(t717, t1007);
+        let t1041: f64 = t3 * t578;
+        let t1042 = product(t2, t749);
+        let t1043 = product(t7, t360);
+        let t1044: f64 = t6 * t347;
+        let t1045: f64 = t1043.plus(t1044);
+        let t1046: f64 = t1045 * 0.1875000000000001;
+        let t1047: f64 = t353 * t1046;
+        let t1048 = product(t7, t779);
+        let t1049 = product(t6, t789);
+        let t1050: f64 = t1041 * 0.22443999999999997;
+        let t1051: f64 = t1049.plus(t1050);
+        let t1052: f64 = t1042.plus(t1047);
+        let t1053: f64 = t1048.plus(t1052);
+        let t1054: f64 = t1051 - t1053;
+        let t1055: f64 = t2 * t1054;
+        let t1056: f64 = t1040.plus(t1055);
+        let t1057: f64 = t1039 + t1056;
+        let t1058: f64 = t1034 + t1057;
+        let t1059 = product(t736, t998);
+        let t1060: f64 = t612 * t1027;
+        let t1061: f64 = t1059.minus(t1060);
+        let t1062: f64 = t1058 + t1061;
+        let t1063: f64 = t232 * t1062;
+        let t1064 = product(t187, t1062);
+        let t1065 = product(wx, t1036);
+        let t1066: f64 = wy * t1027;
+        let t1067 = product(wz, t1002);
+        let t1068: f64 = t1065.plus(t1066);
+        let t1069: f64 = t1067.plus(t1068);
+        let t1070 = product(wz, t1069);
+        let t1071: f64 = wx * t1014;
+        let t1072: f64 = t1070.minus(t1071);
+        let t1073 = product(t578, t1027);
+        let t1074: f64 = t139 * t941;
+        let t1075: f64 = t1073.minus(t1074);
+        let t1076: f64 = t1072 + t1075;
+        let t1077 = product(t717, t936);
+        let t1078: f64 = t603 * t1011;
+        let t1079: f64 = t1077.minus(t1078);
+        let t1080 = product(t2, t754);
+        let t1081: f64 = t3 * t1054;
+        let t1082: f64 = t1080.minus(t1081);
+        let t1083 = product(t14, t1082);
+        let t1084: f64 = t19 * t952;
+        let t1085: f64 = t1083.minus(t1084);
+        let t1086: f64 = t1079 + t1085;
+        let t1087: f64 = t1076 + t1086;
+        let t1088 = product(t612, t1020);
+        let t1089: f64 = t797 * t998;
+        let t1090: f64 = t1088.minus(t1089);
+        let t1091: f64 = t1087 + t1090;
+        let t1092: f64 = t1064.plus(t1091);
+        let t1093 = product(t594, t1092);
+        let t1094 = product(t242, t1092);
+        let t1095 = product(wx, t1031);
+        let t1096: f64 = wy * t1069;
+        let t1097: f64 = t1095.minus(t1096);
+        let t1098 = product(t15, t1082);
+        let t1099: f64 = t1098.subtracted_from(t1097);
+        let t1100 = product(t578, t1002);
+        let t1101: f64 = t87 * t941;
+        let t1102: f64 = t1100.minus(t1101);
+        let t1103 = product(t603, t980);
+        let t1104: f64 = t27 * t952;
+        let t1105: f64 = t1103.plus(t1104);
+        let t1106: f64 = t1102 - t1105;
+        let t1107: f64 = t1099 + t1106;
+        let t1108: f64 = t1094.plus(t1107);
+        let t1109 = product(t612, t1011);
+        let t1110: f64 = t736 * t936;
         let t1111: f64 = t1109.minus(t1110);
-        let t1112: f64 = t1108.plus(t1111);
-        let t1113 = product(t365, t1112);
-        let t1114: f64 = wz * t13;
-        let t1115: f64 = t25 * t1114;
-        let t1116 = product(t3, t1115);
-        let t1117 = product(t13, t410);
-        let t1118: f64 = t13 * t411;
-        let t1119: f64 = t3 * t1118;
-        let t1120: f64 = t1117.minus(t1119);
-        let t1121: f64 = t1116.plus(t1120);
-        let t1122: f64 = t1121 * 0.22443999999999997;
-        let t1123: f64 = t358 * t1122;
-        let t1124: f64 = t1112 * 0.4119400000000001;
-        let t1125 = product(t364, t1124);
-        let t1126: f64 = t367 * t1121;
-        let t1127: f64 = t3 * t595;
-        let t1128 = product(t2, t823);
-        let t1129 = product(t14, t808);
-        let t1130: f64 = t13 * t799;
-        let t1131 = product(t1127, 0.22443999999999997);
-        let t1132: f64 = t1113.plus(t1123);
-        let t1133: f64 = t1129.plus(t1130);
-        let t1134: f64 = t1132 + t1133;
-        let t1135: f64 = t1131.plus(t1134);
-        let t1136: f64 = t1125.plus(t1126);
-        let t1137: f64 = t1128.plus(t1136);
-        let t1138: f64 = t1135 - t1137;
-        let t1139 = product(t2, t1138);
-        let t1140 = product(t415, t1121);
-        let t1141 = product(t2, t411);
-        let t1142: f64 = t1141.added_to(t354);
-        let t1143: f64 = wz * t2;
-        let t1144 = product(t25, t1143);
-        let t1145: f64 = t1144.subtracted_from(t1142);
-        let t1146: f64 = t1145 * 0.22443999999999997;
-        let t1147 = product(t364, t1146);
-        let t1148: f64 = t365 * t1145;
-        let t1149: f64 = t414 * t1122;
-        let t1150: f64 = t822 * 0.4119400000000001;
-        let t1151 = product(t3, t1150);
-        let t1152: f64 = t819 * 0.4119400000000001;
-        let t1153: f64 = t1151.plus(t1152);
-        let t1154 = product(t14, t1153);
-        let t1155: f64 = t1140.plus(t1148);
-        let t1156: f64 = t1147.plus(t1149);
-        let t1157: f64 = t1154.plus(t1156);
-        let t1158: f64 = t1155 - t1157;
-        let t1159 = product(t14, t1158);
-        let t1160 = product(t367, t1145);
-        let t1161 = product(t414, t1124);
-        let t1162: f64 = t415 * t1112;
-        let t1163: f64 = t358 * t1146;
-        let t1164: f64 = t824 + t826;
-        let t1165 = product(t13, t1164);
-        let t1166: f64 = t1160.plus(t1162);
-        let t1167: f64 = t1165.plus(t1166);
-        let t1168: f64 = t1161.plus(t1163);
-        let t1169: f64 = t1167 - t1168;
-        let t1170 = product(t13, t1169);
-        let t1171: f64 = t1170.added_to(t825);
-        let t1172: f64 = t1159.added_to(t826);
-        let t1173: f64 = t1171 - t1172;
-        let t1174: f64 = t3 * t1173;
-        let t1175: f64 = t1139.minus(t1174);
-        let t1176: f64 = t1107 + t1175;
-        let t1177: f64 = t1100 + t1176;
-        let t1178 = product(t629, t1093);
-        let t1179: f64 = t1178.subtracted_from(t1177);
-        let t1180 = product(t255, t1179);
-        let t1181 = product(wx, t1102);
-        let t1182: f64 = wy * t1093;
-        let t1183 = product(t894, t992);
-        let t1184: f64 = t1181.plus(t1182);
-        let t1185: f64 = t1183.plus(t1184);
-        let t1186 = product(wz, t1185);
-        let t1187: f64 = wx * t1057;
-        let t1188: f64 = t1186.minus(t1187);
-        let t1189 = product(t595, t1093);
-        let t1190: f64 = t620 * t1054;
-        let t1191: f64 = t1189.minus(t1190);
-        let t1192: f64 = t1188 + t1191;
-        let t1193 = product(t101, t1158);
-        let t1194: f64 = t29 * t1169;
-        let t1195: f64 = t1193.plus(t1194);
-        let t1196: f64 = t98 * t760;
-        let t1197 = product(t1082, t1196);
-        let t1198: f64 = t55 * t576;
-        let t1199: f64 = t972 * t1198;
-        let t1200: f64 = t1197.minus(t1199);
-        let t1201 = product(t57, t1200);
-        let t1202 = product(t2, t827);
-        let t1203: f64 = t3 * t1138;
-        let t1204: f64 = t1202.plus(t1203);
-        let t1205: f64 = t24 * t1204;
-        let t1206: f64 = t1201.minus(t1205);
-        let t1207: f64 = t1195 + t1206;
-        let t1208: f64 = t1192 + t1207;
-        let t1209 = product(t629, t1071);
-        let t1210: f64 = t206 * t1179;
-        let t1211: f64 = t1209.plus(t1210);
-        let t1212: f64 = t1208 - t1211;
-        let t1213 = product(t611, t1212);
-        let t1214 = product(t265, t1212);
-        let t1215: f64 = t854 * t1179;
-        let t1216: f64 = t1214.minus(t1215);
-        let t1217 = product(t595, t992);
-        let t1218: f64 = t98 * t788;
-        let t1219: f64 = t1082 * t1218;
-        let t1220: f64 = t1217.minus(t1219);
-        let t1221 = product(t57, t1220);
-        let t1222 = product(wx, t1097);
-        let t1223: f64 = wy * t1185;
-        let t1224: f64 = t1222.minus(t1223);
-        let t1225: f64 = t1221.plus(t1224);
-        let t1226 = product(t620, t1027);
-        let t1227: f64 = t87 * t1158;
-        let t1228: f64 = t1226.plus(t1227);
-        let t1229 = product(t38, t1169);
-        let t1230: f64 = t25 * t1204;
-        let t1231: f64 = t1229.plus(t1230);
-        let t1232: f64 = t1228 + t1231;
-        let t1233: f64 = t1225 + t1232;
-        let t1234 = product(t629, t1054);
-        let t1235: f64 = t576 * t1105;
-        let t1236: f64 = t1234.minus(t1235);
-        let t1237: f64 = t1233 + t1236;
-        let t1238: f64 = t1216 + t1237;
-        let t1239: f64 = t882 * t1238;
-        let t1240: f64 = wz * t98;
-        let t1241 = product(t1082, t1240);
-        let t1242: f64 = wx * t55;
-        let t1243: f64 = t972 * t1242;
-        let t1244: f64 = t1241.minus(t1243);
-        let t1245 = product(wz, t1244);
-        let t1246: f64 = t55 * t629;
-        let t1247: f64 = t972 * t1246;
-        let t1248: f64 = t1245.plus(t1247);
-        let t1249 = product(t57, t1248);
-        let t1250 = product(wx, t1105);
-        let t1251: f64 = t889 * t1082;
-        let t1252: f64 = t1250.plus(t1251);
-        let t1253 = product(wy, t1252);
-        let t1254: f64 = t620 * t1105;
-        let t1255: f64 = t1253.minus(t1254);
-        let t1256: f64 = t1249.plus(t1255);
-        let t1257 = product(t291, t1238);
-        let t1258: f64 = t282 * t1212;
-        let t1259: f64 = t1257.minus(t1258);
-        let t1260: f64 = t1256 + t1259;
-        let t1261 = product(t596, t1260);
-        let t1262: f64 = wy * t55;
-        let t1263: f64 = t57 * t1262;
-        let t1264 = product(t972, t1263);
-        let t1265: f64 = wz * t1105;
-        let t1266: f64 = t1264.plus(t1265);
-        let t1267 = product(wz, t1266);
-        let t1268: f64 = wx * t1252;
-        let t1269: f64 = t1267.plus(t1268);
-        let t1270: f64 = t98 * t620;
-        let t1271 = product(t1082, t1270);
-        let t1272: f64 = t55 * t595;
-        let t1273: f64 = t972 * t1272;
-        let t1274: f64 = t1271.minus(t1273);
-        let t1275 = product(t57, t1274);
-        let t1276 = product(t296, t1212);
-        let t1277: f64 = t1276.subtracted_from(t1179);
-        let t1278: f64 = t301 * t1277;
-        let t1279: f64 = t1275.minus(t1278);
-        let t1280: f64 = t1269 + t1279;
-        let t1281 = product(t321, t1238);
-        let t1282: f64 = t323 * t1260;
-        let t1283: f64 = t1281.plus(t1282);
-        let t1284: f64 = t1280 + t1283;
-        let t1285: f64 = t599 * t1284;
-        let t1286 = product(wx, t1244);
-        let t1287: f64 = t98 * t629;
-        let t1288: f64 = t1082 * t1287;
-        let t1289: f64 = t1286.plus(t1288);
-        let t1290 = product(t57, t1289);
-        let t1291 = product(wy, t1266);
-        let t1292: f64 = t595 * t1105;
-        let t1293: f64 = t1291.plus(t1292);
-        let t1294: f64 = t1290.minus(t1293);
-        let t1295: f64 = t1180.plus(t1285);
-        let t1296: f64 = t1294 + t1295;
-        let t1297: f64 = t1213.plus(t1239);
-        let t1298: f64 = t1261.plus(t1297);
-        let t1299: f64 = t1296 - t1298;
-        let t1300 = product(t550, t1299);
-        let t1301: f64 = t1300.added_to(t1284);
-        let t1302 = product(t587, t1301);
-        let t1303 = product(t554, t1301);
-        let t1304 = product(t556, t1299);
-        let t1305: f64 = t1303.added_to(t1260);
-        let t1306: f64 = t1304.subtracted_from(t1305);
-        let t1307 = product(t561, t1306);
-        let t1308: f64 = t563 * t1301;
-        let t1309 = product(t548, t1299);
-        let t1310: f64 = t1309.added_to(t1238);
-        let t1311: f64 = t1307.plus(t1308);
-        let t1312: f64 = t1310 - t1311;
-        let t1313 = product(t572, t1312);
-        let t1314: f64 = t574 * t1299;
-        let t1315 = product(t289, t1306);
-        let t1316: f64 = t577 * t1301;
-        let t1317: f64 = t1315.minus(t1316);
-        let t1318 = product(t279, t1317);
-        let t1319: f64 = t1313.plus(t1314);
-        let t1320: f64 = t1318.added_to(t1212);
-        let t1321: f64 = t1319 + t1320;
-        let t1322 = product(t296, t1321);
-        let t1323: f64 = t568 * t1312;
-        let t1324 = product(t570, t1299);
-        let t1325: f64 = t1302.added_to(t1179);
-        let t1326: f64 = t1322.plus(t1323);
-        let t1327: f64 = t1324.plus(t1326);
-        let t1328: f64 = t1325 - t1327;
-        let t1329: f64 = t83 * t1328;
-        let t1330: f64 = -t1329;
-        let t1331: f64 = yc * t29;
-        let t1332: f64 = t13 * t98;
-        let t1333 = product(t1075, t1332);
-        let t1334: f64 = t39 + t1331;
-        let t1335: f64 = t1334 * 3.34;
-        let t1336: f64 = t1333.plus(t1335);
-        let t1337: f64 = t105 * t629;
-        let t1338 = product(t1336, t1337);
-        let t1339: f64 = t98 * t177;
-        let t1340: f64 = t13 * t58;
-        let t1341: f64 = t1339 * t1340;
-        let t1342 = product(t178, t1341);
-        let t1343 = product(t38, t50);
-        let t1344: f64 = t1343.added_to(t1331);
-        let t1345: f64 = t676 * t1344;
-        let t1346: f64 = t1342.plus(t1345);
-        let t1347 = product(t181, t1341);
-        let t1348 = product(t38, t52);
-        let t1349: f64 = t1348.added_to(t1331);
-        let t1350: f64 = t680 * t1349;
-        let t1351: f64 = t1347.plus(t1350);
-        let t1352: f64 = t1346 + t1351;
-        let t1353: f64 = t101 * t683;
-        let t1354 = product(t41, t1353);
-        let t1355 = product(t32, t802);
-        let t1356: f64 = t1355.added_to(t1073);
-        let t1357: f64 = t1016 * t1356;
-        let t1358: f64 = t1354.plus(t1357);
-        let t1359 = product(t46, t1353);
-        let t1360 = product(t43, t802);
-        let t1361: f64 = t1360.added_to(t1073);
-        let t1362: f64 = t1022 * t1361;
-        let t1363: f64 = t1359.minus(t1362);
-        let t1364: f64 = t1358 + t1363;
-        let t1365: f64 = t1352 + t1364;
-        let t1366: f64 = t1365 * 3.34;
-        let t1367 = product(wz, t1366);
-        let t1368 = product(t50, t1344);
-        let t1369: f64 = t52 * t1349;
-        let t1370 = product(t985, t1332);
-        let t1371: f64 = t1368.plus(t1369);
-        let t1372: f64 = t1371 * 1.67;
-        let t1373: f64 = t1370.plus(t1372);
-        let t1374: f64 = t98 * t1029;
-        let t1375: f64 = t1373 * t1374;
-        let t1376 = product(t14, t966);
-        let t1377 = product(t101, t253);
-        let t1378: f64 = t1376.added_to(t1073);
-        let t1379: f64 = t1378 * 3.34;
-        let t1380: f64 = t1377.plus(t1379);
-        let t1381: f64 = zc * wy;
-        let t1382: f64 = t30 * t1381;
-        let t1383 = product(t1380, t1382);
-        let t1384: f64 = t1367.plus(t1375);
-        let t1385: f64 = t1383.subtracted_from(t1384);
-        let t1386 = product(wy, t1385);
-        let t1387: f64 = t1352 * 3.34;
-        let t1388 = product(wy, t1387);
-        let t1389 = product(t157, t1336);
-        let t1390 = product(t32, t1356);
-        let t1391: f64 = t43 * t1361;
-        let t1392 = product(t101, t1087);
-        let t1393: f64 = t1390.plus(t1391);
-        let t1394: f64 = t1393 * 1.67;
-        let t1395: f64 = t1392.plus(t1394);
-        let t1396: f64 = t30 * t1395;
-        let t1397: f64 = t1389.minus(t1396);
-        let t1398: f64 = wx * t1397;
-        let t1399: f64 = zc * wz;
-        let t1400: f64 = t30 * t1399;
-        let t1401 = product(t1380, t1400);
-        let t1402: f64 = t1388.plus(t1398);
-        let t1403: f64 = t1401.subtracted_from(t1402);
-        let t1404: f64 = wz * t1403;
-        let t1405: f64 = t1386.minus(t1404);
-        let t1406: f64 = t364 * 0.4119400000000001;
-        let t1407 = product(t414, t1406);
-        let t1408: f64 = t806 * 0.1875000000000001;
-        let t1409: f64 = t1407.plus(t1408);
-        let t1410: f64 = t417 - t1409;
-        let t1411 = product(t13, t1410);
-        let t1412: f64 = t358 * 0.22443999999999997;
-        let t1413 = product(t414, t1412);
-        let t1414 = product(t797, 0.1875000000000001);
-        let t1415: f64 = t1414.added_to(t420);
-        let t1416: f64 = t1413.subtracted_from(t1415);
-        let t1417: f64 = t14 * t1416;
-        let t1418: f64 = t1411.plus(t1417);
-        let t1419 = product(t3, t1418);
-        let t1420: f64 = t1419.subtracted_from(t1405);
-        let t1421: f64 = t358 * 0.1875000000000001;
-        let t1422 = product(t358, t1421);
-        let t1423: f64 = t364 * 0.1875000000000001;
-        let t1424: f64 = t364 * t1423;
-        let t1425: f64 = t1422.minus(t1424);
-        let t1426 = product(t2, t1425);
-        let t1427: f64 = t1364 * 3.34;
-        let t1428: f64 = t595 * t1427;
-        let t1429: f64 = t1426.plus(t1428);
-        let t1430: f64 = t105 * t620;
-        let t1431 = product(t1373, t1430);
-        let t1432: f64 = t30 * t760;
-        let t1433: f64 = t1380 * t1432;
-        let t1434: f64 = t1431.plus(t1433);
-        let t1435: f64 = t1429 + t1434;
-        let t1436: f64 = t1420 + t1435;
-        let t1437 = product(t629, t1397);
-        let t1438: f64 = t1437.subtracted_from(t1436);
-        let t1439: f64 = t255 * t1438;
-        let t1440 = product(wx, t1427);
-        let t1441: f64 = wy * t1397;
-        let t1442 = product(t895, t1373);
-        let t1443: f64 = t1440.plus(t1441);
-        let t1444: f64 = t1442.plus(t1443);
-        let t1445 = product(wz, t1444);
-        let t1446: f64 = wx * t1385;
-        let t1447: f64 = t1445.minus(t1446);
-        let t1448 = product(t595, t1397);
-        let t1449: f64 = t60 * t1425;
-        let t1450: f64 = t1448.minus(t1449);
-        let t1451: f64 = t1447 + t1450;
-        let t1452: f64 = t105 * t760;
-        let t1453 = product(t1336, t1452);
-        let t1454: f64 = t212 * t620;
-        let t1455: f64 = t1380 * t1454;
-        let t1456: f64 = t1453.minus(t1455);
-        let t1457 = product(t29, t1410);
-        let t1458: f64 = t101 * t1416;
-        let t1459: f64 = t1457.minus(t1458);
-        let t1460: f64 = t1456 + t1459;
-        let t1461: f64 = t1451 + t1460;
-        let t1462 = product(t629, t1387);
-        let t1463: f64 = t206 * t1438;
-        let t1464: f64 = t1462.plus(t1463);
-        let t1465: f64 = t1461 - t1464;
-        let t1466 = product(t611, t1465);
-        let t1467 = product(wx, t1403);
-        let t1468: f64 = wy * t1444;
-        let t1469: f64 = t1467.minus(t1468);
-        let t1470 = product(t493, t1425);
-        let t1471: f64 = t620 * t1366;
-        let t1472: f64 = t1470.plus(t1471);
-        let t1473: f64 = t1469 + t1472;
-        let t1474 = product(t595, t1373);
-        let t1475: f64 = t788 * t1336;
-        let t1476: f64 = t1474.minus(t1475);
-        let t1477 = product(t105, t1476);
-        let t1478 = product(zc, t629);
-        let t1479: f64 = t1478.subtracted_from(t576);
-        let t1480: f64 = t30 * t1380;
-        let t1481: f64 = t1479 * t1480;
-        let t1482: f64 = t1477.minus(t1481);
-        let t1483 = product(t38, t1410);
-        let t1484: f64 = t87 * t1416;
-        let t1485: f64 = t1483.minus(t1484);
-        let t1486: f64 = t1482 + t1485;
-        let t1487: f64 = t1473 + t1486;
-        let t1488 = product(t265, t1465);
-        let t1489: f64 = t854 * t1438;
-        let t1490: f64 = t1488.minus(t1489);
-        let t1491: f64 = t1487 + t1490;
-        let t1492: f64 = t882 * t1491;
-        let t1493: f64 = wx * t30;
-        let t1494 = product(t1380, t1493);
-        let t1495: f64 = t889 * t1336;
-        let t1496: f64 = t1494.plus(t1495);
-        let t1497 = product(wy, t1496);
-        let t1498: f64 = wz * wz;
-        let t1499: f64 = t57 * t1498;
-        let t1500: f64 = t98 * t1499;
-        let t1501: f64 = t1336 * t1500;
-        let t1502: f64 = t1497.plus(t1501);
-        let t1503: f64 = t30 * t620;
-        let t1504 = product(t1380, t1503);
-        let t1505: f64 = t1504.subtracted_from(t1502);
-        let t1506 = product(t291, t1491);
-        let t1507: f64 = t282 * t1465;
-        let t1508: f64 = t1506.minus(t1507);
-        let t1509: f64 = t1505 + t1508;
-        let t1510 = product(t596, t1509);
-        let t1511: f64 = t30 * t1498;
-        let t1512 = product(t1380, t1511);
-        let t1513: f64 = wx * t1496;
-        let t1514: f64 = t1512.plus(t1513);
-        let t1515 = product(t1336, t1430);
-        let t1516 = product(t296, t1465);
-        let t1517: f64 = t1516.subtracted_from(t1438);
-        let t1518: f64 = t301 * t1517;
-        let t1519: f64 = t1515.minus(t1518);
-        let t1520: f64 = t1514 + t1519;
-        let t1521 = product(t321, t1491);
-        let t1522: f64 = t323 * t1509;
-        let t1523: f64 = t1521.plus(t1522);
-        let t1524: f64 = t1520 + t1523;
-        let t1525 = product(t599, t1524);
-        let t1526 = product(t1336, t1374);
-        let t1527: f64 = wy * t30;
-        let t1528: f64 = t1380 * t1527;
-        let t1529: f64 = t1526.minus(t1528);
-        let t1530 = product(wz, t1529);
-        let t1531: f64 = t30 * t595;
-        let t1532: f64 = t1380 * t1531;
-        let t1533: f64 = t1530.minus(t1532);
-        let t1534: f64 = t1338.plus(t1439);
-        let t1535: f64 = t1525.plus(t1533);
-        let t1536: f64 = t1534 + t1535;
-        let t1537: f64 = t1466.plus(t1492);
-        let t1538: f64 = t1510.plus(t1537);
-        let t1539: f64 = t1536 - t1538;
-        let t1540 = product(t550, t1539);
-        let t1541: f64 = t1540.added_to(t1524);
-        let t1542 = product(t587, t1541);
-        let t1543 = product(t554, t1541);
-        let t1544 = product(t556, t1539);
-        let t1545: f64 = t1543.added_to(t1509);
-        let t1546: f64 = t1544.subtracted_from(t1545);
-        let t1547 = product(t561, t1546);
-        let t1548: f64 = t563 * t1541;
-        let t1549 = product(t548, t1539);
-        let t1550: f64 = t1549.added_to(t1491);
-        let t1551: f64 = t1547.plus(t1548);
-        let t1552: f64 = t1550 - t1551;
-        let t1553 = product(t572, t1552);
-        let t1554: f64 = t574 * t1539;
-        let t1555 = product(t289, t1546);
-        let t1556: f64 = t577 * t1541;
-        let t1557: f64 = t1555.minus(t1556);
-        let t1558 = product(t279, t1557);
-        let t1559: f64 = t1553.plus(t1554);
-        let t1560: f64 = t1558.added_to(t1465);
-        let t1561: f64 = t1559 + t1560;
-        let t1562 = product(t296, t1561);
-        let t1563: f64 = t568 * t1552;
-        let t1564 = product(t570, t1539);
-        let t1565: f64 = t1542.added_to(t1438);
-        let t1566: f64 = t1562.plus(t1563);
-        let t1567: f64 = t1564.plus(t1566);
-        let t1568: f64 = t1565 - t1567;
-        let t1569: f64 = t83 * t1568;
-        let t1570: f64 = -t1569;
-        let t1571: f64 = t2 * t55;
-        let t1572: f64 = t57 * t1571;
-        let t1573: f64 = t576 * t1572;
-        let t1574: f64 = t30 * t33;
-        let t1575: f64 = t576 * t1574;
-        let t1576: f64 = t595 * t1572;
-        let t1577: f64 = t595 * t1574;
-        let t1578: f64 = t760 * t1574;
-        let t1579 = product(t788, t1572);
-        let t1580: f64 = t1579.added_to(t1578);
-        let t1581: f64 = t55 * t59;
-        let t1582: f64 = t57 * t1581;
-        let t1583: f64 = zc - t1582;
-        let t1584 = product(t1583, 3.34);
-        let t1585: f64 = t1584.minus(t278);
-        let t1586 = product(wx, t1585);
-        let t1587: f64 = t31 * t33;
-        let t1588 = product(t40, t1587);
-        let t1589: f64 = t45 * t1587;
-        let t1590: f64 = t1588.minus(t1589);
-        let t1591: f64 = xc * 13.36;
-        let t1592: f64 = t1590 * 3.34;
-        let t1593: f64 = t1591 + t1592;
-        let t1594 = product(wz, t1593);
-        let t1595: f64 = t3 * t1012;
-        let t1596 = product(t30, t1595);
-        let t1597: f64 = yc * t2;
-        let t1598: f64 = t55 * t1597;
-        let t1599: f64 = t57 * t1598;
-        let t1600: f64 = t1596.minus(t1599);
-        let t1601: f64 = t1600 * 3.34;
-        let t1602: f64 = wy * t1601;
-        let t1603: f64 = t1586.plus(t1602);
-        let t1604: f64 = t1594.subtracted_from(t1603);
-        let t1605 = product(wy, t1604);
-        let t1606: f64 = t58 * t1059;
-        let t1607 = product(t62, t1606);
-        let t1608: f64 = t67 * t1606;
-        let t1609: f64 = t1607.plus(t1608);
-        let t1610: f64 = t1609 * 3.34;
-        let t1611: f64 = t1591 + t1610;
-        let t1612 = product(wy, t1611);
-        let t1613: f64 = xc * t13;
-        let t1614: f64 = t3 * t1613;
-        let t1615: f64 = t30 * t1614;
-        let t1616: f64 = yc + t1615;
-        let t1617 = product(t1616, 3.34);
-        let t1618: f64 = t1617.added_to(t253);
-        let t1619 = product(wx, t1618);
-        let t1620: f64 = wz * t1601;
-        let t1621: f64 = t1619.plus(t1620);
-        let t1622: f64 = t1612.subtracted_from(t1621);
-        let t1623: f64 = wz * t1622;
-        let t1624: f64 = t1605.minus(t1623);
-        let t1625: f64 = zc * 7.34;
-        let t1626 = product(t1582, 3.34);
-        let t1627: f64 = t1626.added_to(t278);
-        let t1628: f64 = t1625 - t1627;
-        let t1629 = product(t620, t1628);
-        let t1630: f64 = t1590 + t1609;
-        let t1631: f64 = t1630 * 3.34;
-        let t1632: f64 = t595 * t1631;
-        let t1633: f64 = t1629.minus(t1632);
-        let t1634: f64 = t1624 + t1633;
-        let t1635: f64 = yc * 7.34;
-        let t1636 = product(t1615, 3.34);
-        let t1637: f64 = t1636.added_to(t1635);
-        let t1638: f64 = t253 + t1637;
-        let t1639 = product(t629, t1638);
-        let t1640: f64 = t1639.subtracted_from(t1634);
-        let t1641: f64 = t1580 * 3.34;
-        let t1642: f64 = t1640 - t1641;
-        let t1643 = product(t255, t1642);
-        let t1644 = product(t595, t1638);
-        let t1645: f64 = t206 * t1642;
-        let t1646: f64 = t1644.minus(t1645);
-        let t1647: f64 = xc * 21.36;
-        let t1648: f64 = t1610 + t1647;
-        let t1649 = product(t629, t1648);
-        let t1650 = product(t620, t1601);
-        let t1651: f64 = t1650.added_to(t460);
-        let t1652 = product(wx, t1631);
-        let t1653 = product(wz, t1585);
-        let t1654: f64 = wy * t1618;
-        let t1655: f64 = t1653.plus(t1654);
-        let t1656: f64 = t1652.minus(t1655);
-        let t1657 = product(wz, t1656);
-        let t1658: f64 = wx * t1604;
-        let t1659: f64 = t1657.plus(t1658);
-        let t1660: f64 = t1651 - t1659;
-        let t1661: f64 = t1649.plus(t1660);
-        let t1662: f64 = t1646 + t1661;
-        let t1663: f64 = t623 * 10.68;
-        let t1664 = product(t1573, 3.34);
-        let t1665: f64 = t1664.added_to(t1663);
-        let t1666: f64 = t461 + t1662;
-        let t1667: f64 = t1665 + t1666;
-        let t1668: f64 = t1667 - 104.77080000000001;
-        let t1669 = product(t611, t1668);
-        let t1670 = product(wx, t1622);
-        let t1671: f64 = wy * t1656;
-        let t1672: f64 = t1670.plus(t1671);
-        let t1673: f64 = t403 - t1672;
-        let t1674 = product(t595, t1628);
-        let t1675: f64 = t1674.subtracted_from(t1673);
-        let t1676 = product(t629, t1601);
-        let t1677: f64 = t854 * t1642;
-        let t1678: f64 = t1676.plus(t1677);
-        let t1679: f64 = t1592 + t1647;
-        let t1680 = product(t620, t1679);
-        let t1681: f64 = t265 * t1668;
-        let t1682: f64 = t1680.minus(t1681);
-        let t1683: f64 = t1678 + t1682;
-        let t1684: f64 = t1675 + t1683;
-        let t1685: f64 = t788 * 10.68;
-        let t1686: f64 = t1575 * 3.34;
-        let t1687: f64 = t404 + t1685;
-        let t1688: f64 = t1684 + t1687;
-        let t1689: f64 = t1688 - t1686;
-        let t1690: f64 = t882 * t1689;
-        let t1691: f64 = t620 * t1574;
-        let t1692 = product(t629, t1572);
-        let t1693: f64 = t1692.subtracted_from(t1691);
-        let t1694: f64 = t30 * t360;
-        let t1695: f64 = wy * 6.68;
-        let t1696 = product(t1694, 3.34);
-        let t1697: f64 = t1696.subtracted_from(t1695);
-        let t1698 = product(wy, t1697);
-        let t1699: f64 = t55 * t410;
-        let t1700: f64 = t57 * t1699;
-        let t1701: f64 = wz * 6.68;
-        let t1702 = product(t1700, 3.34);
-        let t1703: f64 = t1702.added_to(t1701);
-        let t1704: f64 = wz * t1703;
-        let t1705: f64 = t1698.plus(t1704);
-        let t1706 = product(t282, t1668);
-        let t1707: f64 = t291 * t1689;
-        let t1708: f64 = t1706.plus(t1707);
-        let t1709: f64 = t1705 - t1708;
-        let t1710: f64 = t1693 * 3.34;
-        let t1711: f64 = t1709 + t1710;
-        let t1712: f64 = t596 * t1711;
-        let t1713 = product(wx, t1697);
-        let t1714: f64 = wy * t2;
-        let t1715: f64 = t55 * t1714;
-        let t1716 = product(t57, t1715);
-        let t1717: f64 = t3 * t1114;
-        let t1718: f64 = t30 * t1717;
-        let t1719: f64 = t1716.plus(t1718);
-        let t1720: f64 = t1719 * 3.34;
-        let t1721: f64 = wz * t1720;
-        let t1722: f64 = t1713.minus(t1721);
-        let t1723 = product(t296, t1668);
-        let t1724: f64 = t1723.added_to(t1641);
-        let t1725: f64 = t1640 - t1724;
-        let t1726 = product(t301, t1725);
-        let t1727: f64 = t1726.subtracted_from(t1722);
-        let t1728 = product(t321, t1689);
-        let t1729: f64 = t323 * t1711;
-        let t1730: f64 = t1728.minus(t1729);
-        let t1731: f64 = t1727 - t1730;
-        let t1732: f64 = t620 * 10.68;
-        let t1733 = product(t1576, 3.34);
-        let t1734: f64 = t1733.added_to(t1732);
-        let t1735: f64 = t1731 + t1734;
-        let t1736 = product(t599, t1735);
-        let t1737 = product(wx, t1703);
-        let t1738: f64 = wy * t1720;
-        let t1739: f64 = t1737.plus(t1738);
-        let t1740: f64 = t629 * 10.68;
-        let t1741: f64 = t1577 * 3.34;
-        let t1742: f64 = t1740 + t1741;
-        let t1743: f64 = t1643.plus(t1690);
-        let t1744: f64 = t1736.plus(t1739);
-        let t1745: f64 = t1742 + t1743;
-        let t1746: f64 = t1744 + t1745;
-        let t1747: f64 = t1669.plus(t1712);
-        let t1748: f64 = t1746 - t1747;
-        let t1749 = product(t550, t1748);
-        let t1750: f64 = t1749.added_to(t1731);
-        let t1751: f64 = t1734 + t1750;
-        let t1752: f64 = -t1751;
-        let t1753: f64 = t320 * t1752;
-        let t1754: f64 = -t1753;
-        let t1755 = product(t311, t1754);
-        let t1756 = product(t556, t1748);
-        let t1757: f64 = t1755.added_to(t1709);
-        let t1758: f64 = t1710 + t1757;
-        let t1759: f64 = t1756.subtracted_from(t1758);
-        let t1760 = product(t561, t1759);
-        let t1761 = product(t304, t1754);
-        let t1762 = product(t548, t1748);
-        let t1763: f64 = t1760.added_to(t1685);
-        let t1764: f64 = t1761.added_to(t1684);
-        let t1765: f64 = t1763 + t1764;
-        let t1766: f64 = t404 + t1765;
-        let t1767: f64 = t1762.added_to(t1686);
-        let t1768: f64 = t1766 - t1767;
-        let t1769 = product(t572, t1768);
-        let t1770 = product(t574, t1748);
-        let t1771: f64 = t289 * t1759;
-        let t1772 = product(t206, t1754);
-        let t1773: f64 = t1772.subtracted_from(t1771);
-        let t1774: f64 = t279 * t1773;
-        let t1775: f64 = t1770.plus(t1774);
-        let t1776: f64 = t1665 + t1775;
-        let t1777: f64 = t1666 + t1776;
-        let t1778: f64 = t1769.plus(104.77080000000001);
-        let t1779: f64 = t1777 - t1778;
-        let t1780 = product(t296, t1779);
-        let t1781 = product(t568, t1768);
-        let t1782: f64 = t279 * t1754;
-        let t1783: f64 = t570 * t1748;
-        let t1784: f64 = t1781.plus(t1782);
-        let t1785: f64 = t1640 + t1784;
-        let t1786: f64 = t1780.plus(t1783);
-        let t1787: f64 = t1641 + t1786;
-        let t1788: f64 = t1785 - t1787;
-        let t1789: f64 = t83 * t1788;
-        let t1790: f64 = t717 * t788;
-        let t1791: f64 = t101 * t105;
-        let t1792: f64 = t788 * t1791;
-        let t1793: f64 = t629 * t717;
-        let t1794: f64 = t629 * t1791;
-        let t1795: f64 = t101 * t179;
-        let t1796 = product(t104, t1795);
-        let t1797: f64 = t109 * t1795;
-        let t1798: f64 = t1796.plus(t1797);
-        let t1799: f64 = yc * 13.36;
-        let t1800: f64 = t1798 * 3.34;
-        let t1801: f64 = t1799 + t1800;
-        let t1802 = product(wz, t1801);
-        let t1803 = product(t55, t696);
-        let t1804: f64 = zc * t57;
-        let t1805: f64 = t98 * t1804;
-        let t1806: f64 = t101 * t1805;
-        let t1807: f64 = t1803.subtracted_from(t1806);
-        let t1808: f64 = t1807 * 3.34;
-        let t1809: f64 = wx * t1808;
-        let t1810: f64 = t55 * t692;
-        let t1811: f64 = zc + t1810;
-        let t1812 = product(t1811, 3.34);
-        let t1813: f64 = t1812.minus(t278);
-        let t1814 = product(wy, t1813);
-        let t1815: f64 = t1802.plus(t1809);
-        let t1816: f64 = t1814.subtracted_from(t1815);
-        let t1817 = product(wy, t1816);
-        let t1818: f64 = t101 * t157;
-        let t1819: f64 = xc - t1818;
-        let t1820 = product(t1819, 3.34);
-        let t1821: f64 = t1820.minus(t262);
-        let t1822 = product(wx, t1821);
-        let t1823: f64 = t784 - t1798;
-        let t1824: f64 = t1823 * 3.34;
-        let t1825: f64 = wy * t1824;
-        let t1826 = product(wz, t1813);
-        let t1827: f64 = t1822.plus(t1825);
-        let t1828: f64 = t1826.plus(t1827);
-        let t1829: f64 = wz * t1828;
-        let t1830: f64 = t1817.plus(t1829);
-        let t1831 = product(t620, t1808);
-        let t1832: f64 = t1831.added_to(t460);
-        let t1833: f64 = t1830 + t1832;
-        let t1834: f64 = yc * 21.36;
-        let t1835: f64 = t784 * 3.34;
-        let t1836: f64 = t1834 - t1835;
-        let t1837 = product(t595, t1836);
-        let t1838: f64 = xc * 7.34;
-        let t1839 = product(t1818, 3.34);
-        let t1840: f64 = t1839.added_to(t262);
-        let t1841: f64 = t1838 - t1840;
-        let t1842: f64 = t629 * t1841;
-        let t1843: f64 = t1837.plus(t1842);
-        let t1844: f64 = t1833 + t1843;
-        let t1845: f64 = t1790 * 3.34;
-        let t1846: f64 = t461 + t1663;
-        let t1847: f64 = t1844 + t1846;
-        let t1848: f64 = t1845 + 104.77080000000001;
-        let t1849: f64 = t1847 - t1848;
-        let t1850 = product(t255, t1849);
-        let t1851: f64 = t760 * t1791;
-        let t1852 = product(t576, t717);
-        let t1853: f64 = t1852.added_to(t1851);
-        let t1854: f64 = t1799 - t1835;
-        let t1855 = product(wx, t1854);
-        let t1856 = product(wy, t1821);
-        let t1857: f64 = wz * t1808;
-        let t1858: f64 = t1855.plus(t1857);
-        let t1859: f64 = t1856.subtracted_from(t1858);
-        let t1860 = product(wz, t1859);
-        let t1861: f64 = wx * t1816;
-        let t1862: f64 = t1860.minus(t1861);
-        let t1863 = product(t1810, 3.34);
-        let t1864: f64 = t1863.added_to(t1625);
-        let t1865: f64 = t1864 - t278;
-        let t1866 = product(t620, t1865);
-        let t1867: f64 = t595 * t1841;
-        let t1868: f64 = t1866.plus(t1867);
-        let t1869: f64 = t1862 - t1868;
-        let t1870 = product(t629, t1824);
-        let t1871: f64 = t206 * t1849;
-        let t1872: f64 = t1870.minus(t1871);
-        let t1873: f64 = t1869 + t1872;
-        let t1874: f64 = t1853 * 3.34;
-        let t1875: f64 = t1873 + t1874;
-        let t1876 = product(t611, t1875);
-        let t1877 = product(wx, t1828);
-        let t1878: f64 = wy * t1859;
-        let t1879: f64 = t1877.plus(t1878);
-        let t1880 = product(t595, t1808);
-        let t1881: f64 = t1880.subtracted_from(t483);
-        let t1882: f64 = t1879 + t1881;
-        let t1883 = product(t854, t1849);
-        let t1884: f64 = t265 * t1875;
-        let t1885: f64 = t1883.minus(t1884);
-        let t1886: f64 = t1882 + t1885;
-        let t1887 = product(t629, t1865);
-        let t1888: f64 = t1800 + t1834;
-        let t1889: f64 = t620 * t1888;
-        let t1890: f64 = t1887.plus(t1889);
-        let t1891: f64 = t1886 - t1890;
-        let t1892: f64 = t576 * 10.68;
-        let t1893 = product(t1792, 3.34);
-        let t1894: f64 = t1893.added_to(t1892);
-        let t1895: f64 = t484 + t1891;
-        let t1896: f64 = t1894 + t1895;
-        let t1897 = product(t882, t1896);
-        let t1898: f64 = t101 * t889;
-        let t1899: f64 = wx * 6.68;
-        let t1900 = product(t1898, 3.34);
-        let t1901: f64 = t1900.added_to(t1899);
-        let t1902 = product(wy, t1901);
-        let t1903 = product(t101, t895);
-        let t1904: f64 = wx * t24;
-        let t1905: f64 = t55 * t1904;
-        let t1906: f64 = t1903.plus(t1905);
-        let t1907: f64 = t1906 * 3.34;
-        let t1908: f64 = wz * t1907;
-        let t1909: f64 = t1902.plus(t1908);
-        let t1910 = product(t282, t1875);
-        let t1911: f64 = t291 * t1896;
-        let t1912: f64 = t1910.plus(t1911);
-        let t1913: f64 = t1909 - t1912;
-        let t1914 = product(t1793, 3.34);
-        let t1915: f64 = t1914.added_to(t1732);
-        let t1916: f64 = t1915 - t1913;
-        let t1917: f64 = t596 * t1916;
-        let t1918 = product(t620, t1791);
-        let t1919: f64 = t595 * t717;
-        let t1920: f64 = t1918.plus(t1919);
-        let t1921: f64 = t55 * t411;
-        let t1922 = product(t1921, 3.34);
-        let t1923: f64 = t1922.subtracted_from(t1701);
-        let t1924 = product(wz, t1923);
-        let t1925: f64 = wx * t1901;
-        let t1926: f64 = t1924.plus(t1925);
-        let t1927 = product(t296, t1875);
-        let t1928: f64 = t1663 + t1844;
-        let t1929: f64 = t461 + t1928;
-        let t1930: f64 = t1927.added_to(t1845);
-        let t1931: f64 = t1930 + 104.77080000000001;
-        let t1932: f64 = t1929 - t1931;
-        let t1933 = product(t301, t1932);
-        let t1934: f64 = t1933.subtracted_from(t1926);
-        let t1935 = product(t321, t1896);
-        let t1936: f64 = t323 * t1916;
-        let t1937: f64 = t1935.plus(t1936);
-        let t1938: f64 = t1934 - t1937;
-        let t1939: f64 = t1920 * 3.34;
-        let t1940: f64 = t1938 + t1939;
-        let t1941 = product(t599, t1940);
-        let t1942 = product(wy, t1923);
-        let t1943: f64 = wx * t1907;
+        let t1112 = product(t805, t1062);
+        let t1113: f64 = t797 * t1007;
+        let t1114: f64 = t1112.minus(t1113);
+        let t1115: f64 = t1111 + t1114;
+        let t1116: f64 = t1108 + t1115;
+        let t1117 = product(t835, t1116);
+        let t1118 = product(t612, t998);
+        let t1119: f64 = t260 * t1092;
+        let t1120: f64 = t1118.minus(t1119);
+        let t1121 = product(t273, t1116);
+        let t1122 = product(wx, t1007);
+        let t1123: f64 = wy * t936;
+        let t1124: f64 = t1122.plus(t1123);
+        let t1125 = product(wy, t1124);
+        let t1126 = product(wz, t936);
+        let t1127: f64 = wx * t998;
+        let t1128: f64 = t1126.minus(t1127);
+        let t1129: f64 = wz * t1128;
+        let t1130: f64 = t1125.plus(t1129);
+        let t1131 = product(t603, t1007);
+        let t1132: f64 = t1131.subtracted_from(t1130);
+        let t1133: f64 = t1121.plus(t1132);
+        let t1134: f64 = t1120 + t1133;
+        let t1135: f64 = t579 * t1134;
+        let t1136 = product(t603, t936);
+        let t1137: f64 = t578 * t998;
+        let t1138: f64 = t1136.minus(t1137);
+        let t1139 = product(wy, t998);
+        let t1140: f64 = wz * t1007;
+        let t1141: f64 = t1139.plus(t1140);
+        let t1142 = product(wz, t1141);
+        let t1143: f64 = wx * t1124;
+        let t1144: f64 = t1142.plus(t1143);
+        let t1145 = product(t282, t1092);
+        let t1146: f64 = t1145.added_to(t1062);
+        let t1147 = product(t287, t1146);
+        let t1148: f64 = t1147.subtracted_from(t1144);
+        let t1149: f64 = t1138 + t1148;
+        let t1150 = product(t314, t1116);
+        let t1151: f64 = t316 * t1134;
+        let t1152: f64 = t1150.minus(t1151);
+        let t1153: f64 = t1149 + t1152;
+        let t1154: f64 = t582 * t1153;
+        let t1155 = product(wx, t1128);
+        let t1156: f64 = wy * t1141;
+        let t1157: f64 = t1155.minus(t1156);
+        let t1158 = product(t578, t1007);
+        let t1159: f64 = t1158.subtracted_from(t1157);
+        let t1160: f64 = t937.plus(t1063);
+        let t1161: f64 = t1117.plus(t1154);
+        let t1162: f64 = t1160 + t1161;
+        let t1163: f64 = t1159 + t1162;
+        let t1164: f64 = t1093.plus(t1135);
+        let t1165: f64 = t1163 - t1164;
+        let t1166 = product(t534, t1165);
+        let t1167: f64 = t1166.added_to(t1153);
+        let t1168 = product(t538, t1167);
+        let t1169: f64 = t540 * t1165;
+        let t1170: f64 = t1168.plus(t1169);
+        let t1171: f64 = t1134 - t1170;
+        let t1172 = product(t544, t1171);
+        let t1173: f64 = t546 * t1167;
+        let t1174 = product(t532, t1165);
+        let t1175: f64 = t1172.plus(t1173);
+        let t1176: f64 = t1174.plus(t1175);
+        let t1177: f64 = t1116 - t1176;
+        let t1178 = product(t555, t1177);
+        let t1179: f64 = t557 * t1171;
+        let t1180 = product(t559, t1165);
+        let t1181 = product(t561, t1167);
+        let t1182: f64 = t1181.added_to(t1062);
+        let t1183: f64 = t187 * t1182;
+        let t1184: f64 = t1178.plus(t1179);
+        let t1185: f64 = t1180.plus(t1183);
+        let t1186: f64 = t1184 + t1185;
+        let t1187: f64 = t1091 + t1186;
+        let t1188 = product(t282, t1187);
+        let t1189: f64 = t551 * t1177;
+        let t1190 = product(t553, t1165);
+        let t1191: f64 = t1188.plus(t1189);
+        let t1192: f64 = t1182 + t1191;
+        let t1193: f64 = t1190.subtracted_from(t1192);
+        let t1194: f64 = t82 * t1193;
+        let t1195: f64 = -t1194;
+        let t1196: f64 = t97 * t97;
+        let t1197: f64 = t6 * t53;
+        let t1198: f64 = t1196 * t1197;
+        let t1199 = product(t103, t1198);
+        let t1200: f64 = yc * t19;
+        let t1201 = product(t27, t47);
+        let t1202: f64 = t1201.added_to(t1200);
+        let t1203: f64 = t104 * t1202;
+        let t1204: f64 = t1199.plus(t1203);
+        let t1205 = product(t110, t1198);
+        let t1206 = product(t27, t49);
+        let t1207: f64 = t1206.added_to(t1200);
+        let t1208: f64 = t104 * t1207;
+        let t1209: f64 = t1205.plus(t1208);
+        let t1210: f64 = t1204 + t1209;
+        let t1211: f64 = t1210 * 1.67;
+        let t1212 = product(t612, t1211);
+        let t1213: f64 = t100 * t624;
+        let t1214 = product(t29, t1213);
+        let t1215 = product(t21, t773);
+        let t1216: f64 = zc * t86;
+        let t1217: f64 = t1215.plus(t1216);
+        let t1218: f64 = t20 * t1217;
+        let t1219: f64 = t1214.plus(t1218);
+        let t1220 = product(t21, t1219);
+        let t1221 = product(t36, t1213);
+        let t1222 = product(t34, t773);
+        let t1223: f64 = t1222.added_to(t1216);
+        let t1224: f64 = t20 * t1223;
+        let t1225: f64 = t1221.minus(t1224);
+        let t1226: f64 = t34 * t1225;
+        let t1227 = product(yc, t1211);
+        let t1228: f64 = t1220.subtracted_from(t1226);
+        let t1229: f64 = t1228 * 1.67;
+        let t1230: f64 = t1227.plus(t1229);
+        let t1231 = product(t612, t1230);
+        let t1232 = product(t353, t360);
+        let t1233: f64 = t1232.subtracted_from(t778);
+        let t1234: f64 = t1233 * 0.1875000000000001;
+        let t1235 = product(t6, t1234);
+        let t1236: f64 = t781 + t786;
+        let t1237: f64 = t1236 * 0.1875000000000001;
+        let t1238: f64 = t7 * t1237;
+        let t1239: f64 = t1235.plus(t1238);
+        let t1240 = product(t3, t1239);
+        let t1241 = product(t360, t360);
+        let t1242: f64 = t347 * t347;
+        let t1243: f64 = t1241.minus(t1242);
+        let t1244: f64 = t1243 * 0.1875000000000001;
+        let t1245 = product(t2, t1244);
+        let t1246 = product(t47, t1204);
+        let t1247: f64 = t49 * t1209;
+        let t1248: f64 = t1246.plus(t1247);
+        let t1249: f64 = t1248 * 1.67;
+        let t1250 = product(wx, t1249);
+        let t1251 = product(t107, t1204);
+        let t1252: f64 = t113 * t1209;
+        let t1253: f64 = t1251.plus(t1252);
+        let t1254 = product(t32, t1219);
+        let t1255: f64 = t39 * t1225;
+        let t1256: f64 = t1254.minus(t1255);
+        let t1257: f64 = t1253 - t1256;
+        let t1258: f64 = t1257 * 3.34;
+        let t1259 = product(wz, t1258);
+        let t1260: f64 = t1219 - t1225;
+        let t1261: f64 = t1260 * 1.67;
+        let t1262: f64 = zc * wy;
+        let t1263: f64 = t1261 * t1262;
+        let t1264: f64 = t1259.plus(t1263);
+        let t1265: f64 = t1250.minus(t1264);
+        let t1266: f64 = wy * t1265;
+        let t1267: f64 = t1245.minus(t1266);
+        let t1268: f64 = t1240.plus(t1267);
+        let t1269: f64 = t1253 * 3.34;
+        let t1270 = product(wy, t1269);
+        let t1271 = product(wx, t1230);
+        let t1272: f64 = zc * wz;
+        let t1273: f64 = t1261 * t1272;
+        let t1274: f64 = t1270.plus(t1273);
+        let t1275: f64 = t1271.minus(t1274);
+        let t1276 = product(wz, t1275);
+        let t1277: f64 = t1256 * 3.34;
+        let t1278: f64 = t578 * t1277;
+        let t1279: f64 = t1276.minus(t1278);
+        let t1280 = product(t603, t1249);
+        let t1281: f64 = t717 * t1261;
+        let t1282: f64 = t1280.plus(t1281);
+        let t1283: f64 = t1279 - t1282;
+        let t1284: f64 = t1268 + t1283;
+        let t1285: f64 = t1231.plus(t1284);
+        let t1286: f64 = -t1285;
+        let t1287: f64 = t232 * t1286;
+        let t1288 = product(t187, t1286);
+        let t1289 = product(t612, t1269);
+        let t1290 = product(t55, t1244);
+        let t1291 = product(wx, t1277);
+        let t1292: f64 = wz * t1249;
+        let t1293 = product(wy, t1230);
+        let t1294: f64 = t1291.plus(t1292);
+        let t1295: f64 = t1293.plus(t1294);
+        let t1296: f64 = wz * t1295;
+        let t1297: f64 = t1290.plus(t1296);
+        let t1298 = product(t578, t1230);
+        let t1299: f64 = wx * t1265;
+        let t1300: f64 = t1298.minus(t1299);
+        let t1301: f64 = t1297 + t1300;
+        let t1302 = product(t717, t1211);
+        let t1303: f64 = zc * t1261;
+        let t1304: f64 = t603 * t1303;
+        let t1305: f64 = t1302.minus(t1304);
+        let t1306 = product(t19, t1234);
+        let t1307: f64 = t100 * t1237;
+        let t1308: f64 = t1306.minus(t1307);
+        let t1309: f64 = t1305 + t1308;
+        let t1310: f64 = t1301 + t1309;
+        let t1311: f64 = t1289.plus(t1310);
+        let t1312: f64 = t1288.plus(t1311);
+        let t1313 = product(t594, t1312);
+        let t1314 = product(t736, t1211);
+        let t1315: f64 = t805 * t1286;
+        let t1316: f64 = t1314.minus(t1315);
+        let t1317 = product(t242, t1312);
+        let t1318 = product(wx, t1275);
+        let t1319: f64 = t483 * t1244;
+        let t1320: f64 = t1318.minus(t1319);
+        let t1321 = product(t578, t1249);
+        let t1322: f64 = wy * t1295;
+        let t1323: f64 = t1321.minus(t1322);
+        let t1324: f64 = t1320 + t1323;
+        let t1325 = product(t27, t1234);
+        let t1326 = product(zc, t612);
+        let t1327: f64 = t1326.subtracted_from(t797);
+        let t1328: f64 = t1261 * t1327;
+        let t1329: f64 = t1325.minus(t1328);
+        let t1330 = product(t603, t1258);
+        let t1331: f64 = t86 * t1237;
+        let t1332: f64 = t1330.plus(t1331);
+        let t1333: f64 = t1329 - t1332;
+        let t1334: f64 = t1324 + t1333;
+        let t1335: f64 = t1317.plus(t1334);
+        let t1336: f64 = t1316 - t1335;
+        let t1337: f64 = -t1336;
+        let t1338 = product(t835, t1337);
+        let t1339 = product(wx, t1261);
+        let t1340: f64 = wy * t1211;
+        let t1341: f64 = t1339.plus(t1340);
+        let t1342 = product(wy, t1341);
+        let t1343: f64 = wz * wz;
+        let t1344: f64 = t1211 * t1343;
+        let t1345: f64 = t1342.plus(t1344);
+        let t1346 = product(t603, t1261);
+        let t1347: f64 = t1346.subtracted_from(t1345);
+        let t1348 = product(t273, t1337);
+        let t1349: f64 = t260 * t1312;
+        let t1350: f64 = t1348.minus(t1349);
+        let t1351: f64 = t1347 + t1350;
+        let t1352: f64 = t579 * t1351;
+        let t1353 = product(t1261, t1343);
+        let t1354: f64 = wx * t1341;
+        let t1355: f64 = t1353.plus(t1354);
+        let t1356 = product(t603, t1211);
+        let t1357 = product(t282, t1312);
+        let t1358: f64 = t1357.subtracted_from(t1285);
+        let t1359: f64 = t287 * t1358;
+        let t1360: f64 = t1356.plus(t1359);
+        let t1361: f64 = t1355 + t1360;
+        let t1362 = product(t314, t1337);
+        let t1363: f64 = t316 * t1351;
+        let t1364: f64 = t1362.minus(t1363);
+        let t1365: f64 = t1361 + t1364;
+        let t1366: f64 = t582 * t1365;
+        let t1367 = product(wx, t1211);
+        let t1368: f64 = wy * t1261;
+        let t1369: f64 = t1367.minus(t1368);
+        let t1370 = product(wz, t1369);
+        let t1371: f64 = t578 * t1261;
+        let t1372: f64 = t1370.minus(t1371);
+        let t1373: f64 = t1212.plus(t1287);
+        let t1374: f64 = t1338.plus(t1366);
+        let t1375: f64 = t1373 + t1374;
+        let t1376: f64 = t1372 + t1375;
+        let t1377: f64 = t1313.plus(t1352);
+        let t1378: f64 = t1376 - t1377;
+        let t1379 = product(t534, t1378);
+        let t1380: f64 = t1379.added_to(t1365);
+        let t1381 = product(t538, t1380);
+        let t1382: f64 = t540 * t1378;
+        let t1383: f64 = t1381.plus(t1382);
+        let t1384: f64 = t1351 - t1383;
+        let t1385 = product(t544, t1384);
+        let t1386: f64 = t546 * t1380;
+        let t1387 = product(t532, t1378);
+        let t1388: f64 = t1385.plus(t1386);
+        let t1389: f64 = t1387.added_to(t1336);
+        let t1390: f64 = t1388 + t1389;
+        let t1391: f64 = t224 * t1390;
+        let t1392: f64 = -t1391;
+        let t1393 = product(t206, t1392);
+        let t1394: f64 = t557 * t1384;
+        let t1395 = product(t559, t1378);
+        let t1396 = product(t561, t1380);
+        let t1397: f64 = t1396.subtracted_from(t1285);
+        let t1398 = product(t187, t1397);
+        let t1399: f64 = t1393.plus(t1394);
+        let t1400: f64 = t1395.added_to(t1311);
+        let t1401: f64 = t1399 + t1400;
+        let t1402: f64 = t1398.subtracted_from(t1401);
+        let t1403 = product(t282, t1402);
+        let t1404: f64 = t123 * t1392;
+        let t1405 = product(t553, t1378);
+        let t1406: f64 = t1405.added_to(t1397);
+        let t1407: f64 = t1403.plus(t1404);
+        let t1408: f64 = t1406 - t1407;
+        let t1409: f64 = t82 * t1408;
+        let t1410: f64 = t53 * t984;
+        let t1411: f64 = t797 * t1410;
+        let t1412: f64 = t578 * t1410;
+        let t1413: f64 = t20 * t22;
+        let t1414: f64 = t578 * t1413;
+        let t1415: f64 = t717 * t1413;
+        let t1416 = product(t736, t1410);
+        let t1417: f64 = t1416.added_to(t1415);
+        let t1418: f64 = xc * t1410;
+        let t1419: f64 = zc - t1418;
+        let t1420 = product(t1419, 3.34);
+        let t1421: f64 = t1420.added_to(t255);
+        let t1422 = product(wx, t1421);
+        let t1423 = product(t32, t1413);
+        let t1424: f64 = t39 * t1413;
+        let t1425: f64 = t1423.plus(t1424);
+        let t1426: f64 = xc * 6.68;
+        let t1427: f64 = t235 + t1425;
+        let t1428 = product(t1427, 3.34);
+        let t1429: f64 = t1428.added_to(t1426);
+        let t1430 = product(wz, t1429);
+        let t1431: f64 = zc * t1413;
+        let t1432: f64 = t225 * 1.67;
+        let t1433 = product(t1410, t1432);
+        let t1434: f64 = t1431 * 3.34;
+        let t1435: f64 = t1433.subtracted_from(t1434);
+        let t1436: f64 = wy * t1435;
+        let t1437: f64 = t1422.plus(t1436);
+        let t1438: f64 = t1430.subtracted_from(t1437);
+        let t1439 = product(wy, t1438);
+        let t1440 = product(t61, t1410);
+        let t1441: f64 = t67 * t1410;
+        let t1442: f64 = t1440.plus(t1441);
+        let t1443: f64 = t235 - t1442;
+        let t1444: f64 = t1443 * 3.34;
+        let t1445: f64 = t1426 + t1444;
+        let t1446 = product(wy, t1445);
+        let t1447: f64 = t235 * 1.67;
+        let t1448: f64 = t1413 * t1447;
+        let t1449: f64 = t264 + t1448;
+        let t1450 = product(wx, t1449);
+        let t1451: f64 = wz * t1435;
+        let t1452: f64 = t1450.plus(t1451);
+        let t1453: f64 = t1446.subtracted_from(t1452);
+        let t1454: f64 = wz * t1453;
+        let t1455: f64 = t1439.minus(t1454);
+        let t1456 = product(t1418, 3.34);
+        let t1457: f64 = t255 + t279;
+        let t1458: f64 = t1456.subtracted_from(t1457);
+        let t1459 = product(t603, t1458);
+        let t1460: f64 = t1425 - t1442;
+        let t1461: f64 = t1460 * 3.34;
+        let t1462: f64 = t578 * t1461;
+        let t1463: f64 = t1459.minus(t1462);
+        let t1464: f64 = t1455 + t1463;
+        let t1465: f64 = t228 + t1448;
+        let t1466: f64 = t229 + t1465;
+        let t1467 = product(t612, t1466);
+        let t1468: f64 = t1467.subtracted_from(t1464);
+        let t1469: f64 = t1417 * 3.34;
+        let t1470: f64 = t1468 - t1469;
+        let t1471 = product(t232, t1470);
+        let t1472 = product(t187, t1470);
+        let t1473 = product(t603, t1435);
+        let t1474: f64 = t1473.added_to(t450);
+        let t1475 = product(wx, t1461);
+        let t1476 = product(wz, t1421);
+        let t1477: f64 = wy * t1449;
+        let t1478: f64 = t1476.plus(t1477);
+        let t1479: f64 = t1475.minus(t1478);
+        let t1480 = product(wz, t1479);
+        let t1481: f64 = wx * t1438;
+        let t1482: f64 = t1480.plus(t1481);
+        let t1483: f64 = t1474 - t1482;
+        let t1484 = product(t578, t1466);
+        let t1485 = product(xc, 14.68);
+        let t1486: f64 = t1485.added_to(t1444);
+        let t1487: f64 = t612 * t1486;
+        let t1488: f64 = t1484.plus(t1487);
+        let t1489: f64 = t1483 + t1488;
+        let t1490: f64 = t606 * 10.68;
+        let t1491 = product(t1411, 3.34);
+        let t1492: f64 = t1491.added_to(t1490);
+        let t1493: f64 = t1472.plus(t1489);
+        let t1494: f64 = t1492 + t1493;
+        let t1495: f64 = t451 + t1494;
+        let t1496: f64 = t1495 - 104.77080000000001;
+        let t1497 = product(t594, t1496);
+        let t1498: f64 = t797 * t1413;
+        let t1499 = product(wx, t1453);
+        let t1500: f64 = wy * t1479;
+        let t1501: f64 = t1499.plus(t1500);
+        let t1502: f64 = t405 - t1501;
+        let t1503 = product(t578, t1458);
+        let t1504: f64 = t1503.subtracted_from(t1502);
+        let t1505 = product(t612, t1435);
+        let t1506: f64 = t805 * t1470;
+        let t1507: f64 = t1505.minus(t1506);
+        let t1508 = product(t235, 7.34);
+        let t1509 = product(t1425, 3.34);
+        let t1510: f64 = t1508.added_to(t1426);
+        let t1511: f64 = t1509.plus(t1510);
+        let t1512 = product(t603, t1511);
+        let t1513: f64 = t242 * t1496;
+        let t1514: f64 = t1512.minus(t1513);
+        let t1515: f64 = t1507 + t1514;
+        let t1516: f64 = t1504 + t1515;
+        let t1517: f64 = t736 * 10.68;
+        let t1518: f64 = t1498 * 3.34;
+        let t1519: f64 = t406 + t1517;
+        let t1520: f64 = t1516 + t1519;
+        let t1521: f64 = t1520 - t1518;
+        let t1522: f64 = t835 * t1521;
+        let t1523: f64 = t603 * t1413;
+        let t1524 = product(t612, t1410);
+        let t1525: f64 = t1524.subtracted_from(t1523);
+        let t1526: f64 = t20 * t356;
+        let t1527: f64 = wy * 6.68;
+        let t1528 = product(t1526, 3.34);
+        let t1529: f64 = t1528.subtracted_from(t1527);
+        let t1530 = product(wy, t1529);
+        let t1531: f64 = t52 * t348;
+        let t1532: f64 = t53 * t1531;
+        let t1533: f64 = wz * 6.68;
+        let t1534 = product(t1532, 3.34);
+        let t1535: f64 = t1534.added_to(t1533);
+        let t1536: f64 = wz * t1535;
+        let t1537: f64 = t1530.plus(t1536);
+        let t1538 = product(t260, t1496);
+        let t1539: f64 = t273 * t1521;
+        let t1540: f64 = t1538.plus(t1539);
+        let t1541: f64 = t1537 - t1540;
+        let t1542 = product(t1525, 3.34);
+        let t1543: f64 = t1542.added_to(t1541);
+        let t1544 = product(t579, t1543);
+        let t1545 = product(wx, t1529);
+        let t1546: f64 = wy * t2;
+        let t1547: f64 = t52 * t1546;
+        let t1548 = product(t53, t1547);
+        let t1549: f64 = wz * t6;
+        let t1550: f64 = t3 * t1549;
+        let t1551: f64 = t20 * t1550;
+        let t1552: f64 = t1548.plus(t1551);
+        let t1553: f64 = t1552 * 3.34;
+        let t1554: f64 = wz * t1553;
+        let t1555: f64 = t1545.minus(t1554);
+        let t1556 = product(t282, t1496);
+        let t1557: f64 = t1556.added_to(t1468);
+        let t1558: f64 = t1557 - t1469;
+        let t1559 = product(t287, t1558);
+        let t1560: f64 = t1559.subtracted_from(t1555);
+        let t1561 = product(t314, t1521);
+        let t1562: f64 = t316 * t1543;
+        let t1563: f64 = t1561.plus(t1562);
+        let t1564: f64 = t1560 - t1563;
+        let t1565: f64 = t603 * 10.68;
+        let t1566 = product(t1412, 3.34);
+        let t1567: f64 = t1566.added_to(t1565);
+        let t1568: f64 = t1564 + t1567;
+        let t1569: f64 = t582 * t1568;
+        let t1570 = product(wx, t1535);
+        let t1571: f64 = wy * t1553;
+        let t1572: f64 = t1570.plus(t1571);
+        let t1573: f64 = t612 * 10.68;
+        let t1574: f64 = t1414 * 3.34;
+        let t1575: f64 = t1573 + t1574;
+        let t1576: f64 = t1471.plus(t1569);
+        let t1577: f64 = t1575 + t1576;
+        let t1578: f64 = t1572 + t1577;
+        let t1579: f64 = t1497.plus(t1522);
+        let t1580: f64 = t1544.plus(t1579);
+        let t1581: f64 = t1578 - t1580;
+        let t1582 = product(t534, t1581);
+        let t1583: f64 = t1582.added_to(t1564);
+        let t1584: f64 = t1567 + t1583;
+        let t1585: f64 = -t1584;
+        let t1586: f64 = t313 * t1585;
+        let t1587: f64 = -t1586;
+        let t1588 = product(t302, t1587);
+        let t1589: f64 = t540 * t1581;
+        let t1590: f64 = t1588.plus(t1589);
+        let t1591: f64 = t1543 - t1590;
+        let t1592 = product(t557, t1591);
+        let t1593 = product(t544, t1591);
+        let t1594 = product(t294, t1587);
+        let t1595: f64 = t532 * t1581;
+        let t1596: f64 = t1593.added_to(t1517);
+        let t1597: f64 = t1594.plus(t1595);
+        let t1598: f64 = t406 + t1516;
+        let t1599: f64 = t1596 + t1597;
+        let t1600: f64 = t1598 + t1599;
+        let t1601: f64 = t1600 - t1518;
+        let t1602 = product(t555, t1601);
+        let t1603: f64 = t559 * t1581;
+        let t1604 = product(t281, t1587);
+        let t1605: f64 = t1604.added_to(t1468);
+        let t1606: f64 = t1605 - t1469;
+        let t1607 = product(t187, t1606);
+        let t1608: f64 = t1592.plus(t1603);
+        let t1609: f64 = t1607.added_to(t1489);
+        let t1610: f64 = t1492 + t1608;
+        let t1611: f64 = t451 + t1609;
+        let t1612: f64 = t1610 + t1611;
+        let t1613: f64 = t1602.plus(104.77080000000001);
+        let t1614: f64 = t1612 - t1613;
+        let t1615 = product(t282, t1614);
+        let t1616 = product(t551, t1601);
+        let t1617: f64 = t553 * t1581;
+        let t1618: f64 = t1615.added_to(t1605);
+        let t1619: f64 = t1616.plus(t1617);
+        let t1620: f64 = t1469 + t1619;
+        let t1621: f64 = t1618 - t1620;
+        let t1622: f64 = t82 * t1621;
+        let t1623: f64 = t14 * t52;
+        let t1624: f64 = t736 * t1623;
+        let t1625: f64 = t100 * t104;
+        let t1626: f64 = t736 * t1625;
+        let t1627: f64 = t612 * t1623;
+        let t1628: f64 = t612 * t1625;
+        let t1629 = product(t107, t1625);
+        let t1630: f64 = t113 * t1625;
+        let t1631: f64 = t1629.plus(t1630);
+        let t1632: f64 = t225 - t1631;
+        let t1633: f64 = yc * 6.68;
+        let t1634: f64 = t1632 * 3.34;
+        let t1635: f64 = t1633 + t1634;
+        let t1636 = product(wz, t1635);
+        let t1637: f64 = xc * t1623;
+        let t1638: f64 = t251 * 1.67;
+        let t1639 = product(t1625, t1638);
+        let t1640: f64 = t1637 * 3.34;
+        let t1641: f64 = t1639.minus(t1640);
+        let t1642: f64 = wx * t1641;
+        let t1643: f64 = t1432 * t1623;
+        let t1644: f64 = t280 + t1643;
+        let t1645 = product(wy, t1644);
+        let t1646: f64 = t1636.plus(t1642);
+        let t1647: f64 = t1645.subtracted_from(t1646);
+        let t1648 = product(wy, t1647);
+        let t1649: f64 = yc * t1625;
+        let t1650: f64 = xc - t1649;
+        let t1651 = product(t1650, 3.34);
+        let t1652: f64 = t1651.added_to(t291);
+        let t1653 = product(wx, t1652);
+        let t1654 = product(t61, t1623);
+        let t1655: f64 = t67 * t1623;
+        let t1656: f64 = t1654.plus(t1655);
+        let t1657: f64 = t1631 - t1656;
+        let t1658: f64 = t1657 * 3.34;
+        let t1659: f64 = wy * t1658;
+        let t1660 = product(wz, t1644);
+        let t1661: f64 = t1653.plus(t1659);
+        let t1662: f64 = t1660.plus(t1661);
+        let t1663: f64 = wz * t1662;
+        let t1664: f64 = t1648.plus(t1663);
+        let t1665 = product(t603, t1641);
+        let t1666: f64 = t1665.added_to(t450);
+        let t1667: f64 = t1664 + t1666;
+        let t1668 = product(t225, 7.34);
+        let t1669 = product(t1656, 3.34);
+        let t1670: f64 = t1668.added_to(t1633);
+        let t1671: f64 = t1669.plus(t1670);
+        let t1672 = product(t578, t1671);
+        let t1673 = product(t1649, 3.34);
+        let t1674: f64 = t238 + t291;
+        let t1675: f64 = t1673.subtracted_from(t1674);
+        let t1676: f64 = t612 * t1675;
+        let t1677: f64 = t1672.plus(t1676);
+        let t1678: f64 = t1667 + t1677;
+        let t1679: f64 = t1624 * 3.34;
+        let t1680: f64 = t451 + t1490;
+        let t1681: f64 = t1678 + t1680;
+        let t1682: f64 = t1679 + 104.77080000000001;
+        let t1683: f64 = t1681 - t1682;
+        let t1684 = product(t232, t1683);
+        let t1685 = product(t187, t1683);
+        let t1686: f64 = t717 * t1625;
+        let t1687 = product(t797, t1623);
+        let t1688: f64 = t1687.added_to(t1686);
+        let t1689 = product(t612, t1658);
+        let t1690: f64 = t225 + t1656;
+        let t1691 = product(t1690, 3.34);
+        let t1692: f64 = t1691.added_to(t1633);
+        let t1693 = product(wx, t1692);
+        let t1694 = product(wy, t1652);
+        let t1695: f64 = wz * t1641;
+        let t1696: f64 = t1693.plus(t1695);
+        let t1697: f64 = t1694.subtracted_from(t1696);
+        let t1698 = product(wz, t1697);
+        let t1699: f64 = wx * t1647;
+        let t1700: f64 = t1698.minus(t1699);
+        let t1701: f64 = t254 + t1643;
+        let t1702: f64 = t255 + t1701;
+        let t1703 = product(t603, t1702);
+        let t1704: f64 = t578 * t1675;
+        let t1705: f64 = t1703.plus(t1704);
+        let t1706: f64 = t1700 - t1705;
+        let t1707: f64 = t1689.plus(t1706);
+        let t1708: f64 = t1688 * 3.34;
+        let t1709: f64 = t1685.plus(t1707);
+        let t1710: f64 = t1708 + t1709;
+        let t1711 = product(t594, t1710);
+        let t1712 = product(wx, t1662);
+        let t1713: f64 = wy * t1697;
+        let t1714: f64 = t1712.plus(t1713);
+        let t1715 = product(t578, t1641);
+        let t1716: f64 = t1715.subtracted_from(t472);
+        let t1717: f64 = t1714 + t1716;
+        let t1718 = product(t805, t1683);
+        let t1719: f64 = t242 * t1710;
+        let t1720: f64 = t1718.plus(t1719);
+        let t1721: f64 = t1717 - t1720;
+        let t1722 = product(t612, t1702);
+        let t1723 = product(yc, 14.68);
+        let t1724: f64 = t1723.added_to(t1634);
+        let t1725: f64 = t603 * t1724;
+        let t1726: f64 = t1722.plus(t1725);
+        let t1727: f64 = t1721 - t1726;
+        let t1728: f64 = t797 * 10.68;
+        let t1729 = product(t1626, 3.34);
+        let t1730: f64 = t1729.added_to(t1728);
+        let t1731: f64 = t473 + t1727;
+        let t1732: f64 = t1730 + t1731;
+        let t1733 = product(t835, t1732);
+        let t1734: f64 = t100 * t843;
+        let t1735: f64 = wx * 6.68;
+        let t1736 = product(t1734, 3.34);
+        let t1737: f64 = t1736.added_to(t1735);
+        let t1738 = product(wy, t1737);
+        let t1739 = product(t100, t849);
+        let t1740: f64 = wx * t14;
+        let t1741: f64 = t52 * t1740;
+        let t1742: f64 = t1739.plus(t1741);
+        let t1743: f64 = t1742 * 3.34;
+        let t1744: f64 = wz * t1743;
+        let t1745: f64 = t1738.plus(t1744);
+        let t1746 = product(t260, t1710);
+        let t1747: f64 = t273 * t1732;
+        let t1748: f64 = t1746.plus(t1747);
+        let t1749: f64 = t1745 - t1748;
+        let t1750 = product(t1627, 3.34);
+        let t1751: f64 = t1750.added_to(t1565);
+        let t1752: f64 = t1751 - t1749;
+        let t1753 = product(t579, t1752);
+        let t1754 = product(t603, t1625);
+        let t1755: f64 = t578 * t1623;
+        let t1756: f64 = t1754.plus(t1755);
+        let t1757: f64 = t52 * t349;
+        let t1758 = product(t1757, 3.34);
+        let t1759: f64 = t1758.subtracted_from(t1533);
+        let t1760 = product(wz, t1759);
+        let t1761: f64 = wx * t1737;
+        let t1762: f64 = t1760.plus(t1761);
+        let t1763 = product(t282, t1710);
+        let t1764: f64 = t1763.added_to(t1490);
+        let t1765: f64 = t451 + t1678;
+        let t1766: f64 = t1764 + t1765;
+        let t1767: f64 = t1766 - t1682;
+        let t1768 = product(t287, t1767);
+        let t1769: f64 = t1768.subtracted_from(t1762);
+        let t1770 = product(t316, t1752);
+        let t1771: f64 = t314 * t1732;
+        let t1772: f64 = t1770.minus(t1771);
+        let t1773: f64 = t1769 + t1772;
+        let t1774: f64 = t1756 * 3.34;
+        let t1775: f64 = t1773 + t1774;
+        let t1776: f64 = t582 * t1775;
+        let t1777 = product(wy, t1759);
+        let t1778: f64 = wx * t1743;
+        let t1779: f64 = t1777.minus(t1778);
+        let t1780: f64 = t578 * 10.68;
+        let t1781: f64 = t1628 * 3.34;
+        let t1782: f64 = t1711.plus(t1780);
+        let t1783: f64 = t1733.plus(t1779);
+        let t1784: f64 = t1782 + t1783;
+        let t1785: f64 = t1684.plus(t1781);
+        let t1786: f64 = t1753.plus(t1776);
+        let t1787: f64 = t1785 + t1786;
+        let t1788: f64 = t1784 - t1787;
+        let t1789 = product(t534, t1788);
+        let t1790: f64 = t1789.subtracted_from(t1775);
+        let t1791 = product(t538, t1790);
+        let t1792 = product(t540, t1788);
+        let t1793: f64 = t1792.added_to(t1749);
+        let t1794: f64 = t1791.added_to(t1751);
+        let t1795: f64 = t1793 - t1794;
+        let t1796: f64 = t271 * t1795;
+        let t1797: f64 = -t1796;
+        let t1798 = product(t266, t1797);
+        let t1799 = product(t546, t1790);
+        let t1800: f64 = t532 * t1788;
+        let t1801: f64 = t1799.added_to(t1727);
+        let t1802: f64 = t1730 + t1801;
+        let t1803: f64 = t473 + t1802;
+        let t1804: f64 = t1798.plus(t1800);
+        let t1805: f64 = t1803 - t1804;
+        let t1806 = product(t551, t1805);
+        let t1807 = product(t555, t1805);
+        let t1808: f64 = t257 * t1797;
+        let t1809 = product(t559, t1788);
+        let t1810 = product(t561, t1790);
+        let t1811: f64 = t1810.added_to(t1678);
+        let t1812: f64 = t1680 + t1811;
+        let t1813: f64 = t1812 - t1682;
+        let t1814 = product(t187, t1813);
+        let t1815: f64 = t1814.added_to(t1707);
+        let t1816: f64 = t1708 + t1815;
+        let t1817: f64 = t1807.plus(t1808);
+        let t1818: f64 = t1809.plus(t1817);
+        let t1819: f64 = t1816 - t1818;
+        let t1820 = product(t282, t1819);
+        let t1821 = product(t553, t1788);
+        let t1822: f64 = t1820.added_to(t1490);
+        let t1823: f64 = t1821.added_to(t1811);
+        let t1824: f64 = t1822 + t1823;
+        let t1825: f64 = t451 + t1824;
+        let t1826: f64 = t1806.added_to(t1679);
+        let t1827: f64 = t1826 + 104.77080000000001;
+        let t1828: f64 = t1825 - t1827;
+        let t1829: f64 = t82 * t1828;
+        let t1830: f64 = -t1829;
+        let t1831: f64 = t20 * t27;
+        let t1832: f64 = t717 * t1831;
+        let t1833: f64 = t86 * t104;
+        let t1834: f64 = t717 * t1833;
+        let t1835: f64 = t603 * t1831;
+        let t1836: f64 = t603 * t1833;
+        let t1837: f64 = t578 * t1831;
+        let t1838 = product(t612, t1833);
+        let t1839: f64 = yc * t1833;
+        let t1840 = product(t1447, t1831);
+        let t1841: f64 = t1839 * 3.34;
+        let t1842: f64 = t1840.plus(t1841);
+        let t1843 = product(t612, t1842);
+        let t1844: f64 = t1638 * t1833;
+        let t1845: f64 = t290 + t291;
+        let t1846: f64 = t1845 - t1844;
+        let t1847: f64 = t603 * t1846;
+        let t1848: f64 = t1843.plus(t1847);
+        let t1849: f64 = zc * t1831;
+        let t1850: f64 = yc - t1849;
+        let t1851 = product(t1850, 3.34);
+        let t1852: f64 = t1851.added_to(t229);
+        let t1853 = product(wy, t1852);
+        let t1854 = product(t107, t1833);
+        let t1855: f64 = t113 * t1833;
+        let t1856: f64 = t1854.plus(t1855);
+        let t1857 = product(t32, t1831);
+        let t1858: f64 = t39 * t1831;
+        let t1859: f64 = t1857.plus(t1858);
+        let t1860: f64 = t1856 + t1859;
+        let t1861: f64 = t1860 * 3.34;
+        let t1862: f64 = wz * t1861;
+        let t1863: f64 = t239 - t1844;
+        let t1864 = product(wx, t1863);
+        let t1865: f64 = t1853.plus(t1862);
+        let t1866: f64 = t1864.plus(t1865);
+        let t1867 = product(wy, t1866);
+        let t1868: f64 = zc * 6.68;
+        let t1869: f64 = t251 - t1856;
+        let t1870 = product(t1869, 3.34);
+        let t1871: f64 = t1870.added_to(t1868);
+        let t1872 = product(wy, t1871);
+        let t1873 = product(wz, t1852);
+        let t1874: f64 = wx * t1842;
+        let t1875: f64 = t1872.plus(t1874);
+        let t1876: f64 = t1873.subtracted_from(t1875);
+        let t1877: f64 = wz * t1876;
+        let t1878: f64 = t1867.plus(t1877);
+        let t1879: f64 = t405 + t1878;
+        let t1880: f64 = t251 - t1859;
+        let t1881 = product(zc, 14.68);
+        let t1882: f64 = t1880 * 3.34;
+        let t1883: f64 = t1881.plus(t1882);
+        let t1884 = product(t578, t1883);
+        let t1885: f64 = t1884.subtracted_from(t1879);
+        let t1886: f64 = t1848 + t1885;
+        let t1887: f64 = t1832 * 3.34;
+        let t1888: f64 = t1517 + t1887;
+        let t1889: f64 = t406 + t1886;
+        let t1890: f64 = t1888 + t1889;
+        let t1891 = product(t232, t1890);
+        let t1892 = product(t187, t1890);
+        let t1893: f64 = t1868 + t1882;
+        let t1894 = product(wx, t1893);
+        let t1895: f64 = wy * t1842;
+        let t1896 = product(wz, t1863);
+        let t1897: f64 = t1894.plus(t1895);
+        let t1898: f64 = t1896.subtracted_from(t1897);
+        let t1899 = product(wz, t1898);
+        let t1900: f64 = wx * t1866;
+        let t1901: f64 = t1899.plus(t1900);
+        let t1902 = product(t578, t1842);
+        let t1903: f64 = t1902.added_to(t472);
+        let t1904: f64 = t1901 + t1903;
+        let t1905 = product(t251, 7.34);
+        let t1906 = product(t1856, 3.34);
+        let t1907: f64 = t1905.added_to(t1868);
+        let t1908: f64 = t1906.subtracted_from(t1907);
+        let t1909 = product(t612, t1908);
+        let t1910 = product(t1849, 3.34);
+        let t1911: f64 = t229 + t263;
+        let t1912: f64 = t1910.subtracted_from(t1911);
+        let t1913: f64 = t603 * t1912;
+        let t1914: f64 = t1909.plus(t1913);
+        let t1915: f64 = t1904 - t1914;
+        let t1916: f64 = t1834 * 3.34;
+        let t1917: f64 = t1728 + t1916;
+        let t1918: f64 = t473 + t1915;
+        let t1919: f64 = t1917 + t1918;
+        let t1920: f64 = t1892.subtracted_from(t1919);
+        let t1921: f64 = t594 * t1920;
+        let t1922 = product(t797, t1831);
+        let t1923: f64 = t736 * t1833;
+        let t1924: f64 = t1922.minus(t1923);
+        let t1925 = product(t242, t1920);
+        let t1926: f64 = t805 * t1890;
+        let t1927: f64 = t1925.minus(t1926);
+        let t1928 = product(t612, t1912);
+        let t1929 = product(wx, t1876);
+        let t1930: f64 = wy * t1898;
+        let t1931: f64 = t1929.minus(t1930);
+        let t1932 = product(t603, t1861);
+        let t1933: f64 = t578 * t1846;
+        let t1934: f64 = t1932.plus(t1933);
+        let t1935: f64 = t1931 - t1934;
+        let t1936: f64 = t1928.plus(t1935);
+        let t1937: f64 = t1927 + t1936;
+        let t1938: f64 = t1924 * 3.34;
+        let t1939: f64 = t1937 + t1938;
+        let t1940 = product(t835, t1939);
+        let t1941: f64 = wx * t20;
+        let t1942 = product(t27, t1941);
+        let t1943: f64 = t86 * t843;
         let t1944: f64 = t1942.minus(t1943);
-        let t1945: f64 = t595 * 10.68;
-        let t1946: f64 = t1794 * 3.34;
-        let t1947: f64 = t1876.plus(t1945);
-        let t1948: f64 = t1944 + t1947;
-        let t1949: f64 = t1850.plus(t1946);
-        let t1950: f64 = t1897.plus(t1917);
-        let t1951: f64 = t1949 + t1950;
-        let t1952: f64 = t1941.plus(t1951);
-        let t1953: f64 = t1948 - t1952;
-        let t1954 = product(t550, t1953);
-        let t1955: f64 = t1954.subtracted_from(t1940);
-        let t1956 = product(t554, t1955);
-        let t1957: f64 = t556 * t1953;
-        let t1958: f64 = t1956.plus(t1957);
-        let t1959: f64 = t1913 + t1958;
-        let t1960: f64 = t1959 - t1915;
-        let t1961: f64 = t289 * t1960;
-        let t1962: f64 = -t1961;
-        let t1963 = product(t284, t1962);
-        let t1964 = product(t563, t1955);
-        let t1965: f64 = t548 * t1953;
-        let t1966: f64 = t1964.plus(t1965);
-        let t1967: f64 = t1894 + t1966;
-        let t1968: f64 = t1895 + t1967;
-        let t1969: f64 = t1963.subtracted_from(t1968);
-        let t1970 = product(t568, t1969);
-        let t1971 = product(t587, t1955);
-        let t1972 = product(t572, t1969);
-        let t1973: f64 = t574 * t1953;
-        let t1974 = product(t577, t1955);
-        let t1975: f64 = t1974.subtracted_from(t1961);
-        let t1976 = product(t279, t1975);
-        let t1977: f64 = t1976.added_to(t1873);
-        let t1978: f64 = t1874 + t1977;
-        let t1979: f64 = t1972.plus(t1973);
-        let t1980: f64 = t1978 - t1979;
-        let t1981 = product(t296, t1980);
-        let t1982: f64 = t570 * t1953;
-        let t1983: f64 = t1970.added_to(t1663);
-        let t1984: f64 = t1971.plus(t1982);
-        let t1985: f64 = t461 + t1844;
-        let t1986: f64 = t1983 + t1984;
-        let t1987: f64 = t1985 + t1986;
-        let t1988: f64 = t1981.added_to(t1845);
-        let t1989: f64 = t1988 + 104.77080000000001;
-        let t1990: f64 = t1987 - t1989;
-        let t1991: f64 = t83 * t1990;
-        let t1992: f64 = -t1991;
-        let t1993: f64 = t30 * t38;
-        let t1994: f64 = t760 * t1993;
-        let t1995: f64 = t87 * t105;
-        let t1996: f64 = t620 * t1995;
-        let t1997: f64 = t595 * t1993;
-        let t1998 = product(t629, t1995);
-        let t1999 = product(t87, t157);
-        let t2000: f64 = xc * t30;
-        let t2001: f64 = t38 * t2000;
-        let t2002: f64 = t1999.plus(t2001);
+        let t1945: f64 = t1944 * 3.34;
+        let t1946 = product(wy, t1945);
+        let t1947: f64 = t86 * t849;
+        let t1948 = product(t1947, 3.34);
+        let t1949: f64 = t1948.added_to(t1735);
+        let t1950: f64 = wz * t1949;
+        let t1951: f64 = t1946.minus(t1950);
+        let t1952 = product(t260, t1920);
+        let t1953: f64 = t273 * t1939;
+        let t1954: f64 = t1952.minus(t1953);
+        let t1955: f64 = t1951 + t1954;
+        let t1956: f64 = t1835 * 3.34;
+        let t1957: f64 = t1573 + t1955;
+        let t1958: f64 = t1957 - t1956;
+        let t1959 = product(t579, t1958);
+        let t1960 = product(t282, t1920);
+        let t1961: f64 = t1960.subtracted_from(t1890);
+        let t1962 = product(t287, t1961);
+        let t1963: f64 = wz * t20;
+        let t1964: f64 = t27 * t1963;
+        let t1965 = product(t1964, 3.34);
+        let t1966: f64 = t1965.added_to(t1527);
+        let t1967 = product(wz, t1966);
+        let t1968: f64 = wx * t1945;
+        let t1969: f64 = t1967.plus(t1968);
+        let t1970: f64 = t1962.minus(t1969);
+        let t1971 = product(t314, t1939);
+        let t1972: f64 = t316 * t1958;
+        let t1973: f64 = t1971.plus(t1972);
+        let t1974: f64 = t1970 + t1973;
+        let t1975 = product(t1836, 3.34);
+        let t1976: f64 = t1975.added_to(t1780);
+        let t1977: f64 = t1974 + t1976;
+        let t1978: f64 = t582 * t1977;
+        let t1979 = product(wx, t1949);
+        let t1980: f64 = wy * t1966;
+        let t1981: f64 = t1979.plus(t1980);
+        let t1982: f64 = t1838.added_to(t1837);
+        let t1983: f64 = t1982 * 3.34;
+        let t1984: f64 = t1940.plus(t1983);
+        let t1985: f64 = t1959.plus(t1978);
+        let t1986: f64 = t1984 + t1985;
+        let t1987: f64 = t1981 + t1986;
+        let t1988: f64 = t1891.plus(t1921);
+        let t1989: f64 = t1987 - t1988;
+        let t1990 = product(t534, t1989);
+        let t1991: f64 = t1990.added_to(t1974);
+        let t1992: f64 = t1976 + t1991;
+        let t1993: f64 = -t1992;
+        let t1994: f64 = t313 * t1993;
+        let t1995: f64 = -t1994;
+        let t1996 = product(t302, t1995);
+        let t1997 = product(t540, t1989);
+        let t1998: f64 = t1996.added_to(t1573);
+        let t1999: f64 = t1997.added_to(t1955);
+        let t2000: f64 = t1998 + t1999;
+        let t2001: f64 = t2000 - t1956;
+        let t2002 = product(t544, t2001);
         (
-            t1054,
-            t1071,
-            t1093,
-            t1105,
-            t1177,
-            t1208,
-            t1233,
-            t1256,
-            t1280,
-            t1294,
-            t1301,
-            t1330,
-            t1336,
-            t1381,
-            t1387,
-            t1397,
-            t1399,
+            t1007,
+            t1011,
+            t1020,
+            t1027,
+            t1046,
+            t1058,
+            t1087,
+            t1107,
+            t1132,
+            t1149,
+            t1159,
+            t1167,
+            t1195,
+            t1211,
+            t1230,
+            t1269,
+            t1272,
+            t1284,
+            t1310,
+            t1334,
+            t1347,
+            t1361,
+            t1372,
+            t1380,
+            t1409,
+            t1410,
+            t1413,
+            t1415,
             t1421,
-            t1423,
-            t1436,
-            t1461,
-            t1487,
-            t1493,
-            t1505,
-            t1520,
-            t1533,
-            t1541,
-            t1570,
+            t1429,
+            t1435,
+            t1445,
+            t1449,
+            t1464,
+            t1466,
+            t1483,
+            t1490,
+            t1502,
+            t1523,
+            t1537,
+            t1560,
+            t1565,
+            t1567,
             t1572,
             t1574,
-            t1578,
-            t1585,
-            t1593,
-            t1601,
-            t1611,
-            t1618,
-            t1634,
+            t1591,
+            t1614,
+            t1622,
+            t1623,
+            t1625,
             t1635,
-            t1638,
-            t1660,
-            t1663,
-            t1673,
-            t1685,
-            t1691,
-            t1695,
-            t1705,
-            t1727,
-            t1732,
-            t1734,
-            t1739,
-            t1740,
-            t1741,
-            t1759,
-            t1771,
+            t1644,
+            t1652,
+            t1658,
+            t1667,
+            t1686,
+            t1692,
+            t1706,
+            t1717,
+            t1745,
+            t1769,
+            t1774,
             t1779,
-            t1789,
-            t1791,
-            t1801,
+            t1780,
+            t1790,
+            t1797,
             t1805,
-            t1813,
-            t1821,
-            t1824,
+            t1830,
+            t1831,
             t1833,
-            t1838,
-            t1851,
-            t1854,
-            t1869,
-            t1882,
-            t1892,
-            t1899,
-            t1909,
-            t1934,
-            t1939,
-            t1944,
-            t1945,
-            t1955,
-            t1962,
-            t1969,
-            t1992,
-            t1993,
-            t1994,
+            t1837,
+            t1842,
+            t1852,
+            t1863,
+            t1871,
+            t1879,
+            t1886,
+            t1887,
+            t1888,
+            t1893,
+            t1904,
+            t1912,
+            t1916,
+            t1917,
+            t1918,
+            t1935,
+            t1937,
+            t1938,
+            t1951,
+            t1956,
+            t1970,
+            t1976,
+            t1981,
+            t1989,
             t1995,
-            t1996,
-            t1997,
-            t1998,
+            t2001,
             t2002,
         )
     };
     let (
+        t2030,
+        t2031,
+        t2078,
+        t2081,
+        t2085,
+        t2087,
+        t2093,
+        t2100,
+        t2140,
         t2156,
-        t2172,
-        t2189,
-        t2190,
-        t2227,
-        t2230,
-        t2234,
-        t2236,
-        t2242,
-        t2248,
-        t2286,
-        t2301,
-        t2302,
-        t2385,
-        t2429,
-        t2463,
-        t2470,
-        t2554,
-        t2555,
-        t2556,
-        t2631,
-        t2632,
-        t2633,
-        t2634,
-        t2635,
-        t2636,
-        t2637,
-        t2638,
-        t2640,
-        t2641,
-        t2642,
-        t2644,
-        t2646,
-        t2647,
-        t2707,
-        t2715,
-        t2739,
-        t2742,
-        t2762,
-        t2773,
-        t2818,
-        t2844,
-        t2856,
-        t2866,
-        t2880,
-        t2900,
-        t2925,
-        t2926,
-        t2927,
-        t2943,
-        t2944,
-        t2945,
-        t2959,
-        t2982,
+        t2157,
+        t2240,
+        t2284,
+        t2318,
+        t2325,
+        t2326,
+        t2327,
+        t2328,
+        t2404,
+        t2405,
+        t2406,
+        t2407,
+        t2408,
+        t2409,
+        t2485,
+        t2486,
+        t2487,
+        t2488,
+        t2489,
+        t2491,
+        t2492,
+        t2493,
+        t2495,
+        t2497,
+        t2498,
+        t2532,
+        t2543,
+        t2558,
+        t2582,
+        t2584,
+        t2595,
+        t2616,
+        t2674,
+        t2686,
+        t2696,
+        t2712,
+        t2724,
+        t2732,
+        t2764,
+        t2779,
+        t2801,
+        t2808,
+        t2817,
+        t2846,
+        t2854,
+        t2860,
+        t2874,
+        t2876,
+        t2881,
+        t2889,
+        t2915,
+        t2934,
+        t2947,
+        t2949,
+        t2954,
+        t2964,
+        t2979,
         t2989,
-        t2994,
+        t2990,
+        t2991,
+        t2993,
+        t2996,
         t2998,
         t2999,
+        t3000,
         t3001,
         t3002,
     ) = {
-        let t2003: f64 = t2002 * 3.34;
-        let t2004 = product(t629, t2003);
-        let t2005: f64 = t87 * t1805;
-        let t2006 = product(t2005, 3.34);
-        let t2007: f64 = t2006.added_to(t262);
-        let t2008: f64 = t1838 - t2007;
-        let t2009: f64 = t620 * t2008;
-        let t2010: f64 = t2004.plus(t2009);
-        let t2011: f64 = t38 * t212;
-        let t2012: f64 = yc - t2011;
-        let t2013 = product(t2012, 3.34);
-        let t2014: f64 = t2013.added_to(t253);
-        let t2015 = product(wy, t2014);
-        let t2016: f64 = t87 * t179;
-        let t2017 = product(t104, t2016);
-        let t2018: f64 = t109 * t2016;
-        let t2019: f64 = t2017.plus(t2018);
-        let t2020: f64 = t712 + t2019;
-        let t2021: f64 = t2020 * 3.34;
-        let t2022: f64 = -t2021;
-        let t2023: f64 = wz * t2022;
-        let t2024: f64 = xc - t2005;
-        let t2025 = product(t2024, 3.34);
-        let t2026: f64 = t2025.minus(t262);
-        let t2027 = product(wx, t2026);
-        let t2028: f64 = t2015.plus(t2023);
-        let t2029: f64 = t2027.plus(t2028);
-        let t2030 = product(wy, t2029);
-        let t2031: f64 = zc * 13.36;
-        let t2032: f64 = t2019 * 3.34;
-        let t2033: f64 = t2031 + t2032;
-        let t2034 = product(wy, t2033);
-        let t2035 = product(wz, t2014);
-        let t2036: f64 = wx * t2003;
-        let t2037: f64 = t2034.plus(t2036);
-        let t2038: f64 = t2035.subtracted_from(t2037);
-        let t2039: f64 = wz * t2038;
-        let t2040: f64 = t2030.plus(t2039);
-        let t2041: f64 = t403 + t2040;
-        let t2042: f64 = zc * 21.36;
-        let t2043: f64 = t712 * 3.34;
-        let t2044: f64 = t2042 + t2043;
-        let t2045 = product(t595, t2044);
-        let t2046: f64 = t2045.subtracted_from(t2041);
-        let t2047: f64 = t2010 + t2046;
-        let t2048: f64 = t1994 * 3.34;
-        let t2049: f64 = t1685 + t2048;
-        let t2050: f64 = t404 + t2047;
-        let t2051: f64 = t2049 + t2050;
-        let t2052 = product(t255, t2051);
-        let t2053: f64 = t760 * t1995;
-        let t2054 = product(t206, t2051);
-        let t2055: f64 = t2032 + t2042;
-        let t2056: f64 = t629 * t2055;
-        let t2057: f64 = t2054.minus(t2056);
-        let t2058: f64 = t2031 + t2043;
-        let t2059 = product(wx, t2058);
-        let t2060: f64 = wy * t2003;
-        let t2061 = product(wz, t2026);
-        let t2062: f64 = t2059.plus(t2060);
-        let t2063: f64 = t2061.subtracted_from(t2062);
-        let t2064 = product(wz, t2063);
-        let t2065: f64 = wx * t2029;
-        let t2066: f64 = t2064.plus(t2065);
-        let t2067 = product(t595, t2003);
-        let t2068: f64 = t2067.added_to(t483);
-        let t2069: f64 = t2066 + t2068;
-        let t2070 = product(t2011, 3.34);
-        let t2071: f64 = t253 + t1635;
-        let t2072: f64 = t2070.subtracted_from(t2071);
-        let t2073 = product(t620, t2072);
-        let t2074: f64 = t2073.subtracted_from(t2069);
-        let t2075: f64 = t2057 + t2074;
-        let t2076: f64 = t2053 * 3.34;
-        let t2077: f64 = t1892 + t2076;
-        let t2078: f64 = t484 + t2075;
-        let t2079: f64 = t2077 + t2078;
-        let t2080: f64 = t611 * t2079;
-        let t2081 = product(t576, t1993);
-        let t2082: f64 = t788 * t1995;
-        let t2083: f64 = t2081.minus(t2082);
-        let t2084 = product(t854, t2051);
-        let t2085: f64 = t265 * t2079;
-        let t2086: f64 = t2084.plus(t2085);
-        let t2087 = product(t629, t2072);
-        let t2088 = product(wx, t2038);
-        let t2089: f64 = wy * t2063;
-        let t2090: f64 = t2088.minus(t2089);
-        let t2091 = product(t620, t2022);
-        let t2092: f64 = t595 * t2008;
-        let t2093: f64 = t2091.plus(t2092);
-        let t2094: f64 = t2090 - t2093;
-        let t2095: f64 = t2087.plus(t2094);
-        let t2096: f64 = t2086 + t2095;
-        let t2097 = product(t2083, 3.34);
-        let t2098: f64 = t2097.added_to(t2096);
-        let t2099 = product(t882, t2098);
-        let t2100: f64 = t620 * t1993;
-        let t2101 = product(t38, t1493);
-        let t2102: f64 = t87 * t889;
-        let t2103: f64 = t2101.minus(t2102);
-        let t2104: f64 = t2103 * 3.34;
-        let t2105 = product(wy, t2104);
-        let t2106: f64 = t87 * t895;
-        let t2107 = product(t2106, 3.34);
-        let t2108: f64 = t2107.added_to(t1899);
-        let t2109: f64 = wz * t2108;
-        let t2110: f64 = t2105.minus(t2109);
-        let t2111 = product(t282, t2079);
-        let t2112: f64 = t291 * t2098;
-        let t2113: f64 = t2111.minus(t2112);
-        let t2114: f64 = t2110 + t2113;
-        let t2115: f64 = t2100 * 3.34;
-        let t2116: f64 = t1740 + t2114;
-        let t2117: f64 = t2116 - t2115;
-        let t2118 = product(t596, t2117);
-        let t2119 = product(t296, t2079);
-        let t2120: f64 = t2119.added_to(t2047);
-        let t2121: f64 = t2049 + t2120;
-        let t2122: f64 = t404 + t2121;
-        let t2123 = product(t301, t2122);
-        let t2124: f64 = wz * t30;
-        let t2125: f64 = t38 * t2124;
-        let t2126 = product(t2125, 3.34);
-        let t2127: f64 = t2126.added_to(t1695);
-        let t2128 = product(wz, t2127);
-        let t2129: f64 = wx * t2104;
-        let t2130: f64 = t2128.plus(t2129);
-        let t2131: f64 = t2123.minus(t2130);
-        let t2132 = product(t321, t2098);
-        let t2133: f64 = t323 * t2117;
-        let t2134: f64 = t2132.minus(t2133);
-        let t2135: f64 = t2131 + t2134;
-        let t2136 = product(t1996, 3.34);
-        let t2137: f64 = t2136.added_to(t1945);
-        let t2138: f64 = t2135 + t2137;
-        let t2139 = product(t599, t2138);
-        let t2140 = product(wx, t2108);
-        let t2141: f64 = wy * t2127;
-        let t2142: f64 = t2140.plus(t2141);
-        let t2143: f64 = t1998.added_to(t1997);
-        let t2144: f64 = t2143 * 3.34;
-        let t2145: f64 = t2118.plus(t2144);
-        let t2146: f64 = t2139.plus(t2142);
-        let t2147: f64 = t2145 + t2146;
-        let t2148: f64 = t2052.plus(t2080);
-        let t2149: f64 = t2099.plus(t2148);
-        let t2150: f64 = t2147 - t2149;
-        let t2151 = product(t550, t2150);
-        let t2152: f64 = t2151.added_to(t2135);
-        let t2153: f64 = t2137 + t2152;
-        let t2154: f64 = -t2153;
-        let t2155: f64 = t320 * t2154;
+        let t2003 = product(t294, t1995);
+        let t2004: f64 = t532 * t1989;
+        let t2005: f64 = t2002.added_to(t1937);
+        let t2006: f64 = t1938 + t2005;
+        let t2007: f64 = t2003.plus(t2004);
+        let t2008: f64 = t2006 - t2007;
+        let t2009 = product(t555, t2008);
+        let t2010 = product(t557, t2001);
+        let t2011: f64 = t559 * t1989;
+        let t2012 = product(t281, t1995);
+        let t2013: f64 = t2012.subtracted_from(t1886);
+        let t2014: f64 = t406 + t2013;
+        let t2015: f64 = t1888 + t2014;
+        let t2016: f64 = t187 * t2015;
+        let t2017: f64 = t2009.plus(t2011);
+        let t2018: f64 = t1917 + t2017;
+        let t2019: f64 = t1918 + t2018;
+        let t2020: f64 = t2010.plus(t2016);
+        let t2021: f64 = t2019 - t2020;
+        let t2022 = product(t282, t2021);
+        let t2023: f64 = t551 * t2008;
+        let t2024 = product(t553, t1989);
+        let t2025: f64 = t2024.added_to(t2013);
+        let t2026: f64 = t1888 + t2025;
+        let t2027: f64 = t406 + t2026;
+        let t2028: f64 = t2022.plus(t2023);
+        let t2029: f64 = t2027 - t2028;
+        let t2030: f64 = t82 * t2029;
+        let t2031: f64 = t182 * t910;
+        let t2032 = product(t601, t1020);
+        let t2033 = product(t588, t998);
+        let t2034 = product(t601, t1027);
+        let t2035 = product(t585, t998);
+        let t2036: f64 = t2035.added_to(t1058);
+        let t2037: f64 = t2034.subtracted_from(t2036);
+        let t2038: f64 = t187 * t2037;
+        let t2039: f64 = t2032.plus(t2038);
+        let t2040: f64 = t1087 + t2039;
+        let t2041: f64 = t2033.subtracted_from(t2040);
+        let t2042 = product(t182, t2041);
+        let t2043 = product(t601, t1011);
+        let t2044 = product(t585, t936);
+        let t2045: f64 = t588 * t1007;
+        let t2046: f64 = t805 * t2037;
+        let t2047 = product(t242, t2041);
+        let t2048: f64 = t2043.plus(t2046);
+        let t2049: f64 = t2047.added_to(t1107);
+        let t2050: f64 = t2048 + t2049;
+        let t2051: f64 = t2044.plus(t2045);
+        let t2052: f64 = t2050 - t2051;
+        let t2053 = product(t224, t2052);
+        let t2054 = product(t601, t936);
+        let t2055: f64 = t232 * t2037;
+        let t2056 = product(t594, t2041);
+        let t2057 = product(t835, t2052);
+        let t2058 = product(t601, t998);
+        let t2059 = product(t260, t2041);
+        let t2060: f64 = t273 * t2052;
+        let t2061: f64 = t2058.plus(t2060);
+        let t2062: f64 = t1132 + t2061;
+        let t2063: f64 = t2059.subtracted_from(t2062);
+        let t2064: f64 = t579 * t2063;
+        let t2065 = product(t314, t2052);
+        let t2066 = product(t316, t2063);
+        let t2067: f64 = t2065.added_to(t1149);
+        let t2068: f64 = t2066.subtracted_from(t2067);
+        let t2069: f64 = t582 * t2068;
+        let t2070: f64 = t2054.plus(t2055);
+        let t2071: f64 = t2057.plus(t2069);
+        let t2072: f64 = t2070 + t2071;
+        let t2073: f64 = t1159 + t2072;
+        let t2074: f64 = t2056.plus(t2064);
+        let t2075: f64 = t2073 - t2074;
+        let t2076 = product(t580, t2075);
+        let t2077 = product(t271, t2063);
+        let t2078: f64 = t313 * t316;
+        let t2079: f64 = t1167 * t2078;
+        let t2080: f64 = t2077.minus(t2079);
+        let t2081: f64 = t2076.minus(t2080);
+        let t2082: f64 = -t2081;
+        let t2083: f64 = t273 * t2082;
+        let t2084: f64 = t2053.minus(t2083);
+        let t2085: f64 = t313 * t314;
+        let t2086 = product(t1167, t2085);
+        let t2087: f64 = t330 * t835;
+        let t2088: f64 = t2075 * t2087;
+        let t2089: f64 = t2086.plus(t2088);
+        let t2090: f64 = t2084 - t2089;
+        let t2091: f64 = t242 * t2090;
+        let t2092 = product(t260, t2082);
+        let t2093: f64 = t313 * t591;
+        let t2094: f64 = t1167 * t2093;
+        let t2095 = product(t595, t2075);
+        let t2096: f64 = t2042.plus(t2091);
+        let t2097: f64 = t2092.plus(t2094);
+        let t2098: f64 = t2096 + t2097;
+        let t2099: f64 = t2095.plus(t2098);
+        let t2100: f64 = -t2099;
+        let t2101 = product(t601, t1269);
+        let t2102 = product(t601, t1230);
+        let t2103: f64 = t2102.added_to(t1284);
+        let t2104: f64 = -t2103;
+        let t2105: f64 = t187 * t2104;
+        let t2106: f64 = t2101.plus(t2105);
+        let t2107: f64 = t1310 + t2106;
+        let t2108 = product(t182, t2107);
+        let t2109 = product(t585, t1211);
+        let t2110 = product(t805, t2104);
+        let t2111: f64 = t242 * t2107;
+        let t2112: f64 = t2110.plus(t2111);
+        let t2113: f64 = t1334 + t2112;
+        let t2114: f64 = t2109.subtracted_from(t2113);
+        let t2115 = product(t224, t2114);
+        let t2116 = product(t601, t1211);
+        let t2117: f64 = t232 * t2104;
+        let t2118 = product(t594, t2107);
+        let t2119 = product(t835, t2114);
+        let t2120 = product(t260, t2107);
+        let t2121 = product(t273, t2114);
+        let t2122: f64 = t2121.added_to(t1347);
+        let t2123: f64 = t2120.subtracted_from(t2122);
+        let t2124: f64 = t579 * t2123;
+        let t2125 = product(t314, t2114);
+        let t2126 = product(t316, t2123);
+        let t2127: f64 = t2125.added_to(t1361);
+        let t2128: f64 = t2126.subtracted_from(t2127);
+        let t2129: f64 = t582 * t2128;
+        let t2130: f64 = t2116.plus(t2117);
+        let t2131: f64 = t2119.plus(t2129);
+        let t2132: f64 = t2130 + t2131;
+        let t2133: f64 = t1372 + t2132;
+        let t2134: f64 = t2118.plus(t2124);
+        let t2135: f64 = t2133 - t2134;
+        let t2136 = product(t580, t2135);
+        let t2137 = product(t271, t2123);
+        let t2138: f64 = t1380 * t2078;
+        let t2139: f64 = t2137.minus(t2138);
+        let t2140: f64 = t2136.minus(t2139);
+        let t2141: f64 = -t2140;
+        let t2142: f64 = t273 * t2141;
+        let t2143: f64 = t2115.minus(t2142);
+        let t2144 = product(t1380, t2085);
+        let t2145: f64 = t2087 * t2135;
+        let t2146: f64 = t2144.plus(t2145);
+        let t2147: f64 = t2143 - t2146;
+        let t2148: f64 = t242 * t2147;
+        let t2149 = product(t260, t2141);
+        let t2150: f64 = t1380 * t2093;
+        let t2151 = product(t595, t2135);
+        let t2152: f64 = t2108.plus(t2148);
+        let t2153: f64 = t2149.plus(t2150);
+        let t2154: f64 = t2152 + t2153;
+        let t2155: f64 = t2151.plus(t2154);
         let t2156: f64 = -t2155;
-        let t2157 = product(t279, t2156);
-        let t2158 = product(t311, t2156);
-        let t2159 = product(t556, t2150);
-        let t2160: f64 = t2159.added_to(t1740);
-        let t2161: f64 = t2114 + t2160;
-        let t2162: f64 = t2158.added_to(t2115);
-        let t2163: f64 = t2161 - t2162;
-        let t2164 = product(t561, t2163);
-        let t2165 = product(t304, t2156);
-        let t2166: f64 = t548 * t2150;
-        let t2167: f64 = t2164.plus(t2166);
-        let t2168: f64 = t2098 + t2167;
-        let t2169: f64 = t2165.subtracted_from(t2168);
-        let t2170 = product(t572, t2169);
-        let t2171: f64 = t574 * t2150;
-        let t2172: f64 = t289 * t2163;
-        let t2173 = product(t206, t2156);
-        let t2174: f64 = t2173.added_to(t2172);
-        let t2175 = product(t279, t2174);
-        let t2176: f64 = t2170.plus(t2171);
-        let t2177: f64 = t2077 + t2176;
-        let t2178: f64 = t2078 + t2177;
-        let t2179: f64 = t2175.subtracted_from(t2178);
-        let t2180 = product(t296, t2179);
-        let t2181: f64 = t568 * t2169;
-        let t2182 = product(t570, t2150);
-        let t2183: f64 = t2180.plus(t2181);
-        let t2184: f64 = t2182.added_to(t2047);
-        let t2185: f64 = t2049 + t2183;
-        let t2186: f64 = t404 + t2184;
-        let t2187: f64 = t2185 + t2186;
-        let t2188: f64 = t2157.subtracted_from(t2187);
-        let t2189: f64 = t83 * t2188;
-        let t2190: f64 = t201 * t956;
-        let t2191 = product(t618, t1071);
-        let t2192 = product(t618, t1093);
-        let t2193: f64 = t2192.subtracted_from(t1177);
-        let t2194: f64 = t206 * t2193;
-        let t2195: f64 = t2191.plus(t2194);
-        let t2196: f64 = t1208 - t2195;
-        let t2197 = product(t201, t2196);
-        let t2198 = product(t618, t1054);
-        let t2199 = product(t605, t1105);
-        let t2200: f64 = t854 * t2193;
-        let t2201: f64 = t265 * t2196;
-        let t2202: f64 = t2198.plus(t2201);
-        let t2203: f64 = t1233 + t2202;
-        let t2204: f64 = t2199.plus(t2200);
-        let t2205: f64 = t2203 - t2204;
-        let t2206 = product(t248, t2205);
-        let t2207 = product(t255, t2193);
-        let t2208 = product(t611, t2196);
-        let t2209: f64 = t882 * t2205;
-        let t2210 = product(t282, t2196);
-        let t2211 = product(t291, t2205);
-        let t2212: f64 = t2211.added_to(t1256);
-        let t2213: f64 = t2210.subtracted_from(t2212);
-        let t2214 = product(t596, t2213);
-        let t2215 = product(t321, t2205);
-        let t2216: f64 = t323 * t2213;
-        let t2217: f64 = t2215.plus(t2216);
-        let t2218: f64 = t1280 + t2217;
-        let t2219: f64 = t599 * t2218;
-        let t2220: f64 = t2207.plus(t2219);
-        let t2221: f64 = t1294 + t2220;
-        let t2222: f64 = t2208.plus(t2209);
-        let t2223: f64 = t2214.plus(t2222);
-        let t2224: f64 = t2221 - t2223;
-        let t2225 = product(t597, t2224);
-        let t2226 = product(t289, t2213);
-        let t2227: f64 = t320 * t323;
-        let t2228: f64 = t1301 * t2227;
-        let t2229: f64 = t2226.plus(t2228);
-        let t2230: f64 = t2225.minus(t2229);
-        let t2231: f64 = -t2230;
-        let t2232: f64 = t291 * t2231;
-        let t2233: f64 = t2206.minus(t2232);
-        let t2234: f64 = t320 * t321;
-        let t2235 = product(t1301, t2234);
-        let t2236: f64 = t338 * t882;
-        let t2237: f64 = t2224 * t2236;
-        let t2238: f64 = t2235.minus(t2237);
-        let t2239: f64 = t2233 - t2238;
-        let t2240: f64 = t265 * t2239;
-        let t2241 = product(t282, t2231);
-        let t2242: f64 = t320 * t608;
-        let t2243 = product(t1301, t2242);
-        let t2244: f64 = t612 * t2224;
-        let t2245: f64 = t2197.plus(t2240);
-        let t2246: f64 = t2241.plus(t2244);
-        let t2247: f64 = t2245 + t2246;
-        let t2248: f64 = t2243.minus(t2247);
-        let t2249 = product(t618, t1387);
-        let t2250 = product(t618, t1397);
-        let t2251: f64 = t2250.subtracted_from(t1436);
-        let t2252: f64 = t206 * t2251;
-        let t2253: f64 = t2249.plus(t2252);
-        let t2254: f64 = t1461 - t2253;
-        let t2255 = product(t201, t2254);
-        let t2256 = product(t854, t2251);
-        let t2257 = product(t265, t2254);
-        let t2258: f64 = t2257.added_to(t1487);
-        let t2259: f64 = t2256.subtracted_from(t2258);
-        let t2260 = product(t248, t2259);
-        let t2261: f64 = t105 * t618;
-        let t2262 = product(t1336, t2261);
-        let t2263: f64 = t255 * t2251;
-        let t2264 = product(t611, t2254);
-        let t2265: f64 = t882 * t2259;
-        let t2266 = product(t282, t2254);
-        let t2267 = product(t291, t2259);
-        let t2268: f64 = t2267.added_to(t1505);
-        let t2269: f64 = t2266.subtracted_from(t2268);
-        let t2270 = product(t596, t2269);
-        let t2271 = product(t321, t2259);
-        let t2272: f64 = t323 * t2269;
-        let t2273: f64 = t2271.plus(t2272);
-        let t2274: f64 = t1520 + t2273;
-        let t2275 = product(t599, t2274);
-        let t2276: f64 = t2262.plus(t2263);
-        let t2277: f64 = t2275.added_to(t1533);
-        let t2278: f64 = t2276 + t2277;
-        let t2279: f64 = t2264.plus(t2265);
-        let t2280: f64 = t2270.plus(t2279);
-        let t2281: f64 = t2278 - t2280;
-        let t2282 = product(t597, t2281);
-        let t2283 = product(t289, t2269);
-        let t2284: f64 = t1541 * t2227;
-        let t2285: f64 = t2283.plus(t2284);
-        let t2286: f64 = t2282.minus(t2285);
-        let t2287: f64 = -t2286;
-        let t2288: f64 = t291 * t2287;
-        let t2289: f64 = t2260.minus(t2288);
-        let t2290 = product(t1541, t2234);
-        let t2291: f64 = t2236 * t2281;
-        let t2292: f64 = t2290.minus(t2291);
-        let t2293: f64 = t2289 - t2292;
-        let t2294: f64 = t265 * t2293;
-        let t2295 = product(t282, t2287);
-        let t2296 = product(t1541, t2242);
-        let t2297: f64 = t612 * t2281;
-        let t2298: f64 = t2255.plus(t2294);
-        let t2299: f64 = t2295.plus(t2297);
-        let t2300: f64 = t2298 + t2299;
-        let t2301: f64 = t2296.minus(t2300);
-        let t2302: f64 = t201 * t1779;
-        let t2303 = product(t618, t1824);
-        let t2304 = product(t605, t717);
-        let t2305: f64 = xc * t618;
-        let t2306 = product(t595, t1854);
-        let t2307: f64 = t618 * t1821;
-        let t2308: f64 = t602 * t717;
-        let t2309 = product(t5, t595);
-        let t2310: f64 = t9 * t595;
-        let t2311: f64 = t2309.plus(t2310);
-        let t2312: f64 = t385 + t2305;
-        let t2313: f64 = t2311 + t2312;
-        let t2314 = product(t2313, 4.0);
-        let t2315 = product(t2308, 3.34);
-        let t2316: f64 = t2314.added_to(t1663);
-        let t2317: f64 = t2306.plus(t2307);
-        let t2318: f64 = t2316 + t2317;
-        let t2319: f64 = t1833 + t2318;
-        let t2320: f64 = t2315.plus(104.77080000000001);
-        let t2321: f64 = t2319 - t2320;
-        let t2322 = product(t206, t2321);
-        let t2323: f64 = t2304.added_to(t1851);
-        let t2324 = product(t2323, 3.34);
-        let t2325: f64 = t2303.added_to(t1869);
-        let t2326: f64 = t2324.plus(t2325);
-        let t2327: f64 = t2322.subtracted_from(t2326);
-        let t2328 = product(t201, t2327);
-        let t2329 = product(t614, t1969);
-        let t2330: f64 = t282 * t1962;
-        let t2331 = product(t1955, t2242);
-        let t2332: f64 = t618 * t1791;
-        let t2333 = product(t255, t2321);
-        let t2334 = product(t611, t2327);
-        let t2335: f64 = yc * t620;
-        let t2336 = product(t618, t1813);
-        let t2337 = product(t620, t1801);
-        let t2338: f64 = t602 * t1791;
-        let t2339 = product(t854, t2321);
-        let t2340: f64 = t265 * t2327;
-        let t2341 = product(t50, t618);
-        let t2342: f64 = t52 * t618;
-        let t2343: f64 = t2341.plus(t2342);
-        let t2344: f64 = t605 * 10.68;
-        let t2345: f64 = t2335 * 8.0;
-        let t2346 = product(t2338, 3.34);
-        let t2347 = product(t2343, 2.0);
-        let t2348: f64 = t2339.plus(t2344);
-        let t2349: f64 = t2346.added_to(t1882);
-        let t2350: f64 = t2348 + t2349;
-        let t2351: f64 = t484 + t2350;
-        let t2352: f64 = t2336.plus(t2345);
-        let t2353: f64 = t2337.plus(t2340);
-        let t2354: f64 = t2352 + t2353;
-        let t2355: f64 = t2347.plus(t2354);
-        let t2356: f64 = t2351 - t2355;
-        let t2357 = product(t882, t2356);
-        let t2358: f64 = t618 * t717;
-        let t2359 = product(t282, t2327);
-        let t2360: f64 = t291 * t2356;
-        let t2361 = product(t2358, 3.34);
-        let t2362: f64 = t2361.added_to(t1732);
-        let t2363: f64 = t2359.plus(t2360);
-        let t2364: f64 = t2362 + t2363;
-        let t2365: f64 = t2364 - t1909;
-        let t2366: f64 = t596 * t2365;
-        let t2367 = product(t321, t2356);
-        let t2368: f64 = t323 * t2365;
-        let t2369: f64 = t1934 + t1939;
-        let t2370: f64 = t2367.plus(t2368);
-        let t2371: f64 = t2369 - t2370;
-        let t2372 = product(t599, t2371);
-        let t2373: f64 = t2332 * 3.34;
-        let t2374: f64 = t2334.added_to(t1945);
-        let t2375: f64 = t1944 + t2374;
-        let t2376: f64 = t2333.plus(t2373);
-        let t2377: f64 = t2357.plus(t2366);
-        let t2378: f64 = t2376 + t2377;
-        let t2379: f64 = t2372.plus(t2378);
-        let t2380: f64 = t2375 - t2379;
-        let t2381: f64 = t612 * t2380;
-        let t2382: f64 = t2329.plus(t2330);
-        let t2383: f64 = t2331.plus(t2381);
-        let t2384: f64 = t2382 + t2383;
-        let t2385: f64 = t2328.subtracted_from(t2384);
-        let t2386 = product(t618, t2033);
-        let t2387: f64 = t620 * t2014;
-        let t2388: f64 = zc * t595;
-        let t2389 = product(t595, t2058);
-        let t2390 = product(t618, t2003);
-        let t2391 = product(t620, t2026);
-        let t2392 = product(t32, t620);
-        let t2393: f64 = t43 * t620;
-        let t2394: f64 = t2392.plus(t2393);
-        let t2395: f64 = t602 * 10.68;
-        let t2396: f64 = t2388 * 8.0;
-        let t2397 = product(t2394, 2.0);
-        let t2398: f64 = t2390.plus(t2395);
-        let t2399: f64 = t2391.added_to(t2041);
-        let t2400: f64 = t404 + t2048;
-        let t2401: f64 = t2398 + t2399;
-        let t2402: f64 = t2397.plus(t2400);
+        let t2157: f64 = t182 * t1614;
+        let t2158 = product(t601, t1658);
+        let t2159 = product(t588, t1623);
+        let t2160: f64 = xc * t601;
+        let t2161 = product(t578, t1692);
+        let t2162: f64 = t601 * t1652;
+        let t2163: f64 = t585 * t1623;
+        let t2164 = product(t42, t578);
+        let t2165: f64 = t44 * t578;
+        let t2166: f64 = t2164.plus(t2165);
+        let t2167: f64 = t367 + t2160;
+        let t2168: f64 = t2166 + t2167;
+        let t2169 = product(t2168, 4.0);
+        let t2170 = product(t2163, 3.34);
+        let t2171: f64 = t2169.added_to(t1490);
+        let t2172: f64 = t2161.plus(t2162);
+        let t2173: f64 = t2171 + t2172;
+        let t2174: f64 = t1667 + t2173;
+        let t2175: f64 = t2170.plus(104.77080000000001);
+        let t2176: f64 = t2174 - t2175;
+        let t2177: f64 = t187 * t2176;
+        let t2178: f64 = t2159.added_to(t1686);
+        let t2179 = product(t2178, 3.34);
+        let t2180: f64 = t2158.plus(t2177);
+        let t2181: f64 = t2179.added_to(t1706);
+        let t2182: f64 = t2180 + t2181;
+        let t2183 = product(t182, t2182);
+        let t2184 = product(t597, t1805);
+        let t2185: f64 = t260 * t1797;
+        let t2186: f64 = t1790 * t2093;
+        let t2187: f64 = t601 * t1625;
+        let t2188 = product(t232, t2176);
+        let t2189 = product(t594, t2182);
+        let t2190: f64 = yc * t603;
+        let t2191 = product(t601, t1644);
+        let t2192 = product(t603, t1635);
+        let t2193: f64 = t585 * t1625;
+        let t2194: f64 = t805 * t2176;
+        let t2195 = product(t242, t2182);
+        let t2196 = product(t47, t601);
+        let t2197: f64 = t49 * t601;
+        let t2198: f64 = t2196.plus(t2197);
+        let t2199: f64 = t588 * 10.68;
+        let t2200: f64 = t2190 * 8.0;
+        let t2201 = product(t2193, 3.34);
+        let t2202: f64 = t2198 * 2.0;
+        let t2203: f64 = t1717 + t2199;
+        let t2204: f64 = t2201.added_to(t473);
+        let t2205: f64 = t2203 + t2204;
+        let t2206: f64 = t2191.plus(t2200);
+        let t2207: f64 = t2192.plus(t2194);
+        let t2208: f64 = t2195.plus(t2202);
+        let t2209: f64 = t2206 + t2207;
+        let t2210: f64 = t2208 + t2209;
+        let t2211: f64 = t2205 - t2210;
+        let t2212 = product(t835, t2211);
+        let t2213: f64 = t601 * t1623;
+        let t2214 = product(t260, t2182);
+        let t2215: f64 = t273 * t2211;
+        let t2216 = product(t2213, 3.34);
+        let t2217: f64 = t2216.added_to(t1565);
+        let t2218: f64 = t2214.plus(t2215);
+        let t2219: f64 = t2217 + t2218;
+        let t2220: f64 = t2219 - t1745;
+        let t2221 = product(t579, t2220);
+        let t2222 = product(t314, t2211);
+        let t2223 = product(t316, t2220);
+        let t2224: f64 = t2223.added_to(t1769);
+        let t2225: f64 = t1774 + t2224;
+        let t2226: f64 = t2222.subtracted_from(t2225);
+        let t2227: f64 = t582 * t2226;
+        let t2228: f64 = t2187 * 3.34;
+        let t2229: f64 = t2189.added_to(t1780);
+        let t2230: f64 = t2212.added_to(t1779);
+        let t2231: f64 = t2229 + t2230;
+        let t2232: f64 = t2188.plus(t2228);
+        let t2233: f64 = t2221.plus(t2227);
+        let t2234: f64 = t2232 + t2233;
+        let t2235: f64 = t2231 - t2234;
+        let t2236 = product(t595, t2235);
+        let t2237: f64 = t2184.plus(t2185);
+        let t2238: f64 = t2236.plus(t2237);
+        let t2239: f64 = t2183.plus(t2186);
+        let t2240: f64 = t2238 - t2239;
+        let t2241 = product(t601, t1871);
+        let t2242: f64 = t603 * t1852;
+        let t2243: f64 = zc * t578;
+        let t2244 = product(t578, t1893);
+        let t2245 = product(t601, t1842);
+        let t2246 = product(t603, t1863);
+        let t2247 = product(t21, t603);
+        let t2248: f64 = t34 * t603;
+        let t2249: f64 = t2247.plus(t2248);
+        let t2250: f64 = t585 * 10.68;
+        let t2251: f64 = t2243 * 8.0;
+        let t2252 = product(t2249, 2.0);
+        let t2253: f64 = t2245.plus(t2250);
+        let t2254: f64 = t2246.added_to(t1879);
+        let t2255: f64 = t406 + t1887;
+        let t2256: f64 = t2253 + t2254;
+        let t2257: f64 = t2252.plus(t2255);
+        let t2258: f64 = t2256 + t2257;
+        let t2259: f64 = t2244.plus(t2251);
+        let t2260: f64 = t2258 - t2259;
+        let t2261 = product(t187, t2260);
+        let t2262: f64 = t2190 + t2198;
+        let t2263: f64 = t425 - t2262;
+        let t2264 = product(t2263, 4.0);
+        let t2265: f64 = t2264.added_to(t2199);
+        let t2266: f64 = t1904 + t1916;
+        let t2267: f64 = t2265 + t2266;
+        let t2268: f64 = t2241.plus(t2242);
+        let t2269: f64 = t2261.plus(t2268);
+        let t2270: f64 = t2267 - t2269;
+        let t2271 = product(t182, t2270);
+        let t2272 = product(t585, t1833);
+        let t2273: f64 = t588 * t1831;
+        let t2274 = product(t805, t2260);
+        let t2275 = product(t242, t2270);
+        let t2276 = product(t601, t1912);
+        let t2277: f64 = t2272.subtracted_from(t2273);
+        let t2278: f64 = t2277 * 3.34;
+        let t2279: f64 = t2275.plus(t2278);
+        let t2280: f64 = t2276.added_to(t1935);
+        let t2281: f64 = t2279 + t2280;
+        let t2282: f64 = t2274.subtracted_from(t2281);
+        let t2283 = product(t224, t2282);
+        let t2284: f64 = t271 * t273;
+        let t2285: f64 = t2001 * t2284;
+        let t2286: f64 = t2283.plus(t2285);
+        let t2287 = product(t314, t1995);
+        let t2288 = product(t601, t1833);
+        let t2289 = product(t232, t2260);
+        let t2290: f64 = t594 * t2270;
+        let t2291 = product(t835, t2282);
+        let t2292 = product(t260, t2270);
+        let t2293 = product(t273, t2282);
+        let t2294: f64 = t601 * 10.68;
+        let t2295: f64 = t2292.plus(t2294);
+        let t2296: f64 = t1951 + t2295;
+        let t2297: f64 = t2293.added_to(t1956);
+        let t2298: f64 = t2296 - t2297;
+        let t2299 = product(t579, t2298);
+        let t2300 = product(t314, t2282);
+        let t2301: f64 = t316 * t2298;
+        let t2302: f64 = t2300.plus(t2301);
+        let t2303: f64 = t1976 + t2302;
+        let t2304: f64 = t1970 + t2303;
+        let t2305: f64 = t582 * t2304;
+        let t2306: f64 = t2288.added_to(t1837);
+        let t2307: f64 = t2306 * 3.34;
+        let t2308: f64 = t2291.plus(t2307);
+        let t2309: f64 = t2299.plus(t2305);
+        let t2310: f64 = t2308 + t2309;
+        let t2311: f64 = t1981 + t2310;
+        let t2312: f64 = t2289.plus(t2290);
+        let t2313: f64 = t2311 - t2312;
+        let t2314: f64 = t2087 * t2313;
+        let t2315: f64 = t2287.plus(t2314);
+        let t2316: f64 = t2286 - t2315;
+        let t2317: f64 = t242 * t2316;
+        let t2318: f64 = t260 * t271;
+        let t2319 = product(t2001, t2318);
+        let t2320 = product(t591, t1995);
+        let t2321: f64 = t595 * t2313;
+        let t2322: f64 = t2271.plus(t2317);
+        let t2323: f64 = t2320.plus(t2321);
+        let t2324: f64 = t2322 + t2323;
+        let t2325: f64 = t2319.minus(t2324);
+        let t2326: f64 = t224 * t900;
+        let t2327: f64 = -t2090;
+        let t2328: f64 = -t2147;
+        let t2329 = product(t578, t1421);
+        let t2330 = product(t601, t1435);
+        let t2331: f64 = t603 * t1429;
+        let t2332: f64 = t588 * t1413;
+        let t2333 = product(t585, t1410);
+        let t2334 = product(t601, t1466);
+        let t2335: f64 = t2333.added_to(t1415);
+        let t2336: f64 = t2335 * 3.34;
+        let t2337: f64 = t2334.plus(t2336);
+        let t2338: f64 = t1464 - t2337;
+        let t2339: f64 = t805 * t2338;
+        let t2340 = product(t578, t1449);
+        let t2341: f64 = t601 * t1445;
+        let t2342: f64 = t588 * t1410;
+        let t2343 = product(t187, t2338);
+        let t2344 = product(t2160, 8.0);
+        let t2345 = product(t2342, 3.34);
+        let t2346 = product(t2166, 2.0);
+        let t2347: f64 = t2344.added_to(t1490);
+        let t2348: f64 = t2340.plus(t2341);
+        let t2349: f64 = t2343.added_to(t1483);
+        let t2350: f64 = t2345.added_to(t451);
+        let t2351: f64 = t2347 + t2348;
+        let t2352: f64 = t2349 + t2350;
+        let t2353: f64 = t2351 + t2352;
+        let t2354: f64 = t2346.plus(t2353);
+        let t2355: f64 = t2354 - 104.77080000000001;
+        let t2356 = product(t242, t2355);
+        let t2357: f64 = t404 + t2249;
+        let t2358: f64 = t2357 - t2243;
+        let t2359 = product(t2358, 4.0);
+        let t2360: f64 = t2332 * 3.34;
+        let t2361: f64 = t2359.added_to(t2250);
+        let t2362: f64 = t2330.plus(t2331);
+        let t2363: f64 = t2361 + t2362;
+        let t2364: f64 = t1502 + t2363;
+        let t2365: f64 = t2329.plus(t2339);
+        let t2366: f64 = t2356.plus(t2360);
+        let t2367: f64 = t2365 + t2366;
+        let t2368: f64 = t2364 - t2367;
+        let t2369 = product(t224, t2368);
+        let t2370: f64 = t1591 * t2284;
+        let t2371 = product(t314, t2368);
+        let t2372 = product(t601, t1410);
+        let t2373 = product(t260, t2355);
+        let t2374: f64 = t273 * t2368;
+        let t2375: f64 = t2372.subtracted_from(t1523);
+        let t2376 = product(t2375, 3.34);
+        let t2377: f64 = t2376.added_to(t1537);
+        let t2378: f64 = t2373.plus(t2374);
+        let t2379: f64 = t2377 - t2378;
+        let t2380: f64 = t316 * t2379;
+        let t2381: f64 = t1560 + t1567;
+        let t2382: f64 = t2371.plus(t2380);
+        let t2383: f64 = t2381 - t2382;
+        let t2384 = product(t313, t2383);
+        let t2385 = product(t232, t2338);
+        let t2386 = product(t594, t2355);
+        let t2387: f64 = t835 * t2368;
+        let t2388 = product(t579, t2379);
+        let t2389: f64 = t582 * t2383;
+        let t2390: f64 = t1574 + t2294;
+        let t2391: f64 = t2385.plus(t2389);
+        let t2392: f64 = t2390 + t2391;
+        let t2393: f64 = t1572 + t2392;
+        let t2394: f64 = t2386.plus(t2387);
+        let t2395: f64 = t2388.plus(t2394);
+        let t2396: f64 = t2393 - t2395;
+        let t2397: f64 = t583 * t2396;
+        let t2398: f64 = t2384.plus(t2397);
+        let t2399 = product(t314, t2398);
+        let t2400: f64 = t2087 * t2396;
+        let t2401: f64 = t2369.plus(t2370);
+        let t2402: f64 = t2399.plus(t2400);
         let t2403: f64 = t2401 + t2402;
-        let t2404: f64 = t2389.plus(t2396);
-        let t2405: f64 = t2403 - t2404;
-        let t2406 = product(t206, t2405);
-        let t2407: f64 = t2335 + t2343;
-        let t2408: f64 = t456 - t2407;
-        let t2409 = product(t2408, 4.0);
-        let t2410: f64 = t2409.added_to(t2344);
-        let t2411: f64 = t2406.added_to(t2069);
-        let t2412: f64 = t2410 + t2411;
-        let t2413: f64 = t2076 + t2412;
-        let t2414: f64 = t2386.plus(t2387);
-        let t2415: f64 = t2413 - t2414;
-        let t2416 = product(t201, t2415);
-        let t2417 = product(t602, t1995);
-        let t2418: f64 = t605 * t1993;
-        let t2419 = product(t854, t2405);
-        let t2420 = product(t265, t2415);
-        let t2421: f64 = t618 * t2072;
-        let t2422: f64 = t2417.subtracted_from(t2418);
-        let t2423: f64 = t2422 * 3.34;
-        let t2424: f64 = t2419.plus(t2423);
-        let t2425: f64 = t2420.plus(t2421);
-        let t2426: f64 = t2424 + t2425;
-        let t2427: f64 = t2094 + t2426;
-        let t2428 = product(t248, t2427);
-        let t2429: f64 = t289 * t291;
-        let t2430: f64 = t2163 * t2429;
-        let t2431: f64 = t2428.plus(t2430);
-        let t2432 = product(t321, t2156);
-        let t2433 = product(t618, t1995);
-        let t2434 = product(t255, t2405);
-        let t2435: f64 = t611 * t2415;
-        let t2436 = product(t882, t2427);
-        let t2437 = product(t282, t2415);
-        let t2438 = product(t291, t2427);
-        let t2439: f64 = t618 * 10.68;
-        let t2440: f64 = t2437.plus(t2439);
-        let t2441: f64 = t2110 + t2440;
-        let t2442: f64 = t2438.added_to(t2115);
-        let t2443: f64 = t2441 - t2442;
-        let t2444 = product(t596, t2443);
-        let t2445 = product(t321, t2427);
-        let t2446 = product(t323, t2443);
-        let t2447: f64 = t2445.added_to(t2131);
-        let t2448: f64 = t2137 + t2447;
-        let t2449: f64 = t2446.subtracted_from(t2448);
-        let t2450 = product(t599, t2449);
-        let t2451: f64 = t2433.added_to(t1997);
-        let t2452: f64 = t2451 * 3.34;
-        let t2453: f64 = t2444.plus(t2452);
-        let t2454: f64 = t2450.added_to(t2142);
-        let t2455: f64 = t2453 + t2454;
-        let t2456: f64 = t2434.plus(t2435);
-        let t2457: f64 = t2436.plus(t2456);
-        let t2458: f64 = t2455 - t2457;
-        let t2459: f64 = t2236 * t2458;
-        let t2460: f64 = t2432.minus(t2459);
-        let t2461: f64 = t2431 - t2460;
-        let t2462: f64 = t265 * t2461;
-        let t2463: f64 = t282 * t289;
-        let t2464 = product(t2163, t2463);
-        let t2465: f64 = t608 * t2156;
-        let t2466 = product(t612, t2458);
-        let t2467: f64 = t2464.plus(t2465);
-        let t2468: f64 = t2416.plus(t2462);
-        let t2469: f64 = t2466.plus(t2468);
-        let t2470: f64 = t2467 - t2469;
-        let t2471 = product(t101, t618);
-        let t2472: f64 = t2471.minus(t805);
-        let t2473 = product(t2472, 0.4119400000000001);
-        let t2474: f64 = t2473.added_to(t418);
-        let t2475 = product(t101, t2474);
-        let t2476 = product(t29, t618);
-        let t2477: f64 = t2476.subtracted_from(t796);
-        let t2478 = product(t2477, 0.22443999999999997);
-        let t2479: f64 = t2478.added_to(t422);
-        let t2480 = product(t29, t2479);
-        let t2481: f64 = t618 * t722;
-        let t2482: f64 = t602 * t630;
-        let t2483 = product(t605, t759);
-        let t2484 = product(t87, t618);
-        let t2485: f64 = t2484.added_to(t632);
-        let t2486 = product(t2485, 0.4119400000000001);
-        let t2487: f64 = t2486.subtracted_from(t650);
-        let t2488 = product(t87, t2487);
-        let t2489 = product(t38, t618);
-        let t2490: f64 = t2489.added_to(t655);
-        let t2491 = product(t2490, 0.22443999999999997);
-        let t2492: f64 = t2491.subtracted_from(t667);
-        let t2493: f64 = t38 * t2492;
-        let t2494 = product(t618, t745);
-        let t2495: f64 = t602 * t787;
-        let t2496: f64 = t2494.plus(t2495);
-        let t2497: f64 = t778 + t2496;
-        let t2498: f64 = t854 * t2497;
-        let t2499 = product(t87, t2474);
-        let t2500 = product(t38, t2479);
-        let t2501: f64 = t618 * t735;
-        let t2502 = product(t605, t787);
-        let t2503: f64 = t101 * t2487;
-        let t2504 = product(t29, t2492);
-        let t2505: f64 = t206 * t2497;
-        let t2506: f64 = t2500.plus(t2503);
-        let t2507: f64 = t2504.added_to(t845);
-        let t2508: f64 = t2506 + t2507;
-        let t2509: f64 = t2499.plus(t2501);
-        let t2510: f64 = t2502.plus(t2505);
-        let t2511: f64 = t2509 + t2510;
-        let t2512: f64 = t2508 - t2511;
-        let t2513 = product(t265, t2512);
-        let t2514: f64 = t2480.plus(t2482);
-        let t2515: f64 = t2483.plus(t2498);
-        let t2516: f64 = t2514 + t2515;
-        let t2517: f64 = t870 + t2516;
-        let t2518: f64 = t2475.plus(t2481);
-        let t2519: f64 = t2488.plus(t2493);
-        let t2520: f64 = t2518 + t2519;
-        let t2521: f64 = t2513.plus(t2520);
-        let t2522: f64 = t2517 - t2521;
-        let t2523 = product(t248, t2522);
-        let t2524: f64 = t941 * t2429;
-        let t2525 = product(t321, t2522);
-        let t2526 = product(t618, t787);
-        let t2527 = product(t282, t2512);
-        let t2528: f64 = t291 * t2522;
-        let t2529: f64 = t2526.added_to(t901);
-        let t2530: f64 = t2527.plus(t2528);
-        let t2531: f64 = t2529 - t2530;
-        let t2532 = product(t323, t2531);
-        let t2533: f64 = t2532.added_to(t919);
-        let t2534: f64 = t2525.subtracted_from(t2533);
-        let t2535 = product(t320, t2534);
-        let t2536 = product(t618, t630);
-        let t2537: f64 = t255 * t2497;
-        let t2538 = product(t611, t2512);
-        let t2539 = product(t882, t2522);
-        let t2540: f64 = t596 * t2531;
-        let t2541: f64 = t599 * t2534;
-        let t2542: f64 = t2536.plus(t2537);
-        let t2543: f64 = t2539.plus(t2541);
-        let t2544: f64 = t2542 + t2543;
-        let t2545: f64 = t929 + t2544;
-        let t2546: f64 = t2538.plus(t2540);
-        let t2547: f64 = t2545 - t2546;
-        let t2548: f64 = t600 * t2547;
-        let t2549: f64 = t2535.plus(t2548);
-        let t2550 = product(t321, t2549);
-        let t2551 = product(t2236, t2547);
-        let t2552: f64 = t2523.plus(t2524);
-        let t2553: f64 = t2550.plus(t2552);
-        let t2554: f64 = t2551.minus(t2553);
-        let t2555: f64 = -t2239;
-        let t2556: f64 = -t2293;
-        let t2557 = product(t595, t1585);
-        let t2558 = product(t618, t1601);
-        let t2559: f64 = t620 * t1593;
-        let t2560: f64 = t605 * t1574;
-        let t2561 = product(t602, t1572);
-        let t2562 = product(t618, t1638);
-        let t2563: f64 = t2561.added_to(t1578);
-        let t2564: f64 = t2563 * 3.34;
-        let t2565: f64 = t2562.plus(t2564);
-        let t2566: f64 = t1634 - t2565;
-        let t2567 = product(t854, t2566);
-        let t2568 = product(t595, t1618);
-        let t2569: f64 = t618 * t1611;
-        let t2570: f64 = t605 * t1572;
-        let t2571 = product(t206, t2566);
-        let t2572 = product(t2305, 8.0);
-        let t2573 = product(t2570, 3.34);
-        let t2574 = product(t2311, 2.0);
-        let t2575: f64 = t2572.added_to(t1663);
-        let t2576: f64 = t2568.plus(t2569);
-        let t2577: f64 = t2573.added_to(t1660);
-        let t2578: f64 = t2574.added_to(t461);
-        let t2579: f64 = t2575 + t2576;
-        let t2580: f64 = t2577 + t2578;
-        let t2581: f64 = t2579 + t2580;
-        let t2582: f64 = t2571.plus(104.77080000000001);
-        let t2583: f64 = t2581 - t2582;
-        let t2584: f64 = t265 * t2583;
-        let t2585: f64 = t402 + t2394;
-        let t2586: f64 = t2585 - t2388;
-        let t2587 = product(t2586, 4.0);
-        let t2588 = product(t2560, 3.34);
-        let t2589: f64 = t2587.added_to(t2395);
-        let t2590: f64 = t2558.plus(t2559);
-        let t2591: f64 = t2567.added_to(t1673);
-        let t2592: f64 = t2589 + t2590;
-        let t2593: f64 = t2591 + t2592;
-        let t2594: f64 = t2557.plus(t2584);
-        let t2595: f64 = t2588.plus(t2594);
-        let t2596: f64 = t2593 - t2595;
-        let t2597 = product(t248, t2596);
-        let t2598: f64 = t1759 * t2429;
-        let t2599 = product(t321, t2596);
-        let t2600 = product(t618, t1572);
-        let t2601 = product(t282, t2583);
-        let t2602: f64 = t291 * t2596;
-        let t2603: f64 = t2600.subtracted_from(t1691);
-        let t2604 = product(t2603, 3.34);
-        let t2605: f64 = t2604.added_to(t1705);
-        let t2606: f64 = t2601.plus(t2602);
-        let t2607: f64 = t2605 - t2606;
-        let t2608 = product(t323, t2607);
-        let t2609: f64 = t2608.added_to(t1727);
-        let t2610: f64 = t1734 + t2609;
-        let t2611: f64 = t2599.subtracted_from(t2610);
-        let t2612 = product(t320, t2611);
-        let t2613 = product(t255, t2566);
-        let t2614 = product(t611, t2583);
-        let t2615: f64 = t882 * t2596;
-        let t2616: f64 = t596 * t2607;
-        let t2617 = product(t599, t2611);
-        let t2618: f64 = t1741 + t2439;
-        let t2619: f64 = t2613.plus(t2615);
-        let t2620: f64 = t2617.added_to(t1739);
-        let t2621: f64 = t2618 + t2619;
-        let t2622: f64 = t2620 + t2621;
-        let t2623: f64 = t2614.plus(t2616);
-        let t2624: f64 = t2622 - t2623;
-        let t2625: f64 = t600 * t2624;
-        let t2626: f64 = t2612.plus(t2625);
-        let t2627 = product(t321, t2626);
-        let t2628 = product(t2236, t2624);
-        let t2629: f64 = t2597.plus(t2598);
-        let t2630: f64 = t2627.plus(t2629);
-        let t2631: f64 = t2628.minus(t2630);
-        let t2632: f64 = t248 * t1969;
-        let t2633: f64 = -t2461;
-        let t2634: f64 = -t2549;
-        let t2635: f64 = t320 * t1301;
-        let t2636: f64 = t320 * t1541;
-        let t2637: f64 = -t2626;
-        let t2638: f64 = t320 * t1955;
-        let t2639: f64 = t338 * t2547;
-        let t2640: f64 = -t2639;
-        let t2641: f64 = t338 * t2224;
-        let t2642: f64 = t338 * t2281;
-        let t2643: f64 = t338 * t2624;
-        let t2644: f64 = -t2643;
-        let t2645: f64 = t338 * t2380;
-        let t2646: f64 = -t2645;
-        let t2647: f64 = t338 * t2458;
-        let t2648: f64 = xc * vy;
-        let t2649: f64 = zc * vz;
-        let t2650: f64 = yc * vy;
-        let t2651: f64 = t2649 + t2650;
-        let t2652: f64 = wy * t373;
-        let t2653: f64 = wz * t172;
-        let t2654: f64 = t2652 - t2653;
-        let t2655 = product(t13, t1421);
-        let t2656: f64 = t14 * t1423;
-        let t2657: f64 = t2655.plus(t2656);
-        let t2658: f64 = t3 * t2657;
-        let t2659: f64 = -t2658;
-        let t2660 = product(t2, t2659);
-        let t2661 = product(t14, 0.0);
-        let t2662 = product(t2, t1421);
-        let t2663: f64 = t414 * 0.1875000000000001;
-        let t2664: f64 = t802 * t2663;
-        let t2665: f64 = t2662.plus(t2664);
-        let t2666: f64 = t13 * t2665;
-        let t2667: f64 = t2661.plus(t2666);
-        let t2668: f64 = t3 * t2667;
-        let t2669: f64 = t2660.plus(t2668);
-        let t2670: f64 = t2654 - t2669;
-        let t2671: f64 = t2651 * 4.0;
-        let t2672: f64 = t2670 + t2671;
-        let t2673 = product(t255, t2672);
-        let t2674 = product(t206, t2672);
-        let t2675: f64 = t378 - t371;
-        let t2676: f64 = t2674.plus(t2675);
-        let t2677 = product(t101, 0.0);
-        let t2678: f64 = wz * t442;
-        let t2679: f64 = t2677.minus(t2678);
-        let t2680 = product(t29, t2665);
-        let t2681: f64 = t60 * t2659;
-        let t2682: f64 = t2680.plus(t2681);
-        let t2683: f64 = t2679 - t2682;
-        let t2684: f64 = t2676 + t2683;
-        let t2685 = product(t374, 2.0);
-        let t2686: f64 = t2648 * 4.0;
-        let t2687: f64 = t2685.plus(t2686);
-        let t2688: f64 = t2684 + t2687;
-        let t2689: f64 = t611 * t2688;
-        let t2690: f64 = xc * vz;
-        let t2691: f64 = t396 - t391;
-        let t2692 = product(wy, t442);
-        let t2693: f64 = t87 * 0.0;
-        let t2694: f64 = t2692.plus(t2693);
-        let t2695: f64 = t2691 - t2694;
-        let t2696 = product(t38, t2665);
-        let t2697: f64 = t493 * t2659;
-        let t2698: f64 = t2696.minus(t2697);
-        let t2699 = product(t854, t2672);
-        let t2700: f64 = t265 * t2688;
-        let t2701: f64 = t2699.plus(t2700);
-        let t2702: f64 = t2698 - t2701;
-        let t2703: f64 = t2695 + t2702;
-        let t2704 = product(t392, 2.0);
-        let t2705: f64 = t2690 * 4.0;
-        let t2706: f64 = t2704.added_to(t2703);
-        let t2707: f64 = t2706 - t2705;
-        let t2708 = product(t882, t2707);
-        let t2709: f64 = wy * t349;
-        let t2710: f64 = wz * t343;
-        let t2711: f64 = t2709 + t2710;
-        let t2712 = product(t282, t2688);
-        let t2713: f64 = t291 * t2707;
-        let t2714: f64 = t2712.plus(t2713);
-        let t2715: f64 = t2711 + t2714;
-        let t2716: f64 = t596 * t2715;
-        let t2717 = product(t321, t2707);
-        let t2718: f64 = t2717.minus(t509);
-        let t2719 = product(t323, t2715);
-        let t2720 = product(t296, t2688);
-        let t2721: f64 = t2720.added_to(t2670);
-        let t2722: f64 = t2671 + t2721;
-        let t2723: f64 = t301 * t2722;
-        let t2724: f64 = t2719.minus(t2723);
-        let t2725: f64 = t2718 + t2724;
-        let t2726: f64 = vz * 4.0;
-        let t2727 = product(t508, 2.0);
-        let t2728: f64 = t2727.added_to(t2726);
-        let t2729: f64 = t2725 + t2728;
-        let t2730 = product(t599, t2729);
-        let t2731: f64 = vy * 4.0;
-        let t2732: f64 = t344 * 2.0;
-        let t2733: f64 = t341 + t2731;
-        let t2734: f64 = t2708.plus(t2716);
-        let t2735: f64 = t2733 + t2734;
-        let t2736: f64 = t2673.plus(t2689);
-        let t2737: f64 = t2730.plus(t2732);
-        let t2738: f64 = t2736 + t2737;
-        let t2739: f64 = t2735 - t2738;
-        let t2740 = product(t574, t2739);
-        let t2741 = product(t550, t2739);
-        let t2742: f64 = t2741.subtracted_from(t2729);
-        let t2743 = product(t554, t2742);
-        let t2744: f64 = t556 * t2739;
-        let t2745: f64 = t2743.plus(t2744);
-        let t2746: f64 = t2715 + t2745;
-        let t2747 = product(t561, t2746);
-        let t2748 = product(t563, t2742);
-        let t2749: f64 = t548 * t2739;
-        let t2750: f64 = t2747.added_to(t2705);
-        let t2751: f64 = t2748.plus(t2749);
-        let t2752: f64 = t2750 + t2751;
-        let t2753: f64 = t2706 - t2752;
-        let t2754 = product(t572, t2753);
-        let t2755 = product(t289, t2746);
-        let t2756: f64 = t577 * t2742;
-        let t2757: f64 = t2755.minus(t2756);
-        let t2758: f64 = t279 * t2757;
-        let t2759: f64 = t2740.added_to(t2684);
-        let t2760: f64 = t2687 + t2759;
-        let t2761: f64 = t2754.plus(t2758);
-        let t2762: f64 = t2760 - t2761;
-        let t2763 = product(t296, t2762);
-        let t2764: f64 = t587 * t2742;
-        let t2765 = product(t570, t2739);
-        let t2766 = product(t568, t2753);
-        let t2767: f64 = t2763.plus(t2764);
-        let t2768: f64 = t2765.added_to(t2670);
-        let t2769: f64 = t2767 + t2768;
-        let t2770: f64 = t2671 + t2769;
-        let t2771: f64 = t2766.subtracted_from(t2770);
-        let t2772: f64 = t83 * t2771;
-        let t2773: f64 = -t2772;
-        let t2774: f64 = yc * vx;
-        let t2775: f64 = yc * vz;
-        let t2776 = product(t29, t415);
-        let t2777: f64 = t139 * t414;
-        let t2778: f64 = t2776.minus(t2777);
-        let t2779 = product(t14, t2778);
-        let t2780 = product(t137, t414);
-        let t2781 = product(t101, t415);
-        let t2782: f64 = t60 * t1421;
-        let t2783: f64 = t2781.plus(t2782);
-        let t2784: f64 = t2780.subtracted_from(t2783);
-        let t2785: f64 = t13 * t2784;
-        let t2786: f64 = t2779.plus(t2785);
-        let t2787 = product(t3, t2786);
-        let t2788: f64 = t2787.added_to(t379);
-        let t2789 = product(wz, t395);
-        let t2790 = product(t101, t365);
-        let t2791 = product(t139, t358);
-        let t2792: f64 = t137 * t364;
-        let t2793: f64 = t29 * t367;
-        let t2794: f64 = t2790.plus(t2793);
-        let t2795: f64 = t2791.plus(t2792);
-        let t2796: f64 = t2794 - t2795;
-        let t2797: f64 = t2 * t2796;
-        let t2798: f64 = t2789.plus(t2797);
-        let t2799: f64 = t2788 - t2798;
-        let t2800 = product(t371, 2.0);
-        let t2801: f64 = t2774 * 4.0;
-        let t2802: f64 = t2800.plus(t2801);
-        let t2803: f64 = t2799 - t2802;
-        let t2804 = product(t255, t2803);
-        let t2805: f64 = xc * vx;
-        let t2806: f64 = t2649 + t2805;
-        let t2807: f64 = wx * t226;
-        let t2808: f64 = t2653 + t2807;
-        let t2809 = product(t60, t2796);
-        let t2810: f64 = t101 * t2778;
-        let t2811: f64 = t2809.plus(t2810);
-        let t2812: f64 = t2808 + t2811;
-        let t2813 = product(t29, t2784);
-        let t2814: f64 = t206 * t2803;
-        let t2815: f64 = t2813.plus(t2814);
-        let t2816: f64 = t2812 - t2815;
-        let t2817 = product(t2806, 4.0);
-        let t2818: f64 = t2817.added_to(t2816);
-        let t2819 = product(t611, t2818);
-        let t2820: f64 = t439 + t443;
-        let t2821 = product(t493, t2796);
-        let t2822: f64 = wx * t395;
-        let t2823: f64 = t2821.minus(t2822);
-        let t2824: f64 = t2820 + t2823;
-        let t2825 = product(t38, t2784);
-        let t2826: f64 = t87 * t2778;
-        let t2827: f64 = t2825.minus(t2826);
-        let t2828 = product(t854, t2803);
-        let t2829: f64 = t265 * t2818;
-        let t2830: f64 = t2828.minus(t2829);
-        let t2831: f64 = t2827 + t2830;
-        let t2832: f64 = t2824 + t2831;
-        let t2833 = product(t444, 2.0);
-        let t2834: f64 = t2775 * 4.0;
-        let t2835: f64 = t2833.plus(t2834);
-        let t2836: f64 = t2832 + t2835;
-        let t2837: f64 = t882 * t2836;
-        let t2838 = product(t282, t2818);
-        let t2839: f64 = t2838.subtracted_from(t508);
-        let t2840 = product(t291, t2836);
-        let t2841: f64 = t2840.subtracted_from(t2839);
-        let t2842: f64 = t509 * 2.0;
-        let t2843: f64 = t2726 + t2841;
-        let t2844: f64 = t2843 - t2842;
-        let t2845 = product(t596, t2844);
-        let t2846 = product(t321, t2836);
-        let t2847: f64 = t323 * t2844;
-        let t2848: f64 = t2846.minus(t2847);
-        let t2849 = product(t296, t2818);
-        let t2850: f64 = t2849.added_to(t2802);
-        let t2851: f64 = t2799 - t2850;
-        let t2852 = product(t301, t2851);
-        let t2853: f64 = wx * t340;
-        let t2854: f64 = t2710 + t2853;
-        let t2855: f64 = t2852.plus(t2854);
-        let t2856: f64 = t2848 + t2855;
-        let t2857: f64 = t599 * t2856;
-        let t2858: f64 = vx * 4.0;
-        let t2859 = product(t347, 2.0);
-        let t2860: f64 = t2859.added_to(t2858);
-        let t2861: f64 = t2804.plus(t2837);
-        let t2862: f64 = t2860 + t2861;
-        let t2863: f64 = t2819.added_to(t350);
-        let t2864: f64 = t2845.plus(t2857);
-        let t2865: f64 = t2863 + t2864;
-        let t2866: f64 = t2862 - t2865;
-        let t2867 = product(t548, t2866);
-        let t2868 = product(t550, t2866);
-        let t2869: f64 = t2868.subtracted_from(t2856);
-        let t2870 = product(t554, t2869);
-        let t2871 = product(t556, t2866);
-        let t2872: f64 = t2870.added_to(t2842);
-        let t2873: f64 = t2871.plus(t2872);
-        let t2874: f64 = t2843 - t2873;
-        let t2875 = product(t561, t2874);
-        let t2876: f64 = t563 * t2869;
-        let t2877: f64 = t2875.added_to(t2832);
-        let t2878: f64 = t2835 + t2877;
-        let t2879: f64 = t2867.plus(t2876);
-        let t2880: f64 = t2878 - t2879;
-        let t2881 = product(t568, t2880);
-        let t2882 = product(t570, t2866);
-        let t2883 = product(t572, t2880);
-        let t2884 = product(t574, t2866);
-        let t2885 = product(t289, t2874);
-        let t2886: f64 = t577 * t2869;
-        let t2887: f64 = t2885.plus(t2886);
-        let t2888: f64 = t279 * t2887;
-        let t2889: f64 = t2884.plus(t2888);
-        let t2890: f64 = t2818 + t2889;
-        let t2891: f64 = t2883.subtracted_from(t2890);
-        let t2892: f64 = t296 * t2891;
-        let t2893 = product(t587, t2869);
-        let t2894: f64 = t2881.added_to(t2799);
-        let t2895: f64 = t2882.plus(t2892);
-        let t2896: f64 = t2802 + t2895;
-        let t2897: f64 = t2893.plus(t2896);
-        let t2898: f64 = t2894 - t2897;
-        let t2899: f64 = t83 * t2898;
-        let t2900: f64 = -t2899;
-        let t2901: f64 = zc * vx;
-        let t2902 = product(t87, t365);
-        let t2903 = product(t126, t358);
-        let t2904: f64 = t124 * t364;
-        let t2905: f64 = t38 * t367;
-        let t2906: f64 = t2902.plus(t2905);
-        let t2907: f64 = t2903.plus(t2904);
+        let t2404: f64 = -t2403;
+        let t2405: f64 = t224 * t1805;
+        let t2406: f64 = -t2316;
+        let t2407: f64 = t271 * t894;
+        let t2408: f64 = t271 * t1591;
+        let t2409: f64 = t271 * t2001;
+        let t2410 = product(t100, t601);
+        let t2411: f64 = t2410.subtracted_from(t776);
+        let t2412: f64 = t2411 * 0.4119400000000001;
+        let t2413 = product(t100, t2412);
+        let t2414 = product(t19, t601);
+        let t2415: f64 = t2414.subtracted_from(t785);
+        let t2416 = product(t2415, 0.22443999999999997);
+        let t2417: f64 = t2416.added_to(t787);
+        let t2418: f64 = t19 * t2417;
+        let t2419 = product(t86, t601);
+        let t2420: f64 = t2419.added_to(t687);
+        let t2421: f64 = t2420 * 0.4119400000000001;
+        let t2422 = product(t86, t2421);
+        let t2423 = product(t601, t663);
+        let t2424: f64 = t585 * t613;
+        let t2425 = product(t588, t659);
+        let t2426 = product(t27, t601);
+        let t2427: f64 = t2426.added_to(t692);
+        let t2428 = product(t2427, 0.22443999999999997);
+        let t2429: f64 = t2428.subtracted_from(t706);
+        let t2430: f64 = t27 * t2429;
+        let t2431 = product(t601, t680);
+        let t2432 = product(t585, t648);
+        let t2433: f64 = t2432.added_to(t735);
+        let t2434: f64 = t2431.subtracted_from(t2433);
+        let t2435 = product(t805, t2434);
+        let t2436 = product(t86, t2412);
+        let t2437: f64 = t27 * t2417;
+        let t2438 = product(t100, t2421);
+        let t2439 = product(t601, t672);
+        let t2440: f64 = t588 * t648;
+        let t2441: f64 = t19 * t2429;
+        let t2442 = product(t187, t2434);
+        let t2443: f64 = t2436.plus(t2437);
+        let t2444: f64 = t2439.plus(t2441);
+        let t2445: f64 = t2442.added_to(t772);
+        let t2446: f64 = t2443 + t2444;
+        let t2447: f64 = t2445 + t2446;
+        let t2448: f64 = t2438.plus(t2440);
+        let t2449: f64 = t2447 - t2448;
+        let t2450: f64 = t242 * t2449;
+        let t2451: f64 = t2423.plus(t2430);
+        let t2452: f64 = t2435.plus(t2450);
+        let t2453: f64 = t2451 + t2452;
+        let t2454: f64 = t824 + t2453;
+        let t2455: f64 = t2413.plus(t2418);
+        let t2456: f64 = t2422.plus(t2424);
+        let t2457: f64 = t2455 + t2456;
+        let t2458: f64 = t2425.plus(t2457);
+        let t2459: f64 = t2454 - t2458;
+        let t2460 = product(t314, t2459);
+        let t2461 = product(t601, t648);
+        let t2462 = product(t260, t2449);
+        let t2463: f64 = t273 * t2459;
+        let t2464: f64 = t2461.plus(t2463);
+        let t2465: f64 = t855 + t2464;
+        let t2466: f64 = t2462.subtracted_from(t2465);
+        let t2467 = product(t316, t2466);
+        let t2468: f64 = t2460.added_to(t872);
+        let t2469: f64 = t2467.subtracted_from(t2468);
+        let t2470 = product(t313, t2469);
+        let t2471 = product(t601, t613);
+        let t2472: f64 = t232 * t2434;
+        let t2473 = product(t594, t2449);
+        let t2474 = product(t835, t2459);
+        let t2475: f64 = t579 * t2466;
+        let t2476: f64 = t582 * t2469;
+        let t2477: f64 = t2471.plus(t2472);
+        let t2478: f64 = t2474.plus(t2476);
+        let t2479: f64 = t2477 + t2478;
+        let t2480: f64 = t882 + t2479;
+        let t2481: f64 = t2473.plus(t2475);
+        let t2482: f64 = t2480 - t2481;
+        let t2483: f64 = t583 * t2482;
+        let t2484: f64 = t2470.plus(t2483);
+        let t2485: f64 = -t2484;
+        let t2486: f64 = t313 * t1167;
+        let t2487: f64 = t313 * t1380;
+        let t2488: f64 = -t2398;
+        let t2489: f64 = t313 * t1790;
+        let t2490: f64 = t330 * t2482;
+        let t2491: f64 = -t2490;
+        let t2492: f64 = t330 * t2075;
+        let t2493: f64 = t330 * t2135;
+        let t2494: f64 = t330 * t2396;
+        let t2495: f64 = -t2494;
+        let t2496: f64 = t330 * t2235;
+        let t2497: f64 = -t2496;
+        let t2498: f64 = t330 * t2313;
+        let t2499: f64 = zc * vz;
+        let t2500: f64 = wy * t377;
+        let t2501: f64 = wz * t390;
+        let t2502: f64 = t2500 - t2501;
+        let t2503 = product(t2, t347);
+        let t2504: f64 = t353 * t773;
+        let t2505: f64 = t2503.plus(t2504);
+        let t2506: f64 = t2505 * 0.1875000000000001;
+        let t2507 = product(t6, t2506);
+        let t2508: f64 = t2 * t1046;
+        let t2509: f64 = t2507.minus(t2508);
+        let t2510 = product(t3, t2509);
+        let t2511: f64 = t225 * 2.0;
+        let t2512: f64 = vy * t2511;
+        let t2513: f64 = t2510.minus(t2512);
+        let t2514: f64 = t2502 + t2513;
+        let t2515: f64 = t2499 * 4.0;
+        let t2516: f64 = t2514 - t2515;
+        let t2517 = product(t232, t2516);
+        let t2518: f64 = xc * vy;
+        let t2519 = product(t187, t2516);
+        let t2520 = product(wz, t440);
+        let t2521: f64 = t19 * t2506;
+        let t2522: f64 = t2520.plus(t2521);
+        let t2523: f64 = t375 - t384;
+        let t2524: f64 = t5 * t14;
+        let t2525 = product(t1046, t2524);
+        let t2526: f64 = t2525.subtracted_from(t2523);
+        let t2527: f64 = t2522 + t2526;
+        let t2528: f64 = t378 * 2.0;
+        let t2529: f64 = t2518 * 4.0;
+        let t2530: f64 = t2527 + t2528;
+        let t2531: f64 = t2519.plus(t2529);
+        let t2532: f64 = t2530 - t2531;
+        let t2533: f64 = t594 * t2532;
+        let t2534: f64 = t388 - t397;
+        let t2535 = product(wy, t440);
+        let t2536: f64 = t27 * t2506;
+        let t2537: f64 = t2535.minus(t2536);
+        let t2538: f64 = t2534 + t2537;
+        let t2539 = product(t805, t2516);
+        let t2540: f64 = t5 * t15;
+        let t2541: f64 = t1046 * t2540;
+        let t2542: f64 = t2539.minus(t2541);
+        let t2543: f64 = t235 * 2.0;
+        let t2544 = product(vz, t2543);
+        let t2545: f64 = t242 * t2532;
+        let t2546: f64 = t2544.minus(t2545);
+        let t2547: f64 = t2542 + t2546;
+        let t2548: f64 = t2538 + t2547;
+        let t2549: f64 = t391 * 2.0;
+        let t2550: f64 = t2548 + t2549;
+        let t2551 = product(t835, t2550);
+        let t2552: f64 = wy * t338;
+        let t2553: f64 = wz * t333;
+        let t2554: f64 = t2552 + t2553;
+        let t2555 = product(t260, t2532);
+        let t2556: f64 = t273 * t2550;
+        let t2557: f64 = t2555.plus(t2556);
+        let t2558: f64 = t2554 - t2557;
+        let t2559: f64 = t579 * t2558;
+        let t2560 = product(t282, t2532);
+        let t2561: f64 = t2560.added_to(t2515);
+        let t2562: f64 = t2514 - t2561;
+        let t2563 = product(t287, t2562);
+        let t2564: f64 = t316 * t2558;
+        let t2565: f64 = t2563.minus(t2564);
+        let t2566 = product(t314, t2550);
+        let t2567: f64 = t2566.added_to(t494);
+        let t2568: f64 = t2565 - t2567;
+        let t2569: f64 = vz * 4.0;
+        let t2570 = product(t493, 2.0);
+        let t2571: f64 = t2570.added_to(t2569);
+        let t2572: f64 = t2568 + t2571;
+        let t2573 = product(t582, t2572);
+        let t2574: f64 = vy * 4.0;
+        let t2575: f64 = t334 * 2.0;
+        let t2576: f64 = t332 + t2574;
+        let t2577: f64 = t2517.plus(t2533);
+        let t2578: f64 = t2551.plus(t2559);
+        let t2579: f64 = t2576 + t2577;
+        let t2580: f64 = t2578 + t2579;
+        let t2581: f64 = t2573.plus(t2575);
+        let t2582: f64 = t2580 - t2581;
+        let t2583 = product(t534, t2582);
+        let t2584: f64 = t2583.subtracted_from(t2572);
+        let t2585 = product(t546, t2584);
+        let t2586 = product(t532, t2582);
+        let t2587 = product(t538, t2584);
+        let t2588 = product(t540, t2582);
+        let t2589: f64 = t2588.added_to(t2558);
+        let t2590: f64 = t2587.subtracted_from(t2589);
+        let t2591 = product(t544, t2590);
+        let t2592: f64 = t2585.added_to(t2549);
+        let t2593: f64 = t2591.added_to(t2548);
+        let t2594: f64 = t2592 + t2593;
+        let t2595: f64 = t2586.subtracted_from(t2594);
+        let t2596 = product(t551, t2595);
+        let t2597 = product(t553, t2582);
+        let t2598 = product(t555, t2595);
+        let t2599 = product(t557, t2590);
+        let t2600 = product(t559, t2582);
+        let t2601 = product(t561, t2584);
+        let t2602: f64 = t2601.subtracted_from(t2514);
+        let t2603: f64 = t2602 - t2515;
+        let t2604: f64 = t187 * t2603;
+        let t2605: f64 = t2599.added_to(t2528);
+        let t2606: f64 = t2527 + t2605;
+        let t2607: f64 = t2598.added_to(t2529);
+        let t2608: f64 = t2600.plus(t2604);
+        let t2609: f64 = t2607 + t2608;
+        let t2610: f64 = t2606 - t2609;
+        let t2611 = product(t282, t2610);
+        let t2612: f64 = t2596.plus(t2602);
+        let t2613: f64 = t2597.added_to(t2515);
+        let t2614: f64 = t2611.plus(t2613);
+        let t2615: f64 = t2612 - t2614;
+        let t2616: f64 = t82 * t2615;
+        let t2617: f64 = xc * vx;
+        let t2618: f64 = yc * vz;
+        let t2619 = product(t55, t347);
+        let t2620: f64 = t100 * t353;
+        let t2621: f64 = t2619.subtracted_from(t2620);
+        let t2622: f64 = t2621 * 0.1875000000000001;
+        let t2623 = product(t22, t2622);
+        let t2624: f64 = vx * t2511;
+        let t2625: f64 = t2623.plus(t2624);
+        let t2626 = product(wz, t396);
+        let t2627 = product(t100, t360);
+        let t2628: f64 = t19 * t347;
+        let t2629: f64 = t2627.minus(t2628);
+        let t2630: f64 = t2629 * 0.1875000000000001;
+        let t2631: f64 = t2 * t2630;
+        let t2632: f64 = t2626.minus(t2631);
+        let t2633: f64 = t385 + t2632;
+        let t2634: f64 = t2625 + t2633;
+        let t2635: f64 = t375 * 2.0;
+        let t2636: f64 = t2634 + t2635;
+        let t2637 = product(t232, t2636);
+        let t2638 = product(t187, t2636);
+        let t2639 = product(t55, t2630);
+        let t2640: f64 = t19 * t2622;
+        let t2641: f64 = t2639.minus(t2640);
+        let t2642: f64 = wx * t374;
+        let t2643: f64 = t2501 - t2642;
+        let t2644: f64 = t251 * 2.0;
+        let t2645 = product(vz, t2644);
+        let t2646: f64 = t2645.subtracted_from(t2643);
+        let t2647: f64 = t2641 + t2646;
+        let t2648: f64 = t2617 * 4.0;
+        let t2649: f64 = t2638.plus(t2647);
+        let t2650: f64 = t2649 - t2648;
+        let t2651 = product(t594, t2650);
+        let t2652 = product(t242, t2650);
+        let t2653: f64 = t441 - t435;
+        let t2654: f64 = t2652.plus(t2653);
+        let t2655 = product(t805, t2636);
+        let t2656: f64 = t27 * t2622;
+        let t2657: f64 = t2655.minus(t2656);
+        let t2658 = product(wx, t396);
+        let t2659: f64 = t483 * t2630;
+        let t2660: f64 = t2658.plus(t2659);
+        let t2661: f64 = t2657 - t2660;
+        let t2662: f64 = t2654 + t2661;
+        let t2663: f64 = t442 * 2.0;
+        let t2664: f64 = t2618 * 4.0;
+        let t2665: f64 = t2662 + t2664;
+        let t2666: f64 = t2665 - t2663;
+        let t2667 = product(t835, t2666);
+        let t2668 = product(t260, t2650);
+        let t2669: f64 = t2668.added_to(t493);
+        let t2670 = product(t273, t2666);
+        let t2671: f64 = t2670.subtracted_from(t2669);
+        let t2672: f64 = t494 * 2.0;
+        let t2673: f64 = t2569 + t2671;
+        let t2674: f64 = t2673 - t2672;
+        let t2675: f64 = t579 * t2674;
+        let t2676 = product(t314, t2666);
+        let t2677: f64 = t316 * t2674;
+        let t2678: f64 = t2676.plus(t2677);
+        let t2679: f64 = wx * t331;
+        let t2680: f64 = t2553 + t2679;
+        let t2681 = product(t282, t2650);
+        let t2682: f64 = t2681.added_to(t2635);
+        let t2683: f64 = t2634 + t2682;
+        let t2684 = product(t287, t2683);
+        let t2685: f64 = t2684.subtracted_from(t2680);
+        let t2686: f64 = t2678 + t2685;
+        let t2687 = product(t582, t2686);
+        let t2688: f64 = vx * 4.0;
+        let t2689 = product(t337, 2.0);
+        let t2690: f64 = t2689.added_to(t2688);
+        let t2691: f64 = t2651.plus(t2690);
+        let t2692: f64 = t2637.added_to(t339);
+        let t2693: f64 = t2667.plus(t2675);
+        let t2694: f64 = t2692 + t2693;
+        let t2695: f64 = t2687.plus(t2694);
+        let t2696: f64 = t2691 - t2695;
+        let t2697 = product(t532, t2696);
+        let t2698 = product(t534, t2696);
+        let t2699: f64 = t2698.subtracted_from(t2686);
+        let t2700 = product(t538, t2699);
+        let t2701 = product(t540, t2696);
+        let t2702: f64 = t2700.added_to(t2569);
+        let t2703: f64 = t2671 + t2702;
+        let t2704: f64 = t2701.added_to(t2672);
+        let t2705: f64 = t2703 - t2704;
+        let t2706 = product(t544, t2705);
+        let t2707 = product(t546, t2699);
+        let t2708: f64 = t2697.added_to(t2664);
+        let t2709: f64 = t2706.added_to(t2662);
+        let t2710: f64 = t2708 + t2709;
+        let t2711: f64 = t2707.added_to(t2663);
+        let t2712: f64 = t2710 - t2711;
+        let t2713 = product(t555, t2712);
+        let t2714 = product(t559, t2696);
+        let t2715 = product(t557, t2705);
+        let t2716 = product(t561, t2699);
+        let t2717: f64 = t2716.added_to(t2634);
+        let t2718: f64 = t2635 + t2717;
+        let t2719: f64 = t187 * t2718;
+        let t2720: f64 = t2713.plus(t2719);
+        let t2721: f64 = t2647 + t2720;
+        let t2722: f64 = t2714.added_to(t2648);
+        let t2723: f64 = t2715.plus(t2722);
+        let t2724: f64 = t2721 - t2723;
+        let t2725 = product(t282, t2724);
+        let t2726 = product(t551, t2712);
+        let t2727: f64 = t553 * t2696;
+        let t2728: f64 = t2725.added_to(t2635);
+        let t2729: f64 = t2726.plus(t2727);
+        let t2730: f64 = t2728 + t2729;
+        let t2731: f64 = t2717 + t2730;
+        let t2732: f64 = t82 * t2731;
+        let t2733: f64 = zc * vx;
+        let t2734 = product(wy, t383);
+        let t2735 = product(t86, t360);
+        let t2736: f64 = t27 * t347;
+        let t2737: f64 = t2735.minus(t2736);
+        let t2738: f64 = t2737 * 0.1875000000000001;
+        let t2739: f64 = t2 * t2738;
+        let t2740: f64 = t2734.plus(t2739);
+        let t2741 = product(t347, t483);
+        let t2742: f64 = t86 * t353;
+        let t2743: f64 = t2741.plus(t2742);
+        let t2744: f64 = t2743 * 0.1875000000000001;
+        let t2745 = product(t22, t2744);
+        let t2746: f64 = t2745.subtracted_from(t398);
+        let t2747: f64 = t2740 + t2746;
+        let t2748: f64 = t388 * 2.0;
+        let t2749: f64 = t2733 * 4.0;
+        let t2750: f64 = t2747 + t2748;
+        let t2751: f64 = t2750 - t2749;
+        let t2752 = product(t232, t2751);
+        let t2753 = product(t187, t2751);
+        let t2754 = product(t19, t2744);
+        let t2755: f64 = vy * t2644;
+        let t2756: f64 = t2754.minus(t2755);
+        let t2757 = product(wx, t383);
+        let t2758: f64 = t55 * t2738;
+        let t2759: f64 = t2757.plus(t2758);
+        let t2760: f64 = t443 - t2759;
+        let t2761: f64 = t2756 + t2760;
+        let t2762: f64 = t435 * 2.0;
+        let t2763: f64 = t2753.plus(t2761);
+        let t2764: f64 = t2763 - t2762;
+        let t2765 = product(t594, t2764);
+        let t2766: f64 = yc * vy;
+        let t2767 = product(vx, t2543);
+        let t2768: f64 = t2500 - t2642;
+        let t2769: f64 = t2767.plus(t2768);
+        let t2770 = product(t483, t2738);
+        let t2771: f64 = t27 * t2744;
+        let t2772: f64 = t2770.plus(t2771);
+        let t2773 = product(t805, t2751);
+        let t2774: f64 = t242 * t2764;
+        let t2775: f64 = t2773.plus(t2774);
+        let t2776: f64 = t2772 + t2775;
+        let t2777: f64 = t2769 + t2776;
+        let t2778: f64 = t2766 * 4.0;
+        let t2779: f64 = t2777 + t2778;
+        let t2780: f64 = t835 * t2779;
+        let t2781 = product(t260, t2764);
+        let t2782: f64 = t2781.minus(t334);
+        let t2783 = product(t273, t2779);
+        let t2784: f64 = t2783.subtracted_from(t2782);
+        let t2785 = product(t332, 2.0);
+        let t2786: f64 = t2785.added_to(t2574);
+        let t2787: f64 = t2784 + t2786;
+        let t2788 = product(t579, t2787);
+        let t2789 = product(t314, t2779);
+        let t2790: f64 = t2789.subtracted_from(t337);
+        let t2791 = product(t282, t2764);
+        let t2792: f64 = t2791.added_to(t2748);
+        let t2793: f64 = t2747 + t2792;
+        let t2794: f64 = t2793 - t2749;
+        let t2795 = product(t287, t2794);
+        let t2796: f64 = t316 * t2787;
+        let t2797: f64 = t2795.minus(t2796);
+        let t2798: f64 = t2790 + t2797;
+        let t2799: f64 = t339 * 2.0;
+        let t2800: f64 = t2688 + t2798;
+        let t2801: f64 = t2800 - t2799;
+        let t2802: f64 = t582 * t2801;
+        let t2803: f64 = t2552 + t2679;
+        let t2804: f64 = t2765.plus(t2802);
+        let t2805: f64 = t2803 + t2804;
+        let t2806: f64 = t2752.plus(t2780);
+        let t2807: f64 = t2788.plus(t2806);
+        let t2808: f64 = t2805 - t2807;
+        let t2809 = product(t553, t2808);
+        let t2810 = product(t540, t2808);
+        let t2811 = product(t534, t2808);
+        let t2812: f64 = t2811.added_to(t2688);
+        let t2813: f64 = t2798 + t2812;
+        let t2814: f64 = t2813 - t2799;
+        let t2815: f64 = t538 * t2814;
+        let t2816: f64 = t2810.plus(t2815);
+        let t2817: f64 = t2787 - t2816;
+        let t2818 = product(t544, t2817);
+        let t2819 = product(t546, t2814);
+        let t2820: f64 = t532 * t2808;
+        let t2821: f64 = t2818.added_to(t2778);
+        let t2822: f64 = t2819.plus(t2820);
+        let t2823: f64 = t2821 + t2822;
+        let t2824: f64 = t2777 + t2823;
+        let t2825 = product(t555, t2824);
+        let t2826 = product(t557, t2817);
+        let t2827 = product(t559, t2808);
+        let t2828 = product(t561, t2814);
+        let t2829: f64 = t2828.subtracted_from(t2747);
+        let t2830: f64 = t2748 + t2829;
+        let t2831: f64 = t2830 - t2749;
+        let t2832: f64 = t187 * t2831;
+        let t2833: f64 = t2825.plus(t2832);
+        let t2834: f64 = t2761 + t2833;
+        let t2835: f64 = t2826.added_to(t2762);
+        let t2836: f64 = t2827.plus(t2835);
+        let t2837: f64 = t2834 - t2836;
+        let t2838 = product(t282, t2837);
+        let t2839: f64 = t551 * t2824;
+        let t2840: f64 = t2809.added_to(t2748);
+        let t2841: f64 = t2838.plus(t2839);
+        let t2842: f64 = t2840 + t2841;
+        let t2843: f64 = t2829 + t2842;
+        let t2844: f64 = t2843 - t2749;
+        let t2845: f64 = t82 * t2844;
+        let t2846: f64 = -t2845;
+        let t2847: f64 = wy * t2511;
+        let t2848: f64 = t1272 * 4.0;
+        let t2849: f64 = t2847 + t2848;
+        let t2850 = product(t232, t2849);
+        let t2851: f64 = xc * wy;
+        let t2852 = product(t187, t2849);
+        let t2853: f64 = t2851 * 4.0;
+        let t2854: f64 = t2852.subtracted_from(t2853);
+        let t2855: f64 = t594 * t2854;
+        let t2856 = product(wz, t2543);
+        let t2857 = product(t805, t2849);
+        let t2858: f64 = t242 * t2854;
+        let t2859: f64 = t2857.minus(t2858);
+        let t2860: f64 = t2856.minus(t2859);
+        let t2861 = product(t835, t2860);
+        let t2862 = product(t260, t2854);
+        let t2863: f64 = t273 * t2860;
+        let t2864: f64 = t2862.minus(t2863);
+        let t2865 = product(t579, t2864);
+        let t2866 = product(t282, t2854);
+        let t2867: f64 = t2866.subtracted_from(t2849);
+        let t2868 = product(t287, t2867);
+        let t2869 = product(t314, t2860);
+        let t2870: f64 = t316 * t2864;
+        let t2871: f64 = t2869.plus(t2870);
+        let t2872: f64 = t2868.plus(t2871);
+        let t2873: f64 = wz * 4.0;
+        let t2874: f64 = t2873 - t2872;
+        let t2875 = product(t582, t2874);
+        let t2876: f64 = wy * 4.0;
+        let t2877: f64 = t2861.plus(t2876);
+        let t2878: f64 = t2865.plus(t2877);
+        let t2879: f64 = t2850.plus(t2855);
+        let t2880: f64 = t2875.plus(t2879);
+        let t2881: f64 = t2878 - t2880;
+        let t2882 = product(t553, t2881);
+        let t2883 = product(t540, t2881);
+        let t2884 = product(t534, t2881);
+        let t2885: f64 = t2884.added_to(t2872);
+        let t2886: f64 = t2873 - t2885;
+        let t2887 = product(t538, t2886);
+        let t2888: f64 = t2883.added_to(t2864);
+        let t2889: f64 = t2887.subtracted_from(t2888);
+        let t2890 = product(t544, t2889);
+        let t2891: f64 = t546 * t2886;
+        let t2892 = product(t532, t2881);
+        let t2893: f64 = t2890.plus(t2891);
+        let t2894: f64 = t2860 + t2893;
+        let t2895: f64 = t2892.minus(t2894);
+        let t2896: f64 = t224 * t2895;
+        let t2897: f64 = -t2896;
+        let t2898 = product(t206, t2897);
+        let t2899 = product(t557, t2889);
+        let t2900 = product(t559, t2881);
+        let t2901 = product(t561, t2886);
+        let t2902: f64 = t2901.added_to(t2847);
+        let t2903: f64 = t2848 + t2902;
+        let t2904: f64 = t187 * t2903;
+        let t2905: f64 = t2898.added_to(t2853);
+        let t2906: f64 = t2900.plus(t2905);
+        let t2907: f64 = t2899.plus(t2904);
         let t2908: f64 = t2906 - t2907;
-        let t2909 = product(t2, t2908);
-        let t2910: f64 = wy * t377;
-        let t2911: f64 = t2909.minus(t2910);
-        let t2912 = product(t38, t415);
-        let t2913: f64 = t126 * t414;
-        let t2914: f64 = t2912.minus(t2913);
-        let t2915 = product(t14, t2914);
-        let t2916 = product(t124, t414);
-        let t2917 = product(t87, t415);
-        let t2918: f64 = t493 * t1421;
-        let t2919: f64 = t2916.plus(t2918);
-        let t2920: f64 = t2917.subtracted_from(t2919);
-        let t2921: f64 = t13 * t2920;
-        let t2922: f64 = t2915.minus(t2921);
-        let t2923 = product(t3, t2922);
-        let t2924: f64 = t2923.subtracted_from(t397);
-        let t2925: f64 = t2911 + t2924;
-        let t2926: f64 = t391 * 2.0;
-        let t2927: f64 = t2901 * 4.0;
-        let t2928: f64 = t2925 + t2927;
-        let t2929: f64 = t2928 - t2926;
-        let t2930 = product(t255, t2929);
-        let t2931: f64 = zc * vy;
-        let t2932 = product(t206, t2929);
-        let t2933: f64 = t2932.added_to(t445);
-        let t2934 = product(t60, t2908);
-        let t2935: f64 = wx * t377;
-        let t2936: f64 = t2934.minus(t2935);
-        let t2937 = product(t101, t2914);
-        let t2938: f64 = t29 * t2920;
-        let t2939: f64 = t2937.plus(t2938);
-        let t2940: f64 = t2936 + t2939;
-        let t2941: f64 = t2933 + t2940;
-        let t2942 = product(t439, 2.0);
-        let t2943: f64 = t2931 * 4.0;
-        let t2944: f64 = t2942.added_to(t2941);
-        let t2945: f64 = t2944 - t2943;
-        let t2946: f64 = t611 * t2945;
-        let t2947: f64 = t2650 + t2805;
-        let t2948: f64 = t2652 + t2807;
-        let t2949 = product(t265, t2945);
-        let t2950: f64 = t2949.subtracted_from(t2948);
-        let t2951 = product(t493, t2908);
-        let t2952: f64 = t87 * t2914;
-        let t2953: f64 = t2951.minus(t2952);
-        let t2954 = product(t38, t2920);
-        let t2955: f64 = t854 * t2929;
-        let t2956: f64 = t2954.plus(t2955);
-        let t2957: f64 = t2953 - t2956;
-        let t2958: f64 = t2950 + t2957;
-        let t2959: f64 = t2947 * 4.0;
-        let t2960: f64 = t2958 - t2959;
-        let t2961 = product(t882, t2960);
-        let t2962 = product(t291, t2960);
-        let t2963 = product(t282, t2945);
-        let t2964: f64 = t2963.minus(t344);
-        let t2965: f64 = t2962.plus(t2964);
-        let t2966 = product(t341, 2.0);
-        let t2967: f64 = t2966.added_to(t2731);
-        let t2968: f64 = t2965 + t2967;
-        let t2969: f64 = t596 * t2968;
-        let t2970 = product(t321, t2960);
-        let t2971: f64 = t2970.added_to(t347);
-        let t2972 = product(t323, t2968);
-        let t2973 = product(t296, t2945);
-        let t2974: f64 = t2973.added_to(t2927);
-        let t2975: f64 = t2925 + t2974;
-        let t2976: f64 = t2975 - t2926;
-        let t2977: f64 = t301 * t2976;
-        let t2978: f64 = t2972.minus(t2977);
-        let t2979: f64 = t2971 + t2978;
-        let t2980: f64 = t350 * 2.0;
-        let t2981: f64 = t2858 + t2979;
-        let t2982: f64 = t2981 - t2980;
-        let t2983 = product(t599, t2982);
-        let t2984: f64 = t2709 + t2853;
-        let t2985: f64 = t2930.plus(t2946);
-        let t2986: f64 = t2984 + t2985;
-        let t2987: f64 = t2983.plus(t2986);
-        let t2988: f64 = t2961.plus(t2969);
-        let t2989: f64 = t2987 - t2988;
-        let t2990 = product(t556, t2989);
-        let t2991 = product(t550, t2989);
-        let t2992: f64 = t2991.added_to(t2858);
-        let t2993: f64 = t2979 + t2992;
-        let t2994: f64 = t2993 - t2980;
-        let t2995 = product(t554, t2994);
-        let t2996: f64 = t2995.added_to(t2965);
-        let t2997: f64 = t2967 + t2996;
-        let t2998: f64 = t2990.subtracted_from(t2997);
-        let t2999 = product(t561, t2998);
-        let t3000 = product(t548, t2989);
-        let t3001: f64 = t563 * t2994;
-        let t3002: f64 = t3000.added_to(t2958);
+        let t2909 = product(t282, t2908);
+        let t2910: f64 = t123 * t2897;
+        let t2911: f64 = t2882.added_to(t2848);
+        let t2912: f64 = t2902 + t2911;
+        let t2913: f64 = t2909.plus(t2910);
+        let t2914: f64 = t2912 - t2913;
+        let t2915: f64 = t82 * t2914;
+        let t2916: f64 = wx * t2511;
+        let t2917: f64 = wx * t231;
+        let t2918: f64 = t82 * t2917;
+        let t2919 = product(t2511, t2918);
+        let t2920 = product(t187, t2511);
+        let t2921: f64 = xc * 4.0;
+        let t2922: f64 = t2920.subtracted_from(t2921);
+        let t2923 = product(wx, t2922);
+        let t2924: f64 = wz * t2644;
+        let t2925: f64 = t2923.plus(t2924);
+        let t2926: f64 = t594 * t2925;
+        let t2927: f64 = yc * wz;
+        let t2928: f64 = wx * t82;
+        let t2929: f64 = t123 * t2928;
+        let t2930 = product(t2511, t2929);
+        let t2931: f64 = t242 * t2925;
+        let t2932: f64 = t2930.minus(t2931);
+        let t2933: f64 = t2927 * 4.0;
+        let t2934: f64 = t2932 + t2933;
+        let t2935 = product(t835, t2934);
+        let t2936 = product(t260, t2925);
+        let t2937: f64 = t273 * t2934;
+        let t2938: f64 = t2936.plus(t2937);
+        let t2939: f64 = t2873 - t2938;
+        let t2940: f64 = t579 * t2939;
+        let t2941 = product(t282, t2925);
+        let t2942: f64 = t2941.subtracted_from(t2916);
+        let t2943 = product(t287, t2942);
+        let t2944 = product(t314, t2934);
+        let t2945: f64 = t316 * t2939;
+        let t2946: f64 = t2944.plus(t2945);
+        let t2947: f64 = t2943.minus(t2946);
+        let t2948 = product(t582, t2947);
+        let t2949: f64 = wx * 4.0;
+        let t2950: f64 = t2948.plus(t2949);
+        let t2951: f64 = t2919.plus(t2926);
+        let t2952: f64 = t2935.plus(t2940);
+        let t2953: f64 = t2951 + t2952;
+        let t2954: f64 = t2950 - t2953;
+        let t2955 = product(t540, t2954);
+        let t2956 = product(t534, t2954);
+        let t2957: f64 = t2956.added_to(t2947);
+        let t2958: f64 = -t2957;
+        let t2959: f64 = t313 * t2958;
+        let t2960: f64 = -t2959;
+        let t2961: f64 = t302 * t2960;
+        let t2962: f64 = t2955.plus(t2961);
+        let t2963: f64 = t2938 + t2962;
+        let t2964: f64 = t2873 - t2963;
+        let t2965 = product(t557, t2964);
+        let t2966: f64 = t559 * t2954;
+        let t2967 = product(t544, t2964);
+        let t2968 = product(t294, t2960);
+        let t2969: f64 = t532 * t2954;
+        let t2970: f64 = t2967.added_to(t2933);
+        let t2971: f64 = t2968.plus(t2969);
+        let t2972: f64 = t2970 + t2971;
+        let t2973: f64 = t2932 + t2972;
+        let t2974 = product(t555, t2973);
+        let t2975 = product(t590, t2960);
+        let t2976: f64 = t2965.plus(t2966);
+        let t2977: f64 = t2975.added_to(t2925);
+        let t2978: f64 = t2976 + t2977;
+        let t2979: f64 = t2974.subtracted_from(t2978);
+        let t2980 = product(t282, t2979);
+        let t2981 = product(t553, t2954);
+        let t2982 = product(t551, t2973);
+        let t2983: f64 = t281 * t2960;
+        let t2984: f64 = t2981.added_to(t2916);
+        let t2985: f64 = t2982.plus(t2984);
+        let t2986: f64 = t2980.plus(t2983);
+        let t2987: f64 = t2985 - t2986;
+        let t2988: f64 = t82 * t2987;
+        let t2989: f64 = -t2988;
+        let t2990: f64 = zc * wx;
+        let t2991: f64 = yc * wy;
+        let t2992: f64 = t231 * t2990;
+        let t2993: f64 = t82 * t2992;
+        let t2994: f64 = t82 * t2990;
+        let t2995: f64 = t159 * t2994;
+        let t2996: f64 = wy * t2644;
+        let t2997 = product(t2995, 4.0);
+        let t2998: f64 = t2997.added_to(t2996);
+        let t2999 = product(t594, t2998);
+        let t3000: f64 = zc * t82;
+        let t3001: f64 = t123 * t3000;
+        let t3002 = product(t3001, 4.0);
         (
+            t2030,
+            t2031,
+            t2078,
+            t2081,
+            t2085,
+            t2087,
+            t2093,
+            t2100,
+            t2140,
             t2156,
-            t2172,
-            t2189,
-            t2190,
-            t2227,
-            t2230,
-            t2234,
-            t2236,
-            t2242,
-            t2248,
-            t2286,
-            t2301,
-            t2302,
-            t2385,
-            t2429,
-            t2463,
-            t2470,
-            t2554,
-            t2555,
-            t2556,
-            t2631,
-            t2632,
-            t2633,
-            t2634,
-            t2635,
-            t2636,
-            t2637,
-            t2638,
-            t2640,
-            t2641,
-            t2642,
-            t2644,
-            t2646,
-            t2647,
-            t2707,
-            t2715,
-            t2739,
-            t2742,
-            t2762,
-            t2773,
-            t2818,
-            t2844,
-            t2856,
-            t2866,
-            t2880,
-            t2900,
-            t2925,
-            t2926,
-            t2927,
-            t2943,
-            t2944,
-            t2945,
-            t2959,
-            t2982,
+            t2157,
+            t2240,
+            t2284,
+            t2318,
+            t2325,
+            t2326,
+            t2327,
+            t2328,
+            t2404,
+            t2405,
+            t2406,
+            t2407,
+            t2408,
+            t2409,
+            t2485,
+            t2486,
+            t2487,
+            t2488,
+            t2489,
+            t2491,
+            t2492,
+            t2493,
+            t2495,
+            t2497,
+            t2498,
+            t2532,
+            t2543,
+            t2558,
+            t2582,
+            t2584,
+            t2595,
+            t2616,
+            t2674,
+            t2686,
+            t2696,
+            t2712,
+            t2724,
+            t2732,
+            t2764,
+            t2779,
+            t2801,
+            t2808,
+            t2817,
+            t2846,
+            t2854,
+            t2860,
+            t2874,
+            t2876,
+            t2881,
+            t2889,
+            t2915,
+            t2934,
+            t2947,
+            t2949,
+            t2954,
+            t2964,
+            t2979,
             t2989,
-            t2994,
+            t2990,
+            t2991,
+            t2993,
+            t2996,
             t2998,
             t2999,
+            t3000,
             t3001,
             t3002,
         )
     };
     let (
-        t3010,
-        t3026,
-        t3079,
-        t3093,
+        t3062,
+        t3076,
+        t3077,
+        t3096,
+        t3115,
+        t3116,
+        t3123,
+        t3131,
+        t3132,
+        t3133,
+        t3134,
+        t3135,
+        t3146,
+        t3147,
         t3148,
+        t3156,
+        t3157,
+        t3158,
+        t3159,
+        t3160,
+        t3161,
+        t3162,
+        t3163,
+        t3164,
         t3165,
-        t3244,
-        t3245,
-        t3255,
-        t3263,
-        t3275,
-        t3294,
-        t3295,
-        t3329,
-        t3337,
-        t3349,
-        t3350,
-        t3351,
-        t3352,
-        t3362,
-        t3363,
-        t3364,
-        t3365,
-        t3366,
-        t3367,
-        t3368,
-        t3369,
-        t3370,
-        t3372,
-        t3373,
-        t3375,
-        t3376,
-        t3378,
-        t3379,
-        t3420,
-        t3433,
-        t3474,
-        t3486,
-        t3525,
-        t3539,
+        t3167,
+        t3168,
+        t3170,
+        t3171,
+        t3173,
+        t3174,
+        t3227,
+        t3279,
+        t3334,
+        t3380,
+        t3439,
+        t3498,
+        t3509,
+        t3520,
+        t3526,
+        t3530,
+        t3531,
+        t3532,
+        t3533,
+        t3534,
         t3571,
-        t3585,
+        t3597,
+        t3606,
+        t3613,
+        t3622,
+        t3629,
+        t3630,
+        t3631,
+        t3632,
+        t3633,
+        t3634,
+        t3635,
+        t3636,
+        t3637,
+        t3638,
+        t3639,
+        t3641,
+        t3643,
         t3645,
-        t3705,
-        t3713,
-        t3721,
-        t3762,
-        t3791,
-        t3792,
-        t3793,
-        t3794,
-        t3795,
-        t3796,
-        t3797,
-        t3798,
-        t3799,
-        t3807,
-        t3815,
-        t3816,
-        t3817,
-        t3818,
-        t3819,
-        t3820,
-        t3821,
-        t3823,
-        t3825,
-        t3827,
-        t3829,
-        t3830,
-        t3831,
+        t3647,
+        t3648,
+        t3649,
     ) = {
-        let t3003: f64 = t2999.plus(t3001);
-        let t3004: f64 = t2959 + t3003;
-        let t3005: f64 = t3002 - t3004;
-        let t3006 = product(t568, t3005);
-        let t3007 = product(t570, t2989);
-        let t3008 = product(t572, t3005);
-        let t3009 = product(t574, t2989);
-        let t3010: f64 = t289 * t2998;
-        let t3011 = product(t577, t2994);
-        let t3012: f64 = t3011.subtracted_from(t3010);
-        let t3013: f64 = t279 * t3012;
-        let t3014: f64 = t3008.added_to(t2943);
-        let t3015: f64 = t3009.plus(t3013);
-        let t3016: f64 = t3014 + t3015;
-        let t3017: f64 = t2944 - t3016;
-        let t3018 = product(t296, t3017);
-        let t3019 = product(t587, t2994);
-        let t3020: f64 = t3018.added_to(t2927);
-        let t3021: f64 = t3019.added_to(t2925);
-        let t3022: f64 = t3020 + t3021;
-        let t3023: f64 = t3006.added_to(t2926);
-        let t3024: f64 = t3007.plus(t3023);
-        let t3025: f64 = t3022 - t3024;
-        let t3026: f64 = t83 * t3025;
-        let t3027: f64 = yc * wy;
-        let t3028: f64 = t1399 + t3027;
-        let t3029: f64 = t3028 * 4.0;
-        let t3030 = product(t255, t3029);
-        let t3031: f64 = xc * wy;
-        let t3032 = product(t206, t3029);
-        let t3033: f64 = t3031 * 4.0;
-        let t3034: f64 = t3032.plus(t3033);
-        let t3035: f64 = t611 * t3034;
-        let t3036: f64 = xc * wz;
-        let t3037 = product(t854, t3029);
-        let t3038: f64 = t265 * t3034;
-        let t3039: f64 = t3037.plus(t3038);
-        let t3040: f64 = t3036 * 4.0;
-        let t3041: f64 = t3039 + t3040;
-        let t3042 = product(t882, t3041);
-        let t3043 = product(t282, t3034);
-        let t3044: f64 = t291 * t3041;
-        let t3045: f64 = t3043.minus(t3044);
-        let t3046 = product(t596, t3045);
-        let t3047 = product(t323, t3045);
-        let t3048: f64 = t321 * t3041;
-        let t3049: f64 = t3047.minus(t3048);
-        let t3050 = product(t296, t3034);
-        let t3051: f64 = t3050.added_to(t3029);
-        let t3052 = product(t301, t3051);
-        let t3053: f64 = t3052.subtracted_from(t3049);
-        let t3054: f64 = wz * 4.0;
+        let t3003: f64 = t3002.subtracted_from(t2543);
+        let t3004 = product(wx, t3003);
+        let t3005: f64 = t242 * t2998;
+        let t3006: f64 = t3004.minus(t3005);
+        let t3007: f64 = t2991 * 4.0;
+        let t3008: f64 = t3006 + t3007;
+        let t3009: f64 = t835 * t3008;
+        let t3010 = product(t260, t2998);
+        let t3011: f64 = t273 * t3008;
+        let t3012: f64 = t3010.plus(t3011);
+        let t3013: f64 = t2876 - t3012;
+        let t3014 = product(t579, t3013);
+        let t3015 = product(t282, t2998);
+        let t3016: f64 = t2990 * 4.0;
+        let t3017: f64 = t3015.plus(t3016);
+        let t3018 = product(t287, t3017);
+        let t3019 = product(t314, t3008);
+        let t3020: f64 = t316 * t3013;
+        let t3021: f64 = t3019.plus(t3020);
+        let t3022: f64 = t3018.plus(t3021);
+        let t3023: f64 = t2949 - t3022;
+        let t3024 = product(t582, t3023);
+        let t3025: f64 = t2993 * 4.0;
+        let t3026: f64 = t3024.plus(t3025);
+        let t3027: f64 = t2999.plus(t3009);
+        let t3028: f64 = t3014.plus(t3027);
+        let t3029: f64 = t3026 - t3028;
+        let t3030 = product(t534, t3029);
+        let t3031: f64 = t3030.added_to(t2949);
+        let t3032: f64 = t3031 - t3022;
+        let t3033 = product(t546, t3032);
+        let t3034 = product(t532, t3029);
+        let t3035 = product(t538, t3032);
+        let t3036: f64 = t540 * t3029;
+        let t3037: f64 = t3035.plus(t3036);
+        let t3038: f64 = t3012 + t3037;
+        let t3039: f64 = t2876 - t3038;
+        let t3040: f64 = t544 * t3039;
+        let t3041: f64 = t3033.added_to(t3007);
+        let t3042: f64 = t3034.plus(t3040);
+        let t3043: f64 = t3041 + t3042;
+        let t3044: f64 = t3006 + t3043;
+        let t3045 = product(t551, t3044);
+        let t3046 = product(t561, t3032);
+        let t3047: f64 = t553 * t3029;
+        let t3048 = product(t555, t3044);
+        let t3049 = product(t557, t3039);
+        let t3050 = product(t559, t3029);
+        let t3051: f64 = t3046.added_to(t3016);
+        let t3052: f64 = t187 * t3051;
+        let t3053: f64 = t3049.added_to(t2996);
+        let t3054: f64 = t3050.plus(t3052);
         let t3055: f64 = t3053 + t3054;
-        let t3056: f64 = t599 * t3055;
-        let t3057: f64 = wy * 4.0;
-        let t3058: f64 = t3046.plus(t3057);
-        let t3059: f64 = t3030.plus(t3035);
-        let t3060: f64 = t3042.plus(t3056);
-        let t3061: f64 = t3059 + t3060;
-        let t3062: f64 = t3058 - t3061;
-        let t3063 = product(t570, t3062);
-        let t3064 = product(t556, t3062);
-        let t3065 = product(t550, t3062);
-        let t3066: f64 = t3065.subtracted_from(t3055);
-        let t3067: f64 = t554 * t3066;
-        let t3068: f64 = t3064.plus(t3067);
-        let t3069: f64 = t3045 + t3068;
-        let t3070 = product(t561, t3069);
-        let t3071 = product(t563, t3066);
-        let t3072: f64 = t548 * t3062;
-        let t3073: f64 = t3070.added_to(t3040);
-        let t3074: f64 = t3071.plus(t3072);
-        let t3075: f64 = t3073 + t3074;
-        let t3076: f64 = t3039 + t3075;
-        let t3077 = product(t572, t3076);
-        let t3078: f64 = t574 * t3062;
-        let t3079: f64 = t289 * t3069;
-        let t3080 = product(t577, t3066);
-        let t3081: f64 = t3080.subtracted_from(t3079);
-        let t3082 = product(t279, t3081);
-        let t3083: f64 = t3077.plus(t3078);
-        let t3084: f64 = t3034 + t3083;
-        let t3085: f64 = t3082.subtracted_from(t3084);
-        let t3086: f64 = t296 * t3085;
-        let t3087 = product(t568, t3076);
-        let t3088: f64 = t587 * t3066;
-        let t3089: f64 = t3063.plus(t3086);
-        let t3090: f64 = t3087.plus(t3088);
-        let t3091: f64 = t3089 + t3090;
-        let t3092: f64 = t3029 + t3091;
-        let t3093: f64 = t83 * t3092;
-        let t3094: f64 = yc * wx;
-        let t3095: f64 = t3094 * 4.0;
-        let t3096: f64 = t206 * t3095;
-        let t3097 = product(t255, t3095);
-        let t3098 = product(xc, wx);
-        let t3099: f64 = t3098.added_to(t1399);
-        let t3100: f64 = t3099 * 4.0;
-        let t3101: f64 = t3096 + t3100;
-        let t3102: f64 = t611 * t3101;
-        let t3103: f64 = yc * wz;
-        let t3104 = product(t854, t3095);
-        let t3105: f64 = t265 * t3101;
-        let t3106: f64 = t3104.plus(t3105);
-        let t3107: f64 = t3103 * 4.0;
-        let t3108: f64 = t3107 - t3106;
-        let t3109 = product(t882, t3108);
-        let t3110 = product(t282, t3101);
-        let t3111: f64 = t291 * t3108;
-        let t3112: f64 = t3110.plus(t3111);
-        let t3113: f64 = t3054 - t3112;
-        let t3114 = product(t596, t3113);
-        let t3115 = product(t296, t3101);
-        let t3116: f64 = t3115.added_to(t3095);
-        let t3117 = product(t301, t3116);
-        let t3118 = product(t321, t3108);
-        let t3119: f64 = t323 * t3113;
-        let t3120: f64 = t3118.minus(t3119);
-        let t3121: f64 = t3117.minus(t3120);
-        let t3122 = product(t599, t3121);
-        let t3123: f64 = wx * 4.0;
-        let t3124: f64 = t3109.plus(t3123);
-        let t3125: f64 = t3122.plus(t3124);
-        let t3126: f64 = t3097.plus(t3102);
-        let t3127: f64 = t3114.plus(t3126);
-        let t3128: f64 = t3125 - t3127;
-        let t3129 = product(t574, t3128);
-        let t3130 = product(t556, t3128);
-        let t3131 = product(t550, t3128);
-        let t3132: f64 = t3131.added_to(t3121);
-        let t3133: f64 = -t3132;
-        let t3134: f64 = t320 * t3133;
-        let t3135: f64 = -t3134;
-        let t3136 = product(t311, t3135);
-        let t3137: f64 = t3136.added_to(t3054);
-        let t3138: f64 = t3130.added_to(t3112);
-        let t3139: f64 = t3137 - t3138;
-        let t3140 = product(t561, t3139);
-        let t3141 = product(t304, t3135);
-        let t3142 = product(t548, t3128);
-        let t3143: f64 = t3140.added_to(t3107);
-        let t3144: f64 = t3141.plus(t3143);
-        let t3145: f64 = t3142.added_to(t3106);
-        let t3146: f64 = t3144 - t3145;
-        let t3147 = product(t572, t3146);
-        let t3148: f64 = t289 * t3139;
-        let t3149 = product(t206, t3135);
-        let t3150: f64 = t3149.subtracted_from(t3148);
-        let t3151 = product(t279, t3150);
-        let t3152: f64 = t3129.added_to(t3096);
-        let t3153: f64 = t3151.added_to(t3100);
-        let t3154: f64 = t3152 + t3153;
-        let t3155: f64 = t3147.subtracted_from(t3154);
-        let t3156 = product(t296, t3155);
-        let t3157 = product(t570, t3128);
-        let t3158 = product(t568, t3146);
-        let t3159: f64 = t279 * t3135;
-        let t3160: f64 = t3156.added_to(t3095);
-        let t3161: f64 = t3157.plus(t3160);
-        let t3162: f64 = t3158.plus(t3159);
-        let t3163: f64 = t3161 - t3162;
-        let t3164: f64 = t83 * t3163;
-        let t3165: f64 = -t3164;
-        let t3166: f64 = zc * wx;
-        let t3167: f64 = zc * t83;
-        let t3168 = product(t122, t3167);
-        let t3169: f64 = t3168.added_to(xc);
-        let t3170: f64 = t3169 * 4.0;
-        let t3171: f64 = wx * t3170;
-        let t3172: f64 = wx * t83;
-        let t3173 = product(t174, t3172);
-        let t3174: f64 = t3173.subtracted_from(wy);
-        let t3175: f64 = t3174 * 4.0;
-        let t3176: f64 = zc * t201;
-        let t3177: f64 = t231 * t3176;
-        let t3178 = product(t3175, t3177);
-        let t3179: f64 = t3178.subtracted_from(t3171);
-        let t3180: f64 = t3027 * 4.0;
-        let t3181: f64 = t3179 + t3180;
-        let t3182 = product(t882, t3181);
-        let t3183: f64 = zc * t279;
-        let t3184: f64 = t201 * t3183;
-        let t3185 = product(t3175, t3184);
-        let t3186: f64 = t291 * t3181;
-        let t3187: f64 = t3185.plus(t3186);
-        let t3188: f64 = t3057 - t3187;
-        let t3189 = product(t596, t3188);
-        let t3190 = product(t323, t3188);
-        let t3191 = product(t296, t3175);
-        let t3192: f64 = t3191.subtracted_from(t3123);
-        let t3193: f64 = t83 * t3183;
-        let t3194: f64 = t3192 * t3193;
-        let t3195 = product(t321, t3181);
-        let t3196: f64 = t3195.added_to(t3194);
-        let t3197: f64 = t3190.minus(t3196);
-        let t3198: f64 = t3123 + t3197;
-        let t3199: f64 = t599 * t3198;
-        let t3200: f64 = wx * t254;
-        let t3201: f64 = t83 * t3200;
-        let t3202 = product(t611, t3175);
-        let t3203: f64 = t3201 * 4.0;
-        let t3204: f64 = t3202.subtracted_from(t3203);
-        let t3205 = product(zc, t3204);
-        let t3206: f64 = t3182.plus(t3199);
-        let t3207: f64 = t3205.plus(t3206);
-        let t3208: f64 = t3189.subtracted_from(t3207);
-        let t3209 = product(t550, t3208);
-        let t3210: f64 = t3209.added_to(t3123);
-        let t3211: f64 = t3197 + t3210;
-        let t3212 = product(t563, t3211);
-        let t3213 = product(t554, t3211);
-        let t3214 = product(t556, t3208);
-        let t3215: f64 = t3213.added_to(t3057);
-        let t3216: f64 = t3214.added_to(t3187);
-        let t3217: f64 = t3215 - t3216;
-        let t3218 = product(t561, t3217);
-        let t3219 = product(t548, t3208);
-        let t3220: f64 = t3212.added_to(t3180);
-        let t3221: f64 = t3218.added_to(t3179);
-        let t3222: f64 = t3220 + t3221;
-        let t3223: f64 = t3219.subtracted_from(t3222);
-        let t3224 = product(t568, t3223);
-        let t3225 = product(t587, t3211);
-        let t3226 = product(zc, t3175);
-        let t3227 = product(t572, t3223);
-        let t3228: f64 = t574 * t3208;
-        let t3229 = product(t289, t3217);
-        let t3230: f64 = t577 * t3211;
-        let t3231: f64 = t3229.minus(t3230);
-        let t3232 = product(t279, t3231);
-        let t3233: f64 = t3226.plus(t3228);
-        let t3234: f64 = t3232.plus(t3233);
-        let t3235: f64 = t3227.subtracted_from(t3234);
-        let t3236 = product(t296, t3235);
-        let t3237: f64 = t570 * t3208;
-        let t3238: f64 = t3166 * 4.0;
-        let t3239: f64 = t3224.plus(t3238);
-        let t3240: f64 = t3225.plus(t3239);
-        let t3241: f64 = t3236.plus(t3237);
-        let t3242: f64 = t3240 - t3241;
-        let t3243: f64 = t83 * t3242;
-        let t3244: f64 = -t3243;
-        let t3245: f64 = t201 * t2762;
-        let t3246 = product(t201, t2818);
-        let t3247 = product(t614, t2880);
-        let t3248 = product(t597, t2866);
-        let t3249 = product(t289, t2844);
-        let t3250 = product(t320, t2856);
-        let t3251: f64 = t600 * t2866;
-        let t3252: f64 = t3250.minus(t3251);
-        let t3253: f64 = t323 * t3252;
-        let t3254: f64 = t3249.minus(t3253);
-        let t3255: f64 = t3248.minus(t3254);
-        let t3256: f64 = -t3255;
-        let t3257: f64 = t282 * t3256;
-        let t3258 = product(t608, t3252);
-        let t3259: f64 = t612 * t2866;
-        let t3260: f64 = t3246.plus(t3257);
+        let t3056: f64 = t3048.subtracted_from(t3055);
+        let t3057 = product(t282, t3056);
+        let t3058: f64 = t3057.added_to(t3051);
+        let t3059: f64 = t3045.plus(t3047);
+        let t3060: f64 = t3058 - t3059;
+        let t3061: f64 = t82 * t3060;
+        let t3062: f64 = -t3061;
+        let t3063 = product(t182, t2532);
+        let t3064 = product(t597, t2595);
+        let t3065 = product(t580, t2582);
+        let t3066 = product(t271, t2558);
+        let t3067: f64 = t2078 * t2584;
+        let t3068: f64 = t3066.minus(t3067);
+        let t3069: f64 = t3065.plus(t3068);
+        let t3070: f64 = t260 * t3069;
+        let t3071 = product(t2093, t2584);
+        let t3072: f64 = t595 * t2582;
+        let t3073: f64 = t3064.plus(t3072);
+        let t3074: f64 = t3063.plus(t3070);
+        let t3075: f64 = t3071.plus(t3074);
+        let t3076: f64 = t3073 - t3075;
+        let t3077: f64 = t182 * t2724;
+        let t3078 = product(t182, t2764);
+        let t3079 = product(t224, t2779);
+        let t3080: f64 = t2284 * t2817;
+        let t3081: f64 = t3079.plus(t3080);
+        let t3082 = product(t313, t2801);
+        let t3083: f64 = t583 * t2808;
+        let t3084: f64 = t3082.plus(t3083);
+        let t3085 = product(t314, t3084);
+        let t3086: f64 = t2087 * t2808;
+        let t3087: f64 = t3085.plus(t3086);
+        let t3088: f64 = t3081 + t3087;
+        let t3089: f64 = t242 * t3088;
+        let t3090 = product(t2318, t2817);
+        let t3091: f64 = t591 * t3084;
+        let t3092 = product(t595, t2808);
+        let t3093: f64 = t3090.plus(t3091);
+        let t3094: f64 = t3092.plus(t3093);
+        let t3095: f64 = t3078.plus(t3089);
+        let t3096: f64 = t3094 - t3095;
+        let t3097 = product(t182, t2854);
+        let t3098 = product(t224, t2860);
+        let t3099: f64 = t2284 * t2889;
+        let t3100: f64 = t3098.plus(t3099);
+        let t3101 = product(t313, t2874);
+        let t3102: f64 = t583 * t2881;
+        let t3103: f64 = t3101.minus(t3102);
+        let t3104 = product(t314, t3103);
+        let t3105: f64 = t2087 * t2881;
+        let t3106: f64 = t3104.minus(t3105);
+        let t3107: f64 = t3100 + t3106;
+        let t3108: f64 = t242 * t3107;
+        let t3109 = product(t2318, t2889);
+        let t3110: f64 = t591 * t3103;
+        let t3111 = product(t595, t2881);
+        let t3112: f64 = t3109.plus(t3110);
+        let t3113: f64 = t3097.plus(t3108);
+        let t3114: f64 = t3111.plus(t3113);
+        let t3115: f64 = t3112 - t3114;
+        let t3116: f64 = t182 * t2979;
+        let t3117 = product(t182, t2998);
+        let t3118 = product(t597, t3044);
+        let t3119 = product(t580, t3029);
+        let t3120 = product(t271, t3013);
+        let t3121: f64 = t2078 * t3032;
+        let t3122: f64 = t3120.minus(t3121);
+        let t3123: f64 = t3119.minus(t3122);
+        let t3124: f64 = -t3123;
+        let t3125: f64 = t260 * t3124;
+        let t3126 = product(t2093, t3032);
+        let t3127: f64 = t595 * t3029;
+        let t3128: f64 = t3117.plus(t3125);
+        let t3129: f64 = t3126.plus(t3127);
+        let t3130: f64 = t3128 + t3129;
+        let t3131: f64 = t3118.minus(t3130);
+        let t3132: f64 = t224 * t2595;
+        let t3133: f64 = t224 * t2712;
+        let t3134: f64 = -t3088;
+        let t3135: f64 = -t3107;
+        let t3136 = product(t224, t2934);
+        let t3137: f64 = t2284 * t2964;
+        let t3138 = product(t313, t2947);
+        let t3139: f64 = t583 * t2954;
+        let t3140: f64 = t3138.plus(t3139);
+        let t3141 = product(t314, t3140);
+        let t3142: f64 = t2087 * t2954;
+        let t3143: f64 = t3136.plus(t3137);
+        let t3144: f64 = t3141.plus(t3142);
+        let t3145: f64 = t3143 + t3144;
+        let t3146: f64 = -t3145;
+        let t3147: f64 = t224 * t3044;
+        let t3148: f64 = -t3069;
+        let t3149 = product(t271, t2674);
+        let t3150 = product(t313, t2686);
+        let t3151: f64 = t583 * t2696;
+        let t3152: f64 = t3150.minus(t3151);
+        let t3153: f64 = t316 * t3152;
+        let t3154 = product(t580, t2696);
+        let t3155: f64 = t3149.plus(t3153);
+        let t3156: f64 = t3154.minus(t3155);
+        let t3157: f64 = t271 * t2817;
+        let t3158: f64 = t271 * t2889;
+        let t3159: f64 = t271 * t2964;
+        let t3160: f64 = t313 * t2584;
+        let t3161: f64 = -t3152;
+        let t3162: f64 = -t3084;
+        let t3163: f64 = -t3103;
+        let t3164: f64 = -t3140;
+        let t3165: f64 = t313 * t3032;
+        let t3166: f64 = t330 * t2582;
+        let t3167: f64 = -t3166;
+        let t3168: f64 = t330 * t2696;
+        let t3169: f64 = t330 * t2808;
+        let t3170: f64 = -t3169;
+        let t3171: f64 = t330 * t2881;
+        let t3172: f64 = t330 * t2954;
+        let t3173: f64 = -t3172;
+        let t3174: f64 = t330 * t3029;
+        let t3175: f64 = t47 * t182;
+        let t3176 = product(t241, t3175);
+        let t3177 = product(t206, t3175);
+        let t3178: f64 = t3177.subtracted_from(yc);
+        let t3179: f64 = t835 * t3178;
+        let t3180: f64 = t47 * t257;
+        let t3181 = product(t182, t3180);
+        let t3182: f64 = t273 * t3178;
+        let t3183: f64 = t3181.plus(t3182);
+        let t3184: f64 = t3183 - 1.0;
+        let t3185 = product(t579, t3184);
+        let t3186: f64 = t47 * t281;
+        let t3187: f64 = t82 * t3186;
+        let t3188: f64 = t159 * t3187;
+        let t3189 = product(t182, t3188);
+        let t3190: f64 = t314 * t3178;
+        let t3191: f64 = t3189.plus(t3190);
+        let t3192 = product(t316, t3184);
+        let t3193: f64 = t3192.subtracted_from(t3191);
+        let t3194 = product(t582, t3193);
+        let t3195: f64 = t3176.plus(t3179);
+        let t3196: f64 = t3194.plus(t3195);
+        let t3197: f64 = t3185.subtracted_from(t3196);
+        let t3198 = product(t540, t3197);
+        let t3199 = product(t534, t3197);
+        let t3200: f64 = t3199.added_to(t3193);
+        let t3201: f64 = t538 * t3200;
+        let t3202: f64 = t3198.plus(t3201);
+        let t3203: f64 = t3202 + 1.0;
+        let t3204: f64 = t3183 - t3203;
+        let t3205 = product(t544, t3204);
+        let t3206: f64 = t532 * t3197;
+        let t3207 = product(t546, t3200);
+        let t3208: f64 = t3205.plus(t3206);
+        let t3209: f64 = t3207.plus(t3208);
+        let t3210: f64 = t3178 - t3209;
+        let t3211 = product(t551, t3210);
+        let t3212 = product(t553, t3197);
+        let t3213 = product(t555, t3210);
+        let t3214: f64 = t557 * t3204;
+        let t3215: f64 = t313 * t590;
+        let t3216 = product(t3200, t3215);
+        let t3217: f64 = t559 * t3197;
+        let t3218: f64 = t3213.plus(t3214);
+        let t3219: f64 = t3216.plus(t3217);
+        let t3220: f64 = t3218 + t3219;
+        let t3221: f64 = t47 - t3220;
+        let t3222: f64 = t282 * t3221;
+        let t3223: f64 = t561 * t3200;
+        let t3224: f64 = t3211.plus(t3223);
+        let t3225: f64 = t3212.plus(t3222);
+        let t3226: f64 = t3224 - t3225;
+        let t3227: f64 = t82 * t3226;
+        let t3228: f64 = t49 * t182;
+        let t3229 = product(t241, t3228);
+        let t3230 = product(t206, t3228);
+        let t3231: f64 = t3230.subtracted_from(yc);
+        let t3232: f64 = t835 * t3231;
+        let t3233: f64 = t49 * t257;
+        let t3234 = product(t182, t3233);
+        let t3235: f64 = t273 * t3231;
+        let t3236: f64 = t3234.plus(t3235);
+        let t3237: f64 = t3236 - 1.0;
+        let t3238 = product(t579, t3237);
+        let t3239: f64 = t49 * t281;
+        let t3240: f64 = t82 * t3239;
+        let t3241: f64 = t159 * t3240;
+        let t3242 = product(t182, t3241);
+        let t3243: f64 = t314 * t3231;
+        let t3244: f64 = t3242.plus(t3243);
+        let t3245 = product(t316, t3237);
+        let t3246: f64 = t3245.subtracted_from(t3244);
+        let t3247 = product(t582, t3246);
+        let t3248: f64 = t3229.plus(t3232);
+        let t3249: f64 = t3247.plus(t3248);
+        let t3250: f64 = t3238.subtracted_from(t3249);
+        let t3251 = product(t540, t3250);
+        let t3252 = product(t534, t3250);
+        let t3253: f64 = t3252.added_to(t3246);
+        let t3254: f64 = t538 * t3253;
+        let t3255: f64 = t3251.plus(t3254);
+        let t3256: f64 = t3255 + 1.0;
+        let t3257: f64 = t3236 - t3256;
+        let t3258 = product(t544, t3257);
+        let t3259: f64 = t532 * t3250;
+        let t3260 = product(t546, t3253);
         let t3261: f64 = t3258.plus(t3259);
-        let t3262: f64 = t3260 + t3261;
-        let t3263: f64 = t3247.minus(t3262);
-        let t3264 = product(t201, t2945);
-        let t3265 = product(t614, t3005);
-        let t3266: f64 = t2463 * t2998;
-        let t3267 = product(t320, t2982);
-        let t3268: f64 = t600 * t2989;
-        let t3269: f64 = t3267.plus(t3268);
-        let t3270: f64 = t608 * t3269;
-        let t3271 = product(t612, t2989);
-        let t3272: f64 = t3265.plus(t3266);
-        let t3273: f64 = t3271.plus(t3272);
-        let t3274: f64 = t3264.plus(t3270);
-        let t3275: f64 = t3273 - t3274;
-        let t3276 = product(t201, t3034);
-        let t3277 = product(t248, t3041);
-        let t3278: f64 = t2429 * t3069;
-        let t3279: f64 = t3277.plus(t3278);
-        let t3280 = product(t320, t3055);
-        let t3281: f64 = t600 * t3062;
-        let t3282: f64 = t3280.minus(t3281);
-        let t3283 = product(t321, t3282);
-        let t3284: f64 = t2236 * t3062;
-        let t3285: f64 = t3283.plus(t3284);
-        let t3286: f64 = t3279 + t3285;
-        let t3287: f64 = t265 * t3286;
-        let t3288 = product(t2463, t3069);
-        let t3289 = product(t608, t3282);
-        let t3290: f64 = t612 * t3062;
-        let t3291: f64 = t3276.plus(t3287);
-        let t3292: f64 = t3289.plus(t3290);
-        let t3293: f64 = t3291 + t3292;
-        let t3294: f64 = t3288.minus(t3293);
-        let t3295: f64 = t201 * t3155;
-        let t3296: f64 = t83 * t3166;
-        let t3297 = product(t174, t3296);
-        let t3298: f64 = t3297.subtracted_from(t1381);
-        let t3299: f64 = t3298 * 4.0;
-        let t3300 = product(t201, t3299);
-        let t3301 = product(t614, t3223);
-        let t3302: f64 = t254 * t3166;
-        let t3303: f64 = t83 * t3302;
-        let t3304 = product(t611, t3299);
-        let t3305 = product(t265, t3299);
-        let t3306: f64 = t3171 + t3180;
-        let t3307: f64 = t3305.subtracted_from(t3306);
-        let t3308 = product(t882, t3307);
-        let t3309 = product(t282, t3299);
-        let t3310: f64 = t291 * t3307;
-        let t3311: f64 = t3309.plus(t3310);
-        let t3312: f64 = t3057 - t3311;
-        let t3313: f64 = t596 * t3312;
-        let t3314 = product(t321, t3307);
-        let t3315 = product(t323, t3312);
-        let t3316: f64 = t3315.added_to(t3123);
-        let t3317: f64 = t3314.added_to(t3194);
+        let t3262: f64 = t3260.plus(t3261);
+        let t3263: f64 = t3231 - t3262;
+        let t3264 = product(t551, t3263);
+        let t3265 = product(t553, t3250);
+        let t3266 = product(t555, t3263);
+        let t3267: f64 = t557 * t3257;
+        let t3268 = product(t3215, t3253);
+        let t3269: f64 = t559 * t3250;
+        let t3270: f64 = t3266.plus(t3267);
+        let t3271: f64 = t3268.plus(t3269);
+        let t3272: f64 = t3270 + t3271;
+        let t3273: f64 = t49 - t3272;
+        let t3274: f64 = t282 * t3273;
+        let t3275: f64 = t561 * t3253;
+        let t3276: f64 = t3264.plus(t3275);
+        let t3277: f64 = t3265.plus(t3274);
+        let t3278: f64 = t3276 - t3277;
+        let t3279: f64 = t82 * t3278;
+        let t3280: f64 = t286 * t3000;
+        let t3281: f64 = t21 - t3280;
+        let t3282 = product(t835, t3281);
+        let t3283: f64 = zc * t257;
+        let t3284: f64 = t82 * t3283;
+        let t3285: f64 = t159 * t3284;
+        let t3286: f64 = t182 * t3285;
+        let t3287 = product(t273, t3281);
+        let t3288: f64 = t3287.added_to(t3286);
+        let t3289 = product(t579, t3288);
+        let t3290: f64 = zc * t281;
+        let t3291: f64 = t82 * t3290;
+        let t3292: f64 = t307 * t3291;
+        let t3293 = product(t314, t3281);
+        let t3294: f64 = t316 * t3288;
+        let t3295: f64 = t3293.minus(t3294);
+        let t3296: f64 = t3292 + t3295;
+        let t3297: f64 = t3296 - 1.0;
+        let t3298: f64 = t582 * t3297;
+        let t3299: f64 = t319 * t3000;
+        let t3300: f64 = t3289.plus(t3299);
+        let t3301: f64 = t3282.plus(t3298);
+        let t3302: f64 = t3300 - t3301;
+        let t3303 = product(t534, t3302);
+        let t3304: f64 = t3303.plus(1.0);
+        let t3305: f64 = t3296 - t3304;
+        let t3306: f64 = t561 * t3305;
+        let t3307: f64 = zc - t3306;
+        let t3308 = product(t187, t3307);
+        let t3309 = product(t538, t3305);
+        let t3310 = product(t540, t3302);
+        let t3311: f64 = t3310.added_to(t3288);
+        let t3312: f64 = t3309.subtracted_from(t3311);
+        let t3313 = product(t544, t3312);
+        let t3314: f64 = t546 * t3305;
+        let t3315 = product(t532, t3302);
+        let t3316: f64 = t3315.added_to(t3281);
+        let t3317: f64 = t3313.plus(t3314);
         let t3318: f64 = t3316 - t3317;
-        let t3319 = product(t599, t3318);
-        let t3320: f64 = t3303 * 4.0;
-        let t3321: f64 = t3308.plus(t3320);
-        let t3322: f64 = t3319.plus(t3321);
-        let t3323: f64 = t3304.plus(t3313);
-        let t3324: f64 = t3322 - t3323;
-        let t3325 = product(t597, t3324);
-        let t3326 = product(t289, t3312);
-        let t3327: f64 = t2227 * t3211;
-        let t3328: f64 = t3326.plus(t3327);
-        let t3329: f64 = t3325.minus(t3328);
-        let t3330: f64 = -t3329;
-        let t3331: f64 = t282 * t3330;
-        let t3332: f64 = t2242 * t3211;
-        let t3333 = product(t612, t3324);
-        let t3334: f64 = t3301.plus(t3332);
-        let t3335: f64 = t3300.plus(t3331);
-        let t3336: f64 = t3333.plus(t3335);
-        let t3337: f64 = t3334 - t3336;
-        let t3338 = product(t248, t2707);
-        let t3339 = product(t597, t2739);
-        let t3340 = product(t289, t2715);
-        let t3341: f64 = t2227 * t2742;
-        let t3342: f64 = t3340.plus(t3341);
-        let t3343: f64 = t3339.plus(t3342);
-        let t3344 = product(t291, t3343);
-        let t3345: f64 = t2234 * t2742;
-        let t3346 = product(t2236, t2739);
-        let t3347: f64 = t3344.plus(t3345);
-        let t3348: f64 = t3346.plus(t3347);
-        let t3349: f64 = t3338.subtracted_from(t3348);
-        let t3350: f64 = t248 * t2880;
-        let t3351: f64 = t248 * t3005;
-        let t3352: f64 = -t3286;
-        let t3353 = product(t248, t3108);
-        let t3354: f64 = t2429 * t3139;
-        let t3355 = product(t320, t3121);
-        let t3356: f64 = t600 * t3128;
-        let t3357: f64 = t3355.plus(t3356);
-        let t3358 = product(t321, t3357);
-        let t3359 = product(t2236, t3128);
-        let t3360: f64 = t3353.plus(t3354);
-        let t3361: f64 = t3358.plus(t3360);
-        let t3362: f64 = t3359.minus(t3361);
-        let t3363: f64 = t248 * t3223;
-        let t3364: f64 = -t3343;
-        let t3365: f64 = t320 * t2742;
-        let t3366: f64 = -t3252;
-        let t3367: f64 = -t3269;
-        let t3368: f64 = -t3282;
-        let t3369: f64 = -t3357;
-        let t3370: f64 = t320 * t3211;
-        let t3371: f64 = t338 * t2739;
+        let t3319 = product(t555, t3318);
+        let t3320: f64 = t557 * t3312;
+        let t3321: f64 = t3319.plus(t3320);
+        let t3322 = product(t559, t3302);
+        let t3323: f64 = t3322.subtracted_from(t3321);
+        let t3324: f64 = t3308.subtracted_from(t3323);
+        let t3325: f64 = t182 * t3324;
+        let t3326: f64 = -t3325;
+        let t3327 = product(t159, t3326);
+        let t3328 = product(t551, t3318);
+        let t3329 = product(t553, t3302);
+        let t3330: f64 = t3328.added_to(t3306);
+        let t3331: f64 = t3329.plus(t3330);
+        let t3332: f64 = t3327.subtracted_from(t3331);
+        let t3333 = product(t82, t3332);
+        let t3334: f64 = t3333.subtracted_from(t3000);
+        let t3335: f64 = t34 - t3280;
+        let t3336 = product(t835, t3335);
+        let t3337 = product(t273, t3335);
+        let t3338: f64 = t3337.added_to(t3286);
+        let t3339 = product(t579, t3338);
+        let t3340 = product(t314, t3335);
+        let t3341: f64 = t3340.added_to(t3292);
+        let t3342 = product(t316, t3338);
+        let t3343: f64 = t3342.subtracted_from(t3341);
+        let t3344: f64 = t3343 - 1.0;
+        let t3345: f64 = t582 * t3344;
+        let t3346: f64 = t3339.added_to(t3299);
+        let t3347: f64 = t3336.plus(t3345);
+        let t3348: f64 = t3346 - t3347;
+        let t3349 = product(t534, t3348);
+        let t3350: f64 = t3349.plus(1.0);
+        let t3351: f64 = t3343 - t3350;
+        let t3352: f64 = t561 * t3351;
+        let t3353: f64 = zc - t3352;
+        let t3354 = product(t187, t3353);
+        let t3355 = product(t538, t3351);
+        let t3356 = product(t540, t3348);
+        let t3357: f64 = t3356.added_to(t3338);
+        let t3358: f64 = t3355.subtracted_from(t3357);
+        let t3359 = product(t544, t3358);
+        let t3360: f64 = t546 * t3351;
+        let t3361 = product(t532, t3348);
+        let t3362: f64 = t3361.added_to(t3335);
+        let t3363: f64 = t3359.plus(t3360);
+        let t3364: f64 = t3362 - t3363;
+        let t3365 = product(t555, t3364);
+        let t3366: f64 = t557 * t3358;
+        let t3367: f64 = t3365.plus(t3366);
+        let t3368 = product(t559, t3348);
+        let t3369: f64 = t3368.subtracted_from(t3367);
+        let t3370: f64 = t3354.subtracted_from(t3369);
+        let t3371: f64 = t182 * t3370;
         let t3372: f64 = -t3371;
-        let t3373: f64 = t338 * t2866;
-        let t3374: f64 = t338 * t2989;
-        let t3375: f64 = -t3374;
-        let t3376: f64 = t338 * t3062;
-        let t3377: f64 = t338 * t3128;
-        let t3378: f64 = -t3377;
-        let t3379: f64 = t338 * t3324;
-        let t3380: f64 = t50 * t201;
-        let t3381 = product(t264, t3380);
-        let t3382 = product(t231, t3380);
-        let t3383: f64 = t3382.subtracted_from(yc);
-        let t3384 = product(t882, t3383);
-        let t3385: f64 = t50 * t279;
-        let t3386 = product(t201, t3385);
-        let t3387: f64 = t291 * t3383;
-        let t3388: f64 = t3386.plus(t3387);
-        let t3389: f64 = t3388 - 1.0;
-        let t3390: f64 = t596 * t3389;
-        let t3391: f64 = t83 * t3385;
-        let t3392: f64 = t174 * t3391;
-        let t3393 = product(t201, t3392);
-        let t3394: f64 = t321 * t3383;
-        let t3395: f64 = t3393.minus(t3394);
-        let t3396 = product(t323, t3389);
-        let t3397: f64 = t3396.subtracted_from(t3395);
-        let t3398 = product(t599, t3397);
-        let t3399: f64 = t3384.plus(t3390);
-        let t3400: f64 = t3398.plus(t3399);
-        let t3401: f64 = t3381.minus(t3400);
-        let t3402 = product(t550, t3401);
-        let t3403: f64 = t3402.subtracted_from(t3397);
-        let t3404 = product(t554, t3403);
-        let t3405: f64 = t556 * t3401;
-        let t3406: f64 = t3404.plus(t3405);
-        let t3407: f64 = t3406 + 1.0;
-        let t3408: f64 = t3388 - t3407;
-        let t3409 = product(t561, t3408);
-        let t3410 = product(t563, t3403);
-        let t3411: f64 = t548 * t3401;
-        let t3412: f64 = t3410.plus(t3411);
-        let t3413: f64 = t3383 + t3412;
-        let t3414: f64 = t3409.subtracted_from(t3413);
-        let t3415 = product(t568, t3414);
-        let t3416: f64 = t587 * t3403;
-        let t3417 = product(t570, t3401);
-        let t3418 = product(t572, t3414);
-        let t3419: f64 = t574 * t3401;
-        let t3420: f64 = t289 * t3408;
-        let t3421 = product(t577, t3403);
-        let t3422: f64 = t3421.added_to(t3420);
-        let t3423 = product(t279, t3422);
-        let t3424: f64 = t3418.plus(t3419);
-        let t3425: f64 = t3423.plus(0.2);
-        let t3426: f64 = t3424 + t3425;
-        let t3427: f64 = zc - t3426;
-        let t3428 = product(t296, t3427);
-        let t3429: f64 = t3415.plus(t3416);
-        let t3430: f64 = t3417.plus(t3429);
-        let t3431: f64 = t3428.subtracted_from(t3430);
-        let t3432: f64 = t83 * t3431;
-        let t3433: f64 = -t3432;
-        let t3434: f64 = t52 * t201;
-        let t3435 = product(t264, t3434);
-        let t3436 = product(t231, t3434);
-        let t3437: f64 = t3436.subtracted_from(yc);
-        let t3438 = product(t882, t3437);
-        let t3439: f64 = t52 * t279;
-        let t3440 = product(t201, t3439);
-        let t3441: f64 = t291 * t3437;
-        let t3442: f64 = t3440.plus(t3441);
-        let t3443: f64 = t3442 - 1.0;
-        let t3444: f64 = t596 * t3443;
-        let t3445: f64 = t83 * t3439;
-        let t3446: f64 = t174 * t3445;
-        let t3447 = product(t201, t3446);
-        let t3448: f64 = t321 * t3437;
-        let t3449: f64 = t3447.minus(t3448);
-        let t3450 = product(t323, t3443);
-        let t3451: f64 = t3450.subtracted_from(t3449);
-        let t3452 = product(t599, t3451);
-        let t3453: f64 = t3438.plus(t3444);
-        let t3454: f64 = t3452.plus(t3453);
-        let t3455: f64 = t3435.minus(t3454);
-        let t3456 = product(t550, t3455);
-        let t3457: f64 = t3456.subtracted_from(t3451);
-        let t3458 = product(t554, t3457);
-        let t3459: f64 = t556 * t3455;
-        let t3460: f64 = t3458.plus(t3459);
-        let t3461: f64 = t3460 + 1.0;
-        let t3462: f64 = t3442 - t3461;
-        let t3463 = product(t561, t3462);
-        let t3464 = product(t563, t3457);
-        let t3465: f64 = t548 * t3455;
-        let t3466: f64 = t3464.plus(t3465);
-        let t3467: f64 = t3437 + t3466;
-        let t3468: f64 = t3463.subtracted_from(t3467);
-        let t3469 = product(t568, t3468);
-        let t3470: f64 = t587 * t3457;
-        let t3471 = product(t570, t3455);
-        let t3472 = product(t572, t3468);
-        let t3473: f64 = t574 * t3455;
-        let t3474: f64 = t289 * t3462;
-        let t3475 = product(t577, t3457);
-        let t3476: f64 = t3475.added_to(t3474);
-        let t3477 = product(t279, t3476);
-        let t3478: f64 = t3472.plus(t3473);
-        let t3479: f64 = t3477.plus(t3478);
-        let t3480: f64 = t52 - t3479;
-        let t3481 = product(t296, t3480);
-        let t3482: f64 = t3469.plus(t3470);
-        let t3483: f64 = t3471.plus(t3482);
-        let t3484: f64 = t3481.subtracted_from(t3483);
-        let t3485: f64 = t83 * t3484;
-        let t3486: f64 = -t3485;
-        let t3487 = product(t300, t3167);
-        let t3488: f64 = t3487.added_to(xc);
-        let t3489: f64 = t3488 - 0.2;
-        let t3490 = product(t882, t3489);
-        let t3491: f64 = t174 * t3193;
-        let t3492: f64 = t201 * t3491;
-        let t3493 = product(t291, t3489);
-        let t3494: f64 = t3493.subtracted_from(t3492);
-        let t3495 = product(t596, t3494);
-        let t3496: f64 = t315 * t3193;
-        let t3497 = product(t321, t3489);
-        let t3498: f64 = t323 * t3494;
-        let t3499: f64 = t3497.minus(t3498);
-        let t3500: f64 = t3496 + t3499;
-        let t3501: f64 = t3500 - 1.0;
-        let t3502: f64 = t599 * t3501;
-        let t3503: f64 = t327 * t3167;
-        let t3504: f64 = t3490.plus(t3503);
-        let t3505: f64 = t3495.plus(t3502);
-        let t3506: f64 = t3504 - t3505;
-        let t3507 = product(t550, t3506);
-        let t3508: f64 = t3507.plus(1.0);
-        let t3509: f64 = t3500 - t3508;
-        let t3510 = product(t587, t3509);
-        let t3511: f64 = t174 * t3167;
-        let t3512 = product(t554, t3509);
-        let t3513: f64 = t556 * t3506;
+        let t3373 = product(t159, t3372);
+        let t3374 = product(t551, t3364);
+        let t3375 = product(t553, t3348);
+        let t3376: f64 = t3374.added_to(t3352);
+        let t3377: f64 = t3375.plus(t3376);
+        let t3378: f64 = t3373.subtracted_from(t3377);
+        let t3379 = product(t82, t3378);
+        let t3380: f64 = t3379.subtracted_from(t3000);
+        let t3381: f64 = t42 * t231;
+        let t3382 = product(t82, t3381);
+        let t3383: f64 = t42 * t82;
+        let t3384 = product(t159, t3383);
+        let t3385: f64 = t3384.subtracted_from(xc);
+        let t3386: f64 = t594 * t3385;
+        let t3387 = product(t123, t3383);
+        let t3388: f64 = t242 * t3385;
+        let t3389: f64 = t3387.minus(t3388);
+        let t3390 = product(t835, t3389);
+        let t3391 = product(t260, t3385);
+        let t3392: f64 = t273 * t3389;
+        let t3393: f64 = t3391.plus(t3392);
+        let t3394 = product(t579, t3393);
+        let t3395 = product(t282, t3385);
+        let t3396: f64 = t3395.subtracted_from(t42);
+        let t3397 = product(t287, t3396);
+        let t3398 = product(t314, t3389);
+        let t3399: f64 = t316 * t3393;
+        let t3400: f64 = t3398.minus(t3399);
+        let t3401: f64 = t3397.minus(t3400);
+        let t3402: f64 = t582 * t3401;
+        let t3403: f64 = t3382.plus(t3386);
+        let t3404: f64 = t3390.plus(t3403);
+        let t3405: f64 = t3394.plus(t3402);
+        let t3406: f64 = t3405 + 1.0;
+        let t3407: f64 = t3404 - t3406;
+        let t3408 = product(t559, t3407);
+        let t3409 = product(t534, t3407);
+        let t3410: f64 = t3409.minus(t3401);
+        let t3411: f64 = t313 * t3410;
+        let t3412: f64 = -t3411;
+        let t3413 = product(t302, t3412);
+        let t3414 = product(t540, t3407);
+        let t3415: f64 = t3413.added_to(t3393);
+        let t3416: f64 = t3414.subtracted_from(t3415);
+        let t3417 = product(t544, t3416);
+        let t3418 = product(t294, t3412);
+        let t3419: f64 = t532 * t3407;
+        let t3420: f64 = t3418.added_to(t3389);
+        let t3421: f64 = t3417.plus(t3419);
+        let t3422: f64 = t3420 - t3421;
+        let t3423: f64 = t555 * t3422;
+        let t3424 = product(t557, t3416);
+        let t3425 = product(t281, t3412);
+        let t3426: f64 = t3425.subtracted_from(t42);
+        let t3427: f64 = t187 * t3426;
+        let t3428: f64 = t3408.plus(t3423);
+        let t3429: f64 = t3424.plus(t3427);
+        let t3430: f64 = t3428 + t3429;
+        let t3431: f64 = xc - t3430;
+        let t3432 = product(t282, t3431);
+        let t3433: f64 = t553 * t3407;
+        let t3434 = product(t551, t3422);
+        let t3435: f64 = t3434.added_to(t3426);
+        let t3436: f64 = t3432.plus(t3433);
+        let t3437: f64 = t3435 - t3436;
+        let t3438: f64 = t82 * t3437;
+        let t3439: f64 = -t3438;
+        let t3440: f64 = t44 * t231;
+        let t3441 = product(t82, t3440);
+        let t3442: f64 = t44 * t82;
+        let t3443 = product(t159, t3442);
+        let t3444: f64 = t3443.subtracted_from(xc);
+        let t3445: f64 = t594 * t3444;
+        let t3446 = product(t123, t3442);
+        let t3447: f64 = t242 * t3444;
+        let t3448: f64 = t3446.minus(t3447);
+        let t3449 = product(t835, t3448);
+        let t3450 = product(t260, t3444);
+        let t3451: f64 = t273 * t3448;
+        let t3452: f64 = t3450.plus(t3451);
+        let t3453 = product(t579, t3452);
+        let t3454 = product(t282, t3444);
+        let t3455: f64 = t3454.subtracted_from(t44);
+        let t3456 = product(t287, t3455);
+        let t3457 = product(t314, t3448);
+        let t3458: f64 = t316 * t3452;
+        let t3459: f64 = t3457.minus(t3458);
+        let t3460: f64 = t3456.minus(t3459);
+        let t3461: f64 = t582 * t3460;
+        let t3462: f64 = t3441.plus(t3445);
+        let t3463: f64 = t3449.plus(t3462);
+        let t3464: f64 = t3453.plus(t3461);
+        let t3465: f64 = t3464 + 1.0;
+        let t3466: f64 = t3463 - t3465;
+        let t3467 = product(t559, t3466);
+        let t3468 = product(t534, t3466);
+        let t3469: f64 = t3468.minus(t3460);
+        let t3470: f64 = t313 * t3469;
+        let t3471: f64 = -t3470;
+        let t3472 = product(t302, t3471);
+        let t3473 = product(t540, t3466);
+        let t3474: f64 = t3472.added_to(t3452);
+        let t3475: f64 = t3473.subtracted_from(t3474);
+        let t3476 = product(t544, t3475);
+        let t3477 = product(t294, t3471);
+        let t3478: f64 = t532 * t3466;
+        let t3479: f64 = t3477.added_to(t3448);
+        let t3480: f64 = t3476.plus(t3478);
+        let t3481: f64 = t3479 - t3480;
+        let t3482: f64 = t555 * t3481;
+        let t3483 = product(t557, t3475);
+        let t3484 = product(t281, t3471);
+        let t3485: f64 = t3484.subtracted_from(t44);
+        let t3486: f64 = t187 * t3485;
+        let t3487: f64 = t3467.plus(t3482);
+        let t3488: f64 = t3483.plus(t3486);
+        let t3489: f64 = t3487 + t3488;
+        let t3490: f64 = xc - t3489;
+        let t3491 = product(t282, t3490);
+        let t3492: f64 = t553 * t3466;
+        let t3493 = product(t551, t3481);
+        let t3494: f64 = t3493.added_to(t3485);
+        let t3495: f64 = t3491.plus(t3492);
+        let t3496: f64 = t3494 - t3495;
+        let t3497: f64 = t82 * t3496;
+        let t3498: f64 = -t3497;
+        let t3499 = product(t597, t3210);
+        let t3500: f64 = t2318 * t3204;
+        let t3501 = product(t313, t3193);
+        let t3502: f64 = t583 * t3197;
+        let t3503: f64 = t3501.plus(t3502);
+        let t3504 = product(t591, t3503);
+        let t3505: f64 = t595 * t3197;
+        let t3506: f64 = t3499.plus(t3500);
+        let t3507: f64 = t3504.plus(t3505);
+        let t3508: f64 = t3506 + t3507;
+        let t3509: f64 = t3508 - t3175;
+        let t3510 = product(t597, t3263);
+        let t3511: f64 = t2318 * t3257;
+        let t3512 = product(t313, t3246);
+        let t3513: f64 = t583 * t3250;
         let t3514: f64 = t3512.plus(t3513);
-        let t3515: f64 = t3494 - t3514;
-        let t3516 = product(t561, t3515);
-        let t3517 = product(t563, t3509);
-        let t3518: f64 = t548 * t3506;
-        let t3519: f64 = t3516.added_to(t3488);
-        let t3520: f64 = t3517.plus(t3518);
-        let t3521: f64 = t3520 + 0.2;
-        let t3522: f64 = t3519 - t3521;
-        let t3523 = product(t572, t3522);
-        let t3524 = product(t574, t3506);
-        let t3525: f64 = t289 * t3515;
-        let t3526 = product(t577, t3509);
-        let t3527: f64 = t3526.added_to(t3525);
-        let t3528: f64 = t279 * t3527;
-        let t3529: f64 = t3523.added_to(t3511);
-        let t3530: f64 = t3524.plus(t3528);
-        let t3531: f64 = t3529 - t3530;
-        let t3532 = product(t296, t3531);
-        let t3533: f64 = t568 * t3522;
-        let t3534: f64 = t570 * t3506;
-        let t3535: f64 = t3510.plus(t3534);
-        let t3536: f64 = t3532.plus(t3533);
-        let t3537: f64 = t3535 - t3536;
-        let t3538 = product(t83, t3537);
-        let t3539: f64 = t3538.subtracted_from(t3167);
-        let t3540: f64 = t3488 + 0.2;
-        let t3541 = product(t882, t3540);
-        let t3542 = product(t291, t3540);
-        let t3543: f64 = t3542.subtracted_from(t3492);
-        let t3544 = product(t596, t3543);
-        let t3545 = product(t321, t3540);
-        let t3546: f64 = t3545.added_to(t3496);
-        let t3547 = product(t323, t3543);
-        let t3548: f64 = t3547.subtracted_from(t3546);
-        let t3549: f64 = t3548 - 1.0;
-        let t3550: f64 = t599 * t3549;
-        let t3551: f64 = t3541.added_to(t3503);
-        let t3552: f64 = t3544.plus(t3550);
-        let t3553: f64 = t3551 - t3552;
-        let t3554 = product(t550, t3553);
-        let t3555: f64 = t3554.plus(1.0);
-        let t3556: f64 = t3548 - t3555;
-        let t3557 = product(t587, t3556);
-        let t3558 = product(t554, t3556);
-        let t3559: f64 = t556 * t3553;
-        let t3560: f64 = t3558.plus(t3559);
-        let t3561: f64 = t3543 - t3560;
-        let t3562 = product(t561, t3561);
-        let t3563 = product(t563, t3556);
-        let t3564: f64 = t548 * t3553;
-        let t3565: f64 = t3562.added_to(t3488);
-        let t3566: f64 = t3565 + 0.2;
-        let t3567: f64 = t3563.plus(t3564);
-        let t3568: f64 = t3566 - t3567;
-        let t3569 = product(t572, t3568);
-        let t3570 = product(t574, t3553);
-        let t3571: f64 = t289 * t3561;
-        let t3572 = product(t577, t3556);
-        let t3573: f64 = t3572.added_to(t3571);
-        let t3574: f64 = t279 * t3573;
-        let t3575: f64 = t3569.added_to(t3511);
-        let t3576: f64 = t3570.plus(t3574);
-        let t3577: f64 = t3575 - t3576;
-        let t3578 = product(t296, t3577);
-        let t3579: f64 = t568 * t3568;
-        let t3580: f64 = t570 * t3553;
-        let t3581: f64 = t3557.plus(t3580);
-        let t3582: f64 = t3578.plus(t3579);
-        let t3583: f64 = t3581 - t3582;
-        let t3584 = product(t83, t3583);
-        let t3585: f64 = t3584.subtracted_from(t3167);
-        let t3586: f64 = t5 * t254;
-        let t3587 = product(t83, t3586);
-        let t3588: f64 = t5 * t83;
-        let t3589 = product(t174, t3588);
-        let t3590: f64 = t3589.added_to(xc);
-        let t3591: f64 = t611 * t3590;
-        let t3592 = product(t122, t3588);
-        let t3593: f64 = t265 * t3590;
-        let t3594: f64 = t3592.plus(t3593);
-        let t3595 = product(t882, t3594);
-        let t3596 = product(t282, t3590);
-        let t3597: f64 = t291 * t3594;
-        let t3598: f64 = t3596.minus(t3597);
-        let t3599 = product(t596, t3598);
-        let t3600 = product(t296, t3590);
-        let t3601: f64 = t3600.added_to(yc);
-        let t3602: f64 = t3601 - 0.2;
-        let t3603 = product(t301, t3602);
-        let t3604 = product(t321, t3594);
-        let t3605: f64 = t323 * t3598;
-        let t3606: f64 = t3604.minus(t3605);
-        let t3607: f64 = t3603.plus(t3606);
-        let t3608: f64 = t599 * t3607;
-        let t3609: f64 = t3587.plus(t3591);
-        let t3610: f64 = t3595.plus(t3609);
-        let t3611: f64 = t3599.plus(t3608);
-        let t3612: f64 = t3611 + 1.0;
-        let t3613: f64 = t3610 - t3612;
-        let t3614 = product(t548, t3613);
-        let t3615 = product(t550, t3613);
-        let t3616: f64 = t3615.subtracted_from(t3607);
-        let t3617 = product(t554, t3616);
-        let t3618: f64 = t556 * t3613;
-        let t3619: f64 = t3617.plus(t3618);
-        let t3620: f64 = t3598 - t3619;
-        let t3621 = product(t561, t3620);
-        let t3622: f64 = t563 * t3616;
-        let t3623: f64 = t3621.added_to(t3594);
-        let t3624: f64 = t3614.plus(t3622);
-        let t3625: f64 = t3623 - t3624;
-        let t3626 = product(t572, t3625);
-        let t3627 = product(t574, t3613);
-        let t3628 = product(t289, t3620);
-        let t3629: f64 = t577 * t3616;
-        let t3630: f64 = t3628.plus(t3629);
-        let t3631: f64 = t279 * t3630;
-        let t3632: f64 = t3626.added_to(t3590);
-        let t3633: f64 = t3627.plus(t3631);
-        let t3634: f64 = t3632 - t3633;
-        let t3635 = product(t296, t3634);
-        let t3636 = product(t568, t3625);
-        let t3637 = product(t570, t3613);
-        let t3638: f64 = t587 * t3616;
-        let t3639: f64 = t3635.added_to(yc);
-        let t3640: f64 = t3636.plus(t3639);
-        let t3641: f64 = t3637.plus(t3638);
-        let t3642: f64 = t3641 + 0.2;
-        let t3643: f64 = t3640 - t3642;
-        let t3644: f64 = t83 * t3643;
+        let t3515 = product(t591, t3514);
+        let t3516: f64 = t595 * t3250;
+        let t3517: f64 = t3510.plus(t3511);
+        let t3518: f64 = t3515.plus(t3516);
+        let t3519: f64 = t3517 + t3518;
+        let t3520: f64 = t3519 - t3228;
+        let t3521: f64 = t159 * t3000;
+        let t3522: f64 = t182 * t3521;
+        let t3523 = product(t3215, t3305);
+        let t3524: f64 = t3523.added_to(t3323);
+        let t3525 = product(t182, t3524);
+        let t3526: f64 = t3525.subtracted_from(t3522);
+        let t3527 = product(t3215, t3351);
+        let t3528: f64 = t3527.added_to(t3369);
+        let t3529 = product(t182, t3528);
+        let t3530: f64 = t3529.subtracted_from(t3522);
+        let t3531: f64 = t182 * t3431;
+        let t3532: f64 = t182 * t3490;
+        let t3533: f64 = t224 * t3210;
+        let t3534: f64 = t224 * t3263;
+        let t3535 = product(t206, t3522);
+        let t3536: f64 = t3535.added_to(t3001);
+        let t3537: f64 = t21 - t3536;
+        let t3538 = product(t224, t3537);
+        let t3539 = product(t835, t3537);
+        let t3540 = product(t273, t3537);
+        let t3541: f64 = t3540.added_to(t3286);
+        let t3542 = product(t579, t3541);
+        let t3543 = product(t314, t3537);
+        let t3544 = product(t316, t3541);
+        let t3545: f64 = t82 * t82;
+        let t3546: f64 = t3290 * t3545;
+        let t3547: f64 = t160 * t3546;
+        let t3548 = product(t182, t3547);
+        let t3549: f64 = t3548.added_to(t3291);
+        let t3550: f64 = t3543.plus(t3549);
+        let t3551: f64 = t3544.plus(1.0);
+        let t3552: f64 = t3550 - t3551;
+        let t3553: f64 = t582 * t3552;
+        let t3554: f64 = zc * t231;
+        let t3555 = product(t82, t3554);
+        let t3556: f64 = t241 * t3522;
+        let t3557: f64 = t3555.minus(t3556);
+        let t3558: f64 = t3542.plus(t3557);
+        let t3559: f64 = t3539.plus(t3553);
+        let t3560: f64 = t3558 - t3559;
+        let t3561 = product(t580, t3560);
+        let t3562 = product(t271, t3541);
+        let t3563: f64 = t2078 * t3305;
+        let t3564: f64 = t3562.minus(t3563);
+        let t3565: f64 = t3561.plus(t3564);
+        let t3566 = product(t273, t3565);
+        let t3567: f64 = t2085 * t3305;
+        let t3568: f64 = t2087 * t3560;
+        let t3569: f64 = t3566.plus(t3567);
+        let t3570: f64 = t3538.plus(t3568);
+        let t3571: f64 = t3569 - t3570;
+        let t3572: f64 = t34 - t3536;
+        let t3573 = product(t224, t3572);
+        let t3574 = product(t835, t3572);
+        let t3575 = product(t273, t3572);
+        let t3576: f64 = t3575.added_to(t3286);
+        let t3577 = product(t579, t3576);
+        let t3578 = product(t314, t3572);
+        let t3579 = product(t316, t3576);
+        let t3580: f64 = t3578.added_to(t3549);
+        let t3581: f64 = t3579.plus(1.0);
+        let t3582: f64 = t3580 - t3581;
+        let t3583: f64 = t582 * t3582;
+        let t3584: f64 = t3577.added_to(t3557);
+        let t3585: f64 = t3574.plus(t3583);
+        let t3586: f64 = t3584 - t3585;
+        let t3587 = product(t580, t3586);
+        let t3588 = product(t271, t3576);
+        let t3589: f64 = t2078 * t3351;
+        let t3590: f64 = t3588.minus(t3589);
+        let t3591: f64 = t3587.plus(t3590);
+        let t3592 = product(t273, t3591);
+        let t3593: f64 = t2085 * t3351;
+        let t3594: f64 = t2087 * t3586;
+        let t3595: f64 = t3592.plus(t3593);
+        let t3596: f64 = t3573.plus(t3594);
+        let t3597: f64 = t3595 - t3596;
+        let t3598 = product(t224, t3389);
+        let t3599 = product(t580, t3407);
+        let t3600 = product(t271, t3393);
+        let t3601 = product(t313, t3401);
+        let t3602: f64 = t583 * t3407;
+        let t3603: f64 = t3601.minus(t3602);
+        let t3604: f64 = t316 * t3603;
+        let t3605: f64 = t3600.plus(t3604);
+        let t3606: f64 = t3599.minus(t3605);
+        let t3607: f64 = -t3606;
+        let t3608 = product(t273, t3607);
+        let t3609: f64 = t314 * t3603;
+        let t3610: f64 = t2087 * t3407;
+        let t3611: f64 = t3608.plus(t3610);
+        let t3612: f64 = t3598.plus(t3609);
+        let t3613: f64 = t3611 - t3612;
+        let t3614 = product(t224, t3448);
+        let t3615 = product(t580, t3466);
+        let t3616 = product(t271, t3452);
+        let t3617 = product(t313, t3460);
+        let t3618: f64 = t583 * t3466;
+        let t3619: f64 = t3617.minus(t3618);
+        let t3620: f64 = t316 * t3619;
+        let t3621: f64 = t3616.plus(t3620);
+        let t3622: f64 = t3615.minus(t3621);
+        let t3623: f64 = -t3622;
+        let t3624 = product(t273, t3623);
+        let t3625: f64 = t314 * t3619;
+        let t3626: f64 = t2087 * t3466;
+        let t3627: f64 = t3624.plus(t3626);
+        let t3628: f64 = t3614.plus(t3625);
+        let t3629: f64 = t3627 - t3628;
+        let t3630: f64 = t271 * t3204;
+        let t3631: f64 = t271 * t3257;
+        let t3632: f64 = -t3565;
+        let t3633: f64 = -t3591;
+        let t3634: f64 = -t3503;
+        let t3635: f64 = -t3514;
+        let t3636: f64 = t313 * t3305;
+        let t3637: f64 = t313 * t3351;
+        let t3638: f64 = -t3603;
+        let t3639: f64 = -t3619;
+        let t3640: f64 = t330 * t3197;
+        let t3641: f64 = -t3640;
+        let t3642: f64 = t330 * t3250;
+        let t3643: f64 = -t3642;
+        let t3644: f64 = t330 * t3560;
         let t3645: f64 = -t3644;
-        let t3646: f64 = t9 * t254;
-        let t3647 = product(t83, t3646);
-        let t3648: f64 = t9 * t83;
-        let t3649 = product(t174, t3648);
-        let t3650: f64 = t3649.added_to(xc);
-        let t3651: f64 = t611 * t3650;
-        let t3652 = product(t122, t3648);
-        let t3653: f64 = t265 * t3650;
-        let t3654: f64 = t3652.plus(t3653);
-        let t3655 = product(t882, t3654);
-        let t3656 = product(t282, t3650);
-        let t3657: f64 = t291 * t3654;
-        let t3658: f64 = t3656.minus(t3657);
-        let t3659 = product(t596, t3658);
-        let t3660 = product(t296, t3650);
-        let t3661: f64 = t3660.added_to(yc);
-        let t3662: f64 = t3661 + 0.2;
-        let t3663 = product(t301, t3662);
-        let t3664 = product(t321, t3654);
-        let t3665: f64 = t323 * t3658;
-        let t3666: f64 = t3664.minus(t3665);
-        let t3667: f64 = t3663.plus(t3666);
-        let t3668: f64 = t599 * t3667;
-        let t3669: f64 = t3647.plus(t3651);
-        let t3670: f64 = t3655.plus(t3669);
-        let t3671: f64 = t3659.plus(t3668);
-        let t3672: f64 = t3671 + 1.0;
-        let t3673: f64 = t3670 - t3672;
-        let t3674 = product(t548, t3673);
-        let t3675 = product(t550, t3673);
-        let t3676: f64 = t3675.subtracted_from(t3667);
-        let t3677 = product(t554, t3676);
-        let t3678: f64 = t556 * t3673;
-        let t3679: f64 = t3677.plus(t3678);
-        let t3680: f64 = t3658 - t3679;
-        let t3681 = product(t561, t3680);
-        let t3682: f64 = t563 * t3676;
-        let t3683: f64 = t3681.added_to(t3654);
-        let t3684: f64 = t3674.plus(t3682);
-        let t3685: f64 = t3683 - t3684;
-        let t3686 = product(t572, t3685);
-        let t3687 = product(t574, t3673);
-        let t3688 = product(t289, t3680);
-        let t3689: f64 = t577 * t3676;
-        let t3690: f64 = t3688.plus(t3689);
-        let t3691: f64 = t279 * t3690;
-        let t3692: f64 = t3686.added_to(t3650);
-        let t3693: f64 = t3687.plus(t3691);
-        let t3694: f64 = t3692 - t3693;
-        let t3695 = product(t296, t3694);
-        let t3696 = product(t568, t3685);
-        let t3697 = product(t570, t3673);
-        let t3698: f64 = t587 * t3676;
-        let t3699: f64 = t3695.added_to(yc);
-        let t3700: f64 = t3696.plus(0.2);
-        let t3701: f64 = t3699 + t3700;
-        let t3702: f64 = t3697.plus(t3698);
-        let t3703: f64 = t3701 - t3702;
-        let t3704: f64 = t83 * t3703;
-        let t3705: f64 = -t3704;
-        let t3706 = product(t614, t3414);
-        let t3707: f64 = t2463 * t3408;
-        let t3708 = product(t2242, t3403);
-        let t3709: f64 = t612 * t3401;
-        let t3710: f64 = t3706.plus(t3707);
-        let t3711: f64 = t3708.plus(t3709);
-        let t3712: f64 = t3710 + t3711;
-        let t3713: f64 = t3712 - t3380;
-        let t3714 = product(t614, t3468);
-        let t3715: f64 = t2463 * t3462;
-        let t3716 = product(t2242, t3457);
-        let t3717: f64 = t612 * t3455;
-        let t3718: f64 = t3714.plus(t3715);
-        let t3719: f64 = t3716.plus(t3717);
-        let t3720: f64 = t3718 + t3719;
-        let t3721: f64 = t3720 - t3434;
-        let t3722: f64 = t201 * t3511;
-        let t3723 = product(t231, t3722);
-        let t3724: f64 = t3723.added_to(t3169);
-        let t3725: f64 = t3724 - 0.2;
-        let t3726 = product(t248, t3725);
-        let t3727: f64 = t2429 * t3515;
-        let t3728: f64 = t3726.plus(t3727);
-        let t3729 = product(t2234, t3509);
-        let t3730 = product(t882, t3725);
-        let t3731 = product(t291, t3725);
-        let t3732: f64 = t3731.subtracted_from(t3492);
-        let t3733 = product(t596, t3732);
-        let t3734 = product(t321, t3725);
-        let t3735 = product(t323, t3732);
-        let t3736: f64 = t83 * t83;
-        let t3737: f64 = t3183 * t3736;
-        let t3738: f64 = t175 * t3737;
-        let t3739 = product(t201, t3738);
-        let t3740: f64 = t3739.added_to(t3193);
-        let t3741: f64 = t3734.plus(t3740);
-        let t3742: f64 = t3735.plus(1.0);
-        let t3743: f64 = t3741 - t3742;
-        let t3744: f64 = t599 * t3743;
-        let t3745: f64 = zc * t254;
-        let t3746 = product(t83, t3745);
-        let t3747: f64 = t264 * t3722;
-        let t3748: f64 = t3746.plus(t3747);
-        let t3749: f64 = t3730.plus(t3748);
-        let t3750: f64 = t3733.plus(t3744);
-        let t3751: f64 = t3749 - t3750;
-        let t3752: f64 = t2236 * t3751;
-        let t3753: f64 = t3729.plus(t3752);
-        let t3754: f64 = t3728 - t3753;
-        let t3755 = product(t265, t3754);
-        let t3756 = product(t2463, t3515);
-        let t3757: f64 = t2242 * t3509;
-        let t3758 = product(t612, t3751);
-        let t3759: f64 = t3756.plus(t3757);
-        let t3760: f64 = t3758.plus(t3759);
-        let t3761: f64 = t3755.added_to(t3722);
-        let t3762: f64 = t3760 - t3761;
-        let t3763: f64 = t3724 + 0.2;
-        let t3764 = product(t248, t3763);
-        let t3765: f64 = t2429 * t3561;
-        let t3766: f64 = t3764.plus(t3765);
-        let t3767 = product(t2234, t3556);
-        let t3768 = product(t882, t3763);
-        let t3769 = product(t291, t3763);
-        let t3770: f64 = t3769.subtracted_from(t3492);
-        let t3771 = product(t596, t3770);
-        let t3772 = product(t321, t3763);
-        let t3773 = product(t323, t3770);
-        let t3774: f64 = t3772.added_to(t3740);
-        let t3775: f64 = t3773.plus(1.0);
-        let t3776: f64 = t3774 - t3775;
-        let t3777: f64 = t599 * t3776;
-        let t3778: f64 = t3768.added_to(t3748);
-        let t3779: f64 = t3771.plus(t3777);
-        let t3780: f64 = t3778 - t3779;
-        let t3781: f64 = t2236 * t3780;
-        let t3782: f64 = t3767.plus(t3781);
-        let t3783: f64 = t3766 - t3782;
-        let t3784 = product(t265, t3783);
-        let t3785 = product(t2463, t3561);
-        let t3786: f64 = t2242 * t3556;
-        let t3787 = product(t612, t3780);
-        let t3788: f64 = t3785.plus(t3786);
-        let t3789: f64 = t3787.plus(t3788);
-        let t3790: f64 = t3784.added_to(t3722);
-        let t3791: f64 = t3789 - t3790;
-        let t3792: f64 = t201 * t3634;
-        let t3793: f64 = t201 * t3694;
-        let t3794: f64 = t248 * t3414;
-        let t3795: f64 = t248 * t3468;
-        let t3796: f64 = -t3754;
-        let t3797: f64 = -t3783;
-        let t3798: f64 = t248 * t3625;
-        let t3799: f64 = t248 * t3685;
-        let t3800 = product(t289, t3598);
-        let t3801 = product(t320, t3607);
-        let t3802: f64 = t600 * t3613;
-        let t3803: f64 = t3801.minus(t3802);
-        let t3804 = product(t323, t3803);
-        let t3805: f64 = t597 * t3613;
-        let t3806: f64 = t3804.plus(t3805);
-        let t3807: f64 = t3800.subtracted_from(t3806);
-        let t3808 = product(t289, t3658);
-        let t3809 = product(t320, t3667);
-        let t3810: f64 = t600 * t3673;
-        let t3811: f64 = t3809.minus(t3810);
-        let t3812 = product(t323, t3811);
-        let t3813: f64 = t597 * t3673;
-        let t3814: f64 = t3812.plus(t3813);
-        let t3815: f64 = t3808.subtracted_from(t3814);
-        let t3816: f64 = t320 * t3403;
-        let t3817: f64 = t320 * t3457;
-        let t3818: f64 = t320 * t3509;
-        let t3819: f64 = t320 * t3556;
-        let t3820: f64 = -t3803;
-        let t3821: f64 = -t3811;
-        let t3822: f64 = t338 * t3401;
-        let t3823: f64 = -t3822;
-        let t3824: f64 = t338 * t3455;
-        let t3825: f64 = -t3824;
-        let t3826: f64 = t338 * t3751;
-        let t3827: f64 = -t3826;
-        let t3828: f64 = t338 * t3780;
-        let t3829: f64 = -t3828;
-        let t3830: f64 = t338 * t3613;
-        let t3831: f64 = t338 * t3673;
+        let t3646: f64 = t330 * t3586;
+        let t3647: f64 = -t3646;
+        let t3648: f64 = t330 * t3407;
+        let t3649: f64 = t330 * t3466;
         (
-            t3010,
-            t3026,
-            t3079,
-            t3093,
+            t3062,
+            t3076,
+            t3077,
+            t3096,
+            t3115,
+            t3116,
+            t3123,
+            t3131,
+            t3132,
+            t3133,
+            t3134,
+            t3135,
+            t3146,
+            t3147,
             t3148,
+            t3156,
+            t3157,
+            t3158,
+            t3159,
+            t3160,
+            t3161,
+            t3162,
+            t3163,
+            t3164,
             t3165,
-            t3244,
-            t3245,
-            t3255,
-            t3263,
-            t3275,
-            t3294,
-            t3295,
-            t3329,
-            t3337,
-            t3349,
-            t3350,
-            t3351,
-            t3352,
-            t3362,
-            t3363,
-            t3364,
-            t3365,
-            t3366,
-            t3367,
-            t3368,
-            t3369,
-            t3370,
-            t3372,
-            t3373,
-            t3375,
-            t3376,
-            t3378,
-            t3379,
-            t3420,
-            t3433,
-            t3474,
-            t3486,
-            t3525,
-            t3539,
+            t3167,
+            t3168,
+            t3170,
+            t3171,
+            t3173,
+            t3174,
+            t3227,
+            t3279,
+            t3334,
+            t3380,
+            t3439,
+            t3498,
+            t3509,
+            t3520,
+            t3526,
+            t3530,
+            t3531,
+            t3532,
+            t3533,
+            t3534,
             t3571,
-            t3585,
+            t3597,
+            t3606,
+            t3613,
+            t3622,
+            t3629,
+            t3630,
+            t3631,
+            t3632,
+            t3633,
+            t3634,
+            t3635,
+            t3636,
+            t3637,
+            t3638,
+            t3639,
+            t3641,
+            t3643,
             t3645,
-            t3705,
-            t3713,
-            t3721,
-            t3762,
-            t3791,
-            t3792,
-            t3793,
-            t3794,
-            t3795,
-            t3796,
-            t3797,
-            t3798,
-            t3799,
-            t3807,
-            t3815,
-            t3816,
-            t3817,
-            t3818,
-            t3819,
-            t3820,
-            t3821,
-            t3823,
-            t3825,
-            t3827,
-            t3829,
-            t3830,
-            t3831,
+            t3647,
+            t3648,
+            t3649,
         )
     };
     (
-        [t595, t619, t620, t621, t622, t624],
+        [t578, t602, t603, t604, t605, t607],
         [
-            [t965, t1330, t1570, t1789, t1992, t2189],
-            [t2190, t2248, t2301, t2302, t2385, t2470],
-            [t2554, t2555, t2556, t2631, t2632, t2633],
-            [t950, t2230, t2286, t1771, t1962, t2172],
-            [t2634, t2635, t2636, t2637, t2638, t2156],
-            [t2640, t2641, t2642, t2644, t2646, t2647],
+            [t917, t1195, t1409, t1622, t1830, t2030],
+            [t2031, t2100, t2156, t2157, t2240, t2325],
+            [t2326, t2327, t2328, t2404, t2405, t2406],
+            [t2407, t2081, t2140, t2408, t1797, t2409],
+            [t2485, t2486, t2487, t2488, t2489, t1995],
+            [t2491, t2492, t2493, t2495, t2497, t2498],
         ],
         [
-            [t2773, t2900, t3026, t3093, t3165, t3244],
-            [t3245, t3263, t3275, t3294, t3295, t3337],
-            [t3349, t3350, t3351, t3352, t3362, t3363],
-            [t3364, t3255, t3010, t3079, t3148, t3329],
-            [t3365, t3366, t3367, t3368, t3369, t3370],
-            [t3372, t3373, t3375, t3376, t3378, t3379],
+            [t2616, t2732, t2846, t2915, t2989, t3062],
+            [t3076, t3077, t3096, t3115, t3116, t3131],
+            [t3132, t3133, t3134, t3135, t3146, t3147],
+            [t3148, t3156, t3157, t3158, t3159, t3123],
+            [t3160, t3161, t3162, t3163, t3164, t3165],
+            [t3167, t3168, t3170, t3171, t3173, t3174],
         ],
         [
-            [t3433, t3486, t3539, t3585, t3645, t3705],
-            [t3713, t3721, t3762, t3791, t3792, t3793],
-            [t3794, t3795, t3796, t3797, t3798, t3799],
-            [t3420, t3474, t3525, t3571, t3807, t3815],
-            [t3816, t3817, t3818, t3819, t3820, t3821],
-            [t3823, t3825, t3827, t3829, t3830, t3831],
+            [t3227, t3279, t3334, t3380, t3439, t3498],
+            [t3509, t3520, t3526, t3530, t3531, t3532],
+            [t3533, t3534, t3571, t3597, t3613, t3629],
+            [t3630, t3631, t3632, t3633, t3606, t3622],
+            [t3634, t3635, t3636, t3637, t3638, t3639],
+            [t3641, t3643, t3645, t3647, t3648, t3649],
         ],
-        [t802, t29, t493],
+        [t773, t19, t483],
     )
 }
 /// Inverse dynamics from the actuators' motion and its exact Jacobians: `Γ`, `∂Γ/∂q`, `∂Γ/∂q̇`, `∂Γ/∂q̈`.
@@ -7884,7 +7379,7 @@ pub fn forward_dynamics_derivatives_separate(
 /// - `d_qdd`: `∂Γ/∂q̈ = M_q` (kg)
 /// - `singular`: `[1 + abc, r11, r22, r33]`: the forward singularity term (the actuator positions belong to a pose of the workspace only where it is positive; the other results are meaningless where it is near zero or negative) and the divisors of eq 16
 ///
-/// Operations: 2350 mul, 6 div, 2012 add, 31 neg, 3 sqrt (chapter convention: 2356m + 2012a).
+/// Operations: 1814 mul, 6 div, 1710 add, 8 neg, 3 sqrt (chapter convention: 1820m + 1710a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 #[inline]
@@ -7913,5818 +7408,4654 @@ pub fn inverse_dynamics_joint_derivatives_separate(
     let [qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
     let [qdd1, qdd2, qdd3, qdd4, qdd5, qdd6] = *qdd;
     let (
-        t0,
         t1,
-        t2,
         t3,
         t4,
-        t5,
         t6,
         t7,
         t8,
-        t9,
         t10,
         t11,
         t12,
         t13,
-        t16,
-        t17,
-        t18,
+        t14,
+        t19,
+        t20,
         t21,
         t22,
+        t24,
         t25,
-        t26,
         t27,
         t30,
-        t31,
         t32,
+        t33,
         t35,
-        t40,
-        t41,
+        t38,
+        t42,
         t43,
-        t46,
+        t44,
+        t45,
         t47,
-        t48,
-        t51,
-        t53,
-        t54,
-        t55,
-        t56,
-        t57,
+        t52,
+        t58,
         t59,
         t60,
         t61,
-        t62,
+        t63,
+        t68,
+        t70,
+        t71,
         t72,
-        t73,
-        t84,
-        t86,
+        t74,
+        t75,
+        t77,
+        t85,
         t87,
         t88,
-        t90,
-        t93,
-        t95,
-        t96,
-        t97,
-        t99,
-        t105,
-        t108,
+        t89,
+        t91,
+        t94,
+        t102,
+        t103,
+        t106,
+        t109,
         t110,
-        t111,
+        t112,
+        t117,
         t120,
         t122,
         t123,
-        t126,
-        t128,
-        t131,
-        t132,
-        t133,
-        t138,
-        t142,
+        t127,
+        t130,
+        t134,
+        t137,
+        t141,
+        t143,
         t147,
-        t148,
         t150,
-        t154,
         t158,
-        t159,
-        t160,
+        t161,
         t163,
-        t165,
-        t168,
-        t169,
-        t170,
-        t173,
-        t176,
-        t178,
-        t179,
+        t174,
         t181,
-        t183,
-        t194,
+        t184,
+        t192,
+        t193,
         t195,
-        t197,
-        t202,
-        t204,
-        t205,
+        t196,
+        t198,
+        t199,
+        t201,
+        t206,
+        t207,
         t208,
         t209,
-        t210,
-        t219,
-        t220,
+        t211,
+        t213,
+        t214,
+        t216,
+        t217,
+        t222,
         t224,
-        t225,
-        t234,
-        t236,
-        t238,
-        t241,
+        t226,
+        t227,
+        t229,
+        t231,
+        t232,
+        t239,
         t242,
-        t244,
+        t243,
         t245,
-        t249,
-        t251,
-        t254,
-        t259,
-        t261,
-        t264,
-        t266,
-        t277,
+        t246,
+        t250,
+        t252,
+        t255,
+        t256,
+        t260,
+        t262,
+        t265,
+        t267,
+        t278,
+        t281,
         t295,
-        t299,
-        t307,
+        t296,
+        t308,
+        t309,
+        t310,
+        t312,
+        t320,
+        t323,
         t324,
-        t327,
+        t325,
+        t326,
+        t330,
+        t331,
+        t332,
         t333,
-        t334,
-        t339,
-        t350,
-        t352,
-        t355,
-        t356,
-        t359,
+        t336,
+        t337,
+        t338,
+        t354,
+        t360,
         t368,
-        t371,
+        t370,
         t374,
-        t387,
-        t392,
-        t395,
-        t402,
-        t409,
-        t411,
+        t381,
+        t404,
+        t405,
+        t406,
+        t407,
         t420,
-        t431,
-        t448,
-        t450,
-        t455,
-        t460,
+        t428,
+        t467,
+        t478,
+        t479,
+        t481,
+        t483,
+        t484,
+        t486,
+        t487,
+        t488,
+        t492,
         t493,
-        t503,
-        t509,
-        t510,
+        t496,
+        t497,
+        t501,
+        t506,
+        t507,
         t511,
-        t514,
-        t516,
+        t519,
+        t520,
         t522,
-        t524,
+        t527,
+        t528,
+        t529,
         t531,
-        t536,
+        t532,
+        t533,
+        t535,
+        t539,
+        t540,
         t541,
+        t542,
         t543,
-        t546,
-        t547,
-        t548,
-        t551,
+        t545,
+        t552,
+        t555,
         t556,
-        t558,
+        t561,
         t562,
-        t563,
-        t578,
+        t571,
+        t574,
+        t575,
         t580,
-        t583,
+        t581,
+        t584,
         t585,
-        t588,
-        t589,
-        t590,
+        t586,
         t591,
-        t592,
+        t593,
+        t598,
         t599,
+        t601,
+        t602,
         t604,
-        t613,
+        t609,
+        t614,
         t615,
-        t618,
-        t620,
+        t621,
+        t622,
         t623,
-        t624,
-        t625,
-        t626,
-        t627,
-        t630,
-        t642,
-        t645,
+        t628,
+        t639,
+        t640,
+        t643,
         t648,
         t650,
-        t653,
-        t654,
-        t655,
-        t656,
-        t657,
-        t660,
-        t663,
-        t676,
+        t651,
+        t667,
+        t671,
+        t673,
         t677,
         t678,
-        t679,
+        t680,
         t682,
         t684,
-        t685,
-        t686,
-        t689,
-        t692,
-        t693,
-        t694,
-        t695,
-        t696,
-        t699,
-        t701,
-        t702,
-        t703,
-        t704,
-        t707,
-        t711,
-        t712,
+        t688,
+        t706,
+        t708,
         t713,
         t714,
-        t718,
+        t715,
         t720,
+        t723,
+        t725,
         t727,
-        t728,
         t729,
         t730,
-        t734,
-        t737,
-        t739,
         t743,
-        t765,
-        t770,
+        t754,
+        t757,
+        t760,
+        t762,
+        t769,
+        t775,
+        t777,
         t784,
-        t790,
-        t795,
-        t798,
-        t808,
-        t811,
-        t815,
-        t820,
+        t787,
+        t789,
+        t793,
+        t794,
+        t801,
+        t803,
+        t805,
+        t812,
+        t816,
+        t817,
         t825,
-        t827,
-        t837,
-        t838,
+        t836,
         t844,
-        t848,
-        t855,
-        t858,
-        t861,
-        t864,
-        t867,
-        t870,
-        t874,
+        t853,
+        t869,
         t877,
-        t878,
-        t882,
-        t883,
-        t889,
-        t891,
+        t884,
+        t886,
         t894,
-        t898,
-        t899,
-        t902,
-        t903,
-        t905,
-        t924,
+        t907,
+        t911,
+        t914,
+        t919,
+        t923,
+        t925,
         t926,
+        t928,
         t930,
+        t932,
+        t934,
+        t936,
+        t939,
         t943,
+        t946,
+        t949,
         t950,
         t952,
-        t953,
         t954,
-        t955,
         t956,
-        t957,
-        t959,
+        t958,
+        t960,
         t963,
         t967,
-        t968,
-        t970,
-        t973,
-        t974,
-        t982,
-        t983,
-        t987,
+        t979,
+        t985,
+        t986,
         t988,
         t989,
-        t993,
+        t995,
+        t996,
         t998,
         t999,
     ) = {
-        let t0: f64 = q1 + q2;
-        let t1: f64 = t0 * 0.5;
-        let t2: f64 = q1 - q2;
+        let t0: f64 = q1 - q2;
+        let t1: f64 = t0 * 2.5;
+        let t2: f64 = q5 - q6;
         let t3: f64 = t2 * 2.5;
-        let t4: f64 = q3 - q4;
-        let t5: f64 = t4 * 2.5;
-        let t6: f64 = q5 - q6;
-        let t7: f64 = t6 * 2.5;
-        let t8: f64 = t3 * t5;
-        let t9: f64 = t7 * t8;
-        let t10: f64 = t9 - 1.0;
-        let t11: f64 = t10 * t10;
-        let t12: f64 = t3 * t7;
-        let t13: f64 = t3 * t3;
-        let t14: f64 = t13 + 1.0;
-        let t15 = product(t5, t14);
-        let t16: f64 = t15.added_to(t12);
-        let t17: f64 = t16 * t16;
-        let t18: f64 = t11 * t13;
-        let t19: f64 = t11 + t17;
-        let t20: f64 = t18 + t19;
-        let t21: f64 = 1.0 / t20;
-        let t22: f64 = t1 * t3;
-        let t23: f64 = t11 * t22;
-        let t24 = product(t21, t23);
-        let t25: f64 = q3 + q4;
-        let t26: f64 = t25 * 0.5;
-        let t27: f64 = t5 * t5;
-        let t28: f64 = t27 + 1.0;
-        let t29 = product(t7, t28);
-        let t30: f64 = t29.added_to(t8);
-        let t31: f64 = t11 * t27;
-        let t32: f64 = t30 * t30;
-        let t33: f64 = t11 + t31;
-        let t34: f64 = t32 + t33;
-        let t35: f64 = 1.0 / t34;
-        let t36: f64 = t26 * t30;
-        let t37: f64 = t10 * t36;
-        let t38: f64 = t35 * t37;
-        let t39: f64 = t24.plus(t38);
-        let t40: f64 = q5 + q6;
-        let t41: f64 = t40 * 0.5;
-        let t42: f64 = t5 * t7;
-        let t43: f64 = t7 * t7;
-        let t44: f64 = t43 + 1.0;
-        let t45 = product(t3, t44);
-        let t46: f64 = t45.added_to(t42);
-        let t47: f64 = t46 * t46;
-        let t48: f64 = t11 * t43;
-        let t49: f64 = t11 + t47;
-        let t50: f64 = t48 + t49;
-        let t51: f64 = 1.0 / t50;
-        let t52: f64 = t11 * t41;
-        let t53: f64 = t51 * t52;
-        let t54: f64 = t39 - t53;
-        let t55: f64 = t54 + 0.2;
-        let t56: f64 = qdd1 - qdd2;
-        let t57: f64 = t56 * 2.5;
-        let t58 = product(t55, t57);
-        let t59: f64 = t54 * 2.5;
-        let t60: f64 = t59 - 0.5;
-        let t61: f64 = qd1 - qd2;
-        let t62: f64 = t61 * 2.5;
-        let t63: f64 = t1 * t11;
-        let t64: f64 = t21 * t63;
-        let t65: f64 = t5 * t26;
-        let t66: f64 = t11 * t65;
-        let t67 = product(t35, t66);
-        let t68: f64 = t67.subtracted_from(t64);
-        let t69: f64 = t41 * t46;
-        let t70: f64 = t10 * t69;
-        let t71 = product(t51, t70);
-        let t72: f64 = t71.subtracted_from(t68);
-        let t73: f64 = t72 * 2.5;
-        let t74 = product(qd1, t73);
-        let t75: f64 = qd2 * t73;
-        let t76: f64 = t74.minus(t75);
-        let t77: f64 = t7 * t41;
-        let t78: f64 = t11 * t77;
-        let t79 = product(t51, t78);
-        let t80: f64 = t1 * t16;
-        let t81: f64 = t10 * t80;
-        let t82 = product(t21, t81);
-        let t83: f64 = t11 * t26;
-        let t84: f64 = t35 * t83;
-        let t85: f64 = t82.minus(t84);
-        let t86: f64 = t79.plus(t85);
-        let t87: f64 = t86 * 2.5;
-        let t88: f64 = t87 - 0.5;
-        let t89 = product(qd5, t88);
-        let t90: f64 = t87 + 0.5;
-        let t91: f64 = qd6 * t90;
-        let t92: f64 = t89.minus(t91);
-        let t93: f64 = t76 + t92;
-        let t94 = product(t62, t93);
-        let t95: f64 = qd3 - qd4;
-        let t96: f64 = t95 * 2.5;
-        let t97: f64 = t73 + 0.5;
-        let t98 = product(qd3, t97);
-        let t99: f64 = t73 - 0.5;
-        let t100: f64 = qd4 * t99;
-        let t101: f64 = t98.minus(t100);
-        let t102 = product(qd5, t59);
-        let t103: f64 = qd6 * t59;
-        let t104: f64 = t102.minus(t103);
-        let t105: f64 = t101 + t104;
-        let t106: f64 = t96 * t105;
-        let t107: f64 = t94.plus(t106);
-        let t108: f64 = qdd1 - t107;
-        let t109 = product(t60, t108);
-        let t110: f64 = t59 + 0.5;
-        let t111: f64 = qdd2 - t107;
-        let t112: f64 = t110 * t111;
-        let t113: f64 = t109.minus(t112);
-        let t114 = product(qd1, t60);
-        let t115: f64 = qd2 * t110;
-        let t116: f64 = t114.minus(t115);
-        let t117 = product(qd4, t87);
-        let t118: f64 = qd3 * t87;
-        let t119: f64 = t117.minus(t118);
-        let t120: f64 = t116 + t119;
-        let t121 = product(t96, t120);
-        let t122: f64 = qd5 - qd6;
-        let t123: f64 = t122 * 2.5;
-        let t124: f64 = t93 * t123;
-        let t125: f64 = t121.minus(t124);
-        let t126: f64 = qdd3 - t125;
-        let t127 = product(t87, t126);
-        let t128: f64 = qdd4 - t125;
-        let t129: f64 = t87 * t128;
-        let t130: f64 = t127.minus(t129);
-        let t131: f64 = t113 - t130;
-        let t132: f64 = qdd3 - qdd4;
-        let t133: f64 = t132 * 2.5;
-        let t134 = product(t86, t133);
-        let t135: f64 = t134.subtracted_from(t107);
-        let t136 = product(t54, 10.02);
-        let t137: f64 = t40 * 1.67;
-        let t138: f64 = t136.plus(t137);
-        let t139 = product(t57, t138);
-        let t140 = product(t86, 10.02);
-        let t141: f64 = t25 * 1.67;
-        let t142: f64 = t140.plus(t141);
-        let t143: f64 = t133 * t142;
-        let t144: f64 = t139.minus(t143);
-        let t145 = product(t123, t142);
-        let t146 = product(t72, 10.02);
-        let t147: f64 = t0 * 1.67;
-        let t148: f64 = t146.subtracted_from(t147);
-        let t149: f64 = t62 * t148;
-        let t150: f64 = t145.minus(t149);
-        let t151 = product(t62, t150);
-        let t152 = product(t96, t148);
-        let t153: f64 = t123 * t138;
-        let t154: f64 = t152.minus(t153);
-        let t155: f64 = t96 * t154;
-        let t156: f64 = t151.minus(t155);
-        let t157: f64 = t144 + t156;
-        let t158: f64 = sqrt(t21);
-        let t159: f64 = sqrt(t35);
-        let t160: f64 = t30 * t159;
-        let t161 = product(t96, t160);
-        let t162: f64 = t5 * t10;
-        let t163: f64 = t159 * t162;
-        let t164 = product(t123, t163);
-        let t165: f64 = t10 * t159;
-        let t166: f64 = t62 * t165;
-        let t167: f64 = t164.minus(t166);
-        let t168: f64 = t161.plus(t167);
-        let t169: f64 = sqrt(t51);
-        let t170: f64 = t46 * t169;
-        let t171 = product(t123, t170);
-        let t172: f64 = t7 * t10;
-        let t173: f64 = t169 * t172;
-        let t174: f64 = t62 * t173;
-        let t175: f64 = t171.plus(t174);
-        let t176: f64 = t10 * t169;
-        let t177 = product(t96, t176);
-        let t178: f64 = t177.subtracted_from(t175);
-        let t179: f64 = t178 * 0.22443999999999997;
-        let t180 = product(t168, t179);
-        let t181: f64 = t168 * 0.22443999999999997;
-        let t182 = product(t178, t181);
-        let t183: f64 = t16 * t57;
-        let t184: f64 = t3 * t133;
-        let t185: f64 = qdd5 - qdd6;
-        let t186 = product(t184, 0.4119400000000001);
-        let t187: f64 = t185 * 1.0298500000000002;
-        let t188: f64 = t186.subtracted_from(t187);
-        let t189 = product(t10, t188);
-        let t190: f64 = t183 * 0.4119400000000001;
-        let t191: f64 = t189.subtracted_from(t190);
-        let t192: f64 = t158 * t191;
-        let t193: f64 = t180.plus(t192);
-        let t194: f64 = t182.minus(t193);
-        let t195: f64 = t16 * t158;
-        let t196 = product(t194, t195);
-        let t197: f64 = t10 * t158;
-        let t198 = product(t123, t197);
-        let t199: f64 = t62 * t195;
-        let t200: f64 = t198.minus(t199);
-        let t201: f64 = t3 * t10;
-        let t202: f64 = t158 * t201;
-        let t203 = product(t96, t202);
-        let t204: f64 = t203.subtracted_from(t200);
-        let t205: f64 = t204 * 0.4119400000000001;
-        let t206 = product(t178, t205);
-        let t207 = product(t179, t204);
-        let t208: f64 = t30 * t133;
-        let t209: f64 = t185 * 2.5;
-        let t210: f64 = t5 * t209;
-        let t211 = product(t210, 0.22443999999999997);
-        let t212: f64 = t56 * 0.5610999999999999;
-        let t213: f64 = t211.subtracted_from(t212);
-        let t214 = product(t10, t213);
-        let t215: f64 = t208 * 0.22443999999999997;
-        let t216: f64 = t214.subtracted_from(t215);
-        let t217: f64 = t159 * t216;
-        let t218: f64 = t207.plus(t217);
-        let t219: f64 = t206.subtracted_from(t218);
-        let t220: f64 = t165 * t219;
-        let t221: f64 = t196.plus(t220);
-        let t222 = product(t181, t204);
-        let t223 = product(t168, t205);
-        let t224: f64 = t46 * t209;
-        let t225: f64 = t7 * t57;
-        let t226 = product(t225, 0.22443999999999997);
-        let t227: f64 = t132 * 0.5610999999999999;
-        let t228: f64 = t226.subtracted_from(t227);
-        let t229 = product(t10, t228);
-        let t230: f64 = t224 * 0.22443999999999997;
-        let t231: f64 = t229.subtracted_from(t230);
-        let t232: f64 = t169 * t231;
-        let t233: f64 = t223.plus(t232);
-        let t234: f64 = t222.subtracted_from(t233);
-        let t235 = product(t173, t234);
-        let t236: f64 = q1 - t72;
-        let t237 = product(t86, t236);
-        let t238: f64 = q2 - t72;
-        let t239: f64 = t86 * t238;
-        let t240: f64 = t237.plus(t239);
-        let t241: f64 = t72 - 0.2;
-        let t242: f64 = q3 + t86;
-        let t243 = product(t241, t242);
-        let t244: f64 = t72 + 0.2;
-        let t245: f64 = q4 + t86;
-        let t246: f64 = t244 * t245;
-        let t247: f64 = t243.plus(t246);
-        let t248: f64 = t240 - t247;
-        let t249: f64 = t86 + 0.2;
-        let t250 = product(t72, t249);
-        let t251: f64 = t86 - 0.2;
-        let t252: f64 = t72 * t251;
-        let t253: f64 = t250.plus(t252);
-        let t254: f64 = t248 - t253;
-        let t255: f64 = t254 * 1.67;
-        let t256 = product(t209, t255);
-        let t257: f64 = t54 * t54;
-        let t258: f64 = t72 * t72;
-        let t259: f64 = t257 + t258;
-        let t260 = product(t55, t55);
-        let t261: f64 = t54 - 0.2;
-        let t262: f64 = t261 * t261;
-        let t263: f64 = t260.plus(t262);
-        let t264: f64 = q5 + t54;
-        let t265 = product(t264, t264);
-        let t266: f64 = q6 + t54;
-        let t267: f64 = t266 * t266;
-        let t268: f64 = t265.plus(t267);
-        let t269: f64 = t263 + t268;
-        let t270 = product(t236, t236);
-        let t271: f64 = t238 * t238;
-        let t272: f64 = t270.plus(t271);
-        let t273 = product(t241, t241);
-        let t274: f64 = t244 * t244;
-        let t275: f64 = t273.plus(t274);
-        let t276: f64 = t272 + t275;
-        let t277: f64 = t269 + t276;
-        let t278 = product(t259, 3.34);
-        let t279: f64 = t277 * 1.67;
-        let t280: f64 = t278.plus(t279);
-        let t281: f64 = t57 * t280;
-        let t282: f64 = t256.minus(t281);
-        let t283: f64 = t235.minus(t282);
-        let t284: f64 = t221 - t283;
-        let t285 = product(t249, t264);
-        let t286: f64 = t251 * t266;
+        let t4: f64 = t1 * t3;
+        let t5: f64 = q3 - q4;
+        let t6: f64 = t5 * 2.5;
+        let t7: f64 = t1 * t1;
+        let t8: f64 = t7 + 1.0;
+        let t9 = product(t6, t8);
+        let t10: f64 = t9.added_to(t4);
+        let t11: f64 = t1 * t6;
+        let t12: f64 = t3 * t11;
+        let t13: f64 = t12 - 1.0;
+        let t14: f64 = t13 * t13;
+        let t15 = product(t10, t10);
+        let t16 = product(t7, t14);
+        let t17: f64 = t15.added_to(t14);
+        let t18: f64 = t16.plus(t17);
+        let t19: f64 = 1.0 / t18;
+        let t20: f64 = sqrt(t19);
+        let t21: f64 = t10 * t20;
+        let t22: f64 = t13 * t20;
+        let t23: f64 = qdd5 - qdd6;
+        let t24: f64 = t23 * 2.5;
+        let t25: f64 = t22 * t24;
+        let t26: f64 = qdd1 - qdd2;
+        let t27: f64 = t26 * 2.5;
+        let t28: f64 = t21 * t27;
+        let t29: f64 = t1 * t13;
+        let t30: f64 = t20 * t29;
+        let t31: f64 = qdd3 - qdd4;
+        let t32: f64 = t31 * 2.5;
+        let t33: f64 = t30 * t32;
+        let t34: f64 = t28 + t33;
+        let t35: f64 = t25 - t34;
+        let t36: f64 = t21 * t35;
+        let t37: f64 = q1 + q2;
+        let t38: f64 = t37 * 0.5;
+        let t39: f64 = t1 * t38;
+        let t40: f64 = t14 * t39;
+        let t41 = product(t19, t40);
+        let t42: f64 = q3 + q4;
+        let t43: f64 = t42 * 0.5;
+        let t44: f64 = t6 * t6;
+        let t45: f64 = t44 + 1.0;
+        let t46 = product(t3, t45);
+        let t47: f64 = t46.added_to(t11);
+        let t48 = product(t14, t44);
+        let t49 = product(t47, t47);
+        let t50: f64 = t48.added_to(t14);
+        let t51: f64 = t49.plus(t50);
+        let t52: f64 = 1.0 / t51;
+        let t53: f64 = t43 * t47;
+        let t54: f64 = t13 * t53;
+        let t55: f64 = t52 * t54;
+        let t56: f64 = t41.plus(t55);
+        let t57: f64 = q5 + q6;
+        let t58: f64 = t57 * 0.5;
+        let t59: f64 = t3 * t6;
+        let t60: f64 = t3 * t3;
+        let t61: f64 = t60 + 1.0;
+        let t62 = product(t1, t61);
+        let t63: f64 = t62.added_to(t59);
+        let t64 = product(t63, t63);
+        let t65 = product(t14, t60);
+        let t66: f64 = t64.added_to(t14);
+        let t67: f64 = t65.plus(t66);
+        let t68: f64 = 1.0 / t67;
+        let t69: f64 = t14 * t58;
+        let t70: f64 = t68 * t69;
+        let t71: f64 = t56 - t70;
+        let t72: f64 = t71 + 0.2;
+        let t73 = product(t27, t72);
+        let t74: f64 = t71 * 2.5;
+        let t75: f64 = t74 - 0.5;
+        let t76: f64 = qd1 - qd2;
+        let t77: f64 = t76 * 2.5;
+        let t78: f64 = t3 * t58;
+        let t79: f64 = t14 * t78;
+        let t80 = product(t68, t79);
+        let t81: f64 = t10 * t38;
+        let t82: f64 = t13 * t81;
+        let t83 = product(t19, t82);
+        let t84: f64 = t14 * t43;
+        let t85: f64 = t52 * t84;
+        let t86: f64 = t83.minus(t85);
+        let t87: f64 = t80.plus(t86);
+        let t88: f64 = t87 * 2.5;
+        let t89: f64 = t88 - 0.5;
+        let t90 = product(qd5, t89);
+        let t91: f64 = t88 + 0.5;
+        let t92 = product(qd6, t91);
+        let t93: f64 = t14 * t38;
+        let t94: f64 = t19 * t93;
+        let t95: f64 = t6 * t43;
+        let t96: f64 = t14 * t95;
+        let t97 = product(t52, t96);
+        let t98: f64 = t97.subtracted_from(t94);
+        let t99: f64 = t58 * t63;
+        let t100: f64 = t13 * t99;
+        let t101 = product(t68, t100);
+        let t102: f64 = t101.subtracted_from(t98);
+        let t103: f64 = t102 * 2.5;
+        let t104: f64 = t76 * t103;
+        let t105: f64 = t90.plus(t104);
+        let t106: f64 = t92.subtracted_from(t105);
+        let t107 = product(t77, t106);
+        let t108: f64 = qd3 - qd4;
+        let t109: f64 = t108 * 2.5;
+        let t110: f64 = t103 + 0.5;
+        let t111 = product(qd3, t110);
+        let t112: f64 = t103 - 0.5;
+        let t113 = product(qd4, t112);
+        let t114: f64 = qd5 - qd6;
+        let t115: f64 = t74 * t114;
+        let t116: f64 = t111.plus(t115);
+        let t117: f64 = t113.subtracted_from(t116);
+        let t118: f64 = t109 * t117;
+        let t119: f64 = t107.plus(t118);
+        let t120: f64 = qdd1 - t119;
+        let t121 = product(t75, t120);
+        let t122: f64 = t74 + 0.5;
+        let t123: f64 = qdd2 - t119;
+        let t124 = product(t122, t123);
+        let t125: f64 = t31 * t88;
+        let t126: f64 = t124.plus(t125);
+        let t127: f64 = t121.minus(t126);
+        let t128 = product(t71, 10.02);
+        let t129: f64 = t57 * 1.67;
+        let t130: f64 = t128.plus(t129);
+        let t131 = product(t27, t130);
+        let t132 = product(t87, 10.02);
+        let t133: f64 = t42 * 1.67;
+        let t134: f64 = t132.plus(t133);
+        let t135: f64 = t32 * t134;
+        let t136: f64 = t131.minus(t135);
+        let t137: f64 = t114 * 2.5;
+        let t138 = product(t134, t137);
+        let t139 = product(t102, 10.02);
+        let t140: f64 = t37 * 1.67;
+        let t141: f64 = t139.subtracted_from(t140);
+        let t142: f64 = t77 * t141;
+        let t143: f64 = t138.minus(t142);
+        let t144 = product(t77, t143);
+        let t145 = product(t109, t141);
+        let t146: f64 = t130 * t137;
+        let t147: f64 = t145.minus(t146);
+        let t148: f64 = t109 * t147;
+        let t149: f64 = t144.minus(t148);
+        let t150: f64 = t136 + t149;
+        let t151 = product(t32, t87);
+        let t152: f64 = t151.subtracted_from(t119);
+        let t153 = product(t117, t137);
+        let t154 = product(qd1, t75);
+        let t155 = product(qd2, t122);
+        let t156: f64 = t88 * t108;
+        let t157: f64 = t155.plus(t156);
+        let t158: f64 = t154.minus(t157);
+        let t159: f64 = t77 * t158;
+        let t160: f64 = t153.plus(t159);
+        let t161: f64 = qdd5 + t160;
+        let t162 = product(t89, t161);
+        let t163: f64 = qdd6 + t160;
+        let t164 = product(t91, t163);
+        let t165: f64 = t26 * t103;
+        let t166: f64 = t162.plus(t165);
+        let t167: f64 = t164.subtracted_from(t166);
+        let t168: f64 = t167 - 9.81;
+        let t169 = product(t141, t168);
+        let t170 = product(t127, 20.020000000000003);
+        let t171: f64 = t170.minus(t150);
+        let t172: f64 = t72 * t171;
+        let t173: f64 = t169.plus(t172);
+        let t174: f64 = q1 - t102;
+        let t175 = product(t24, t134);
+        let t176: f64 = t27 * t141;
+        let t177: f64 = t175.minus(t176);
+        let t178 = product(t137, t147);
+        let t179 = product(t77, t130);
+        let t180: f64 = t109 * t134;
+        let t181: f64 = t179.minus(t180);
+        let t182: f64 = t77 * t181;
+        let t183: f64 = t178.minus(t182);
+        let t184: f64 = t177 + t183;
+        let t185 = product(t167, 20.020000000000003);
+        let t186: f64 = t184 + 196.39620000000005;
+        let t187: f64 = t185.minus(t186);
+        let t188 = product(t174, t187);
+        let t189: f64 = q1 * t187;
+        let t190: f64 = t188.minus(t189);
+        let t191: f64 = t173 - t190;
+        let t192: f64 = sqrt(t52);
+        let t193: f64 = t13 * t192;
+        let t194: f64 = t6 * t13;
+        let t195: f64 = t192 * t194;
+        let t196: f64 = t24 * t195;
+        let t197: f64 = t27 * t193;
+        let t198: f64 = t47 * t192;
+        let t199: f64 = t32 * t198;
+        let t200: f64 = t196 + t199;
+        let t201: f64 = t200 - t197;
+        let t202 = product(t22, t137);
+        let t203 = product(t21, t77);
+        let t204: f64 = t30 * t109;
+        let t205: f64 = t203.plus(t204);
+        let t206: f64 = t202.minus(t205);
+        let t207: f64 = sqrt(t68);
+        let t208: f64 = t63 * t207;
+        let t209: f64 = t137 * t208;
+        let t210: f64 = t3 * t13;
+        let t211: f64 = t207 * t210;
+        let t212: f64 = t77 * t211;
+        let t213: f64 = t13 * t207;
+        let t214: f64 = t109 * t213;
+        let t215: f64 = t209 + t212;
+        let t216: f64 = t215 - t214;
+        let t217: f64 = t206 * t216;
+        let t218 = product(t201, 0.22443999999999997);
+        let t219: f64 = t217 * 0.1875000000000001;
+        let t220: f64 = t218.minus(t219);
+        let t221 = product(t193, t220);
+        let t222: f64 = t24 * t208;
+        let t223: f64 = t27 * t211;
+        let t224: f64 = t32 * t213;
+        let t225: f64 = t222 + t223;
+        let t226: f64 = t225 - t224;
+        let t227: f64 = t137 * t195;
+        let t228: f64 = t77 * t193;
+        let t229: f64 = t109 * t198;
+        let t230: f64 = t227 + t229;
+        let t231: f64 = t230 - t228;
+        let t232: f64 = t206 * t231;
+        let t233 = product(t226, 0.22443999999999997);
+        let t234: f64 = t232 * 0.1875000000000001;
+        let t235: f64 = t233.plus(t234);
+        let t236: f64 = t211 * t235;
+        let t237: f64 = t221.minus(t236);
+        let t238 = product(t87, t174);
+        let t239: f64 = q2 - t102;
+        let t240: f64 = t87 * t239;
+        let t241: f64 = t238.plus(t240);
+        let t242: f64 = t102 - 0.2;
+        let t243: f64 = q3 + t87;
+        let t244 = product(t242, t243);
+        let t245: f64 = t102 + 0.2;
+        let t246: f64 = q4 + t87;
+        let t247: f64 = t245 * t246;
+        let t248: f64 = t244.plus(t247);
+        let t249: f64 = t241 - t248;
+        let t250: f64 = t87 + 0.2;
+        let t251 = product(t102, t250);
+        let t252: f64 = t87 - 0.2;
+        let t253: f64 = t102 * t252;
+        let t254: f64 = t251.plus(t253);
+        let t255: f64 = t249 - t254;
+        let t256: f64 = t255 * 1.67;
+        let t257 = product(t24, t256);
+        let t258: f64 = t71 * t71;
+        let t259: f64 = t102 * t102;
+        let t260: f64 = t258 + t259;
+        let t261 = product(t72, t72);
+        let t262: f64 = t71 - 0.2;
+        let t263: f64 = t262 * t262;
+        let t264: f64 = t261.plus(t263);
+        let t265: f64 = q5 + t71;
+        let t266 = product(t265, t265);
+        let t267: f64 = q6 + t71;
+        let t268: f64 = t267 * t267;
+        let t269: f64 = t266.plus(t268);
+        let t270: f64 = t264 + t269;
+        let t271 = product(t174, t174);
+        let t272: f64 = t239 * t239;
+        let t273: f64 = t271.plus(t272);
+        let t274 = product(t242, t242);
+        let t275: f64 = t245 * t245;
+        let t276: f64 = t274.plus(t275);
+        let t277: f64 = t273 + t276;
+        let t278: f64 = t270 + t277;
+        let t279 = product(t260, 3.34);
+        let t280: f64 = t278 * 1.67;
+        let t281: f64 = t279.plus(t280);
+        let t282: f64 = t27 * t281;
+        let t283: f64 = t257.minus(t282);
+        let t284: f64 = t237 + t283;
+        let t285 = product(t250, t265);
+        let t286: f64 = t252 * t267;
         let t287: f64 = t285.plus(t286);
-        let t288 = product(t55, t86);
-        let t289: f64 = t86 * t261;
+        let t288 = product(t72, t87);
+        let t289: f64 = t87 * t262;
         let t290: f64 = t288.plus(t289);
-        let t291 = product(t54, t242);
-        let t292: f64 = t54 * t245;
+        let t291 = product(t71, t243);
+        let t292: f64 = t71 * t246;
         let t293: f64 = t291.plus(t292);
         let t294: f64 = t290 + t293;
         let t295: f64 = t287 + t294;
         let t296: f64 = t295 * 1.67;
-        let t297 = product(t133, t296);
-        let t298: f64 = t86 * t86;
-        let t299: f64 = t257 + t298;
-        let t300 = product(t242, t242);
-        let t301: f64 = t245 * t245;
-        let t302: f64 = t300.plus(t301);
-        let t303 = product(t249, t249);
-        let t304: f64 = t251 * t251;
-        let t305: f64 = t303.plus(t304);
-        let t306: f64 = t302 + t305;
-        let t307: f64 = t269 + t306;
-        let t308 = product(t299, 3.34);
-        let t309: f64 = t307 * 1.67;
-        let t310: f64 = t308.plus(t309);
-        let t311 = product(t123, t310);
-        let t312: f64 = t62 * t255;
-        let t313: f64 = t311.minus(t312);
-        let t314 = product(t55, t236);
-        let t315: f64 = t238 * t261;
-        let t316: f64 = t314.plus(t315);
-        let t317 = product(t54, t241);
-        let t318: f64 = t54 * t244;
-        let t319: f64 = t317.plus(t318);
-        let t320: f64 = t316 - t319;
-        let t321 = product(t72, t264);
-        let t322: f64 = t72 * t266;
+        let t297 = product(t32, t296);
+        let t298 = product(t72, t174);
+        let t299: f64 = t239 * t262;
+        let t300: f64 = t298.plus(t299);
+        let t301 = product(t71, t242);
+        let t302: f64 = t71 * t245;
+        let t303: f64 = t301.plus(t302);
+        let t304: f64 = t300 - t303;
+        let t305 = product(t102, t265);
+        let t306: f64 = t102 * t267;
+        let t307: f64 = t305.plus(t306);
+        let t308: f64 = t304 - t307;
+        let t309: f64 = t308 * 1.67;
+        let t310: f64 = t109 * t309;
+        let t311: f64 = t87 * t87;
+        let t312: f64 = t258 + t311;
+        let t313 = product(t243, t243);
+        let t314: f64 = t246 * t246;
+        let t315: f64 = t313.plus(t314);
+        let t316 = product(t250, t250);
+        let t317: f64 = t252 * t252;
+        let t318: f64 = t316.plus(t317);
+        let t319: f64 = t315 + t318;
+        let t320: f64 = t270 + t319;
+        let t321 = product(t312, 3.34);
+        let t322: f64 = t320 * 1.67;
         let t323: f64 = t321.plus(t322);
-        let t324: f64 = t320 - t323;
-        let t325: f64 = t324 * 1.67;
-        let t326 = product(t96, t325);
-        let t327: f64 = t326.subtracted_from(t313);
-        let t328: f64 = t96 * t327;
+        let t324: f64 = t137 * t323;
+        let t325: f64 = t77 * t256;
+        let t326: f64 = t324 - t325;
+        let t327: f64 = t326 - t310;
+        let t328: f64 = t109 * t327;
         let t329: f64 = t297.minus(t328);
-        let t330 = product(t123, t325);
-        let t331: f64 = t62 * t296;
-        let t332: f64 = t330.plus(t331);
-        let t333: f64 = t258 + t298;
-        let t334: f64 = t276 + t306;
-        let t335 = product(t333, 3.34);
-        let t336: f64 = t334 * 1.67;
-        let t337: f64 = t335.plus(t336);
-        let t338 = product(t96, t337);
-        let t339: f64 = t338.subtracted_from(t332);
-        let t340 = product(t123, t339);
-        let t341: f64 = t131 * t138;
+        let t330: f64 = t77 * t296;
+        let t331: f64 = t137 * t309;
+        let t332: f64 = t259 + t311;
+        let t333: f64 = t277 + t319;
+        let t334 = product(t332, 3.34);
+        let t335: f64 = t333 * 1.67;
+        let t336: f64 = t334.plus(t335);
+        let t337: f64 = t109 * t336;
+        let t338: f64 = t331 - t337;
+        let t339: f64 = t330 + t338;
+        let t340 = product(t137, t339);
+        let t341: f64 = t127 * t130;
         let t342: f64 = t340.minus(t341);
         let t343: f64 = t329 - t342;
-        let t344 = product(t73, t108);
-        let t345: f64 = t73 * t111;
-        let t346: f64 = t344.minus(t345);
-        let t347 = product(t105, t123);
-        let t348: f64 = t62 * t120;
-        let t349: f64 = t347.plus(t348);
-        let t350: f64 = qdd5 + t349;
-        let t351 = product(t88, t350);
-        let t352: f64 = qdd6 + t349;
-        let t353: f64 = t90 * t352;
-        let t354: f64 = t351.minus(t353);
-        let t355: f64 = t346 + t354;
-        let t356: f64 = t355 - 9.81;
-        let t357 = product(t148, t356);
-        let t358 = product(t131, 20.020000000000003);
-        let t359: f64 = t358.minus(t157);
-        let t360: f64 = t55 * t359;
-        let t361: f64 = t357.plus(t360);
-        let t362 = product(t142, t209);
-        let t363: f64 = t57 * t148;
-        let t364: f64 = t362.minus(t363);
-        let t365 = product(t123, t154);
-        let t366 = product(t62, t138);
-        let t367: f64 = t96 * t142;
-        let t368: f64 = t366.minus(t367);
-        let t369: f64 = t62 * t368;
-        let t370: f64 = t365.minus(t369);
-        let t371: f64 = t364 + t370;
-        let t372 = product(t355, 20.020000000000003);
-        let t373: f64 = t371 + 196.39620000000005;
-        let t374: f64 = t372.minus(t373);
-        let t375 = product(t236, t374);
-        let t376: f64 = q1 * t374;
+        let t344: f64 = t284 + t343;
+        let t345: f64 = t191 - t344;
+        let t346: f64 = t36 * 1.0298500000000002;
+        let t347: f64 = t73.plus(t152);
+        let t348 = product(t347, 2.0);
+        let t349 = product(t127, 22.020000000000003);
+        let t350: f64 = t345 * 2.5;
+        let t351: f64 = t348.added_to(t150);
+        let t352: f64 = t350 + t351;
+        let t353: f64 = t349.added_to(t346);
+        let t354: f64 = t352 - t353;
+        let t355 = product(t27, t262);
+        let t356: f64 = t355.added_to(t152);
+        let t357: f64 = t356 - t127;
+        let t358 = product(t357, 2.0);
+        let t359: f64 = t358.added_to(t346);
+        let t360: f64 = t359 - t350;
+        let t361: f64 = t30 * t35;
+        let t362 = product(t32, t242);
+        let t363: f64 = q1 * 2.5;
+        let t364: f64 = t363 + 0.5;
+        let t365 = product(t109, t158);
+        let t366: f64 = t106 * t137;
+        let t367: f64 = t365.minus(t366);
+        let t368: f64 = qdd3 - t367;
+        let t369 = product(t110, t368);
+        let t370: f64 = qdd4 - t367;
+        let t371 = product(t112, t370);
+        let t372: f64 = t23 * t74;
+        let t373: f64 = t369.plus(t372);
+        let t374: f64 = t371.subtracted_from(t373);
+        let t375 = product(t32, t141);
+        let t376: f64 = t24 * t130;
         let t377: f64 = t375.minus(t376);
-        let t378: f64 = t361 - t377;
-        let t379: f64 = t343 - t378;
-        let t380: f64 = t284 + t379;
-        let t381: f64 = t58.plus(t135);
-        let t382 = product(t381, 2.0);
-        let t383 = product(t131, 22.020000000000003);
-        let t384: f64 = t380 * 2.5;
-        let t385: f64 = t382.added_to(t157);
-        let t386: f64 = t383.plus(t384);
-        let t387: f64 = t385 - t386;
-        let t388 = product(t57, t261);
-        let t389: f64 = t388.added_to(t135);
-        let t390: f64 = t389 - t131;
-        let t391 = product(t390, 2.0);
-        let t392: f64 = t391.added_to(t384);
-        let t393 = product(t133, t241);
-        let t394: f64 = q1 * 2.5;
-        let t395: f64 = t394 + 0.5;
-        let t396 = product(t97, t126);
-        let t397: f64 = t99 * t128;
+        let t378 = product(t109, t181);
+        let t379: f64 = t137 * t143;
+        let t380: f64 = t378.minus(t379);
+        let t381: f64 = t377 + t380;
+        let t382 = product(t374, 20.020000000000003);
+        let t383: f64 = t382.added_to(t381);
+        let t384 = product(t364, t383);
+        let t385 = product(t24, t71);
+        let t386: f64 = t385.subtracted_from(t374);
+        let t387: f64 = t367 + t386;
+        let t388 = product(t77, t327);
+        let t389: f64 = t141 * t374;
+        let t390: f64 = t388.minus(t389);
+        let t391 = product(t127, t134);
+        let t392: f64 = t87 * t171;
+        let t393: f64 = t391.minus(t392);
+        let t394: f64 = t390 - t393;
+        let t395 = product(t174, t383);
+        let t396 = product(t198, t220);
+        let t397: f64 = t213 * t235;
         let t398: f64 = t396.minus(t397);
-        let t399 = product(t59, t350);
-        let t400: f64 = t59 * t352;
-        let t401: f64 = t399.minus(t400);
-        let t402: f64 = t398 + t401;
-        let t403 = product(t133, t148);
-        let t404: f64 = t138 * t209;
-        let t405: f64 = t403.minus(t404);
-        let t406 = product(t96, t368);
-        let t407: f64 = t123 * t150;
-        let t408: f64 = t406.minus(t407);
-        let t409: f64 = t405 + t408;
-        let t410 = product(t402, 20.020000000000003);
-        let t411: f64 = t410.added_to(t409);
-        let t412 = product(t395, t411);
-        let t413 = product(t54, t209);
-        let t414: f64 = t413.subtracted_from(t402);
-        let t415: f64 = t125 + t414;
-        let t416 = product(t236, t411);
-        let t417: f64 = t194 * t202;
-        let t418: f64 = t416.plus(t417);
-        let t419 = product(t160, t219);
-        let t420: f64 = t176 * t234;
-        let t421: f64 = t419.minus(t420);
-        let t422: f64 = t418 - t421;
-        let t423 = product(t209, t325);
-        let t424: f64 = t57 * t296;
-        let t425: f64 = t423.plus(t424);
-        let t426 = product(t133, t337);
-        let t427 = product(t96, t296);
-        let t428 = product(t123, t255);
-        let t429: f64 = t62 * t280;
-        let t430: f64 = t428.minus(t429);
-        let t431: f64 = t427.plus(t430);
-        let t432: f64 = t123 * t431;
-        let t433: f64 = t426.minus(t432);
-        let t434: f64 = t425 - t433;
-        let t435 = product(t62, t327);
-        let t436: f64 = t148 * t402;
-        let t437: f64 = t435.minus(t436);
-        let t438 = product(t131, t142);
-        let t439: f64 = t86 * t359;
-        let t440: f64 = t438.minus(t439);
-        let t441: f64 = t437 - t440;
-        let t442: f64 = t434 + t441;
-        let t443: f64 = t422 + t442;
-        let t444: f64 = t393.subtracted_from(t415);
-        let t445: f64 = t444 * 2.0;
-        let t446: f64 = t443 * 2.5;
-        let t447: f64 = t412.plus(t445);
-        let t448: f64 = t447 - t446;
-        let t449 = product(t133, t244);
-        let t450: f64 = t394 - 0.5;
-        let t451 = product(t411, t450);
-        let t452: f64 = t449.subtracted_from(t415);
-        let t453 = product(t452, 2.0);
-        let t454: f64 = t453.added_to(t446);
-        let t455: f64 = t451.subtracted_from(t454);
-        let t456 = product(t209, t249);
-        let t457 = product(t57, t72);
-        let t458: f64 = t457.minus(t349);
-        let t459 = product(t86, t374);
-        let t460: f64 = t194 * t197;
-        let t461: f64 = t459.plus(t460);
-        let t462 = product(t163, t219);
-        let t463: f64 = t170 * t234;
-        let t464: f64 = t462.plus(t463);
-        let t465: f64 = t461 + t464;
-        let t466 = product(t209, t310);
-        let t467: f64 = t57 * t255;
-        let t468: f64 = t466.minus(t467);
-        let t469 = product(t133, t325);
-        let t470: f64 = t62 * t339;
-        let t471: f64 = t469.plus(t470);
-        let t472: f64 = t468 - t471;
-        let t473 = product(t96, t431);
-        let t474: f64 = t142 * t356;
-        let t475: f64 = t473.minus(t474);
-        let t476 = product(t138, t402);
-        let t477: f64 = t55 * t411;
-        let t478: f64 = t476.minus(t477);
-        let t479: f64 = t475 - t478;
-        let t480: f64 = t472 + t479;
-        let t481: f64 = t465 + t480;
-        let t482: f64 = t456.plus(t458);
-        let t483 = product(t482, 2.0);
-        let t484: f64 = t402 * 10.010000000000002;
-        let t485: f64 = t355 * 12.010000000000002;
-        let t486: f64 = t371 - t409;
-        let t487: f64 = t486 * 0.5;
-        let t488: f64 = t481 * 2.5;
-        let t489: f64 = t483.plus(t487);
-        let t490: f64 = t488 + 117.81810000000003;
-        let t491: f64 = t489 + t490;
-        let t492: f64 = t484 + t485;
-        let t493: f64 = t491 - t492;
-        let t494 = product(t209, t251);
-        let t495: f64 = t494.added_to(t458);
-        let t496 = product(t495, 2.0);
-        let t497: f64 = t371 + t409;
-        let t498 = product(t497, 0.5);
-        let t499: f64 = t496.added_to(t484);
-        let t500: f64 = t498.plus(117.81810000000003);
-        let t501: f64 = t499 + t500;
-        let t502: f64 = t485 + t488;
-        let t503: f64 = t501 - t502;
-        let t504: f64 = t42 * t159;
-        let t505 = product(t219, t504);
-        let t506: f64 = t5 * t43;
-        let t507: f64 = t169 * t506;
-        let t508: f64 = t234 * t507;
-        let t509: f64 = t505.minus(t508);
-        let t510: f64 = t51 * t51;
-        let t511: f64 = 1.0 / t169;
-        let t512: f64 = t10 * t42;
-        let t513 = product(t43, 2.5);
-        let t514: f64 = t513.plus(2.5);
-        let t515: f64 = t46 * t514;
-        let t516: f64 = t7 * t43;
-        let t517: f64 = t5 * t516;
-        let t518 = product(t10, t517);
-        let t519: f64 = t518.added_to(t512);
-        let t520 = product(t519, 5.0);
-        let t521: f64 = t515 * 2.0;
-        let t522: f64 = t520.plus(t521);
-        let t523: f64 = t172 * t510;
-        let t524: f64 = t511 * t523;
-        let t525: f64 = t522 * t524;
-        let t526 = product(t234, t525);
-        let t527: f64 = t21 * t21;
-        let t528: f64 = 1.0 / t158;
-        let t529: f64 = t2 * 12.5;
-        let t530 = product(t5, t529);
-        let t531: f64 = t6 * 6.25;
-        let t532: f64 = t530.plus(t531);
-        let t533: f64 = t16 * t532;
-        let t534 = product(t9, t10);
-        let t535: f64 = t534.added_to(t11);
-        let t536: f64 = t535 * 5.0;
-        let t537 = product(t3, t536);
-        let t538 = product(t512, 5.0);
-        let t539: f64 = t533 * 2.0;
-        let t540: f64 = t538.plus(t539);
-        let t541: f64 = t537.plus(t540);
-        let t542: f64 = t16 * t527;
-        let t543: f64 = t528 * t542;
-        let t544: f64 = t194 * t543;
-        let t545 = product(t541, t544);
-        let t546: f64 = t35 * t35;
-        let t547: f64 = 1.0 / t159;
-        let t548: f64 = t5 * t27;
-        let t549: f64 = t7 * t548;
-        let t550 = product(t10, t549);
-        let t551: f64 = t4 * 6.25;
-        let t552: f64 = t30 * t551;
-        let t553: f64 = t550.added_to(t512);
-        let t554 = product(t553, 5.0);
-        let t555: f64 = t552 * 2.0;
-        let t556: f64 = t554.plus(t555);
-        let t557: f64 = t10 * t546;
-        let t558: f64 = t547 * t557;
-        let t559: f64 = t556 * t558;
-        let t560: f64 = t219 * t559;
-        let t561: f64 = t545.plus(t560);
-        let t562: f64 = t526.minus(t561);
-        let t563: f64 = t10 * t16;
-        let t564: f64 = t21 * t563;
-        let t565: f64 = t1 * t5;
-        let t566: f64 = t7 * t565;
-        let t567: f64 = t16 * t566;
-        let t568: f64 = t21 * t567;
-        let t569: f64 = t7 * t65;
-        let t570: f64 = t10 * t569;
-        let t571 = product(t35, t570);
-        let t572: f64 = t5 * t41;
-        let t573: f64 = t43 * t572;
-        let t574: f64 = t10 * t573;
-        let t575: f64 = t51 * t574;
-        let t576: f64 = t571.minus(t575);
-        let t577: f64 = t1 * t10;
-        let t578: f64 = t21 * t577;
-        let t579 = product(t532, t578);
-        let t580: f64 = t83 * t546;
-        let t581: f64 = t556 * t580;
-        let t582: f64 = t579.plus(t581);
-        let t583: f64 = t78 * t510;
-        let t584 = product(t522, t583);
-        let t585: f64 = t81 * t527;
-        let t586: f64 = t541 * t585;
-        let t587: f64 = t584.plus(t586);
-        let t588: f64 = t582 - t587;
-        let t589: f64 = t564 * 1.25;
-        let t590: f64 = t568 * 6.25;
-        let t591: f64 = t576 * 12.5;
-        let t592: f64 = t588 * 2.5;
-        let t593: f64 = t589 + t590;
-        let t594: f64 = t592 + t593;
-        let t595: f64 = t594 - t591;
-        let t596 = product(t126, t595);
-        let t597: f64 = t128 * t595;
-        let t598: f64 = t596.minus(t597);
-        let t599: f64 = t3 * t11;
-        let t600: f64 = t21 * t599;
-        let t601: f64 = t30 * t569;
-        let t602 = product(t35, t601);
-        let t603: f64 = t602.added_to(t64);
-        let t604: f64 = t5 * t22;
-        let t605: f64 = t7 * t604;
-        let t606: f64 = t10 * t605;
-        let t607 = product(t21, t606);
-        let t608: f64 = t7 * t572;
-        let t609: f64 = t10 * t608;
-        let t610: f64 = t51 * t609;
-        let t611: f64 = t607.minus(t610);
-        let t612: f64 = t10 * t26;
-        let t613: f64 = t35 * t612;
-        let t614 = product(t551, t613);
-        let t615: f64 = t37 * t546;
-        let t616: f64 = t556 * t615;
-        let t617: f64 = t614.minus(t616);
-        let t618: f64 = t52 * t510;
-        let t619 = product(t522, t618);
-        let t620: f64 = t23 * t527;
-        let t621: f64 = t541 * t620;
-        let t622: f64 = t619.minus(t621);
-        let t623: f64 = t617 + t622;
-        let t624: f64 = t600 * 1.25;
-        let t625: f64 = t603 * 6.25;
-        let t626: f64 = t611 * 12.5;
-        let t627: f64 = t623 * 2.5;
-        let t628: f64 = t624 + t625;
-        let t629: f64 = t626 + t627;
+        let t399: f64 = t395.minus(t398);
+        let t400 = product(t24, t309);
+        let t401: f64 = t27 * t296;
+        let t402: f64 = t400.plus(t401);
+        let t403 = product(t32, t336);
+        let t404: f64 = t109 * t296;
+        let t405: f64 = t137 * t256;
+        let t406: f64 = t77 * t281;
+        let t407: f64 = t405 - t406;
+        let t408: f64 = t404 + t407;
+        let t409: f64 = t137 * t408;
+        let t410: f64 = t403.minus(t409);
+        let t411: f64 = t402 - t410;
+        let t412: f64 = t399 + t411;
+        let t413: f64 = t394 + t412;
+        let t414: f64 = t361 * 1.0298500000000002;
+        let t415: f64 = t362.subtracted_from(t387);
+        let t416: f64 = t415 * 2.0;
+        let t417: f64 = t413 * 2.5;
+        let t418: f64 = t384.plus(t416);
+        let t419: f64 = t414 + t417;
+        let t420: f64 = t418 - t419;
+        let t421 = product(t32, t245);
+        let t422: f64 = t363 - 0.5;
+        let t423 = product(t383, t422);
+        let t424: f64 = t421.subtracted_from(t387);
+        let t425 = product(t424, 2.0);
+        let t426: f64 = t425.added_to(t414);
+        let t427: f64 = t417 + t426;
+        let t428: f64 = t423.subtracted_from(t427);
+        let t429: f64 = t22 * t35;
+        let t430 = product(t24, t250);
+        let t431 = product(t27, t102);
+        let t432: f64 = t431.minus(t160);
+        let t433 = product(t109, t408);
+        let t434: f64 = t134 * t168;
+        let t435: f64 = t433.minus(t434);
+        let t436 = product(t130, t374);
+        let t437: f64 = t72 * t383;
+        let t438: f64 = t436.minus(t437);
+        let t439: f64 = t435 - t438;
+        let t440 = product(t87, t187);
+        let t441 = product(t195, t220);
+        let t442: f64 = t208 * t235;
+        let t443: f64 = t441.plus(t442);
+        let t444: f64 = t440.plus(t443);
+        let t445 = product(t24, t323);
+        let t446: f64 = t27 * t256;
+        let t447: f64 = t445.minus(t446);
+        let t448 = product(t32, t309);
+        let t449: f64 = t77 * t339;
+        let t450: f64 = t448.plus(t449);
+        let t451: f64 = t447 - t450;
+        let t452: f64 = t444 + t451;
+        let t453: f64 = t439 + t452;
+        let t454: f64 = t429 * 1.0298500000000002;
+        let t455: f64 = t430.plus(t432);
+        let t456 = product(t455, 2.0);
+        let t457: f64 = t167 * 12.010000000000002;
+        let t458: f64 = t374 * 10.010000000000002;
+        let t459: f64 = t184 - t381;
+        let t460 = product(t459, 0.5);
+        let t461: f64 = t453 * 2.5;
+        let t462: f64 = t456.added_to(t454);
+        let t463: f64 = t460.plus(t461);
+        let t464: f64 = t462 + t463;
+        let t465: f64 = t464 + 117.81810000000003;
+        let t466: f64 = t457 + t458;
+        let t467: f64 = t465 - t466;
+        let t468 = product(t24, t252);
+        let t469: f64 = t468.added_to(t432);
+        let t470 = product(t469, 2.0);
+        let t471: f64 = t184 + t381;
+        let t472 = product(t471, 0.5);
+        let t473: f64 = t470.added_to(t458);
+        let t474: f64 = t472.plus(117.81810000000003);
+        let t475: f64 = t473 + t474;
+        let t476: f64 = t454 + t457;
+        let t477: f64 = t461 + t476;
+        let t478: f64 = t475 - t477;
+        let t479: f64 = t109 * t137;
+        let t480: f64 = t27 - t479;
+        let t481: f64 = t480 * 4.175;
+        let t482: f64 = t174 * t481;
+        let t483: f64 = t27 * t103;
+        let t484: f64 = t77 * t77;
+        let t485 = product(t75, t484);
+        let t486: f64 = t103 * t137;
+        let t487: f64 = t75 * t109;
+        let t488: f64 = t486 - t487;
+        let t489: f64 = t109 * t488;
+        let t490: f64 = t485.minus(t489);
+        let t491: f64 = t483 + t490;
+        let t492: f64 = t77 * t109;
+        let t493: f64 = t24 + t492;
+        let t494: f64 = t493 * 4.175;
+        let t495: f64 = t87 * t494;
+        let t496: f64 = t137 * t137;
+        let t497: f64 = t109 * t109;
+        let t498: f64 = t496 - t497;
+        let t499: f64 = t498 * 4.175;
+        let t500: f64 = t72 * t499;
+        let t501: f64 = t495 - t500;
+        let t502: f64 = t480 * 8.35;
+        let t503 = product(t102, t502);
+        let t504: f64 = t71 * t499;
+        let t505: f64 = t503.minus(t504);
+        let t506: f64 = t245 * t481;
+        let t507: f64 = t242 * t481;
+        let t508: f64 = t506 + t507;
+        let t509: f64 = t239 * t481;
+        let t510: f64 = t482 + t509;
+        let t511: f64 = t508 - t510;
+        let t512: f64 = t495 + t511;
+        let t513: f64 = t505 + t512;
+        let t514: f64 = t262 * t499;
+        let t515: f64 = t500 + t514;
+        let t516 = product(t252, t494);
+        let t517: f64 = t250 * t494;
+        let t518: f64 = t516.plus(t517);
+        let t519: f64 = t246 * t494;
+        let t520: f64 = t243 * t494;
+        let t521: f64 = t519 + t520;
+        let t522: f64 = t518 + t521;
+        let t523 = product(t267, t499);
+        let t524: f64 = t265 * t499;
+        let t525: f64 = t523.plus(t524);
+        let t526: f64 = t522 - t525;
+        let t527: f64 = t515 - t526;
+        let t528: f64 = t71 * 25.000000000000014;
+        let t529: f64 = t57 * 4.175;
+        let t530: f64 = t529 + 12.010000000000002;
+        let t531: f64 = t530 - t528;
+        let t532: f64 = t122 * t531;
+        let t533: f64 = t75 * t531;
+        let t534: f64 = t533 + 2.0;
+        let t535: f64 = t532 - t534;
+        let t536 = product(t484, t535);
+        let t537 = product(t102, 25.000000000000014);
+        let t538: f64 = t37 * 4.175;
+        let t539: f64 = t537.plus(t538);
+        let t540: f64 = t91 * t539;
+        let t541: f64 = t89 * t539;
+        let t542: f64 = t540 - t541;
+        let t543: f64 = t137 * t542;
+        let t544 = product(t109, t535);
+        let t545: f64 = t544.added_to(t543);
+        let t546: f64 = t109 * t545;
+        let t547: f64 = t536.plus(t546);
+        let t548 = product(t120, t539);
+        let t549: f64 = t123 * t539;
+        let t550: f64 = t548.minus(t549);
+        let t551: f64 = t550 - t184;
+        let t552: f64 = t167 * 25.000000000000014;
+        let t553 = product(t513, 2.0);
+        let t554: f64 = t491 * 10.02;
+        let t555: f64 = t551 * 2.5;
+        let t556: f64 = t553.added_to(t552);
+        let t557: f64 = t555 + t556;
+        let t558: f64 = t527 + t547;
+        let t559: f64 = t554 + 245.2500000000001;
+        let t560: f64 = t558 + t559;
+        let t561: f64 = t557 - t560;
+        let t562: f64 = t14 * t19;
+        let t563 = product(t561, t562);
+        let t564: f64 = qd2 * t77;
+        let t565 = product(t542, t564);
+        let t566: f64 = qd1 * t77;
+        let t567: f64 = t542 * t566;
+        let t568: f64 = t565.minus(t567);
+        let t569: f64 = t150 - t568;
+        let t570 = product(t137, t488);
+        let t571: f64 = t103 * t484;
+        let t572: f64 = t570.plus(t571);
+        let t573 = product(t27, t75);
+        let t574: f64 = t573.subtracted_from(t572);
+        let t575: f64 = t102 * t499;
+        let t576: f64 = t27 + t479;
+        let t577: f64 = t576 * 8.35;
+        let t578 = product(t71, t577);
+        let t579: f64 = t578.subtracted_from(t575);
+        let t580: f64 = t77 * t137;
+        let t581: f64 = t32 - t580;
+        let t582: f64 = t581 * 4.175;
+        let t583 = product(t87, t582);
+        let t584: f64 = t576 * 4.175;
+        let t585: f64 = t267 * t584;
+        let t586: f64 = t265 * t584;
+        let t587: f64 = t585 + t586;
+        let t588 = product(t262, t584);
+        let t589: f64 = t72 * t584;
+        let t590: f64 = t588.plus(t589);
+        let t591: f64 = t587 + t590;
+        let t592: f64 = t583.minus(t591);
+        let t593: f64 = t579 + t592;
+        let t594: f64 = t27 - t593;
+        let t595 = product(t239, t499);
+        let t596: f64 = t174 * t499;
+        let t597: f64 = t595.plus(t596);
+        let t598: f64 = t252 * t582;
+        let t599: f64 = t250 * t582;
+        let t600: f64 = t598 + t599;
+        let t601: f64 = t246 * t582;
+        let t602: f64 = t243 * t582;
+        let t603: f64 = t601 + t602;
+        let t604: f64 = t600 + t603;
+        let t605 = product(t245, t499);
+        let t606: f64 = t242 * t499;
+        let t607: f64 = t605.plus(t606);
+        let t608: f64 = t604 + t607;
+        let t609: f64 = t597 - t608;
+        let t610 = product(t27, t531);
+        let t611: f64 = t137 * t545;
+        let t612: f64 = t610.plus(t611);
+        let t613: f64 = t609 - t612;
+        let t614: f64 = t127 * 25.000000000000014;
+        let t615: f64 = t569 * 2.5;
+        let t616 = product(t574, 10.02);
+        let t617: f64 = t594 * 2.0;
+        let t618: f64 = t616.added_to(t614);
+        let t619: f64 = t613 + t617;
+        let t620: f64 = t618 + t619;
+        let t621: f64 = t620 - t615;
+        let t622: f64 = t1 * t14;
+        let t623: f64 = t19 * t622;
+        let t624 = product(t621, t623);
+        let t625 = product(t267, t582);
+        let t626: f64 = t265 * t582;
+        let t627: f64 = t625.plus(t626);
+        let t628: f64 = t245 * t494;
+        let t629: f64 = t242 * t494;
         let t630: f64 = t628 + t629;
-        let t631 = product(t108, t630);
-        let t632: f64 = t11 * t21;
-        let t633: f64 = t46 * t608;
-        let t634: f64 = t51 * t633;
-        let t635: f64 = t10 * t566;
-        let t636 = product(t21, t635);
-        let t637: f64 = t26 * t27;
-        let t638: f64 = t7 * t637;
-        let t639: f64 = t10 * t638;
-        let t640: f64 = t35 * t639;
-        let t641: f64 = t636.minus(t640);
-        let t642: f64 = t66 * t546;
-        let t643 = product(t556, t642);
-        let t644: f64 = t10 * t41;
-        let t645: f64 = t51 * t644;
-        let t646: f64 = t514 * t645;
-        let t647: f64 = t643.minus(t646);
-        let t648: f64 = t70 * t510;
-        let t649 = product(t522, t648);
-        let t650: f64 = t63 * t527;
-        let t651: f64 = t541 * t650;
-        let t652: f64 = t649.minus(t651);
-        let t653: f64 = t647 + t652;
-        let t654: f64 = t632 * 1.25;
-        let t655: f64 = t634 * 6.25;
-        let t656: f64 = t641 * 12.5;
-        let t657: f64 = t653 * 2.5;
-        let t658: f64 = t654 + t656;
-        let t659: f64 = t657 + t658;
-        let t660: f64 = t659 - t655;
-        let t661 = product(t61, t660);
-        let t662: f64 = t122 * t595;
-        let t663: f64 = t661.plus(t662);
-        let t664 = product(t62, t663);
-        let t665 = product(t95, t660);
-        let t666: f64 = t122 * t630;
-        let t667: f64 = t665.plus(t666);
-        let t668: f64 = t96 * t667;
-        let t669: f64 = t664.plus(t668);
-        let t670: f64 = t60 * t669;
-        let t671: f64 = t631.minus(t670);
-        let t672 = product(t111, t630);
-        let t673: f64 = t110 * t669;
-        let t674: f64 = t672.minus(t673);
-        let t675: f64 = t671 - t674;
-        let t676: f64 = t598 - t675;
-        let t677: f64 = t600 * 0.5;
-        let t678: f64 = t603 * 2.5;
-        let t679: f64 = t611 * 5.0;
-        let t680: f64 = t677 + t678;
-        let t681: f64 = t623 + t679;
-        let t682: f64 = t680 + t681;
-        let t683 = product(t57, t682);
-        let t684: f64 = t564 * 0.5;
-        let t685: f64 = t568 * 2.5;
-        let t686: f64 = t576 * 5.0;
-        let t687: f64 = t684 + t685;
-        let t688: f64 = t588 + t687;
-        let t689: f64 = t688 - t686;
-        let t690: f64 = t133 * t689;
-        let t691: f64 = t683.minus(t690);
-        let t692: f64 = t669 + t691;
-        let t693: f64 = t600 * 5.01;
-        let t694: f64 = t603 * 25.049999999999997;
-        let t695: f64 = t611 * 50.099999999999994;
-        let t696: f64 = t623 * 10.02;
-        let t697: f64 = t693 + t694;
-        let t698: f64 = t695 + t696;
-        let t699: f64 = t697 + t698;
-        let t700 = product(t57, t699);
-        let t701: f64 = t564 * 5.01;
-        let t702: f64 = t568 * 25.049999999999997;
-        let t703: f64 = t576 * 50.099999999999994;
-        let t704: f64 = t588 * 10.02;
-        let t705: f64 = t701 + t702;
-        let t706: f64 = t704 + t705;
-        let t707: f64 = t706 - t703;
-        let t708: f64 = t133 * t707;
-        let t709: f64 = t700.minus(t708);
-        let t710 = product(t123, t707);
-        let t711: f64 = t632 * 5.01;
-        let t712: f64 = t634 * 25.049999999999997;
-        let t713: f64 = t641 * 50.099999999999994;
-        let t714: f64 = t653 * 10.02;
-        let t715: f64 = t711 + t713;
-        let t716: f64 = t714 + t715;
-        let t717: f64 = t712 + 1.67;
-        let t718: f64 = t716 - t717;
-        let t719: f64 = t62 * t718;
-        let t720: f64 = t710.plus(t719);
-        let t721 = product(t62, t720);
-        let t722 = product(t96, t718);
-        let t723: f64 = t123 * t699;
-        let t724: f64 = t722.plus(t723);
-        let t725: f64 = t96 * t724;
-        let t726: f64 = t721.plus(t725);
-        let t727: f64 = t709 + t726;
-        let t728: f64 = t632 * 0.5;
-        let t729: f64 = t634 * 2.5;
-        let t730: f64 = t641 * 5.0;
-        let t731: f64 = t728 + t730;
-        let t732: f64 = t653 + t731;
-        let t733: f64 = t729 + 1.0;
-        let t734: f64 = t732 - t733;
-        let t735: f64 = t86 * t734;
-        let t736 = product(t148, t689);
-        let t737: f64 = t732 - t729;
-        let t738 = product(t86, 8.35);
-        let t739: f64 = t738.added_to(t141);
-        let t740 = product(t737, t739);
-        let t741: f64 = t735 * 1.67;
-        let t742: f64 = t740.plus(t741);
-        let t743: f64 = t736.subtracted_from(t742);
-        let t744 = product(t209, t743);
-        let t745: f64 = t54 * t682;
-        let t746: f64 = t72 * t737;
-        let t747 = product(t55, t682);
-        let t748: f64 = t261 * t682;
-        let t749: f64 = t747.plus(t748);
-        let t750 = product(t264, t682);
-        let t751: f64 = t266 * t682;
-        let t752: f64 = t750.plus(t751);
-        let t753: f64 = t749 + t752;
-        let t754 = product(t236, t734);
-        let t755: f64 = t238 * t737;
-        let t756: f64 = t754.plus(t755);
-        let t757 = product(t241, t737);
-        let t758: f64 = t244 * t737;
-        let t759: f64 = t757.plus(t758);
-        let t760: f64 = t756 - t759;
-        let t761: f64 = t745 + t746;
-        let t762 = product(t761, 6.68);
-        let t763: f64 = t753 - t760;
-        let t764: f64 = t763 * 3.34;
-        let t765: f64 = t762.plus(t764);
-        let t766: f64 = t57 * t765;
-        let t767: f64 = t744.plus(t766);
-        let t768 = product(t138, t689);
-        let t769: f64 = t142 * t682;
-        let t770: f64 = t768.plus(t769);
-        let t771 = product(t133, t770);
-        let t772: f64 = t86 * t689;
-        let t773 = product(t242, t689);
-        let t774: f64 = t245 * t689;
-        let t775: f64 = t773.plus(t774);
-        let t776 = product(t249, t689);
-        let t777: f64 = t251 * t689;
-        let t778: f64 = t776.plus(t777);
-        let t779: f64 = t775 + t778;
-        let t780: f64 = t745 + t772;
-        let t781 = product(t780, 6.68);
-        let t782: f64 = t753 + t779;
-        let t783: f64 = t782 * 3.34;
-        let t784: f64 = t781.plus(t783);
-        let t785 = product(t123, t784);
-        let t786: f64 = t62 * t743;
-        let t787: f64 = t55 * t734;
-        let t788 = product(t148, t682);
-        let t789 = product(t54, 8.35);
-        let t790: f64 = t789.added_to(t137);
-        let t791: f64 = t790 - 0.334;
-        let t792 = product(t737, t791);
-        let t793: f64 = t787 * 1.67;
-        let t794: f64 = t792.plus(t793);
-        let t795: f64 = t788.minus(t794);
-        let t796 = product(t96, t795);
-        let t797: f64 = t785.plus(t786);
-        let t798: f64 = t796.subtracted_from(t797);
-        let t799: f64 = t96 * t798;
-        let t800: f64 = t771.minus(t799);
-        let t801: f64 = t767 - t800;
-        let t802 = product(t123, t795);
-        let t803: f64 = t62 * t770;
-        let t804: f64 = t746 + t772;
-        let t805 = product(t804, 6.68);
-        let t806: f64 = t760 - t779;
-        let t807: f64 = t806 * 3.34;
-        let t808: f64 = t805.subtracted_from(t807);
-        let t809 = product(t96, t808);
-        let t810: f64 = t802.plus(t803);
-        let t811: f64 = t809.plus(t810);
-        let t812 = product(t123, t811);
-        let t813: f64 = t131 * t699;
-        let t814: f64 = t812.minus(t813);
-        let t815: f64 = -t676;
-        let t816 = product(t138, t815);
-        let t817: f64 = t356 * t718;
-        let t818: f64 = t816.plus(t817);
-        let t819: f64 = t814 - t818;
-        let t820: f64 = t801 + t819;
-        let t821 = product(t352, t595);
-        let t822 = product(t123, t667);
-        let t823 = product(t95, t595);
-        let t824: f64 = t61 * t630;
-        let t825: f64 = t823.subtracted_from(t824);
-        let t826: f64 = t62 * t825;
-        let t827: f64 = t822.plus(t826);
-        let t828: f64 = t90 * t827;
-        let t829: f64 = t821.plus(t828);
-        let t830 = product(t108, t660);
-        let t831: f64 = t111 * t660;
-        let t832: f64 = t830.minus(t831);
-        let t833 = product(t350, t595);
-        let t834: f64 = t88 * t827;
-        let t835: f64 = t833.plus(t834);
-        let t836: f64 = t832 + t835;
-        let t837: f64 = t829 - t836;
-        let t838: f64 = -t837;
-        let t839 = product(t148, t838);
-        let t840: f64 = t359 * t682;
-        let t841: f64 = t839.plus(t840);
-        let t842 = product(t676, 20.020000000000003);
-        let t843: f64 = t842.added_to(t727);
-        let t844: f64 = -t843;
-        let t845 = product(t55, t844);
-        let t846: f64 = t374 * t734;
-        let t847: f64 = t845.plus(t846);
-        let t848: f64 = t841 + t847;
-        let t849 = product(t209, t707);
-        let t850: f64 = t57 * t718;
-        let t851: f64 = t849.plus(t850);
-        let t852 = product(t123, t724);
-        let t853 = product(t62, t699);
-        let t854: f64 = t96 * t707;
-        let t855: f64 = t853.minus(t854);
-        let t856: f64 = t62 * t855;
-        let t857: f64 = t852.plus(t856);
-        let t858: f64 = t851 - t857;
-        let t859 = product(t837, 20.020000000000003);
-        let t860: f64 = t859.added_to(t858);
-        let t861: f64 = -t860;
-        let t862 = product(t236, t861);
-        let t863: f64 = q1 * t861;
-        let t864: f64 = t862.minus(t863);
-        let t865: f64 = t158 * t532;
-        let t866 = product(t194, t865);
-        let t867: f64 = t96 * t159;
-        let t868: f64 = t551 * t867;
-        let t869: f64 = t7 * t27;
-        let t870: f64 = t159 * t869;
-        let t871 = product(t123, t870);
-        let t872: f64 = t62 * t504;
-        let t873: f64 = t871.minus(t872);
-        let t874: f64 = t62 * t558;
-        let t875 = product(t556, t874);
-        let t876: f64 = t162 * t546;
-        let t877: f64 = t547 * t876;
-        let t878: f64 = t123 * t877;
-        let t879: f64 = t556 * t878;
-        let t880: f64 = t875.minus(t879);
-        let t881: f64 = t30 * t546;
-        let t882: f64 = t547 * t881;
-        let t883: f64 = t96 * t882;
-        let t884 = product(t556, t883);
-        let t885: f64 = t884.subtracted_from(t880);
-        let t886 = product(t873, 2.5);
-        let t887 = product(t885, 0.5);
-        let t888: f64 = t886.added_to(t868);
-        let t889: f64 = t887.plus(t888);
-        let t890 = product(t179, t889);
-        let t891: f64 = t123 * t169;
-        let t892: f64 = t514 * t891;
-        let t893 = product(t62, t507);
-        let t894: f64 = t42 * t169;
-        let t895: f64 = t96 * t894;
-        let t896: f64 = t893.minus(t895);
-        let t897: f64 = t10 * t510;
-        let t898: f64 = t511 * t897;
-        let t899: f64 = t96 * t898;
-        let t900 = product(t522, t899);
-        let t901: f64 = t46 * t510;
-        let t902: f64 = t511 * t901;
-        let t903: f64 = t123 * t902;
-        let t904 = product(t522, t903);
-        let t905: f64 = t62 * t524;
-        let t906: f64 = t522 * t905;
-        let t907: f64 = t904.plus(t906);
-        let t908: f64 = t900.minus(t907);
-        let t909 = product(t892, 0.22443999999999997);
-        let t910: f64 = t896 * 0.5610999999999999;
-        let t911 = product(t908, 0.11221999999999999);
-        let t912: f64 = t909.plus(t910);
-        let t913: f64 = t911.plus(t912);
-        let t914: f64 = t168 * t913;
-        let t915 = product(t896, 2.5);
-        let t916 = product(t908, 0.5);
-        let t917: f64 = t915.added_to(t892);
-        let t918: f64 = t916.plus(t917);
-        let t919 = product(t181, t918);
-        let t920 = product(t868, 0.22443999999999997);
-        let t921: f64 = t873 * 0.5610999999999999;
-        let t922 = product(t885, 0.11221999999999999);
-        let t923: f64 = t920.plus(t921);
-        let t924: f64 = t922.plus(t923);
-        let t925: f64 = t178 * t924;
-        let t926: f64 = t10 * t133;
-        let t927: f64 = t57 * t532;
-        let t928 = product(t184, 1.0298500000000002);
-        let t929: f64 = t185 * 2.574625;
-        let t930: f64 = t928.subtracted_from(t929);
-        let t931 = product(t42, t930);
-        let t932 = product(t926, 1.0298500000000002);
-        let t933: f64 = t927 * 0.4119400000000001;
-        let t934: f64 = t932.plus(t933);
-        let t935: f64 = t931.subtracted_from(t934);
-        let t936 = product(t158, t935);
-        let t937 = product(t184, 0.20597000000000004);
-        let t938: f64 = t185 * 0.5149250000000001;
-        let t939: f64 = t937.subtracted_from(t938);
-        let t940 = product(t10, t939);
-        let t941: f64 = t183 * 0.20597000000000004;
-        let t942: f64 = t940.subtracted_from(t941);
-        let t943: f64 = t527 * t528;
-        let t944: f64 = t541 * t943;
-        let t945 = product(t942, t944);
-        let t946: f64 = t919.plus(t925);
-        let t947: f64 = t945.plus(t946);
-        let t948: f64 = t890.plus(t914);
-        let t949: f64 = t936.plus(t948);
-        let t950: f64 = t947 - t949;
-        let t951: f64 = t195 * t950;
-        let t952: f64 = t866.plus(t951);
-        let t953: f64 = t133 * t159;
-        let t954: f64 = t551 * t953;
-        let t955 = product(t205, t918);
-        let t956 = product(t204, t913);
-        let t957: f64 = t62 * t158;
-        let t958: f64 = t532 * t957;
-        let t959: f64 = t42 * t158;
-        let t960 = product(t123, t959);
-        let t961: f64 = t96 * t197;
-        let t962: f64 = t960.minus(t961);
-        let t963: f64 = t9 * t158;
-        let t964 = product(t96, t963);
-        let t965: f64 = t964.subtracted_from(t962);
-        let t966: f64 = t201 * t527;
-        let t967: f64 = t528 * t966;
-        let t968: f64 = t96 * t967;
-        let t969 = product(t541, t968);
-        let t970: f64 = t62 * t543;
-        let t971 = product(t541, t970);
-        let t972: f64 = t10 * t527;
-        let t973: f64 = t528 * t972;
-        let t974: f64 = t123 * t973;
-        let t975: f64 = t541 * t974;
-        let t976: f64 = t971.minus(t975);
-        let t977: f64 = t969.plus(t976);
-        let t978 = product(t958, 0.4119400000000001);
-        let t979 = product(t965, 1.0298500000000002);
-        let t980: f64 = t977 * 0.20597000000000004;
-        let t981: f64 = t979.plus(t980);
-        let t982: f64 = t978.subtracted_from(t981);
-        let t983: f64 = t178 * t982;
-        let t984 = product(t965, 2.5);
-        let t985: f64 = t977 * 0.5;
-        let t986: f64 = t984.plus(t985);
-        let t987: f64 = t986 - t958;
-        let t988 = product(t179, t987);
-        let t989: f64 = t209 * t558;
-        let t990: f64 = t556 * t989;
-        let t991 = product(t210, 0.5610999999999999);
-        let t992: f64 = t56 * 1.4027499999999997;
-        let t993: f64 = t991.subtracted_from(t992);
-        let t994: f64 = t7 * t159;
-        let t995 = product(t993, t994);
-        let t996: f64 = t990 * 0.11221999999999999;
-        let t997: f64 = t995.plus(t996);
-        let t998 = product(t5, t997);
-        let t999: f64 = t10 * t57;
+        let t631: f64 = t627 - t630;
+        let t632 = product(t262, t582);
+        let t633: f64 = t239 * t494;
+        let t634: f64 = t632.plus(t633);
+        let t635 = product(t72, t582);
+        let t636: f64 = t174 * t494;
+        let t637: f64 = t635.plus(t636);
+        let t638: f64 = t634 + t637;
+        let t639: f64 = t631 + t638;
+        let t640: f64 = t77 * t103;
+        let t641 = product(t109, t640);
+        let t642: f64 = t24 * t103;
+        let t643: f64 = t641.plus(t642);
+        let t644: f64 = t75 * t137;
+        let t645 = product(t77, t644);
+        let t646: f64 = t32 * t75;
+        let t647: f64 = t645.minus(t646);
+        let t648: f64 = t643 + t647;
+        let t649 = product(t102, t494);
+        let t650: f64 = t71 * t582;
+        let t651: f64 = t649.minus(t650);
+        let t652: f64 = t32 - t651;
+        let t653 = product(t535, t580);
+        let t654: f64 = t32 * t531;
+        let t655: f64 = t653.minus(t654);
+        let t656: f64 = qd4 * t77;
+        let t657 = product(t542, t656);
+        let t658: f64 = qd3 * t77;
+        let t659: f64 = t542 * t658;
+        let t660: f64 = t657.minus(t659);
+        let t661 = product(t163, t539);
+        let t662: f64 = t161 * t539;
+        let t663: f64 = t661.minus(t662);
+        let t664: f64 = t660 + t663;
+        let t665: f64 = t648 * 10.02;
+        let t666: f64 = t652 * 2.0;
+        let t667: f64 = t664 * 2.5;
+        let t668: f64 = t639 + t655;
+        let t669: f64 = t665 + t666;
+        let t670: f64 = t668 + t669;
+        let t671: f64 = t667 + t670;
+        let t672: f64 = t10 * t13;
+        let t673: f64 = t19 * t672;
+        let t674: f64 = t671 * t673;
+        let t675: f64 = t624.minus(t674);
+        let t676: f64 = t563.plus(t675);
+        let t677: f64 = t19 * t19;
+        let t678: f64 = t40 * t677;
+        let t679 = product(t621, t678);
+        let t680: f64 = t82 * t677;
+        let t681 = product(t671, t680);
+        let t682: f64 = t93 * t677;
+        let t683: f64 = t561 * t682;
+        let t684: f64 = 1.0 / t20;
+        let t685 = product(t211, t231);
+        let t686: f64 = t193 * t216;
+        let t687: f64 = t685.plus(t686);
+        let t688: f64 = t687 * 0.4687500000000003;
+        let t689 = product(t77, t688);
+        let t690: f64 = t28 - t35;
+        let t691: f64 = t690 * 1.0298500000000002;
+        let t692: f64 = t689.subtracted_from(t691);
+        let t693 = product(t10, t692);
+        let t694: f64 = t21 * t24;
+        let t695: f64 = t137 * t688;
+        let t696: f64 = t21 * t32;
+        let t697 = product(t109, t688);
+        let t698: f64 = t696 * 1.0298500000000002;
+        let t699: f64 = t697.subtracted_from(t698);
+        let t700 = product(t1, t699);
+        let t701: f64 = t694 * 1.0298500000000002;
+        let t702: f64 = t700.added_to(t695);
+        let t703: f64 = t701 - t702;
+        let t704: f64 = t13 * t703;
+        let t705: f64 = t693.minus(t704);
+        let t706: f64 = t677 * t684;
+        let t707: f64 = t705 * t706;
+        let t708: f64 = t707 * 0.5;
+        let t709: f64 = t679.plus(t683);
+        let t710: f64 = t708 + t709;
+        let t711: f64 = t681.subtracted_from(t710);
+        let t712 = product(t622, t711);
+        let t713: f64 = t20 * t692;
+        let t714: f64 = t13 * t38;
+        let t715: f64 = t19 * t714;
+        let t716 = product(t671, t715);
+        let t717: f64 = t10 * t711;
+        let t718: f64 = t717 * 2.0;
+        let t719: f64 = t716.plus(t718);
+        let t720: f64 = t719 - t713;
+        let t721: f64 = t11 * t720;
+        let t722: f64 = t712.plus(t721);
+        let t723: f64 = t68 * t99;
+        let t724 = product(t561, t723);
+        let t725: f64 = t52 * t53;
+        let t726 = product(t621, t725);
+        let t727: f64 = t19 * t81;
+        let t728: f64 = t671 * t727;
+        let t729: f64 = t52 * t52;
+        let t730: f64 = 1.0 / t192;
+        let t731: f64 = t32 * t193;
+        let t732: f64 = t109 * t211;
+        let t733: f64 = t206 * t732;
+        let t734 = product(t731, 0.5610999999999999);
+        let t735: f64 = t733 * 0.4687500000000003;
+        let t736: f64 = t734.minus(t735);
+        let t737 = product(t47, t736);
+        let t738: f64 = t24 * t193;
+        let t739: f64 = t137 * t211;
+        let t740: f64 = t206 * t739;
+        let t741 = product(t738, 0.5610999999999999);
+        let t742: f64 = t740 * 0.4687500000000003;
+        let t743: f64 = t741.minus(t742);
+        let t744 = product(t6, t743);
+        let t745: f64 = t197 - t201;
+        let t746 = product(t206, t212);
+        let t747: f64 = t746.subtracted_from(t217);
+        let t748 = product(t745, 0.5610999999999999);
+        let t749: f64 = t747 * 0.4687500000000003;
+        let t750: f64 = t748.plus(t749);
+        let t751: f64 = t744.subtracted_from(t750);
+        let t752: f64 = t13 * t751;
+        let t753: f64 = t737.minus(t752);
+        let t754: f64 = t730 * t753;
+        let t755 = product(t47, t621);
+        let t756 = product(t24, t539);
+        let t757: f64 = t756.minus(t639);
+        let t758: f64 = t655 - t757;
+        let t759 = product(t27, t539);
+        let t760: f64 = t759.subtracted_from(t527);
+        let t761: f64 = t547 + t760;
+        let t762: f64 = t184 * 2.5;
+        let t763: f64 = t554 + t762;
+        let t764: f64 = t761 + 245.2500000000001;
+        let t765: f64 = t763 + t764;
+        let t766: f64 = t556 - t765;
+        let t767 = product(t6, t766);
+        let t768: f64 = t767.subtracted_from(t758);
+        let t769: f64 = t660 * 2.5;
+        let t770: f64 = t665 + t769;
+        let t771: f64 = t666 + t768;
+        let t772: f64 = t770 + t771;
+        let t773: f64 = t13 * t772;
+        let t774: f64 = t755.plus(t773);
+        let t775: f64 = t13 * t43;
+        let t776 = product(t774, t775);
+        let t777: f64 = t754 * 0.5;
+        let t778: f64 = t776.subtracted_from(t777);
+        let t779: f64 = t729 * t778;
+        let t780: f64 = -t779;
+        let t781: f64 = t44 * t780;
+        let t782: f64 = t666 + t758;
+        let t783: f64 = t770 + t782;
+        let t784: f64 = t81 * t677;
+        let t785 = product(t783, t784);
+        let t786: f64 = t68 * t68;
+        let t787: f64 = t99 * t786;
+        let t788: f64 = t766 * t787;
+        let t789: f64 = t53 * t729;
+        let t790 = product(t621, t789);
+        let t791 = product(t1, t621);
+        let t792: f64 = t791.subtracted_from(t761);
+        let t793: f64 = t167 * 50.00000000000003;
+        let t794: f64 = t184 * 5.0;
+        let t795 = product(t513, 4.0);
+        let t796 = product(t491, 20.04);
+        let t797 = product(t792, 2.0);
+        let t798: f64 = t796.added_to(t794);
+        let t799: f64 = t797.plus(490.5000000000002);
+        let t800: f64 = t798 + t799;
+        let t801: f64 = t795.added_to(t793);
+        let t802: f64 = t800 - t801;
+        let t803: f64 = t38 * t677;
+        let t804 = product(t802, t803);
+        let t805: f64 = t660 * 5.0;
+        let t806 = product(t648, 20.04);
+        let t807 = product(t652, 4.0);
+        let t808: f64 = t768 * 2.0;
+        let t809: f64 = t806.added_to(t805);
+        let t810: f64 = t807.plus(t808);
+        let t811: f64 = t809 + t810;
+        let t812: f64 = t43 * t729;
+        let t813 = product(t811, t812);
+        let t814 = product(t3, t783);
+        let t815: f64 = t814.added_to(t613);
+        let t816: f64 = t127 * 50.00000000000003;
+        let t817: f64 = t569 * 5.0;
+        let t818 = product(t574, 20.04);
+        let t819 = product(t594, 4.0);
+        let t820: f64 = t815 * 2.0;
+        let t821: f64 = t818.added_to(t816);
+        let t822: f64 = t819.plus(t820);
+        let t823: f64 = t821 + t822;
+        let t824: f64 = t823 - t817;
+        let t825: f64 = t58 * t786;
+        let t826: f64 = t824 * t825;
+        let t827: f64 = t804.plus(t826);
+        let t828: f64 = t813.subtracted_from(t827);
+        let t829 = product(t13, t828);
+        let t830: f64 = t785.plus(t788);
+        let t831: f64 = t790.subtracted_from(t830);
+        let t832: f64 = t831 * 2.0;
+        let t833: f64 = t829.plus(t832);
+        let t834 = product(t13, t833);
+        let t835 = product(t38, t802);
+        let t836: f64 = t684 * t705;
+        let t837 = product(t10, t783);
+        let t838: f64 = t792 + 245.2500000000001;
+        let t839: f64 = t763 + t838;
+        let t840: f64 = t839 - t556;
+        let t841: f64 = t13 * t840;
+        let t842: f64 = t837.plus(t841);
+        let t843 = product(t714, t842);
+        let t844: f64 = t836 * 0.5;
+        let t845: f64 = t843.subtracted_from(t844);
+        let t846: f64 = t7 * t845;
+        let t847 = product(t846, 2.0);
+        let t848: f64 = t847.added_to(t836);
+        let t849: f64 = t19 * t848;
+        let t850: f64 = t835.plus(t849);
+        let t851 = product(t19, t850);
+        let t852 = product(t58, t824);
+        let t853: f64 = 1.0 / t207;
+        let t854: f64 = t24 * t211;
+        let t855: f64 = t137 * t193;
+        let t856: f64 = t206 * t855;
+        let t857 = product(t854, 0.5610999999999999);
+        let t858: f64 = t856 * 0.4687500000000003;
+        let t859: f64 = t857.plus(t858);
+        let t860 = product(t63, t859);
+        let t861: f64 = t32 * t211;
+        let t862: f64 = t109 * t193;
+        let t863: f64 = t206 * t862;
+        let t864 = product(t206, t228);
+        let t865: f64 = t223 + t226;
+        let t866 = product(t865, 0.5610999999999999);
+        let t867: f64 = t864.added_to(t232);
+        let t868: f64 = t867 * 0.4687500000000003;
+        let t869: f64 = t866.plus(t868);
+        let t870 = product(t3, t869);
+        let t871 = product(t861, 0.5610999999999999);
+        let t872: f64 = t863 * 0.4687500000000003;
+        let t873: f64 = t871.plus(t872);
+        let t874: f64 = t870.subtracted_from(t873);
+        let t875: f64 = t13 * t874;
+        let t876: f64 = t860.subtracted_from(t875);
+        let t877: f64 = t853 * t876;
+        let t878 = product(t63, t766);
+        let t879: f64 = t617 + t815;
+        let t880: f64 = t618 + t879;
+        let t881: f64 = t880 - t615;
+        let t882: f64 = t13 * t881;
+        let t883: f64 = t878.plus(t882);
+        let t884: f64 = t13 * t58;
+        let t885 = product(t883, t884);
+        let t886: f64 = t877 * 0.5;
+        let t887: f64 = t885.plus(t886);
+        let t888: f64 = t60 * t887;
+        let t889 = product(t888, 2.0);
+        let t890: f64 = t889.added_to(t877);
+        let t891: f64 = t68 * t890;
+        let t892: f64 = t852.minus(t891);
+        let t893 = product(t68, t892);
+        let t894: f64 = t52 * t730;
+        let t895 = product(t753, t894);
+        let t896: f64 = t43 * t811;
+        let t897: f64 = t895.plus(t896);
+        let t898: f64 = t52 * t897;
+        let t899: f64 = t781 * 2.0;
+        let t900: f64 = t851.plus(t899);
+        let t901: f64 = t893.plus(t900);
+        let t902: f64 = t834.plus(t898);
+        let t903: f64 = t901 - t902;
+        let t904 = product(t13, t903);
+        let t905: f64 = t701 - t695;
+        let t906 = product(t20, t905);
+        let t907: f64 = t1 * t20;
+        let t908: f64 = t699 * t907;
+        let t909: f64 = t906.minus(t908);
+        let t910 = product(t207, t873);
+        let t911: f64 = t3 * t207;
+        let t912: f64 = t869 * t911;
+        let t913: f64 = t910.minus(t912);
+        let t914: f64 = t6 * t192;
+        let t915 = product(t743, t914);
+        let t916: f64 = t192 * t750;
+        let t917: f64 = t915.minus(t916);
+        let t918: f64 = t913 + t917;
+        let t919: f64 = t909 + t918;
+        let t920: f64 = t724.plus(t728);
+        let t921: f64 = t904.plus(t919);
+        let t922: f64 = t920 + t921;
+        let t923: f64 = t726.subtracted_from(t922);
+        let t924 = product(t59, t923);
+        let t925: f64 = t192 * t736;
+        let t926: f64 = t52 * t775;
+        let t927 = product(t621, t926);
+        let t928: f64 = t54 * t729;
+        let t929 = product(t621, t928);
+        let t930: f64 = t84 * t729;
+        let t931: f64 = t671 * t930;
+        let t932: f64 = t96 * t729;
+        let t933 = product(t561, t932);
+        let t934: f64 = t729 * t730;
+        let t935: f64 = t753 * t934;
+        let t936: f64 = t935 * 0.5;
+        let t937: f64 = t929.plus(t931);
+        let t938: f64 = t933.plus(t936);
+        let t939: f64 = t937 - t938;
+        let t940: f64 = t47 * t939;
+        let t941 = product(t940, 2.0);
+        let t942: f64 = t941.added_to(t925);
+        let t943: f64 = t927.minus(t942);
+        let t944: f64 = t6 * t943;
+        let t945: f64 = t924.minus(t944);
+        let t946: f64 = t22 * t699;
+        let t947 = product(t94, t621);
+        let t948: f64 = t947.added_to(t946);
+        let t949: f64 = t207 * t859;
+        let t950: f64 = t68 * t884;
+        let t951 = product(t561, t950);
+        let t952: f64 = t69 * t786;
+        let t953 = product(t621, t952);
+        let t954: f64 = t79 * t786;
+        let t955: f64 = t671 * t954;
+        let t956: f64 = t100 * t786;
+        let t957 = product(t561, t956);
+        let t958: f64 = t786 * t853;
+        let t959: f64 = t876 * t958;
+        let t960: f64 = t959 * 0.5;
+        let t961: f64 = t953.plus(t955);
+        let t962: f64 = t957.plus(t960);
+        let t963: f64 = t961 + t962;
+        let t964: f64 = t63 * t963;
+        let t965 = product(t964, 2.0);
+        let t966: f64 = t965.added_to(t949);
+        let t967: f64 = t951.minus(t966);
+        let t968 = product(t61, t967);
+        let t969: f64 = t3 * t720;
+        let t970: f64 = t968.plus(t969);
+        let t971: f64 = t948 - t970;
+        let t972: f64 = t945 - t971;
+        let t973 = product(t482, 2.0);
+        let t974: f64 = t167 * 4.174999999999997;
+        let t975: f64 = t491 * 1.67;
+        let t976: f64 = t676 * 0.5;
+        let t977: f64 = t722 * 5.0;
+        let t978: f64 = t972 * 2.5;
+        let t979: f64 = t973.plus(t974);
+        let t980: f64 = t975 + t976;
+        let t981: f64 = t979 + t980;
+        let t982: f64 = t501 + t977;
+        let t983: f64 = t978 + 40.956750000000056;
+        let t984: f64 = t982 + t983;
+        let t985: f64 = t981 - t984;
+        let t986: f64 = t514 - t495;
+        let t987 = product(t509, 2.0);
+        let t988: f64 = t167 * 4.175;
+        let t989: f64 = t987.plus(t988);
+        let t990: f64 = t975 + t986;
+        let t991: f64 = t976 + t977;
+        let t992: f64 = t989 + t990;
+        let t993: f64 = t978 + t991;
+        let t994: f64 = t992 + t993;
+        let t995: f64 = t994 - 40.95675;
+        let t996: f64 = t650 - t629;
+        let t997: f64 = t13 * t47;
+        let t998: f64 = t52 * t997;
+        let t999 = product(t621, t998);
         (
-            t0,
             t1,
-            t2,
             t3,
             t4,
-            t5,
             t6,
             t7,
             t8,
-            t9,
             t10,
             t11,
             t12,
             t13,
-            t16,
-            t17,
-            t18,
+            t14,
+            t19,
+            t20,
             t21,
             t22,
+            t24,
             t25,
-            t26,
             t27,
             t30,
-            t31,
             t32,
+            t33,
             t35,
-            t40,
-            t41,
+            t38,
+            t42,
             t43,
-            t46,
+            t44,
+            t45,
             t47,
-            t48,
-            t51,
-            t53,
-            t54,
-            t55,
-            t56,
-            t57,
+            t52,
+            t58,
             t59,
             t60,
             t61,
-            t62,
+            t63,
+            t68,
+            t70,
+            t71,
             t72,
-            t73,
-            t84,
-            t86,
+            t74,
+            t75,
+            t77,
+            t85,
             t87,
             t88,
-            t90,
-            t93,
-            t95,
-            t96,
-            t97,
-            t99,
-            t105,
-            t108,
+            t89,
+            t91,
+            t94,
+            t102,
+            t103,
+            t106,
+            t109,
             t110,
-            t111,
+            t112,
+            t117,
             t120,
             t122,
             t123,
-            t126,
-            t128,
-            t131,
-            t132,
-            t133,
-            t138,
-            t142,
+            t127,
+            t130,
+            t134,
+            t137,
+            t141,
+            t143,
             t147,
-            t148,
             t150,
-            t154,
             t158,
-            t159,
-            t160,
+            t161,
             t163,
-            t165,
-            t168,
-            t169,
-            t170,
-            t173,
-            t176,
-            t178,
-            t179,
+            t174,
             t181,
-            t183,
-            t194,
+            t184,
+            t192,
+            t193,
             t195,
-            t197,
-            t202,
-            t204,
-            t205,
+            t196,
+            t198,
+            t199,
+            t201,
+            t206,
+            t207,
             t208,
             t209,
-            t210,
-            t219,
-            t220,
+            t211,
+            t213,
+            t214,
+            t216,
+            t217,
+            t222,
             t224,
-            t225,
-            t234,
-            t236,
-            t238,
-            t241,
+            t226,
+            t227,
+            t229,
+            t231,
+            t232,
+            t239,
             t242,
-            t244,
+            t243,
             t245,
-            t249,
-            t251,
-            t254,
-            t259,
-            t261,
-            t264,
-            t266,
-            t277,
+            t246,
+            t250,
+            t252,
+            t255,
+            t256,
+            t260,
+            t262,
+            t265,
+            t267,
+            t278,
+            t281,
             t295,
-            t299,
-            t307,
+            t296,
+            t308,
+            t309,
+            t310,
+            t312,
+            t320,
+            t323,
             t324,
-            t327,
+            t325,
+            t326,
+            t330,
+            t331,
+            t332,
             t333,
-            t334,
-            t339,
-            t350,
-            t352,
-            t355,
-            t356,
-            t359,
+            t336,
+            t337,
+            t338,
+            t354,
+            t360,
             t368,
-            t371,
+            t370,
             t374,
-            t387,
-            t392,
-            t395,
-            t402,
-            t409,
-            t411,
+            t381,
+            t404,
+            t405,
+            t406,
+            t407,
             t420,
-            t431,
-            t448,
-            t450,
-            t455,
-            t460,
+            t428,
+            t467,
+            t478,
+            t479,
+            t481,
+            t483,
+            t484,
+            t486,
+            t487,
+            t488,
+            t492,
             t493,
-            t503,
-            t509,
-            t510,
+            t496,
+            t497,
+            t501,
+            t506,
+            t507,
             t511,
-            t514,
-            t516,
+            t519,
+            t520,
             t522,
-            t524,
+            t527,
+            t528,
+            t529,
             t531,
-            t536,
+            t532,
+            t533,
+            t535,
+            t539,
+            t540,
             t541,
+            t542,
             t543,
-            t546,
-            t547,
-            t548,
-            t551,
+            t545,
+            t552,
+            t555,
             t556,
-            t558,
+            t561,
             t562,
-            t563,
-            t578,
+            t571,
+            t574,
+            t575,
             t580,
-            t583,
+            t581,
+            t584,
             t585,
-            t588,
-            t589,
-            t590,
+            t586,
             t591,
-            t592,
+            t593,
+            t598,
             t599,
+            t601,
+            t602,
             t604,
-            t613,
+            t609,
+            t614,
             t615,
-            t618,
-            t620,
+            t621,
+            t622,
             t623,
-            t624,
-            t625,
-            t626,
-            t627,
-            t630,
-            t642,
-            t645,
+            t628,
+            t639,
+            t640,
+            t643,
             t648,
             t650,
-            t653,
-            t654,
-            t655,
-            t656,
-            t657,
-            t660,
-            t663,
-            t676,
+            t651,
+            t667,
+            t671,
+            t673,
             t677,
             t678,
-            t679,
+            t680,
             t682,
             t684,
-            t685,
-            t686,
-            t689,
-            t692,
-            t693,
-            t694,
-            t695,
-            t696,
-            t699,
-            t701,
-            t702,
-            t703,
-            t704,
-            t707,
-            t711,
-            t712,
+            t688,
+            t706,
+            t708,
             t713,
             t714,
-            t718,
+            t715,
             t720,
+            t723,
+            t725,
             t727,
-            t728,
             t729,
             t730,
-            t734,
-            t737,
-            t739,
             t743,
-            t765,
-            t770,
+            t754,
+            t757,
+            t760,
+            t762,
+            t769,
+            t775,
+            t777,
             t784,
-            t790,
-            t795,
-            t798,
-            t808,
-            t811,
-            t815,
-            t820,
+            t787,
+            t789,
+            t793,
+            t794,
+            t801,
+            t803,
+            t805,
+            t812,
+            t816,
+            t817,
             t825,
-            t827,
-            t837,
-            t838,
+            t836,
             t844,
-            t848,
-            t855,
-            t858,
-            t861,
-            t864,
-            t867,
-            t870,
-            t874,
+            t853,
+            t869,
             t877,
-            t878,
-            t882,
-            t883,
-            t889,
-            t891,
+            t884,
+            t886,
             t894,
-            t898,
-            t899,
-            t902,
-            t903,
-            t905,
-            t924,
+            t907,
+            t911,
+            t914,
+            t919,
+            t923,
+            t925,
             t926,
+            t928,
             t930,
+            t932,
+            t934,
+            t936,
+            t939,
             t943,
+            t946,
+            t949,
             t950,
             t952,
-            t953,
             t954,
-            t955,
             t956,
-            t957,
-            t959,
+            t958,
+            t960,
             t963,
             t967,
-            t968,
-            t970,
-            t973,
-            t974,
-            t982,
-            t983,
-            t987,
+            t979,
+            t985,
+            t986,
             t988,
             t989,
-            t993,
+            t995,
+            t996,
             t998,
             t999,
         )
     };
     let (
-        t1001,
-        t1002,
-        t1011,
-        t1023,
-        t1031,
+        t1000,
+        t1003,
+        t1004,
+        t1028,
+        t1033,
+        t1036,
+        t1038,
         t1040,
-        t1048,
-        t1053,
-        t1058,
-        t1060,
-        t1069,
-        t1073,
-        t1076,
-        t1089,
-        t1092,
+        t1041,
+        t1070,
+        t1078,
+        t1079,
+        t1080,
+        t1091,
+        t1093,
+        t1094,
         t1096,
-        t1099,
-        t1102,
-        t1107,
-        t1109,
-        t1114,
-        t1128,
-        t1133,
-        t1155,
-        t1161,
-        t1175,
-        t1184,
-        t1187,
-        t1196,
-        t1199,
-        t1211,
-        t1214,
-        t1225,
-        t1226,
-        t1232,
-        t1241,
-        t1245,
-        t1248,
-        t1257,
-        t1261,
-        t1275,
-        t1287,
-        t1292,
-        t1293,
-        t1299,
-        t1312,
-        t1334,
-        t1338,
+        t1098,
+        t1295,
+        t1301,
+        t1327,
+        t1331,
         t1359,
-        t1361,
+        t1364,
         t1366,
+        t1369,
+        t1370,
+        t1371,
+        t1379,
+        t1382,
+        t1383,
+        t1384,
+        t1385,
         t1386,
-        t1389,
-        t1402,
+        t1387,
+        t1388,
+        t1404,
         t1408,
+        t1409,
+        t1410,
+        t1412,
         t1415,
-        t1418,
-        t1425,
+        t1422,
+        t1423,
+        t1427,
         t1434,
-        t1444,
-        t1446,
-        t1456,
-        t1460,
-        t1481,
-        t1502,
-        t1511,
-        t1520,
-        t1525,
-        t1528,
-        t1567,
-        t1588,
-        t1601,
-        t1603,
-        t1609,
+        t1536,
+        t1593,
+        t1597,
+        t1608,
+        t1615,
+        t1620,
         t1631,
-        t1640,
-        t1654,
-        t1659,
-        t1662,
-        t1671,
-        t1674,
-        t1680,
-        t1688,
-        t1690,
+        t1639,
         t1700,
-        t1707,
-        t1717,
-        t1720,
-        t1722,
-        t1733,
-        t1736,
-        t1738,
+        t1706,
+        t1714,
+        t1741,
         t1747,
-        t1751,
-        t1754,
-        t1767,
-        t1770,
-        t1774,
-        t1777,
-        t1781,
-        t1785,
-        t1790,
+        t1753,
+        t1763,
+        t1766,
+        t1772,
+        t1791,
+        t1796,
         t1797,
+        t1799,
+        t1800,
         t1805,
-        t1812,
-        t1834,
-        t1843,
+        t1806,
+        t1818,
+        t1831,
+        t1836,
+        t1837,
+        t1839,
+        t1844,
+        t1845,
         t1857,
-        t1862,
-        t1865,
-        t1874,
+        t1872,
+        t1873,
         t1877,
+        t1878,
+        t1879,
+        t1883,
+        t1887,
+        t1888,
         t1889,
+        t1890,
         t1892,
-        t1903,
-        t1909,
+        t1895,
+        t1902,
+        t1908,
         t1918,
-        t1922,
-        t1924,
-        t1933,
-        t1937,
-        t1938,
-        t1940,
-        t1943,
+        t1930,
+        t1932,
+        t1944,
+        t1946,
         t1947,
-        t1953,
-        t1962,
-        t1968,
-        t1973,
-        t1977,
-        t1978,
+        t1948,
+        t1949,
+        t1951,
+        t1957,
+        t1959,
+        t1971,
+        t1976,
         t1979,
-        t1982,
-        t1983,
-        t1989,
-        t1996,
-        t1997,
-        t1998,
+        t1985,
+        t1994,
+        t1995,
         t1999,
     ) = {
-        let t1000: f64 = t999 - t208;
-        let t1001: f64 = t1000 * 0.11221999999999999;
-        let t1002: f64 = t546 * t547;
-        let t1003: f64 = t556 * t1002;
-        let t1004: f64 = t1001 * t1003;
-        let t1005: f64 = t954 * 0.22443999999999997;
-        let t1006: f64 = t956.plus(t1005);
-        let t1007: f64 = t988.plus(t1004);
-        let t1008: f64 = t1006 + t1007;
-        let t1009: f64 = t955.plus(t983);
-        let t1010: f64 = t998.plus(t1009);
-        let t1011: f64 = t1008 - t1010;
-        let t1012 = product(t165, t1011);
-        let t1013: f64 = t169 * t209;
-        let t1014: f64 = t514 * t1013;
-        let t1015 = product(t204, t924);
-        let t1016 = product(t205, t889);
-        let t1017: f64 = t181 * t987;
-        let t1018 = product(t168, t982);
-        let t1019: f64 = t57 * t898;
-        let t1020: f64 = t522 * t1019;
-        let t1021 = product(t225, 0.5610999999999999);
-        let t1022: f64 = t132 * 1.4027499999999997;
-        let t1023: f64 = t1021.subtracted_from(t1022);
-        let t1024: f64 = t5 * t169;
-        let t1025 = product(t1023, t1024);
-        let t1026: f64 = t1020 * 0.11221999999999999;
-        let t1027: f64 = t1025.plus(t1026);
-        let t1028 = product(t7, t1027);
-        let t1029: f64 = t224 - t926;
-        let t1030: f64 = t1029 * 0.11221999999999999;
-        let t1031: f64 = t510 * t511;
-        let t1032: f64 = t522 * t1031;
-        let t1033: f64 = t1030 * t1032;
-        let t1034: f64 = t1014 * 0.22443999999999997;
-        let t1035: f64 = t1016.plus(t1034);
-        let t1036: f64 = t1018.plus(t1035);
-        let t1037: f64 = t1015.plus(t1017);
-        let t1038: f64 = t1028.plus(t1033);
-        let t1039: f64 = t1037 + t1038;
-        let t1040: f64 = t1036 - t1039;
-        let t1041: f64 = t173 * t1040;
-        let t1042: f64 = t1012.minus(t1041);
-        let t1043: f64 = t952 + t1042;
-        let t1044: f64 = t371 + t1043;
-        let t1045: f64 = t864 + t1044;
-        let t1046: f64 = t848 - t1045;
-        let t1047: f64 = t820 + t1046;
-        let t1048: f64 = t355 * 50.05000000000001;
-        let t1049 = product(t509, 6.25);
-        let t1050: f64 = t562 * 1.25;
-        let t1051 = product(t676, 22.020000000000003);
-        let t1052 = product(t692, 2.0);
-        let t1053: f64 = t1047 * 2.5;
-        let t1054: f64 = t1051.added_to(t1048);
-        let t1055: f64 = t1052.added_to(t727);
-        let t1056: f64 = t1054 + t1055;
-        let t1057: f64 = t1053 + t1056;
-        let t1058: f64 = t1049.plus(t1050);
-        let t1059: f64 = t1058 + 490.9905000000001;
-        let t1060: f64 = t1057 - t1059;
-        let t1061: f64 = t589 + t591;
-        let t1062: f64 = t590 + t592;
-        let t1063: f64 = t1061 - t1062;
-        let t1064 = product(t126, t1063);
-        let t1065: f64 = t128 * t1063;
-        let t1066: f64 = t1064.minus(t1065);
-        let t1067: f64 = t625 + t626;
-        let t1068: f64 = t627 + t1067;
-        let t1069: f64 = t1068 - t624;
-        let t1070 = product(t108, t1069);
-        let t1071: f64 = t654 + t655;
-        let t1072: f64 = t656 + t657;
-        let t1073: f64 = t1071 - t1072;
-        let t1074 = product(t61, t1073);
-        let t1075: f64 = t122 * t1063;
-        let t1076: f64 = t1074.plus(t1075);
-        let t1077 = product(t62, t1076);
-        let t1078 = product(t95, t1073);
-        let t1079: f64 = t122 * t1069;
-        let t1080: f64 = t1078.minus(t1079);
-        let t1081: f64 = t96 * t1080;
-        let t1082: f64 = t1077.plus(t1081);
-        let t1083: f64 = t60 * t1082;
-        let t1084: f64 = t1070.plus(t1083);
-        let t1085 = product(t111, t1069);
-        let t1086: f64 = t110 * t1082;
-        let t1087: f64 = t1085.plus(t1086);
-        let t1088: f64 = t1084 - t1087;
-        let t1089: f64 = t1066 + t1088;
-        let t1090: f64 = t684 + t686;
-        let t1091: f64 = t588 + t685;
-        let t1092: f64 = t1090 - t1091;
-        let t1093 = product(t133, t1092);
-        let t1094: f64 = t678 + t679;
-        let t1095: f64 = t623 + t1094;
-        let t1096: f64 = t1095 - t677;
-        let t1097: f64 = t57 * t1096;
-        let t1098: f64 = t1093.plus(t1097);
-        let t1099: f64 = t1082 - t1098;
-        let t1100: f64 = t701 + t703;
-        let t1101: f64 = t702 + t704;
-        let t1102: f64 = t1100 - t1101;
-        let t1103 = product(t123, t1102);
-        let t1104: f64 = t711 + t712;
-        let t1105: f64 = t713 + t714;
-        let t1106: f64 = t1105 + 1.67;
-        let t1107: f64 = t1104 - t1106;
-        let t1108: f64 = t62 * t1107;
-        let t1109: f64 = t1103.plus(t1108);
-        let t1110 = product(t62, t1109);
-        let t1111 = product(t96, t1107);
-        let t1112: f64 = t694 + t695;
-        let t1113: f64 = t696 + t1112;
-        let t1114: f64 = t1113 - t693;
-        let t1115: f64 = t123 * t1114;
-        let t1116: f64 = t1111.minus(t1115);
-        let t1117: f64 = t96 * t1116;
-        let t1118: f64 = t1110.plus(t1117);
-        let t1119 = product(t57, t1114);
-        let t1120: f64 = t133 * t1102;
-        let t1121: f64 = t1119.plus(t1120);
-        let t1122: f64 = t1118 - t1121;
-        let t1123: f64 = t728 + t729;
-        let t1124: f64 = t653 + t730;
-        let t1125: f64 = t1124 + 1.0;
-        let t1126: f64 = t1123 - t1125;
-        let t1127: f64 = t86 * t1126;
-        let t1128: f64 = t1123 - t1124;
-        let t1129 = product(t739, t1128);
-        let t1130 = product(t148, t1092);
-        let t1131: f64 = t1127 * 1.67;
-        let t1132: f64 = t1129.plus(t1131);
-        let t1133: f64 = t1130.subtracted_from(t1132);
-        let t1134 = product(t209, t1133);
-        let t1135: f64 = t54 * t1096;
-        let t1136: f64 = t72 * t1128;
-        let t1137 = product(t55, t1096);
-        let t1138: f64 = t261 * t1096;
-        let t1139: f64 = t1137.plus(t1138);
-        let t1140 = product(t264, t1096);
-        let t1141: f64 = t266 * t1096;
-        let t1142: f64 = t1140.plus(t1141);
-        let t1143: f64 = t1139 + t1142;
-        let t1144 = product(t236, t1128);
-        let t1145: f64 = t238 * t1126;
-        let t1146: f64 = t1144.plus(t1145);
-        let t1147 = product(t241, t1128);
-        let t1148: f64 = t244 * t1128;
-        let t1149: f64 = t1147.plus(t1148);
-        let t1150: f64 = t1146 - t1149;
-        let t1151: f64 = t1135 - t1136;
-        let t1152 = product(t1151, 6.68);
-        let t1153: f64 = t1143 + t1150;
-        let t1154: f64 = t1153 * 3.34;
-        let t1155: f64 = t1152.plus(t1154);
-        let t1156: f64 = t57 * t1155;
-        let t1157: f64 = t1134.minus(t1156);
-        let t1158: f64 = t1043 + t1157;
-        let t1159 = product(t138, t1092);
-        let t1160: f64 = t142 * t1096;
-        let t1161: f64 = t1159.subtracted_from(t1160);
-        let t1162 = product(t133, t1161);
-        let t1163: f64 = t86 * t1092;
-        let t1164 = product(t242, t1092);
-        let t1165: f64 = t245 * t1092;
-        let t1166: f64 = t1164.plus(t1165);
-        let t1167 = product(t249, t1092);
-        let t1168: f64 = t251 * t1092;
-        let t1169: f64 = t1167.plus(t1168);
-        let t1170: f64 = t1166 + t1169;
-        let t1171: f64 = t1135 - t1163;
-        let t1172 = product(t1171, 6.68);
-        let t1173: f64 = t1143 - t1170;
-        let t1174: f64 = t1173 * 3.34;
-        let t1175: f64 = t1172.plus(t1174);
-        let t1176 = product(t123, t1175);
-        let t1177 = product(t62, t1133);
-        let t1178: f64 = t261 * t1126;
-        let t1179 = product(t148, t1096);
-        let t1180: f64 = t790 + 0.334;
-        let t1181 = product(t1128, t1180);
-        let t1182: f64 = t1178 * 1.67;
-        let t1183: f64 = t1179.plus(t1182);
-        let t1184: f64 = t1181.plus(t1183);
-        let t1185: f64 = t96 * t1184;
-        let t1186: f64 = t1177.plus(t1185);
-        let t1187: f64 = t1176.minus(t1186);
-        let t1188: f64 = t96 * t1187;
-        let t1189: f64 = t1162.minus(t1188);
-        let t1190 = product(t123, t1184);
-        let t1191: f64 = t62 * t1161;
-        let t1192: f64 = t1136 + t1163;
-        let t1193 = product(t1192, 6.68);
-        let t1194: f64 = t1150 - t1170;
-        let t1195: f64 = t1194 * 3.34;
-        let t1196: f64 = t1193.subtracted_from(t1195);
-        let t1197 = product(t96, t1196);
-        let t1198: f64 = t1190.plus(t1191);
-        let t1199: f64 = t1197.subtracted_from(t1198);
-        let t1200 = product(t123, t1199);
-        let t1201: f64 = t131 * t1114;
-        let t1202: f64 = t1200.minus(t1201);
-        let t1203: f64 = t1189 - t1202;
-        let t1204: f64 = t1158 + t1203;
-        let t1205 = product(t138, t1089);
-        let t1206: f64 = t356 * t1107;
-        let t1207: f64 = t1205.minus(t1206);
-        let t1208 = product(t352, t1063);
-        let t1209 = product(t95, t1063);
-        let t1210: f64 = t61 * t1069;
-        let t1211: f64 = t1209.plus(t1210);
-        let t1212 = product(t62, t1211);
-        let t1213: f64 = t123 * t1080;
-        let t1214: f64 = t1212.minus(t1213);
-        let t1215: f64 = -t1214;
-        let t1216: f64 = t90 * t1215;
-        let t1217: f64 = t1208.plus(t1216);
-        let t1218 = product(t108, t1073);
-        let t1219: f64 = t111 * t1073;
-        let t1220: f64 = t1218.minus(t1219);
-        let t1221 = product(t350, t1063);
-        let t1222: f64 = t88 * t1215;
-        let t1223: f64 = t1221.plus(t1222);
-        let t1224: f64 = t1220 + t1223;
-        let t1225: f64 = t1217 - t1224;
-        let t1226: f64 = -t1225;
-        let t1227 = product(t148, t1226);
-        let t1228: f64 = t359 * t1096;
-        let t1229: f64 = t1227.minus(t1228);
-        let t1230: f64 = t1207 + t1229;
-        let t1231 = product(t1089, 20.020000000000003);
-        let t1232: f64 = t1231.added_to(t1122);
-        let t1233 = product(t55, t1232);
-        let t1234: f64 = t374 * t1128;
-        let t1235: f64 = t1233.minus(t1234);
-        let t1236 = product(t209, t1102);
-        let t1237: f64 = t57 * t1107;
-        let t1238: f64 = t1236.plus(t1237);
-        let t1239 = product(t62, t1114);
-        let t1240: f64 = t96 * t1102;
-        let t1241: f64 = t1239.plus(t1240);
-        let t1242 = product(t62, t1241);
-        let t1243: f64 = t123 * t1116;
-        let t1244: f64 = t1242.minus(t1243);
-        let t1245: f64 = t1238 + t1244;
-        let t1246 = product(t1225, 20.020000000000003);
-        let t1247: f64 = t1246.added_to(t1245);
-        let t1248: f64 = -t1247;
-        let t1249 = product(t236, t1248);
-        let t1250: f64 = q1 * t1248;
-        let t1251: f64 = t1249.minus(t1250);
-        let t1252: f64 = t1235 + t1251;
-        let t1253: f64 = t1230 - t1252;
-        let t1254: f64 = t1204 + t1253;
-        let t1255 = product(t1089, 22.020000000000003);
-        let t1256: f64 = t1099 * 2.0;
-        let t1257: f64 = t1254 * 2.5;
-        let t1258: f64 = t1255.plus(t1256);
-        let t1259: f64 = t1122 + t1257;
-        let t1260: f64 = t1058 + t1258;
+        let t1000: f64 = t14 * t52;
+        let t1001: f64 = t671 * t1000;
+        let t1002: f64 = t999.plus(t1001);
+        let t1003: f64 = t6 * t14;
+        let t1004: f64 = t52 * t1003;
+        let t1005 = product(t561, t1004);
+        let t1006: f64 = t1005.subtracted_from(t1002);
+        let t1007 = product(t939, t1003);
+        let t1008: f64 = t59 * t943;
+        let t1009: f64 = t1007.minus(t1008);
+        let t1010 = product(t4, t923);
+        let t1011: f64 = t1 * t943;
+        let t1012: f64 = t1010.minus(t1011);
+        let t1013: f64 = t193 * t743;
+        let t1014 = product(t85, t561);
+        let t1015: f64 = t1014.added_to(t1013);
+        let t1016 = product(t3, t967);
+        let t1017: f64 = t8 * t720;
+        let t1018: f64 = t1016.plus(t1017);
+        let t1019: f64 = t1015 + t1018;
+        let t1020: f64 = t1012 + t1019;
+        let t1021: f64 = t648 * 1.67;
+        let t1022: f64 = t1006 * 0.5;
+        let t1023: f64 = t1009 * 5.0;
+        let t1024: f64 = t1020 * 2.5;
+        let t1025: f64 = t996 + t1021;
+        let t1026: f64 = t1023 + t1024;
+        let t1027: f64 = t1025 + t1026;
+        let t1028: f64 = t1022 - t1027;
+        let t1029: f64 = t650 - t628;
+        let t1030: f64 = t1022 + t1023;
+        let t1031: f64 = t1024 + t1030;
+        let t1032: f64 = t1021 + t1029;
+        let t1033: f64 = t1031 - t1032;
+        let t1034: f64 = t575 + t599;
+        let t1035: f64 = t13 * t63;
+        let t1036: f64 = t68 * t1035;
+        let t1037 = product(t561, t1036);
+        let t1038: f64 = t14 * t68;
+        let t1039 = product(t621, t1038);
+        let t1040: f64 = t3 * t14;
+        let t1041: f64 = t68 * t1040;
+        let t1042: f64 = t671 * t1041;
+        let t1043: f64 = t1039.plus(t1042);
+        let t1044: f64 = t1037.plus(t1043);
+        let t1045 = product(t963, t1040);
+        let t1046: f64 = t4 * t967;
+        let t1047: f64 = t1045.minus(t1046);
+        let t1048 = product(t1, t720);
+        let t1049: f64 = t11 * t923;
+        let t1050: f64 = t1048.plus(t1049);
+        let t1051: f64 = t213 * t869;
+        let t1052 = product(t70, t671);
+        let t1053: f64 = t1052.subtracted_from(t1051);
+        let t1054 = product(t6, t967);
+        let t1055: f64 = t45 * t943;
+        let t1056: f64 = t1054.minus(t1055);
+        let t1057: f64 = t1053 - t1056;
+        let t1058: f64 = t1050 - t1057;
+        let t1059: f64 = t586 * 2.0;
+        let t1060: f64 = t127 * 4.175;
+        let t1061: f64 = t574 * 1.67;
+        let t1062: f64 = t1044 * 0.5;
+        let t1063: f64 = t1047 * 5.0;
+        let t1064: f64 = t1058 * 2.5;
+        let t1065: f64 = t1059 + t1061;
+        let t1066: f64 = t1063 + t1065;
+        let t1067: f64 = t1034 + t1060;
+        let t1068: f64 = t1062 + t1064;
+        let t1069: f64 = t1067 + t1068;
+        let t1070: f64 = t1066 - t1069;
+        let t1071: f64 = t575 + t598;
+        let t1072: f64 = t585 * 2.0;
+        let t1073: f64 = t1061 + t1072;
+        let t1074: f64 = t1064 + t1073;
+        let t1075: f64 = t1060 + t1071;
+        let t1076: f64 = t1062 + t1063;
+        let t1077: f64 = t1075 + t1076;
+        let t1078: f64 = t1074 - t1077;
+        let t1079: f64 = t109 * t122;
+        let t1080: f64 = t486 - t1079;
+        let t1081 = product(t109, t1080);
+        let t1082 = product(t122, t484);
+        let t1083: f64 = t1082.added_to(t483);
+        let t1084: f64 = t1081.minus(t1083);
+        let t1085 = product(t27, t122);
+        let t1086 = product(t137, t1080);
+        let t1087: f64 = t1086.added_to(t571);
+        let t1088: f64 = t1085.minus(t1087);
+        let t1089: f64 = t27 + t593;
+        let t1090: f64 = t528 + 12.010000000000002;
+        let t1091: f64 = t529 - t1090;
+        let t1092 = product(t27, t1091);
+        let t1093: f64 = t122 * t1091;
+        let t1094: f64 = t75 * t1091;
+        let t1095: f64 = t1093 + 2.0;
+        let t1096: f64 = t1095 - t1094;
+        let t1097 = product(t109, t1096);
+        let t1098: f64 = t1097.added_to(t543);
+        let t1099: f64 = t137 * t1098;
+        let t1100: f64 = t1092.plus(t1099);
+        let t1101: f64 = t1100 - t609;
+        let t1102 = product(t1088, 10.02);
+        let t1103: f64 = t1089 * 2.0;
+        let t1104: f64 = t1102.added_to(t615);
+        let t1105: f64 = t1101 + t1103;
+        let t1106: f64 = t1104 + t1105;
+        let t1107: f64 = t1106 - t614;
+        let t1108 = product(t623, t1107);
+        let t1109 = product(t32, t122);
+        let t1110: f64 = t122 * t137;
+        let t1111: f64 = t77 * t1110;
+        let t1112: f64 = t1109.minus(t1111);
+        let t1113: f64 = t1112 - t643;
+        let t1114: f64 = t32 + t651;
+        let t1115 = product(t32, t1091);
+        let t1116: f64 = t580 * t1096;
+        let t1117: f64 = t1115.minus(t1116);
+        let t1118: f64 = t1113 * 10.02;
+        let t1119: f64 = t1114 * 2.0;
+        let t1120: f64 = t1117 + t1118;
+        let t1121: f64 = t1119 + t1120;
+        let t1122: f64 = t639 + t667;
+        let t1123: f64 = t1121 - t1122;
+        let t1124: f64 = t673 * t1123;
+        let t1125: f64 = t1108.minus(t1124);
+        let t1126 = product(t484, t1096);
+        let t1127: f64 = t109 * t1098;
+        let t1128: f64 = t1126.plus(t1127);
+        let t1129: f64 = t1084 * 10.02;
+        let t1130: f64 = t555 + t1129;
+        let t1131: f64 = t556 + t1130;
+        let t1132: f64 = t527 + t1128;
+        let t1133: f64 = t1132 + 245.2500000000001;
+        let t1134: f64 = t1131 - t1133;
+        let t1135 = product(t562, t1134);
+        let t1136: f64 = t1135.subtracted_from(t1125);
+        let t1137 = product(t678, t1107);
+        let t1138 = product(t680, t1123);
+        let t1139 = product(t682, t1134);
+        let t1140: f64 = t1138.added_to(t708);
+        let t1141: f64 = t1139.plus(t1140);
+        let t1142: f64 = t1137.subtracted_from(t1141);
+        let t1143 = product(t622, t1142);
+        let t1144 = product(t715, t1123);
+        let t1145: f64 = t10 * t1142;
+        let t1146 = product(t1145, 2.0);
+        let t1147: f64 = t1144.added_to(t713);
+        let t1148: f64 = t1146.subtracted_from(t1147);
+        let t1149: f64 = t11 * t1148;
+        let t1150: f64 = t1143.minus(t1149);
+        let t1151 = product(t723, t1134);
+        let t1152: f64 = t725 * t1107;
+        let t1153 = product(t727, t1123);
+        let t1154: f64 = t757 + t1117;
+        let t1155: f64 = t1118 + t1119;
+        let t1156: f64 = t1154 + t1155;
+        let t1157: f64 = t1156 - t769;
+        let t1158 = product(t784, t1157);
+        let t1159: f64 = t760 + t1128;
+        let t1160: f64 = t556 + t1129;
+        let t1161: f64 = t762 + t1159;
+        let t1162: f64 = t1161 + 245.2500000000001;
+        let t1163: f64 = t1160 - t1162;
+        let t1164 = product(t787, t1163);
+        let t1165: f64 = t789 * t1107;
+        let t1166 = product(t1, t1107);
+        let t1167: f64 = t1166.added_to(t1159);
+        let t1168 = product(t1084, 20.04);
+        let t1169 = product(t1167, 2.0);
+        let t1170: f64 = t1169.added_to(t794);
+        let t1171: f64 = t1170 + 490.5000000000002;
+        let t1172: f64 = t1168.added_to(t801);
+        let t1173: f64 = t1171 - t1172;
+        let t1174 = product(t803, t1173);
+        let t1175 = product(t6, t1163);
+        let t1176: f64 = t1175.added_to(t1154);
+        let t1177 = product(t1113, 20.04);
+        let t1178: f64 = t1114 * 4.0;
+        let t1179 = product(t1176, 2.0);
+        let t1180: f64 = t1177.plus(t1178);
+        let t1181: f64 = t1179.plus(t1180);
+        let t1182: f64 = t1181 - t805;
+        let t1183: f64 = t812 * t1182;
+        let t1184 = product(t3, t1157);
+        let t1185: f64 = t1184.added_to(t1101);
+        let t1186 = product(t1088, 20.04);
+        let t1187 = product(t1089, 4.0);
+        let t1188: f64 = t1185 * 2.0;
+        let t1189: f64 = t1186.added_to(t817);
+        let t1190: f64 = t1187.plus(t1188);
+        let t1191: f64 = t1189 + t1190;
+        let t1192: f64 = t1191 - t816;
+        let t1193 = product(t825, t1192);
+        let t1194: f64 = t1174.plus(t1183);
+        let t1195: f64 = t1193.subtracted_from(t1194);
+        let t1196 = product(t13, t1195);
+        let t1197: f64 = t1164.plus(t1165);
+        let t1198: f64 = t1158.minus(t1197);
+        let t1199: f64 = t1198 * 2.0;
+        let t1200: f64 = t1196.subtracted_from(t1199);
+        let t1201 = product(t13, t1200);
+        let t1202 = product(t38, t1173);
+        let t1203 = product(t10, t1157);
+        let t1204: f64 = t762 + t1167;
+        let t1205: f64 = t1204 + 245.2500000000001;
+        let t1206: f64 = t1205 - t1160;
+        let t1207: f64 = t13 * t1206;
+        let t1208: f64 = t1203.minus(t1207);
+        let t1209 = product(t714, t1208);
+        let t1210: f64 = t1209.added_to(t844);
+        let t1211: f64 = t7 * t1210;
+        let t1212 = product(t1211, 2.0);
+        let t1213: f64 = t1212.added_to(t836);
+        let t1214: f64 = t19 * t1213;
+        let t1215: f64 = t1202.plus(t1214);
+        let t1216: f64 = t19 * t1215;
+        let t1217 = product(t43, t1182);
+        let t1218 = product(t47, t1107);
+        let t1219: f64 = t1155 + t1176;
+        let t1220: f64 = t1219 - t769;
+        let t1221: f64 = t13 * t1220;
+        let t1222: f64 = t1218.plus(t1221);
+        let t1223 = product(t775, t1222);
+        let t1224: f64 = t1223.added_to(t777);
+        let t1225: f64 = t44 * t1224;
+        let t1226 = product(t1225, 2.0);
+        let t1227: f64 = t1226.added_to(t754);
+        let t1228: f64 = t52 * t1227;
+        let t1229: f64 = t1217.minus(t1228);
+        let t1230 = product(t52, t1229);
+        let t1231 = product(t58, t1192);
+        let t1232 = product(t63, t1163);
+        let t1233: f64 = t1103 + t1185;
+        let t1234: f64 = t1104 + t1233;
+        let t1235: f64 = t1234 - t614;
+        let t1236: f64 = t13 * t1235;
+        let t1237: f64 = t1232.minus(t1236);
+        let t1238 = product(t884, t1237);
+        let t1239: f64 = t1238.added_to(t886);
+        let t1240: f64 = t60 * t1239;
+        let t1241 = product(t1240, 2.0);
+        let t1242: f64 = t1241.added_to(t877);
+        let t1243: f64 = t68 * t1242;
+        let t1244: f64 = t1231.plus(t1243);
+        let t1245 = product(t68, t1244);
+        let t1246: f64 = t1201.plus(t1216);
+        let t1247: f64 = t1230.plus(t1246);
+        let t1248: f64 = t1245.subtracted_from(t1247);
+        let t1249 = product(t13, t1248);
+        let t1250: f64 = t1151.plus(t1152);
+        let t1251: f64 = t1249.added_to(t919);
+        let t1252: f64 = t1250 + t1251;
+        let t1253: f64 = t1153.subtracted_from(t1252);
+        let t1254 = product(t59, t1253);
+        let t1255 = product(t926, t1107);
+        let t1256 = product(t928, t1107);
+        let t1257 = product(t930, t1123);
+        let t1258: f64 = t932 * t1134;
+        let t1259: f64 = t1256.added_to(t936);
+        let t1260: f64 = t1257.plus(t1258);
         let t1261: f64 = t1259 + t1260;
-        let t1262: f64 = t12 * t159;
-        let t1263 = product(t219, t1262);
-        let t1264: f64 = t3 * t43;
-        let t1265: f64 = t169 * t1264;
-        let t1266: f64 = t234 * t1265;
-        let t1267: f64 = t1263.minus(t1266);
-        let t1268: f64 = t10 * t12;
-        let t1269: f64 = t46 * t531;
-        let t1270: f64 = t3 * t516;
-        let t1271 = product(t10, t1270);
-        let t1272: f64 = t1271.added_to(t1268);
-        let t1273 = product(t1272, 5.0);
-        let t1274: f64 = t1269 * 2.0;
-        let t1275: f64 = t1273.plus(t1274);
-        let t1276: f64 = t524 * t1275;
-        let t1277 = product(t234, t1276);
-        let t1278 = product(t13, 2.5);
-        let t1279: f64 = t1278.plus(2.5);
-        let t1280: f64 = t16 * t1279;
-        let t1281: f64 = t3 * t13;
-        let t1282: f64 = t7 * t1281;
-        let t1283 = product(t10, t1282);
-        let t1284: f64 = t1283.added_to(t1268);
-        let t1285 = product(t1284, 5.0);
-        let t1286: f64 = t1280 * 2.0;
-        let t1287: f64 = t1285.plus(t1286);
-        let t1288: f64 = t543 * t1287;
-        let t1289 = product(t194, t1288);
-        let t1290: f64 = t4 * 12.5;
-        let t1291 = product(t7, t1290);
-        let t1292: f64 = t2 * 6.25;
-        let t1293: f64 = t1291.plus(t1292);
-        let t1294: f64 = t30 * t1293;
-        let t1295 = product(t5, t536);
-        let t1296 = product(t1268, 5.0);
-        let t1297: f64 = t1294 * 2.0;
-        let t1298: f64 = t1296.plus(t1297);
-        let t1299: f64 = t1295.plus(t1298);
-        let t1300: f64 = t219 * t558;
-        let t1301: f64 = t1299 * t1300;
-        let t1302: f64 = t1289.plus(t1301);
-        let t1303: f64 = t1277.minus(t1302);
-        let t1304: f64 = t7 * t22;
-        let t1305: f64 = t16 * t1304;
-        let t1306: f64 = t21 * t1305;
-        let t1307: f64 = t11 * t35;
-        let t1308: f64 = t3 * t41;
-        let t1309: f64 = t43 * t1308;
-        let t1310: f64 = t10 * t1309;
-        let t1311 = product(t51, t1310);
-        let t1312: f64 = t3 * t26;
-        let t1313: f64 = t7 * t1312;
-        let t1314: f64 = t10 * t1313;
-        let t1315: f64 = t35 * t1314;
-        let t1316: f64 = t1311.minus(t1315);
-        let t1317 = product(t578, t1279);
-        let t1318: f64 = t585 * t1287;
-        let t1319: f64 = t1317.minus(t1318);
-        let t1320 = product(t580, t1299);
-        let t1321: f64 = t583 * t1275;
-        let t1322: f64 = t1320.minus(t1321);
-        let t1323: f64 = t1319 + t1322;
-        let t1324: f64 = t1306 * 6.25;
-        let t1325: f64 = t1307 * 1.25;
-        let t1326: f64 = t1316 * 12.5;
-        let t1327: f64 = t1323 * 2.5;
-        let t1328: f64 = t1324 + t1326;
-        let t1329: f64 = t1327 + t1328;
-        let t1330: f64 = t1329 - t1325;
-        let t1331 = product(t126, t1330);
-        let t1332: f64 = t128 * t1330;
-        let t1333: f64 = t1331.minus(t1332);
-        let t1334: f64 = t10 * t30;
-        let t1335: f64 = t35 * t1334;
-        let t1336: f64 = t30 * t1313;
-        let t1337: f64 = t35 * t1336;
-        let t1338: f64 = t1 * t13;
-        let t1339: f64 = t7 * t1338;
-        let t1340: f64 = t10 * t1339;
-        let t1341 = product(t21, t1340);
-        let t1342: f64 = t7 * t1308;
-        let t1343: f64 = t10 * t1342;
-        let t1344: f64 = t51 * t1343;
-        let t1345: f64 = t1341.minus(t1344);
-        let t1346 = product(t613, t1293);
-        let t1347: f64 = t620 * t1287;
-        let t1348: f64 = t1346.minus(t1347);
-        let t1349 = product(t618, t1275);
-        let t1350: f64 = t615 * t1299;
-        let t1351: f64 = t1349.minus(t1350);
-        let t1352: f64 = t1348 + t1351;
-        let t1353: f64 = t1335 * 1.25;
-        let t1354: f64 = t1337 * 6.25;
-        let t1355: f64 = t1345 * 12.5;
-        let t1356: f64 = t1352 * 2.5;
-        let t1357: f64 = t1353 + t1354;
-        let t1358: f64 = t1355 + t1356;
-        let t1359: f64 = t1357 + t1358;
-        let t1360 = product(t108, t1359);
-        let t1361: f64 = t5 * t11;
-        let t1362: f64 = t35 * t1361;
-        let t1363: f64 = t46 * t1342;
-        let t1364 = product(t51, t1363);
-        let t1365: f64 = t1364.added_to(t84);
-        let t1366: f64 = t5 * t1312;
-        let t1367: f64 = t7 * t1366;
-        let t1368: f64 = t10 * t1367;
-        let t1369 = product(t35, t1368);
-        let t1370: f64 = t10 * t1304;
-        let t1371: f64 = t21 * t1370;
-        let t1372: f64 = t1369.minus(t1371);
-        let t1373 = product(t650, t1287);
-        let t1374: f64 = t531 * t645;
-        let t1375: f64 = t1373.plus(t1374);
-        let t1376 = product(t648, t1275);
-        let t1377: f64 = t642 * t1299;
-        let t1378: f64 = t1376.plus(t1377);
-        let t1379: f64 = t1375 - t1378;
-        let t1380: f64 = t1362 * 1.25;
-        let t1381: f64 = t1365 * 6.25;
-        let t1382: f64 = t1372 * 12.5;
-        let t1383: f64 = t1379 * 2.5;
-        let t1384: f64 = t1380 + t1381;
-        let t1385: f64 = t1382 + t1383;
-        let t1386: f64 = t1384 + t1385;
-        let t1387 = product(t61, t1386);
-        let t1388: f64 = t122 * t1330;
-        let t1389: f64 = t1387.minus(t1388);
-        let t1390 = product(t62, t1389);
-        let t1391 = product(t95, t1386);
-        let t1392: f64 = t122 * t1359;
-        let t1393: f64 = t1391.minus(t1392);
-        let t1394: f64 = t96 * t1393;
-        let t1395: f64 = t1390.plus(t1394);
-        let t1396: f64 = t60 * t1395;
-        let t1397: f64 = t1360.plus(t1396);
-        let t1398 = product(t111, t1359);
-        let t1399: f64 = t110 * t1395;
-        let t1400: f64 = t1398.plus(t1399);
-        let t1401: f64 = t1397 - t1400;
-        let t1402: f64 = t1333 - t1401;
-        let t1403: f64 = t1335 * 0.5;
-        let t1404: f64 = t1337 * 2.5;
-        let t1405: f64 = t1345 * 5.0;
-        let t1406: f64 = t1403 + t1404;
-        let t1407: f64 = t1352 + t1405;
-        let t1408: f64 = t1406 + t1407;
-        let t1409 = product(t57, t1408);
-        let t1410: f64 = t1306 * 2.5;
-        let t1411: f64 = t1307 * 0.5;
-        let t1412: f64 = t1316 * 5.0;
-        let t1413: f64 = t1410 + t1412;
-        let t1414: f64 = t1323 + t1413;
-        let t1415: f64 = t1414 - t1411;
-        let t1416: f64 = t133 * t1415;
-        let t1417: f64 = t1409.minus(t1416);
-        let t1418: f64 = t1417 - t1395;
-        let t1419: f64 = t1335 * 5.01;
-        let t1420: f64 = t1337 * 25.049999999999997;
-        let t1421: f64 = t1345 * 50.099999999999994;
-        let t1422: f64 = t1352 * 10.02;
-        let t1423: f64 = t1419 + t1420;
-        let t1424: f64 = t1421 + t1422;
-        let t1425: f64 = t1423 + t1424;
-        let t1426 = product(t57, t1425);
-        let t1427: f64 = t1306 * 25.049999999999997;
-        let t1428: f64 = t1307 * 5.01;
-        let t1429: f64 = t1316 * 50.099999999999994;
-        let t1430: f64 = t1323 * 10.02;
-        let t1431: f64 = t1427 + t1429;
-        let t1432: f64 = t1430 + 1.67;
-        let t1433: f64 = t1431 + t1432;
-        let t1434: f64 = t1433 - t1428;
-        let t1435: f64 = t133 * t1434;
-        let t1436: f64 = t1426.minus(t1435);
-        let t1437 = product(t123, t1434);
-        let t1438: f64 = t1362 * 5.01;
-        let t1439: f64 = t1365 * 25.049999999999997;
-        let t1440: f64 = t1372 * 50.099999999999994;
-        let t1441: f64 = t1379 * 10.02;
-        let t1442: f64 = t1438 + t1439;
-        let t1443: f64 = t1440 + t1441;
-        let t1444: f64 = t1442 + t1443;
-        let t1445: f64 = t62 * t1444;
-        let t1446: f64 = t1437.minus(t1445);
-        let t1447 = product(t62, t1446);
-        let t1448 = product(t96, t1444);
-        let t1449: f64 = t123 * t1425;
-        let t1450: f64 = t1448.minus(t1449);
-        let t1451: f64 = t96 * t1450;
-        let t1452: f64 = t1447.minus(t1451);
-        let t1453: f64 = t1436 + t1452;
-        let t1454: f64 = t158 * t1279;
-        let t1455 = product(t194, t1454);
-        let t1456: f64 = t57 * t158;
-        let t1457: f64 = t1279 * t1456;
-        let t1458: f64 = t531 * t891;
-        let t1459 = product(t62, t1265);
-        let t1460: f64 = t12 * t169;
-        let t1461: f64 = t96 * t1460;
-        let t1462: f64 = t1459.minus(t1461);
-        let t1463 = product(t899, t1275);
-        let t1464 = product(t903, t1275);
-        let t1465: f64 = t905 * t1275;
-        let t1466: f64 = t1464.plus(t1465);
-        let t1467: f64 = t1463.minus(t1466);
-        let t1468 = product(t1458, 0.22443999999999997);
-        let t1469: f64 = t1462 * 0.5610999999999999;
-        let t1470 = product(t1467, 0.11221999999999999);
-        let t1471: f64 = t1468.plus(t1469);
-        let t1472: f64 = t1470.plus(t1471);
-        let t1473 = product(t168, t1472);
-        let t1474 = product(t1462, 2.5);
-        let t1475 = product(t1467, 0.5);
-        let t1476: f64 = t1474.added_to(t1458);
-        let t1477: f64 = t1475.plus(t1476);
-        let t1478 = product(t181, t1477);
-        let t1479: f64 = t867 * t1293;
-        let t1480 = product(t123, t165);
-        let t1481: f64 = t9 * t159;
-        let t1482: f64 = t123 * t1481;
-        let t1483: f64 = t1480.plus(t1482);
-        let t1484 = product(t62, t1262);
-        let t1485: f64 = t1484.subtracted_from(t1483);
-        let t1486 = product(t874, t1299);
-        let t1487: f64 = t878 * t1299;
-        let t1488: f64 = t1486.minus(t1487);
-        let t1489 = product(t883, t1299);
-        let t1490: f64 = t1489.subtracted_from(t1488);
-        let t1491 = product(t1485, 2.5);
-        let t1492 = product(t1490, 0.5);
-        let t1493: f64 = t1491.added_to(t1479);
-        let t1494: f64 = t1492.plus(t1493);
-        let t1495 = product(t179, t1494);
-        let t1496 = product(t1479, 0.22443999999999997);
-        let t1497: f64 = t1485 * 0.5610999999999999;
-        let t1498 = product(t1490, 0.11221999999999999);
-        let t1499: f64 = t1496.plus(t1497);
+        let t1262: f64 = t47 * t1261;
+        let t1263 = product(t1262, 2.0);
+        let t1264: f64 = t1255.added_to(t925);
+        let t1265: f64 = t1263.subtracted_from(t1264);
+        let t1266: f64 = t6 * t1265;
+        let t1267: f64 = t1254.plus(t1266);
+        let t1268 = product(t94, t1107);
+        let t1269: f64 = t1268.subtracted_from(t946);
+        let t1270 = product(t950, t1134);
+        let t1271 = product(t952, t1107);
+        let t1272: f64 = t954 * t1123;
+        let t1273 = product(t956, t1134);
+        let t1274: f64 = t1273.added_to(t960);
+        let t1275: f64 = t1271.plus(t1272);
+        let t1276: f64 = t1274 - t1275;
+        let t1277: f64 = t63 * t1276;
+        let t1278 = product(t1277, 2.0);
+        let t1279: f64 = t1278.added_to(t949);
+        let t1280: f64 = t1270.subtracted_from(t1279);
+        let t1281 = product(t61, t1280);
+        let t1282: f64 = t3 * t1148;
+        let t1283: f64 = t1281.plus(t1282);
+        let t1284: f64 = t1269 + t1283;
+        let t1285: f64 = t1267 - t1284;
+        let t1286: f64 = t1084 * 1.67;
+        let t1287: f64 = t1136 * 0.5;
+        let t1288: f64 = t1150 * 5.0;
+        let t1289: f64 = t1285 * 2.5;
+        let t1290: f64 = t501 + t1286;
+        let t1291: f64 = t1287 + t1288;
+        let t1292: f64 = t1289 + 40.956750000000056;
+        let t1293: f64 = t1290 + t1291;
+        let t1294: f64 = t1292 + t1293;
+        let t1295: f64 = t1294 - t979;
+        let t1296: f64 = t1286 + t1287;
+        let t1297: f64 = t1296 + 40.95675;
+        let t1298: f64 = t986 + t1288;
+        let t1299: f64 = t989 + t1298;
+        let t1300: f64 = t1289 + t1299;
+        let t1301: f64 = t1297 - t1300;
+        let t1302 = product(t1004, t1134);
+        let t1303 = product(t998, t1107);
+        let t1304: f64 = t1000 * t1123;
+        let t1305: f64 = t1303.plus(t1304);
+        let t1306: f64 = t1302.plus(t1305);
+        let t1307 = product(t1003, t1261);
+        let t1308: f64 = t59 * t1265;
+        let t1309: f64 = t1307.minus(t1308);
+        let t1310 = product(t4, t1253);
+        let t1311: f64 = t1 * t1265;
+        let t1312: f64 = t1310.plus(t1311);
+        let t1313 = product(t85, t1134);
+        let t1314: f64 = t1313.added_to(t1013);
+        let t1315 = product(t3, t1280);
+        let t1316: f64 = t8 * t1148;
+        let t1317: f64 = t1315.plus(t1316);
+        let t1318: f64 = t1314 - t1317;
+        let t1319: f64 = t1312 + t1318;
+        let t1320: f64 = t1113 * 1.67;
+        let t1321: f64 = t1306 * 0.5;
+        let t1322: f64 = t1309 * 5.0;
+        let t1323: f64 = t1319 * 2.5;
+        let t1324: f64 = t996 + t1321;
+        let t1325: f64 = t1323 + t1324;
+        let t1326: f64 = t1320 + t1322;
+        let t1327: f64 = t1325 - t1326;
+        let t1328: f64 = t1029 + t1321;
+        let t1329: f64 = t1322 + t1328;
+        let t1330: f64 = t1320 + t1323;
+        let t1331: f64 = t1329 - t1330;
+        let t1332 = product(t1036, t1134);
+        let t1333 = product(t1038, t1107);
+        let t1334: f64 = t1041 * t1123;
+        let t1335: f64 = t1333.plus(t1334);
+        let t1336: f64 = t1332.minus(t1335);
+        let t1337 = product(t1040, t1276);
+        let t1338: f64 = t4 * t1280;
+        let t1339: f64 = t1337.plus(t1338);
+        let t1340 = product(t1, t1148);
+        let t1341: f64 = t11 * t1253;
+        let t1342: f64 = t1340.minus(t1341);
+        let t1343 = product(t70, t1123);
+        let t1344: f64 = t1343.added_to(t1051);
+        let t1345 = product(t6, t1280);
+        let t1346: f64 = t45 * t1265;
+        let t1347: f64 = t1345.minus(t1346);
+        let t1348: f64 = t1344 + t1347;
+        let t1349: f64 = t1342 + t1348;
+        let t1350 = product(t1088, 1.67);
+        let t1351: f64 = t1336 * 0.5;
+        let t1352: f64 = t1339 * 5.0;
+        let t1353: f64 = t1349 * 2.5;
+        let t1354: f64 = t1350.added_to(t1060);
+        let t1355: f64 = t1034 + t1351;
+        let t1356: f64 = t1354 + t1355;
+        let t1357: f64 = t1059 + t1352;
+        let t1358: f64 = t1353 + t1357;
+        let t1359: f64 = t1356 - t1358;
+        let t1360: f64 = t1071 + t1351;
+        let t1361: f64 = t1352 + t1353;
+        let t1362: f64 = t1354 + t1360;
+        let t1363: f64 = t1361 + t1362;
+        let t1364: f64 = t1363 - t1072;
+        let t1365: f64 = t32 + t580;
+        let t1366: f64 = t1365 * 4.175;
+        let t1367: f64 = t174 * t1366;
+        let t1368 = product(t32, t110);
+        let t1369: f64 = t110 * t137;
+        let t1370: f64 = t77 * t88;
+        let t1371: f64 = t1369 - t1370;
+        let t1372 = product(t77, t1371);
+        let t1373: f64 = t88 * t497;
+        let t1374: f64 = t1372.minus(t1373);
+        let t1375: f64 = t1368.plus(t1374);
+        let t1376: f64 = t496 - t484;
+        let t1377: f64 = t1376 * 4.175;
+        let t1378: f64 = t87 * t1377;
+        let t1379: f64 = t24 - t492;
+        let t1380: f64 = t1379 * 4.175;
+        let t1381: f64 = t72 * t1380;
+        let t1382: f64 = t1378 + t1381;
+        let t1383: f64 = t87 * 25.000000000000014;
+        let t1384: f64 = t42 * 4.175;
+        let t1385: f64 = t1384 - t1383;
+        let t1386: f64 = t122 * t1385;
+        let t1387: f64 = t75 * t1385;
+        let t1388: f64 = t1386 - t1387;
+        let t1389: f64 = qd4 * t109;
+        let t1390 = product(t1388, t1389);
+        let t1391: f64 = qd3 * t109;
+        let t1392: f64 = t1388 * t1391;
+        let t1393: f64 = t1390.minus(t1392);
+        let t1394: f64 = t381 - t1393;
+        let t1395: f64 = t1365 * 8.35;
+        let t1396 = product(t102, t1395);
+        let t1397: f64 = t71 * t1380;
+        let t1398: f64 = t1396.plus(t1397);
+        let t1399 = product(t245, t1366);
+        let t1400: f64 = t242 * t1366;
+        let t1401: f64 = t1399.plus(t1400);
+        let t1402: f64 = t239 * t1366;
+        let t1403: f64 = t1367 + t1402;
+        let t1404: f64 = t1401 - t1403;
+        let t1405: f64 = t1378 + t1404;
+        let t1406: f64 = t1398 + t1405;
+        let t1407: f64 = t32 - t1406;
+        let t1408: f64 = t539 + 12.010000000000002;
+        let t1409: f64 = t112 * t1408;
+        let t1410: f64 = t110 * t1408;
+        let t1411: f64 = t1409 + 2.0;
+        let t1412: f64 = t1411 - t1410;
+        let t1413 = product(t137, t1412);
+        let t1414: f64 = t77 * t1388;
+        let t1415: f64 = t1413.minus(t1414);
+        let t1416 = product(t77, t1415);
+        let t1417: f64 = t32 * t1408;
+        let t1418: f64 = t1416.minus(t1417);
+        let t1419 = product(t246, t1377);
+        let t1420: f64 = t243 * t1377;
+        let t1421: f64 = t1419.plus(t1420);
+        let t1422: f64 = t267 * t1380;
+        let t1423: f64 = t265 * t1380;
+        let t1424: f64 = t1422 + t1423;
+        let t1425: f64 = t262 * t1380;
+        let t1426: f64 = t1381 + t1425;
+        let t1427: f64 = t1424 + t1426;
+        let t1428 = product(t252, t1377);
+        let t1429: f64 = t250 * t1377;
+        let t1430: f64 = t1428.plus(t1429);
+        let t1431: f64 = t1427 + t1430;
+        let t1432: f64 = t1421 + t1431;
+        let t1433: f64 = t1418 - t1432;
+        let t1434: f64 = t374 * 25.000000000000014;
+        let t1435 = product(t1394, 2.5);
+        let t1436 = product(t1375, 10.02);
+        let t1437: f64 = t1407 * 2.0;
+        let t1438: f64 = t1436.plus(t1437);
+        let t1439: f64 = t1433 + t1438;
+        let t1440: f64 = t1435.added_to(t1434);
+        let t1441: f64 = t1439 - t1440;
+        let t1442 = product(t562, t1441);
+        let t1443: f64 = t252 * t584;
+        let t1444: f64 = t250 * t584;
+        let t1445: f64 = t1443 + t1444;
+        let t1446 = product(t246, t584);
+        let t1447: f64 = t245 * t1380;
+        let t1448: f64 = t1446.minus(t1447);
+        let t1449: f64 = t1445 + t1448;
+        let t1450 = product(t243, t584);
+        let t1451: f64 = t242 * t1380;
+        let t1452: f64 = t1450.minus(t1451);
+        let t1453 = product(t239, t1380);
+        let t1454: f64 = t174 * t1380;
+        let t1455: f64 = t1453.plus(t1454);
+        let t1456: f64 = t1452 + t1455;
+        let t1457: f64 = t1449 + t1456;
+        let t1458 = product(t24, t110);
+        let t1459: f64 = t77 * t110;
+        let t1460: f64 = t109 * t1459;
+        let t1461: f64 = t1458.minus(t1460);
+        let t1462: f64 = t88 * t137;
+        let t1463 = product(t109, t1462);
+        let t1464: f64 = t27 * t88;
+        let t1465: f64 = t1463.plus(t1464);
+        let t1466: f64 = t1461 - t1465;
+        let t1467: f64 = t102 * t1380;
+        let t1468 = product(t87, t584);
+        let t1469: f64 = t1468.subtracted_from(t1467);
+        let t1470: f64 = t24 - t1469;
+        let t1471 = product(t492, t1412);
+        let t1472: f64 = t24 * t1408;
+        let t1473: f64 = t1471.plus(t1472);
+        let t1474: f64 = qd6 * t109;
+        let t1475 = product(t1388, t1474);
+        let t1476: f64 = qd5 * t109;
+        let t1477: f64 = t1388 * t1476;
+        let t1478: f64 = t1475.minus(t1477);
+        let t1479 = product(t123, t1385);
+        let t1480: f64 = t120 * t1385;
+        let t1481: f64 = t1479.minus(t1480);
+        let t1482: f64 = t1478 + t1481;
+        let t1483: f64 = t1466 * 10.02;
+        let t1484: f64 = t1470 * 2.0;
+        let t1485: f64 = t1482 * 2.5;
+        let t1486: f64 = t1457 + t1483;
+        let t1487: f64 = t1484 + t1485;
+        let t1488: f64 = t1486 + t1487;
+        let t1489: f64 = t1488 - t1473;
+        let t1490 = product(t623, t1489);
+        let t1491 = product(t102, t1377);
+        let t1492: f64 = t71 * t584;
+        let t1493: f64 = t1491.minus(t1492);
+        let t1494: f64 = t581 * 8.35;
+        let t1495 = product(t87, t1494);
+        let t1496: f64 = t1495.added_to(t604);
+        let t1497: f64 = t1493 + t1496;
+        let t1498 = product(t239, t1377);
+        let t1499: f64 = t174 * t1377;
         let t1500: f64 = t1498.plus(t1499);
-        let t1501: f64 = t178 * t1500;
-        let t1502: f64 = t133 * t973;
-        let t1503: f64 = t1287 * t1502;
-        let t1504: f64 = t7 * t158;
-        let t1505 = product(t930, t1504);
-        let t1506: f64 = t1503 * 0.20597000000000004;
-        let t1507: f64 = t1505.plus(t1506);
-        let t1508 = product(t3, t1507);
-        let t1509: f64 = t10 * t209;
-        let t1510: f64 = t1509 - t183;
-        let t1511: f64 = t1510 * 0.20597000000000004;
-        let t1512: f64 = t943 * t1287;
-        let t1513: f64 = t1511 * t1512;
-        let t1514: f64 = t1457 * 0.4119400000000001;
-        let t1515: f64 = t1478.plus(t1501);
-        let t1516: f64 = t1508.plus(t1515);
-        let t1517: f64 = t1473.plus(t1514);
-        let t1518: f64 = t1495.plus(t1513);
-        let t1519: f64 = t1517 + t1518;
-        let t1520: f64 = t1516 - t1519;
-        let t1521: f64 = t195 * t1520;
-        let t1522: f64 = t1455.plus(t1521);
-        let t1523 = product(t205, t1477);
-        let t1524: f64 = t957 * t1279;
-        let t1525: f64 = t12 * t158;
-        let t1526 = product(t123, t1525);
-        let t1527: f64 = t7 * t13;
-        let t1528: f64 = t158 * t1527;
-        let t1529: f64 = t96 * t1528;
-        let t1530: f64 = t1526.minus(t1529);
-        let t1531 = product(t968, t1287);
-        let t1532 = product(t970, t1287);
-        let t1533: f64 = t974 * t1287;
-        let t1534: f64 = t1532.minus(t1533);
-        let t1535: f64 = t1531.plus(t1534);
-        let t1536 = product(t1524, 0.4119400000000001);
-        let t1537 = product(t1530, 1.0298500000000002);
-        let t1538: f64 = t1535 * 0.20597000000000004;
+        let t1501: f64 = t245 * t1377;
+        let t1502: f64 = t242 * t1377;
+        let t1503: f64 = t1501 + t1502;
+        let t1504: f64 = t591 - t1503;
+        let t1505: f64 = t1500 + t1504;
+        let t1506: f64 = t32 * t88;
+        let t1507 = product(t137, t1371);
+        let t1508: f64 = t110 * t497;
+        let t1509: f64 = t1507.plus(t1508);
+        let t1510: f64 = t1506 + t1509;
+        let t1511 = product(t497, t1412);
+        let t1512: f64 = t137 * t1415;
+        let t1513: f64 = t1511.plus(t1512);
+        let t1514 = product(t368, t1385);
+        let t1515: f64 = t370 * t1385;
+        let t1516: f64 = t1514.minus(t1515);
+        let t1517: f64 = t1516 - t150;
+        let t1518: f64 = t1497 * 2.0;
+        let t1519: f64 = t1510 * 10.02;
+        let t1520: f64 = t1517 * 2.5;
+        let t1521: f64 = t614 + t1505;
+        let t1522: f64 = t1513 + t1519;
+        let t1523: f64 = t1521 + t1522;
+        let t1524: f64 = t1520 + t1523;
+        let t1525: f64 = t1524 - t1518;
+        let t1526: f64 = t673 * t1525;
+        let t1527: f64 = t1490.plus(t1526);
+        let t1528: f64 = t1442.plus(t1527);
+        let t1529 = product(t678, t1489);
+        let t1530: f64 = t680 * t1525;
+        let t1531 = product(t682, t1441);
+        let t1532: f64 = t27 * t30;
+        let t1533 = product(t213, t231);
+        let t1534: f64 = t198 * t216;
+        let t1535: f64 = t1533.plus(t1534);
+        let t1536: f64 = t1535 * 0.4687500000000003;
+        let t1537 = product(t77, t1536);
+        let t1538: f64 = t1532 * 1.0298500000000002;
         let t1539: f64 = t1537.plus(t1538);
-        let t1540: f64 = t1536.subtracted_from(t1539);
-        let t1541: f64 = t178 * t1540;
-        let t1542 = product(t1530, 2.5);
-        let t1543: f64 = t1535 * 0.5;
-        let t1544: f64 = t1542.plus(t1543);
-        let t1545: f64 = t1544 - t1524;
-        let t1546 = product(t179, t1545);
-        let t1547: f64 = t204 * t1472;
-        let t1548: f64 = t133 * t1293;
-        let t1549 = product(t12, t993);
-        let t1550 = product(t1509, 0.5610999999999999);
-        let t1551: f64 = t1548 * 0.22443999999999997;
-        let t1552: f64 = t1550.plus(t1551);
-        let t1553: f64 = t1549.subtracted_from(t1552);
-        let t1554 = product(t159, t1553);
-        let t1555 = product(t210, 0.11221999999999999);
-        let t1556: f64 = t56 * 0.28054999999999997;
-        let t1557: f64 = t1555.subtracted_from(t1556);
-        let t1558 = product(t10, t1557);
-        let t1559: f64 = t208 * 0.11221999999999999;
-        let t1560: f64 = t1558.subtracted_from(t1559);
-        let t1561: f64 = t1002 * t1299;
-        let t1562 = product(t1560, t1561);
-        let t1563: f64 = t1546.plus(t1547);
-        let t1564: f64 = t1554.plus(t1563);
-        let t1565: f64 = t1523.plus(t1541);
-        let t1566: f64 = t1562.plus(t1565);
-        let t1567: f64 = t1564 - t1566;
-        let t1568 = product(t165, t1567);
-        let t1569: f64 = t531 * t1013;
-        let t1570 = product(t181, t1545);
-        let t1571 = product(t168, t1540);
-        let t1572: f64 = t204 * t1500;
-        let t1573 = product(t205, t1494);
-        let t1574: f64 = t1019 * t1275;
-        let t1575: f64 = t3 * t169;
-        let t1576 = product(t1023, t1575);
-        let t1577: f64 = t1574 * 0.11221999999999999;
-        let t1578: f64 = t1576.plus(t1577);
-        let t1579 = product(t7, t1578);
-        let t1580: f64 = t1031 * t1275;
-        let t1581: f64 = t1030 * t1580;
-        let t1582: f64 = t1569 * 0.22443999999999997;
-        let t1583: f64 = t1571.plus(t1582);
-        let t1584: f64 = t1573.plus(t1583);
-        let t1585: f64 = t1570.plus(t1572);
-        let t1586: f64 = t1579.plus(t1581);
-        let t1587: f64 = t1585 + t1586;
-        let t1588: f64 = t1584 - t1587;
-        let t1589: f64 = t173 * t1588;
-        let t1590: f64 = t1568.minus(t1589);
-        let t1591: f64 = t1522 + t1590;
-        let t1592: f64 = t1323 + 1.0;
-        let t1593: f64 = t1413 + t1592;
-        let t1594: f64 = t1593 - t1411;
-        let t1595: f64 = t241 * t1594;
-        let t1596: f64 = t1362 * 0.5;
-        let t1597: f64 = t1365 * 2.5;
-        let t1598: f64 = t1372 * 5.0;
-        let t1599: f64 = t1596 + t1597;
-        let t1600: f64 = t1379 + t1598;
-        let t1601: f64 = t1599 + t1600;
-        let t1602 = product(t142, t1601);
-        let t1603: f64 = t72 * 8.35;
-        let t1604: f64 = t1603 + 0.334;
-        let t1605: f64 = t147 - t1604;
-        let t1606: f64 = t1415 * t1605;
-        let t1607 = product(t1595, 1.67);
-        let t1608: f64 = t1602.plus(t1606);
-        let t1609: f64 = t1607.subtracted_from(t1608);
-        let t1610 = product(t209, t1609);
-        let t1611: f64 = t54 * t1408;
-        let t1612: f64 = t72 * t1601;
-        let t1613 = product(t55, t1408);
-        let t1614: f64 = t261 * t1408;
-        let t1615: f64 = t1613.plus(t1614);
-        let t1616 = product(t264, t1408);
-        let t1617: f64 = t266 * t1408;
-        let t1618: f64 = t1616.plus(t1617);
-        let t1619: f64 = t1615 + t1618;
-        let t1620 = product(t236, t1601);
-        let t1621: f64 = t238 * t1601;
-        let t1622: f64 = t1620.plus(t1621);
-        let t1623 = product(t241, t1601);
-        let t1624: f64 = t244 * t1601;
-        let t1625: f64 = t1623.plus(t1624);
-        let t1626: f64 = t1622 - t1625;
-        let t1627: f64 = t1611 - t1612;
-        let t1628 = product(t1627, 6.68);
-        let t1629: f64 = t1619 + t1626;
-        let t1630: f64 = t1629 * 3.34;
-        let t1631: f64 = t1628.plus(t1630);
-        let t1632: f64 = t57 * t1631;
-        let t1633: f64 = t1610.minus(t1632);
-        let t1634: f64 = t1591 + t1633;
-        let t1635: f64 = t54 * t1594;
-        let t1636 = product(t790, t1415);
-        let t1637 = product(t142, t1408);
-        let t1638: f64 = t1635 * 1.67;
-        let t1639: f64 = t1636.plus(t1638);
-        let t1640: f64 = t1637.plus(t1639);
-        let t1641 = product(t133, t1640);
-        let t1642: f64 = t86 * t1415;
-        let t1643 = product(t242, t1594);
-        let t1644: f64 = t245 * t1415;
+        let t1540 = product(t10, t1539);
+        let t1541: f64 = t24 * t30;
+        let t1542 = product(t137, t1536);
+        let t1543 = product(t109, t1536);
+        let t1544: f64 = t33 - t35;
+        let t1545: f64 = t1544 * 1.0298500000000002;
+        let t1546: f64 = t1543.plus(t1545);
+        let t1547 = product(t1, t1546);
+        let t1548: f64 = t1541 * 1.0298500000000002;
+        let t1549: f64 = t1542.plus(t1548);
+        let t1550: f64 = t1547.subtracted_from(t1549);
+        let t1551: f64 = t13 * t1550;
+        let t1552: f64 = t1540.minus(t1551);
+        let t1553: f64 = t706 * t1552;
+        let t1554: f64 = t1553 * 0.5;
+        let t1555: f64 = t1529.plus(t1530);
+        let t1556: f64 = t1531.plus(t1555);
+        let t1557: f64 = t1556 - t1554;
+        let t1558 = product(t622, t1557);
+        let t1559: f64 = t20 * t1539;
+        let t1560 = product(t715, t1525);
+        let t1561: f64 = t10 * t1557;
+        let t1562 = product(t1561, 2.0);
+        let t1563: f64 = t1562.added_to(t1559);
+        let t1564: f64 = t1560.minus(t1563);
+        let t1565: f64 = t11 * t1564;
+        let t1566: f64 = t1558.minus(t1565);
+        let t1567 = product(t723, t1441);
+        let t1568 = product(t725, t1489);
+        let t1569: f64 = t727 * t1525;
+        let t1570 = product(t206, t214);
+        let t1571: f64 = t199 + t201;
+        let t1572 = product(t1571, 0.5610999999999999);
+        let t1573: f64 = t1570.added_to(t217);
+        let t1574: f64 = t1573 * 0.4687500000000003;
+        let t1575: f64 = t1572.minus(t1574);
+        let t1576 = product(t47, t1575);
+        let t1577: f64 = t27 * t198;
+        let t1578: f64 = t77 * t213;
+        let t1579: f64 = t206 * t1578;
+        let t1580: f64 = t24 * t198;
+        let t1581: f64 = t137 * t213;
+        let t1582: f64 = t206 * t1581;
+        let t1583 = product(t1580, 0.5610999999999999);
+        let t1584: f64 = t1582 * 0.4687500000000003;
+        let t1585: f64 = t1583.minus(t1584);
+        let t1586 = product(t6, t1585);
+        let t1587: f64 = t1577 * 0.5610999999999999;
+        let t1588: f64 = t1579 * 0.4687500000000003;
+        let t1589: f64 = t1586.plus(t1588);
+        let t1590: f64 = t1587 - t1589;
+        let t1591: f64 = t13 * t1590;
+        let t1592: f64 = t1576.minus(t1591);
+        let t1593: f64 = t730 * t1592;
+        let t1594 = product(t27, t1385);
+        let t1595: f64 = t1594.minus(t1457);
+        let t1596: f64 = t1473 + t1595;
+        let t1597: f64 = t1478 * 2.5;
+        let t1598: f64 = t1483 + t1597;
+        let t1599: f64 = t1484 + t1598;
+        let t1600: f64 = t1599 - t1596;
+        let t1601 = product(t47, t1600);
+        let t1602 = product(t6, t1441);
+        let t1603 = product(t32, t1385);
+        let t1604: f64 = t1603.added_to(t1505);
+        let t1605: f64 = t1513 + t1604;
+        let t1606: f64 = t1602.plus(t1605);
+        let t1607 = product(t150, 2.5);
+        let t1608: f64 = t1607.added_to(t1518);
+        let t1609: f64 = t614 + t1519;
+        let t1610: f64 = t1606 + t1609;
+        let t1611: f64 = t1608 - t1610;
+        let t1612: f64 = t13 * t1611;
+        let t1613: f64 = t1601.plus(t1612);
+        let t1614 = product(t775, t1613);
+        let t1615: f64 = t1593 * 0.5;
+        let t1616: f64 = t1614.subtracted_from(t1615);
+        let t1617: f64 = t729 * t1616;
+        let t1618: f64 = -t1617;
+        let t1619 = product(t44, t1618);
+        let t1620: f64 = t684 * t1552;
+        let t1621: f64 = t1605 + t1609;
+        let t1622: f64 = t1621 - t1608;
+        let t1623 = product(t10, t1622);
+        let t1624 = product(t1, t1600);
+        let t1625: f64 = t1624.added_to(t1433);
+        let t1626: f64 = t1438 + t1625;
+        let t1627: f64 = t1626 - t1440;
+        let t1628: f64 = t13 * t1627;
+        let t1629: f64 = t1623.plus(t1628);
+        let t1630 = product(t714, t1629);
+        let t1631: f64 = t1620 * 0.5;
+        let t1632: f64 = t1630.subtracted_from(t1631);
+        let t1633: f64 = t677 * t1632;
+        let t1634: f64 = -t1633;
+        let t1635: f64 = t7 * t1634;
+        let t1636 = product(t784, t1622);
+        let t1637 = product(t787, t1441);
+        let t1638: f64 = t789 * t1600;
+        let t1639: f64 = t374 * 50.00000000000003;
+        let t1640 = product(t1394, 5.0);
+        let t1641 = product(t1375, 20.04);
+        let t1642: f64 = t1407 * 4.0;
+        let t1643 = product(t1625, 2.0);
+        let t1644: f64 = t1641.plus(t1642);
         let t1645: f64 = t1643.plus(t1644);
-        let t1646 = product(t249, t1415);
-        let t1647: f64 = t251 * t1415;
-        let t1648: f64 = t1646.plus(t1647);
-        let t1649: f64 = t1645 + t1648;
-        let t1650: f64 = t1611 + t1642;
-        let t1651 = product(t1650, 6.68);
-        let t1652: f64 = t1619 + t1649;
-        let t1653: f64 = t1652 * 3.34;
-        let t1654: f64 = t1651.plus(t1653);
-        let t1655 = product(t123, t1654);
-        let t1656 = product(t62, t1609);
-        let t1657 = product(t138, t1601);
-        let t1658: f64 = t148 * t1408;
-        let t1659: f64 = t1657.plus(t1658);
-        let t1660: f64 = t96 * t1659;
-        let t1661: f64 = t1656.plus(t1660);
-        let t1662: f64 = t1655.minus(t1661);
-        let t1663: f64 = t96 * t1662;
-        let t1664: f64 = t1641.minus(t1663);
-        let t1665 = product(t123, t1659);
-        let t1666: f64 = t62 * t1640;
-        let t1667: f64 = t1642 - t1612;
-        let t1668 = product(t1667, 6.68);
-        let t1669: f64 = t1626 + t1649;
-        let t1670: f64 = t1669 * 3.34;
-        let t1671: f64 = t1668.plus(t1670);
-        let t1672 = product(t96, t1671);
-        let t1673: f64 = t1665.plus(t1666);
-        let t1674: f64 = t1672.subtracted_from(t1673);
-        let t1675 = product(t123, t1674);
-        let t1676: f64 = t131 * t1425;
-        let t1677: f64 = t1675.minus(t1676);
-        let t1678: f64 = t1664 - t1677;
-        let t1679: f64 = t1634 + t1678;
-        let t1680: f64 = -t1402;
-        let t1681 = product(t138, t1680);
-        let t1682: f64 = t356 * t1444;
-        let t1683: f64 = t1681.minus(t1682);
-        let t1684 = product(t352, t1330);
-        let t1685 = product(t123, t1393);
-        let t1686 = product(t95, t1330);
-        let t1687: f64 = t61 * t1359;
-        let t1688: f64 = t1686.subtracted_from(t1687);
-        let t1689: f64 = t62 * t1688;
-        let t1690: f64 = t1685.minus(t1689);
-        let t1691: f64 = t90 * t1690;
-        let t1692: f64 = t1684.minus(t1691);
-        let t1693 = product(t108, t1386);
-        let t1694: f64 = t111 * t1386;
-        let t1695: f64 = t1693.minus(t1694);
-        let t1696 = product(t88, t1690);
-        let t1697: f64 = t350 * t1330;
-        let t1698: f64 = t1696.minus(t1697);
-        let t1699: f64 = t1695 + t1698;
-        let t1700: f64 = t1692 + t1699;
-        let t1701 = product(t148, t1700);
-        let t1702: f64 = t359 * t1408;
-        let t1703: f64 = t1701.minus(t1702);
-        let t1704: f64 = t1683 + t1703;
-        let t1705 = product(t1402, 20.020000000000003);
-        let t1706: f64 = t1705.added_to(t1453);
-        let t1707: f64 = -t1706;
-        let t1708 = product(t55, t1707);
-        let t1709: f64 = t374 * t1601;
-        let t1710: f64 = t1708.minus(t1709);
-        let t1711 = product(t209, t1434);
-        let t1712: f64 = t57 * t1444;
-        let t1713: f64 = t1711.minus(t1712);
-        let t1714 = product(t123, t1450);
-        let t1715 = product(t62, t1425);
-        let t1716: f64 = t96 * t1434;
-        let t1717: f64 = t1715.minus(t1716);
-        let t1718: f64 = t62 * t1717;
-        let t1719: f64 = t1714.minus(t1718);
-        let t1720: f64 = t1713 + t1719;
-        let t1721 = product(t1700, 20.020000000000003);
-        let t1722: f64 = t1721.added_to(t1720);
-        let t1723 = product(t236, t1722);
-        let t1724: f64 = q1 * t1722;
-        let t1725: f64 = t1723.minus(t1724);
-        let t1726: f64 = t1710 + t1725;
-        let t1727: f64 = t1704 - t1726;
-        let t1728: f64 = t1679 + t1727;
-        let t1729 = product(t1267, 6.25);
-        let t1730: f64 = t1303 * 1.25;
-        let t1731 = product(t1402, 22.020000000000003);
-        let t1732: f64 = t1418 * 2.0;
-        let t1733: f64 = t1728 * 2.5;
-        let t1734: f64 = t1731.plus(t1732);
-        let t1735: f64 = t1453 + t1734;
-        let t1736: f64 = t1729.plus(t1730);
-        let t1737: f64 = t1733 + t1736;
-        let t1738: f64 = t1735 - t1737;
-        let t1739: f64 = t1324 + t1325;
-        let t1740: f64 = t1326 + t1327;
-        let t1741: f64 = t1739 + t1740;
-        let t1742 = product(t128, t1741);
-        let t1743: f64 = t126 * t1741;
-        let t1744: f64 = t1742.minus(t1743);
-        let t1745: f64 = t1354 + t1355;
-        let t1746: f64 = t1356 + t1745;
-        let t1747: f64 = t1746 - t1353;
-        let t1748 = product(t108, t1747);
-        let t1749: f64 = t1381 + t1382;
-        let t1750: f64 = t1383 + t1749;
-        let t1751: f64 = t1750 - t1380;
-        let t1752 = product(t61, t1751);
-        let t1753: f64 = t122 * t1741;
-        let t1754: f64 = t1752.minus(t1753);
-        let t1755 = product(t62, t1754);
-        let t1756 = product(t95, t1751);
-        let t1757: f64 = t122 * t1747;
-        let t1758: f64 = t1756.minus(t1757);
-        let t1759: f64 = t96 * t1758;
-        let t1760: f64 = t1755.plus(t1759);
-        let t1761: f64 = t60 * t1760;
-        let t1762: f64 = t1748.plus(t1761);
-        let t1763 = product(t111, t1747);
-        let t1764: f64 = t110 * t1760;
-        let t1765: f64 = t1763.plus(t1764);
-        let t1766: f64 = t1762 - t1765;
-        let t1767: f64 = t1744 + t1766;
-        let t1768: f64 = t1410 + t1411;
-        let t1769: f64 = t1323 + t1412;
-        let t1770: f64 = t1768 + t1769;
-        let t1771 = product(t133, t1770);
-        let t1772: f64 = t1404 + t1405;
-        let t1773: f64 = t1352 + t1772;
-        let t1774: f64 = t1773 - t1403;
-        let t1775: f64 = t57 * t1774;
-        let t1776: f64 = t1771.minus(t1775);
-        let t1777: f64 = t1760 + t1776;
-        let t1778: f64 = t1427 + t1428;
-        let t1779: f64 = t1429 + t1430;
-        let t1780: f64 = t1778 + t1779;
-        let t1781: f64 = t1780 - 1.67;
-        let t1782 = product(t133, t1781);
-        let t1783: f64 = t1420 + t1421;
-        let t1784: f64 = t1422 + t1783;
-        let t1785: f64 = t1784 - t1419;
-        let t1786: f64 = t57 * t1785;
-        let t1787: f64 = t1782.minus(t1786);
-        let t1788: f64 = t1439 + t1440;
-        let t1789: f64 = t1441 + t1788;
-        let t1790: f64 = t1789 - t1438;
-        let t1791 = product(t96, t1790);
-        let t1792: f64 = t123 * t1785;
-        let t1793: f64 = t1791.minus(t1792);
-        let t1794 = product(t96, t1793);
-        let t1795 = product(t123, t1781);
-        let t1796: f64 = t62 * t1790;
-        let t1797: f64 = t1795.minus(t1796);
-        let t1798: f64 = t62 * t1797;
-        let t1799: f64 = t1794.minus(t1798);
-        let t1800: f64 = t1787 + t1799;
-        let t1801: f64 = t1770 - 1.0;
-        let t1802: f64 = t244 * t1801;
-        let t1803: f64 = t1597 + t1598;
-        let t1804: f64 = t1379 + t1803;
-        let t1805: f64 = t1804 - t1596;
-        let t1806 = product(t142, t1805);
-        let t1807: f64 = t147 + 0.334;
-        let t1808: f64 = t1807 - t1603;
-        let t1809: f64 = t1770 * t1808;
-        let t1810 = product(t1802, 1.67);
-        let t1811: f64 = t1806.plus(t1809);
-        let t1812: f64 = t1810.subtracted_from(t1811);
-        let t1813 = product(t209, t1812);
-        let t1814: f64 = t54 * t1774;
-        let t1815: f64 = t72 * t1805;
-        let t1816 = product(t55, t1774);
-        let t1817: f64 = t261 * t1774;
-        let t1818: f64 = t1816.plus(t1817);
-        let t1819 = product(t264, t1774);
-        let t1820: f64 = t266 * t1774;
-        let t1821: f64 = t1819.plus(t1820);
-        let t1822: f64 = t1818 + t1821;
-        let t1823 = product(t236, t1805);
-        let t1824: f64 = t238 * t1805;
-        let t1825: f64 = t1823.plus(t1824);
-        let t1826 = product(t241, t1805);
-        let t1827: f64 = t244 * t1805;
-        let t1828: f64 = t1826.plus(t1827);
-        let t1829: f64 = t1825 - t1828;
-        let t1830: f64 = t1814 - t1815;
-        let t1831 = product(t1830, 6.68);
-        let t1832: f64 = t1822 + t1829;
-        let t1833: f64 = t1832 * 3.34;
-        let t1834: f64 = t1831.plus(t1833);
-        let t1835: f64 = t57 * t1834;
-        let t1836: f64 = t1813.minus(t1835);
-        let t1837: f64 = t1591 + t1836;
-        let t1838: f64 = t54 * t1801;
-        let t1839 = product(t790, t1770);
-        let t1840 = product(t142, t1774);
-        let t1841: f64 = t1838 * 1.67;
-        let t1842: f64 = t1839.plus(t1841);
-        let t1843: f64 = t1840.plus(t1842);
-        let t1844 = product(t133, t1843);
-        let t1845: f64 = t86 * t1770;
-        let t1846 = product(t242, t1770);
-        let t1847: f64 = t245 * t1801;
-        let t1848: f64 = t1846.plus(t1847);
-        let t1849 = product(t249, t1770);
-        let t1850: f64 = t251 * t1770;
-        let t1851: f64 = t1849.plus(t1850);
-        let t1852: f64 = t1848 + t1851;
-        let t1853: f64 = t1814 + t1845;
-        let t1854 = product(t1853, 6.68);
-        let t1855: f64 = t1822 + t1852;
-        let t1856: f64 = t1855 * 3.34;
-        let t1857: f64 = t1854.plus(t1856);
-        let t1858 = product(t123, t1857);
-        let t1859 = product(t62, t1812);
-        let t1860 = product(t138, t1805);
-        let t1861: f64 = t148 * t1774;
-        let t1862: f64 = t1860.plus(t1861);
-        let t1863: f64 = t96 * t1862;
-        let t1864: f64 = t1859.plus(t1863);
-        let t1865: f64 = t1858.minus(t1864);
-        let t1866: f64 = t96 * t1865;
-        let t1867: f64 = t1844.minus(t1866);
-        let t1868 = product(t123, t1862);
-        let t1869: f64 = t62 * t1843;
-        let t1870: f64 = t1845 - t1815;
-        let t1871 = product(t1870, 6.68);
-        let t1872: f64 = t1829 + t1852;
-        let t1873: f64 = t1872 * 3.34;
-        let t1874: f64 = t1871.plus(t1873);
-        let t1875 = product(t96, t1874);
-        let t1876: f64 = t1868.plus(t1869);
-        let t1877: f64 = t1875.subtracted_from(t1876);
-        let t1878 = product(t123, t1877);
-        let t1879: f64 = t131 * t1785;
-        let t1880: f64 = t1878.minus(t1879);
-        let t1881: f64 = t1867 - t1880;
-        let t1882: f64 = t1837 + t1881;
-        let t1883 = product(t138, t1767);
-        let t1884: f64 = t356 * t1790;
-        let t1885: f64 = t1883.minus(t1884);
-        let t1886 = product(t352, t1741);
-        let t1887 = product(t95, t1741);
-        let t1888: f64 = t61 * t1747;
-        let t1889: f64 = t1887.subtracted_from(t1888);
-        let t1890 = product(t62, t1889);
-        let t1891: f64 = t123 * t1758;
-        let t1892: f64 = t1890.minus(t1891);
-        let t1893: f64 = -t1892;
-        let t1894: f64 = t90 * t1893;
-        let t1895: f64 = t1886.minus(t1894);
-        let t1896 = product(t108, t1751);
-        let t1897: f64 = t111 * t1751;
-        let t1898: f64 = t1896.minus(t1897);
-        let t1899 = product(t350, t1741);
-        let t1900: f64 = t88 * t1893;
-        let t1901: f64 = t1899.minus(t1900);
-        let t1902: f64 = t1898 - t1901;
-        let t1903: f64 = t1895 + t1902;
-        let t1904 = product(t148, t1903);
-        let t1905: f64 = t359 * t1774;
-        let t1906: f64 = t1904.minus(t1905);
-        let t1907: f64 = t1885 + t1906;
-        let t1908 = product(t1767, 20.020000000000003);
-        let t1909: f64 = t1908.added_to(t1800);
-        let t1910 = product(t55, t1909);
-        let t1911: f64 = t374 * t1805;
-        let t1912: f64 = t1910.minus(t1911);
-        let t1913 = product(t57, t1790);
-        let t1914: f64 = t209 * t1781;
-        let t1915: f64 = t1913.minus(t1914);
-        let t1916 = product(t62, t1785);
-        let t1917: f64 = t96 * t1781;
-        let t1918: f64 = t1916.minus(t1917);
-        let t1919 = product(t62, t1918);
-        let t1920: f64 = t123 * t1793;
-        let t1921: f64 = t1919.minus(t1920);
-        let t1922: f64 = t1915 + t1921;
-        let t1923 = product(t1903, 20.020000000000003);
-        let t1924: f64 = t1923.minus(t1922);
-        let t1925 = product(t236, t1924);
-        let t1926: f64 = q1 * t1924;
-        let t1927: f64 = t1925.minus(t1926);
-        let t1928: f64 = t1912 + t1927;
-        let t1929: f64 = t1907 - t1928;
-        let t1930: f64 = t1882 + t1929;
-        let t1931 = product(t1767, 22.020000000000003);
-        let t1932: f64 = t1777 * 2.0;
-        let t1933: f64 = t1930 * 2.5;
-        let t1934: f64 = t1931.plus(t1932);
-        let t1935: f64 = t1800 + t1933;
-        let t1936: f64 = t1736 + t1934;
-        let t1937: f64 = t1935 + t1936;
-        let t1938: f64 = t9 * t169;
-        let t1939 = product(t234, t1938);
-        let t1940: f64 = t8 * t159;
-        let t1941 = product(t219, t1940);
-        let t1942: f64 = t1941.subtracted_from(t420);
-        let t1943: f64 = t1939.plus(t1942);
-        let t1944: f64 = t8 * t10;
-        let t1945: f64 = t6 * 12.5;
-        let t1946 = product(t3, t1945);
-        let t1947: f64 = t1946.added_to(t551);
-        let t1948: f64 = t46 * t1947;
-        let t1949 = product(t7, t536);
-        let t1950 = product(t1944, 5.0);
-        let t1951: f64 = t1948 * 2.0;
-        let t1952: f64 = t1950.plus(t1951);
-        let t1953: f64 = t1949.plus(t1952);
-        let t1954: f64 = t234 * t524;
-        let t1955 = product(t1953, t1954);
-        let t1956: f64 = t16 * t1292;
-        let t1957: f64 = t5 * t1281;
-        let t1958 = product(t10, t1957);
-        let t1959: f64 = t1958.added_to(t1944);
-        let t1960 = product(t1959, 5.0);
-        let t1961: f64 = t1956 * 2.0;
-        let t1962: f64 = t1960.plus(t1961);
-        let t1963: f64 = t543 * t1962;
-        let t1964 = product(t194, t1963);
-        let t1965: f64 = t3 * t548;
-        let t1966 = product(t10, t1965);
-        let t1967 = product(t27, 2.5);
-        let t1968: f64 = t1967.plus(2.5);
-        let t1969: f64 = t30 * t1968;
-        let t1970: f64 = t1966.added_to(t1944);
-        let t1971 = product(t1970, 5.0);
-        let t1972: f64 = t1969 * 2.0;
-        let t1973: f64 = t1971.plus(t1972);
-        let t1974: f64 = t558 * t1973;
-        let t1975: f64 = t219 * t1974;
-        let t1976: f64 = t1964.plus(t1975);
-        let t1977: f64 = t1955.minus(t1976);
-        let t1978: f64 = t7 * t11;
-        let t1979: f64 = t51 * t1978;
-        let t1980: f64 = t16 * t604;
-        let t1981 = product(t21, t1980);
-        let t1982: f64 = t1981.added_to(t53);
-        let t1983: f64 = t5 * t1308;
-        let t1984: f64 = t7 * t1983;
-        let t1985: f64 = t10 * t1984;
-        let t1986 = product(t51, t1985);
-        let t1987: f64 = t10 * t1366;
-        let t1988: f64 = t35 * t1987;
-        let t1989: f64 = t1986.minus(t1988);
-        let t1990 = product(t578, t1292);
-        let t1991: f64 = t585 * t1962;
-        let t1992: f64 = t1990.minus(t1991);
-        let t1993 = product(t580, t1973);
-        let t1994: f64 = t583 * t1953;
-        let t1995: f64 = t1993.minus(t1994);
-        let t1996: f64 = t1992 + t1995;
-        let t1997: f64 = t1979 * 1.25;
-        let t1998: f64 = t1982 * 6.25;
-        let t1999: f64 = t1989 * 12.5;
+        let t1646: f64 = t1640.added_to(t1639);
+        let t1647: f64 = t1645 - t1646;
+        let t1648 = product(t803, t1647);
+        let t1649 = product(t150, 5.0);
+        let t1650: f64 = t1497 * 4.0;
+        let t1651 = product(t1510, 20.04);
+        let t1652 = product(t1606, 2.0);
+        let t1653: f64 = t1649.plus(t1650);
+        let t1654: f64 = t1651.added_to(t816);
+        let t1655: f64 = t1652.plus(t1654);
+        let t1656: f64 = t1653 - t1655;
+        let t1657: f64 = t812 * t1656;
+        let t1658 = product(t3, t1622);
+        let t1659: f64 = t1658.added_to(t1596);
+        let t1660: f64 = t1478 * 5.0;
+        let t1661 = product(t1466, 20.04);
+        let t1662 = product(t1470, 4.0);
+        let t1663 = product(t1659, 2.0);
+        let t1664: f64 = t1661.added_to(t1660);
+        let t1665: f64 = t1662.plus(t1664);
+        let t1666: f64 = t1663.subtracted_from(t1665);
+        let t1667 = product(t825, t1666);
+        let t1668: f64 = t1648.plus(t1657);
+        let t1669: f64 = t1667.subtracted_from(t1668);
+        let t1670 = product(t13, t1669);
+        let t1671: f64 = t1636.plus(t1638);
+        let t1672: f64 = t1637.subtracted_from(t1671);
+        let t1673: f64 = t1672 * 2.0;
+        let t1674: f64 = t1670.plus(t1673);
+        let t1675 = product(t13, t1674);
+        let t1676 = product(t58, t1666);
+        let t1677: f64 = t24 * t213;
+        let t1678: f64 = t137 * t198;
+        let t1679: f64 = t206 * t1678;
+        let t1680 = product(t1677, 0.5610999999999999);
+        let t1681: f64 = t1679 * 0.4687500000000003;
+        let t1682: f64 = t1680.plus(t1681);
+        let t1683 = product(t63, t1682);
+        let t1684: f64 = t27 * t213;
+        let t1685: f64 = t77 * t198;
+        let t1686: f64 = t206 * t1685;
+        let t1687 = product(t1684, 0.5610999999999999);
+        let t1688: f64 = t1686 * 0.4687500000000003;
+        let t1689: f64 = t1687.plus(t1688);
+        let t1690 = product(t3, t1689);
+        let t1691: f64 = t224 - t226;
+        let t1692 = product(t206, t229);
+        let t1693: f64 = t1692.minus(t232);
+        let t1694 = product(t1691, 0.5610999999999999);
+        let t1695: f64 = t1693 * 0.4687500000000003;
+        let t1696: f64 = t1694.plus(t1695);
+        let t1697: f64 = t1690.subtracted_from(t1696);
+        let t1698: f64 = t13 * t1697;
+        let t1699: f64 = t1683.subtracted_from(t1698);
+        let t1700: f64 = t853 * t1699;
+        let t1701 = product(t63, t1441);
+        let t1702: f64 = t1599 - t1659;
+        let t1703: f64 = t13 * t1702;
+        let t1704: f64 = t1701.plus(t1703);
+        let t1705 = product(t884, t1704);
+        let t1706: f64 = t1700 * 0.5;
+        let t1707: f64 = t1705.plus(t1706);
+        let t1708: f64 = t60 * t1707;
+        let t1709 = product(t1708, 2.0);
+        let t1710: f64 = t1709.added_to(t1700);
+        let t1711: f64 = t68 * t1710;
+        let t1712: f64 = t1676.minus(t1711);
+        let t1713 = product(t68, t1712);
+        let t1714: f64 = t19 * t684;
+        let t1715 = product(t1552, t1714);
+        let t1716: f64 = t38 * t1647;
+        let t1717: f64 = t1715.plus(t1716);
+        let t1718 = product(t19, t1717);
+        let t1719 = product(t894, t1592);
+        let t1720: f64 = t43 * t1656;
+        let t1721: f64 = t1719.plus(t1720);
+        let t1722: f64 = t52 * t1721;
+        let t1723: f64 = t1619.plus(t1635);
+        let t1724: f64 = t1723 * 2.0;
+        let t1725: f64 = t1675.plus(t1724);
+        let t1726: f64 = t1713.plus(t1725);
+        let t1727: f64 = t1718.plus(t1722);
+        let t1728: f64 = t1726 - t1727;
+        let t1729: f64 = t13 * t1728;
+        let t1730 = product(t907, t1546);
+        let t1731: f64 = t20 * t1549;
+        let t1732: f64 = t1730.minus(t1731);
+        let t1733 = product(t207, t1696);
+        let t1734: f64 = t911 * t1689;
+        let t1735: f64 = t1733.minus(t1734);
+        let t1736 = product(t914, t1585);
+        let t1737: f64 = t1587 - t1588;
+        let t1738: f64 = t192 * t1737;
+        let t1739: f64 = t1736.minus(t1738);
+        let t1740: f64 = t1735 + t1739;
+        let t1741: f64 = t1732 + t1740;
+        let t1742: f64 = t1567.plus(t1729);
+        let t1743: f64 = t1741 + t1742;
+        let t1744: f64 = t1568.plus(t1569);
+        let t1745: f64 = t1743 - t1744;
+        let t1746 = product(t59, t1745);
+        let t1747: f64 = t192 * t1575;
+        let t1748 = product(t926, t1489);
+        let t1749 = product(t928, t1489);
+        let t1750 = product(t930, t1525);
+        let t1751: f64 = t932 * t1441;
+        let t1752: f64 = t934 * t1592;
+        let t1753: f64 = t1752 * 0.5;
+        let t1754: f64 = t1750.plus(t1751);
+        let t1755: f64 = t1753 + t1754;
+        let t1756: f64 = t1749.minus(t1755);
+        let t1757: f64 = t47 * t1756;
+        let t1758 = product(t1757, 2.0);
+        let t1759: f64 = t1758.added_to(t1747);
+        let t1760: f64 = t1748.minus(t1759);
+        let t1761: f64 = t6 * t1760;
+        let t1762: f64 = t1746.minus(t1761);
+        let t1763: f64 = t22 * t1546;
+        let t1764 = product(t94, t1489);
+        let t1765: f64 = t1764.subtracted_from(t1763);
+        let t1766: f64 = t207 * t1682;
+        let t1767 = product(t950, t1441);
+        let t1768 = product(t952, t1489);
+        let t1769 = product(t954, t1525);
+        let t1770: f64 = t956 * t1441;
+        let t1771: f64 = t958 * t1699;
+        let t1772: f64 = t1771 * 0.5;
+        let t1773: f64 = t1768.plus(t1770);
+        let t1774: f64 = t1772 + t1773;
+        let t1775: f64 = t1769.subtracted_from(t1774);
+        let t1776: f64 = t63 * t1775;
+        let t1777 = product(t1776, 2.0);
+        let t1778: f64 = t1777.added_to(t1766);
+        let t1779: f64 = t1767.minus(t1778);
+        let t1780 = product(t61, t1779);
+        let t1781: f64 = t3 * t1564;
+        let t1782: f64 = t1780.minus(t1781);
+        let t1783: f64 = t1765 + t1782;
+        let t1784: f64 = t1762 + t1783;
+        let t1785 = product(t1367, 2.0);
+        let t1786: f64 = t374 * 4.174999999999997;
+        let t1787: f64 = t1375 * 1.67;
+        let t1788: f64 = t1528 * 0.5;
+        let t1789: f64 = t1566 * 5.0;
+        let t1790: f64 = t1784 * 2.5;
+        let t1791: f64 = t1785.plus(t1786);
+        let t1792: f64 = t1787 + t1789;
+        let t1793: f64 = t1791 + t1792;
+        let t1794: f64 = t1790 + t1793;
+        let t1795: f64 = t1382 + t1788;
+        let t1796: f64 = t1794 - t1795;
+        let t1797: f64 = t1378 + t1425;
+        let t1798 = product(t1402, 2.0);
+        let t1799: f64 = t374 * 4.175;
+        let t1800: f64 = t1798.plus(t1799);
+        let t1801: f64 = t1787 + t1800;
+        let t1802: f64 = t1788 + t1797;
+        let t1803: f64 = t1789 + t1790;
+        let t1804: f64 = t1802 + t1803;
+        let t1805: f64 = t1801 - t1804;
+        let t1806: f64 = t1492 - t1502;
+        let t1807 = product(t1004, t1441);
+        let t1808 = product(t1000, t1525);
+        let t1809: f64 = t998 * t1489;
+        let t1810: f64 = t1808.minus(t1809);
+        let t1811: f64 = t1807.plus(t1810);
+        let t1812 = product(t1003, t1756);
+        let t1813: f64 = t59 * t1760;
+        let t1814: f64 = t1812.minus(t1813);
+        let t1815 = product(t4, t1745);
+        let t1816: f64 = t1 * t1760;
+        let t1817: f64 = t1815.minus(t1816);
+        let t1818: f64 = t193 * t1585;
+        let t1819 = product(t85, t1441);
+        let t1820: f64 = t1819.added_to(t1818);
+        let t1821 = product(t3, t1779);
+        let t1822: f64 = t8 * t1564;
+        let t1823: f64 = t1821.minus(t1822);
+        let t1824: f64 = t1820 + t1823;
+        let t1825: f64 = t1817 + t1824;
+        let t1826 = product(t602, 2.0);
+        let t1827: f64 = t1510 * 1.67;
+        let t1828: f64 = t1811 * 0.5;
+        let t1829: f64 = t1814 * 5.0;
+        let t1830: f64 = t1825 * 2.5;
+        let t1831: f64 = t1826.added_to(t1060);
+        let t1832: f64 = t1828 + t1829;
+        let t1833: f64 = t1831 + t1832;
+        let t1834: f64 = t1830 + t1833;
+        let t1835: f64 = t1806 + t1827;
+        let t1836: f64 = t1834 - t1835;
+        let t1837: f64 = t1492 - t1501;
+        let t1838 = product(t601, 2.0);
+        let t1839: f64 = t1838.added_to(t1060);
+        let t1840: f64 = t1828 + t1839;
+        let t1841: f64 = t1827 + t1837;
+        let t1842: f64 = t1829 + t1830;
+        let t1843: f64 = t1841 + t1842;
+        let t1844: f64 = t1840 - t1843;
+        let t1845: f64 = t1467 - t1444;
+        let t1846 = product(t1036, t1441);
+        let t1847 = product(t1038, t1489);
+        let t1848: f64 = t1041 * t1525;
+        let t1849: f64 = t1847.minus(t1848);
+        let t1850: f64 = t1846.plus(t1849);
+        let t1851 = product(t1040, t1775);
+        let t1852: f64 = t4 * t1779;
+        let t1853: f64 = t1851.minus(t1852);
+        let t1854 = product(t1, t1564);
+        let t1855: f64 = t11 * t1745;
+        let t1856: f64 = t1854.minus(t1855);
+        let t1857: f64 = t213 * t1689;
+        let t1858 = product(t70, t1525);
+        let t1859: f64 = t1858.added_to(t1857);
+        let t1860 = product(t6, t1779);
+        let t1861: f64 = t45 * t1760;
+        let t1862: f64 = t1860.minus(t1861);
+        let t1863: f64 = t1859 - t1862;
+        let t1864: f64 = t1856 + t1863;
+        let t1865: f64 = t1466 * 1.67;
+        let t1866: f64 = t1850 * 0.5;
+        let t1867: f64 = t1853 * 5.0;
+        let t1868: f64 = t1864 * 2.5;
+        let t1869: f64 = t1845 + t1866;
+        let t1870: f64 = t1865 + t1867;
+        let t1871: f64 = t1868 + t1870;
+        let t1872: f64 = t1869 - t1871;
+        let t1873: f64 = t1443 - t1467;
+        let t1874: f64 = t1866 + t1867;
+        let t1875: f64 = t1868 + t1874;
+        let t1876: f64 = t1865 + t1873;
+        let t1877: f64 = t1875 - t1876;
+        let t1878: f64 = t112 * t137;
+        let t1879: f64 = t1370 - t1878;
+        let t1880 = product(t77, t1879);
+        let t1881: f64 = t1880.added_to(t1373);
+        let t1882 = product(t32, t112);
+        let t1883: f64 = t1882.subtracted_from(t1881);
+        let t1884 = product(t112, t497);
+        let t1885 = product(t137, t1879);
+        let t1886: f64 = t1885.subtracted_from(t1506);
+        let t1887: f64 = t1884.plus(t1886);
+        let t1888: f64 = t539 - 12.010000000000002;
+        let t1889: f64 = t112 * t1888;
+        let t1890: f64 = t110 * t1888;
+        let t1891: f64 = t1890 + 2.0;
+        let t1892: f64 = t1889 - t1891;
+        let t1893 = product(t497, t1892);
+        let t1894 = product(t137, t1892);
+        let t1895: f64 = t1894.subtracted_from(t1414);
+        let t1896: f64 = t137 * t1895;
+        let t1897: f64 = t1893.minus(t1896);
+        let t1898: f64 = t1887 * 10.02;
+        let t1899: f64 = t1897 + t1898;
+        let t1900: f64 = t1521 + t1899;
+        let t1901: f64 = t1520 + t1900;
+        let t1902: f64 = t1901 - t1518;
+        let t1903 = product(t673, t1902);
+        let t1904: f64 = t77 * t112;
+        let t1905 = product(t109, t1904);
+        let t1906: f64 = t24 * t112;
+        let t1907: f64 = t1905.minus(t1906);
+        let t1908: f64 = t1465 + t1907;
+        let t1909: f64 = t24 + t1469;
+        let t1910 = product(t492, t1892);
+        let t1911: f64 = t24 * t1888;
+        let t1912: f64 = t1910.plus(t1911);
+        let t1913: f64 = t1908 * 10.02;
+        let t1914: f64 = t1909 * 2.0;
+        let t1915: f64 = t1912 + t1913;
+        let t1916: f64 = t1914 + t1915;
+        let t1917: f64 = t1457 + t1485;
+        let t1918: f64 = t1916 - t1917;
+        let t1919: f64 = t623 * t1918;
+        let t1920: f64 = t1903.minus(t1919);
+        let t1921: f64 = t32 + t1406;
+        let t1922 = product(t32, t1888);
+        let t1923: f64 = t77 * t1895;
+        let t1924: f64 = t1922.plus(t1923);
+        let t1925: f64 = t1432 + t1924;
+        let t1926 = product(t1883, 10.02);
+        let t1927: f64 = t1921 * 2.0;
+        let t1928: f64 = t1926.plus(t1927);
+        let t1929: f64 = t1440 + t1928;
+        let t1930: f64 = t1925 + t1929;
+        let t1931 = product(t562, t1930);
+        let t1932: f64 = t1931.subtracted_from(t1920);
+        let t1933 = product(t678, t1918);
+        let t1934 = product(t680, t1902);
+        let t1935 = product(t682, t1930);
+        let t1936: f64 = t1933.added_to(t1554);
+        let t1937: f64 = t1935.plus(t1936);
+        let t1938: f64 = t1934.subtracted_from(t1937);
+        let t1939 = product(t622, t1938);
+        let t1940 = product(t715, t1902);
+        let t1941: f64 = t10 * t1938;
+        let t1942: f64 = t1941 * 2.0;
+        let t1943: f64 = t1940.plus(t1942);
+        let t1944: f64 = t1559 - t1943;
+        let t1945: f64 = t11 * t1944;
+        let t1946: f64 = t1939.minus(t1945);
+        let t1947 = product(t723, t1930);
+        let t1948 = product(t725, t1918);
+        let t1949: f64 = t727 * t1902;
+        let t1950: f64 = t1604 + t1897;
+        let t1951: f64 = t614 + t1898;
+        let t1952: f64 = t1950 + t1951;
+        let t1953: f64 = t1952 - t1608;
+        let t1954 = product(t784, t1953);
+        let t1955: f64 = t787 * t1930;
+        let t1956: f64 = t1595 + t1912;
+        let t1957: f64 = t1913 + t1914;
+        let t1958: f64 = t1956 + t1957;
+        let t1959: f64 = t1958 - t1597;
+        let t1960 = product(t789, t1959);
+        let t1961 = product(t1, t1959);
+        let t1962: f64 = t1961.added_to(t1925);
+        let t1963 = product(t1883, 20.04);
+        let t1964: f64 = t1921 * 4.0;
+        let t1965 = product(t1962, 2.0);
+        let t1966: f64 = t1963.plus(t1964);
+        let t1967: f64 = t1646 + t1966;
+        let t1968: f64 = t1965.plus(t1967);
+        let t1969 = product(t803, t1968);
+        let t1970 = product(t6, t1930);
+        let t1971: f64 = t1970.minus(t1950);
+        let t1972 = product(t1887, 20.04);
+        let t1973 = product(t1971, 2.0);
+        let t1974: f64 = t1973.added_to(t1653);
+        let t1975: f64 = t1972.added_to(t816);
+        let t1976: f64 = t1974 - t1975;
+        let t1977 = product(t812, t1976);
+        let t1978 = product(t3, t1953);
+        let t1979: f64 = t1978.added_to(t1956);
+        let t1980 = product(t1908, 20.04);
+        let t1981: f64 = t1909 * 4.0;
+        let t1982 = product(t1979, 2.0);
+        let t1983: f64 = t1980.plus(t1981);
+        let t1984: f64 = t1982.plus(t1983);
+        let t1985: f64 = t1984 - t1660;
+        let t1986: f64 = t825 * t1985;
+        let t1987: f64 = t1977.plus(t1986);
+        let t1988: f64 = t1969.minus(t1987);
+        let t1989 = product(t13, t1988);
+        let t1990: f64 = t1954.plus(t1955);
+        let t1991: f64 = t1960.subtracted_from(t1990);
+        let t1992: f64 = t1991 * 2.0;
+        let t1993: f64 = t1989.subtracted_from(t1992);
+        let t1994 = product(t13, t1993);
+        let t1995 = product(t38, t1968);
+        let t1996 = product(t10, t1953);
+        let t1997: f64 = t1929 + t1962;
+        let t1998: f64 = t13 * t1997;
+        let t1999: f64 = t1996.minus(t1998);
         (
-            t1001,
-            t1002,
-            t1011,
-            t1023,
-            t1031,
+            t1000,
+            t1003,
+            t1004,
+            t1028,
+            t1033,
+            t1036,
+            t1038,
             t1040,
-            t1048,
-            t1053,
-            t1058,
-            t1060,
-            t1069,
-            t1073,
-            t1076,
-            t1089,
-            t1092,
+            t1041,
+            t1070,
+            t1078,
+            t1079,
+            t1080,
+            t1091,
+            t1093,
+            t1094,
             t1096,
-            t1099,
-            t1102,
-            t1107,
-            t1109,
-            t1114,
-            t1128,
-            t1133,
-            t1155,
-            t1161,
-            t1175,
-            t1184,
-            t1187,
-            t1196,
-            t1199,
-            t1211,
-            t1214,
-            t1225,
-            t1226,
-            t1232,
-            t1241,
-            t1245,
-            t1248,
-            t1257,
-            t1261,
-            t1275,
-            t1287,
-            t1292,
-            t1293,
-            t1299,
-            t1312,
-            t1334,
-            t1338,
+            t1098,
+            t1295,
+            t1301,
+            t1327,
+            t1331,
             t1359,
-            t1361,
+            t1364,
             t1366,
+            t1369,
+            t1370,
+            t1371,
+            t1379,
+            t1382,
+            t1383,
+            t1384,
+            t1385,
             t1386,
-            t1389,
-            t1402,
+            t1387,
+            t1388,
+            t1404,
             t1408,
+            t1409,
+            t1410,
+            t1412,
             t1415,
-            t1418,
-            t1425,
+            t1422,
+            t1423,
+            t1427,
             t1434,
-            t1444,
-            t1446,
-            t1456,
-            t1460,
-            t1481,
-            t1502,
-            t1511,
-            t1520,
-            t1525,
-            t1528,
-            t1567,
-            t1588,
-            t1601,
-            t1603,
-            t1609,
+            t1536,
+            t1593,
+            t1597,
+            t1608,
+            t1615,
+            t1620,
             t1631,
-            t1640,
-            t1654,
-            t1659,
-            t1662,
-            t1671,
-            t1674,
-            t1680,
-            t1688,
-            t1690,
+            t1639,
             t1700,
-            t1707,
-            t1717,
-            t1720,
-            t1722,
-            t1733,
-            t1736,
-            t1738,
+            t1706,
+            t1714,
+            t1741,
             t1747,
-            t1751,
-            t1754,
-            t1767,
-            t1770,
-            t1774,
-            t1777,
-            t1781,
-            t1785,
-            t1790,
+            t1753,
+            t1763,
+            t1766,
+            t1772,
+            t1791,
+            t1796,
             t1797,
+            t1799,
+            t1800,
             t1805,
-            t1812,
-            t1834,
-            t1843,
+            t1806,
+            t1818,
+            t1831,
+            t1836,
+            t1837,
+            t1839,
+            t1844,
+            t1845,
             t1857,
-            t1862,
-            t1865,
-            t1874,
+            t1872,
+            t1873,
             t1877,
+            t1878,
+            t1879,
+            t1883,
+            t1887,
+            t1888,
             t1889,
+            t1890,
             t1892,
-            t1903,
-            t1909,
+            t1895,
+            t1902,
+            t1908,
             t1918,
-            t1922,
-            t1924,
-            t1933,
-            t1937,
-            t1938,
-            t1940,
-            t1943,
+            t1930,
+            t1932,
+            t1944,
+            t1946,
             t1947,
-            t1953,
-            t1962,
-            t1968,
-            t1973,
-            t1977,
-            t1978,
+            t1948,
+            t1949,
+            t1951,
+            t1957,
+            t1959,
+            t1971,
+            t1976,
             t1979,
-            t1982,
-            t1983,
-            t1989,
-            t1996,
-            t1997,
-            t1998,
+            t1985,
+            t1994,
+            t1995,
             t1999,
         )
     };
     let (
-        t2031,
-        t2076,
-        t2083,
-        t2094,
-        t2102,
-        t2112,
-        t2127,
+        t2084,
+        t2089,
+        t2116,
+        t2121,
+        t2147,
+        t2151,
+        t2152,
+        t2156,
+        t2182,
+        t2183,
         t2184,
-        t2189,
-        t2227,
-        t2252,
-        t2261,
-        t2264,
-        t2313,
-        t2322,
-        t2325,
-        t2337,
-        t2343,
-        t2353,
-        t2363,
-        t2364,
-        t2371,
-        t2384,
-        t2387,
-        t2403,
-        t2412,
-        t2416,
-        t2419,
-        t2432,
-        t2435,
-        t2439,
-        t2445,
-        t2450,
-        t2456,
-        t2458,
-        t2468,
-        t2471,
-        t2494,
-        t2504,
-        t2518,
-        t2526,
-        t2529,
-        t2538,
-        t2541,
+        t2186,
+        t2190,
+        t2191,
+        t2192,
+        t2193,
+        t2229,
+        t2230,
+        t2231,
+        t2239,
+        t2304,
         t2557,
-        t2559,
-        t2566,
-        t2572,
-        t2579,
-        t2585,
-        t2587,
-        t2601,
-        t2607,
-        t2611,
-        t2615,
-        t2619,
-        t2624,
-        t2629,
+        t2562,
+        t2594,
+        t2602,
+        t2633,
+        t2641,
         t2643,
-        t2650,
+        t2649,
+        t2651,
         t2652,
-        t2688,
-        t2711,
-        t2712,
-        t2713,
-        t2714,
-        t2715,
-        t2720,
-        t2734,
-        t2741,
-        t2743,
-        t2760,
-        t2781,
-        t2782,
-        t2786,
-        t2800,
-        t2807,
-        t2809,
-        t2845,
-        t2851,
-        t2867,
-        t2868,
-        t2869,
-        t2870,
-        t2874,
-        t2888,
-        t2895,
-        t2897,
-        t2914,
-        t2935,
-        t2936,
-        t2940,
-        t2954,
-        t2961,
-        t2963,
-        t2964,
-        t2967,
-        t2975,
+        t2654,
+        t2665,
+        t2666,
+        t2673,
+        t2854,
+        t2858,
+        t2886,
+        t2891,
+        t2919,
+        t2924,
+        t2926,
+        t2927,
+        t2928,
+        t2929,
+        t2941,
+        t2944,
+        t2948,
+        t2949,
+        t2950,
+        t2953,
+        t2955,
+        t2969,
+        t2972,
+        t2973,
+        t2978,
         t2980,
-        t2989,
-        t2990,
-        t2993,
+        t2984,
+        t2985,
+        t2986,
+        t2991,
         t2994,
         t2999,
     ) = {
-        let t2000: f64 = t1996 * 2.5;
-        let t2001: f64 = t1997 + t1998;
-        let t2002: f64 = t1999 + t2000;
-        let t2003: f64 = t2001 + t2002;
-        let t2004 = product(t126, t2003);
-        let t2005: f64 = t128 * t2003;
-        let t2006: f64 = t2004.minus(t2005);
-        let t2007: f64 = t30 * t1366;
-        let t2008: f64 = t35 * t2007;
-        let t2009: f64 = t11 * t51;
-        let t2010: f64 = t5 * t1338;
-        let t2011: f64 = t10 * t2010;
-        let t2012 = product(t21, t2011);
-        let t2013: f64 = t10 * t1983;
-        let t2014: f64 = t51 * t2013;
-        let t2015: f64 = t2012.minus(t2014);
-        let t2016 = product(t613, t1968);
-        let t2017: f64 = t620 * t1962;
-        let t2018: f64 = t2016.minus(t2017);
-        let t2019 = product(t618, t1953);
-        let t2020: f64 = t615 * t1973;
-        let t2021: f64 = t2019.minus(t2020);
-        let t2022: f64 = t2018 + t2021;
-        let t2023: f64 = t2008 * 6.25;
-        let t2024: f64 = t2009 * 1.25;
-        let t2025: f64 = t2015 * 12.5;
-        let t2026: f64 = t2022 * 2.5;
-        let t2027: f64 = t2023 + t2025;
-        let t2028: f64 = t2026 + t2027;
-        let t2029: f64 = t2028 - t2024;
-        let t2030 = product(t108, t2029);
-        let t2031: f64 = t10 * t46;
-        let t2032: f64 = t51 * t2031;
-        let t2033: f64 = t46 * t1983;
-        let t2034: f64 = t51 * t2033;
-        let t2035: f64 = t10 * t604;
-        let t2036 = product(t21, t2035);
-        let t2037: f64 = t27 * t1312;
-        let t2038: f64 = t10 * t2037;
-        let t2039: f64 = t35 * t2038;
-        let t2040: f64 = t2036.minus(t2039);
-        let t2041 = product(t642, t1973);
-        let t2042: f64 = t650 * t1962;
-        let t2043: f64 = t2041.minus(t2042);
-        let t2044 = product(t648, t1953);
-        let t2045: f64 = t645 * t1947;
-        let t2046: f64 = t2044.minus(t2045);
-        let t2047: f64 = t2043 + t2046;
-        let t2048: f64 = t2032 * 1.25;
-        let t2049: f64 = t2034 * 6.25;
-        let t2050: f64 = t2040 * 12.5;
-        let t2051: f64 = t2047 * 2.5;
-        let t2052: f64 = t2050 + t2051;
-        let t2053: f64 = t2048 + t2049;
-        let t2054: f64 = t2052 - t2053;
-        let t2055 = product(t61, t2054);
-        let t2056: f64 = t122 * t2003;
-        let t2057: f64 = t2055.plus(t2056);
-        let t2058 = product(t62, t2057);
-        let t2059 = product(t95, t2054);
-        let t2060: f64 = t122 * t2029;
-        let t2061: f64 = t2059.plus(t2060);
-        let t2062: f64 = t96 * t2061;
-        let t2063: f64 = t2058.plus(t2062);
-        let t2064: f64 = t60 * t2063;
-        let t2065: f64 = t2030.minus(t2064);
-        let t2066 = product(t111, t2029);
-        let t2067: f64 = t110 * t2063;
-        let t2068: f64 = t2066.minus(t2067);
-        let t2069: f64 = t2065 - t2068;
-        let t2070: f64 = t2006 - t2069;
-        let t2071: f64 = t2008 * 2.5;
-        let t2072: f64 = t2009 * 0.5;
-        let t2073: f64 = t2015 * 5.0;
-        let t2074: f64 = t2071 + t2073;
-        let t2075: f64 = t2022 + t2074;
-        let t2076: f64 = t2075 - t2072;
-        let t2077 = product(t57, t2076);
-        let t2078: f64 = t1979 * 0.5;
-        let t2079: f64 = t1982 * 2.5;
-        let t2080: f64 = t1989 * 5.0;
-        let t2081: f64 = t2078 + t2079;
-        let t2082: f64 = t1996 + t2080;
-        let t2083: f64 = t2081 + t2082;
-        let t2084: f64 = t133 * t2083;
-        let t2085: f64 = t2077.minus(t2084);
-        let t2086: f64 = t2063 + t2085;
-        let t2087: f64 = t2008 * 25.049999999999997;
-        let t2088: f64 = t2009 * 5.01;
-        let t2089: f64 = t2015 * 50.099999999999994;
-        let t2090: f64 = t2022 * 10.02;
-        let t2091: f64 = t2087 + t2089;
-        let t2092: f64 = t2090 + 1.67;
-        let t2093: f64 = t2091 + t2092;
-        let t2094: f64 = t2093 - t2088;
-        let t2095 = product(t57, t2094);
-        let t2096: f64 = t1979 * 5.01;
-        let t2097: f64 = t1982 * 25.049999999999997;
-        let t2098: f64 = t1989 * 50.099999999999994;
-        let t2099: f64 = t1996 * 10.02;
-        let t2100: f64 = t2096 + t2097;
-        let t2101: f64 = t2098 + t2099;
-        let t2102: f64 = t2100 + t2101;
-        let t2103: f64 = t133 * t2102;
-        let t2104: f64 = t2095.minus(t2103);
-        let t2105 = product(t123, t2102);
-        let t2106: f64 = t2032 * 5.01;
-        let t2107: f64 = t2034 * 25.049999999999997;
-        let t2108: f64 = t2040 * 50.099999999999994;
-        let t2109: f64 = t2047 * 10.02;
-        let t2110: f64 = t2108 + t2109;
-        let t2111: f64 = t2106 + t2107;
-        let t2112: f64 = t2110 - t2111;
-        let t2113: f64 = t62 * t2112;
-        let t2114: f64 = t2105.plus(t2113);
-        let t2115 = product(t62, t2114);
-        let t2116 = product(t96, t2112);
-        let t2117: f64 = t123 * t2094;
-        let t2118: f64 = t2116.plus(t2117);
-        let t2119: f64 = t96 * t2118;
-        let t2120: f64 = t2115.plus(t2119);
-        let t2121: f64 = t2104 + t2120;
-        let t2122: f64 = t158 * t1292;
-        let t2123 = product(t194, t2122);
-        let t2124: f64 = t1292 * t1456;
-        let t2125: f64 = t867 * t1968;
-        let t2126: f64 = t3 * t27;
-        let t2127: f64 = t159 * t2126;
-        let t2128 = product(t123, t2127);
-        let t2129: f64 = t62 * t1940;
-        let t2130: f64 = t2128.minus(t2129);
-        let t2131 = product(t874, t1973);
-        let t2132: f64 = t878 * t1973;
-        let t2133: f64 = t2131.minus(t2132);
-        let t2134 = product(t883, t1973);
-        let t2135: f64 = t2134.subtracted_from(t2133);
-        let t2136 = product(t2130, 2.5);
-        let t2137 = product(t2135, 0.5);
-        let t2138: f64 = t2136.added_to(t2125);
-        let t2139: f64 = t2137.plus(t2138);
-        let t2140 = product(t179, t2139);
-        let t2141 = product(t2125, 0.22443999999999997);
-        let t2142: f64 = t2130 * 0.5610999999999999;
-        let t2143 = product(t2135, 0.11221999999999999);
-        let t2144: f64 = t2141.plus(t2142);
-        let t2145: f64 = t2143.plus(t2144);
-        let t2146 = product(t178, t2145);
-        let t2147: f64 = t891 * t1947;
-        let t2148 = product(t62, t176);
-        let t2149: f64 = t62 * t1938;
-        let t2150: f64 = t2148.plus(t2149);
-        let t2151: f64 = t8 * t169;
-        let t2152 = product(t96, t2151);
-        let t2153: f64 = t2152.subtracted_from(t2150);
-        let t2154 = product(t899, t1953);
-        let t2155 = product(t903, t1953);
-        let t2156: f64 = t905 * t1953;
-        let t2157: f64 = t2155.plus(t2156);
-        let t2158: f64 = t2154.minus(t2157);
-        let t2159 = product(t2147, 0.22443999999999997);
-        let t2160: f64 = t2153 * 0.5610999999999999;
-        let t2161 = product(t2158, 0.11221999999999999);
-        let t2162: f64 = t2159.plus(t2160);
-        let t2163: f64 = t2161.plus(t2162);
-        let t2164 = product(t168, t2163);
-        let t2165 = product(t2153, 2.5);
-        let t2166 = product(t2158, 0.5);
-        let t2167: f64 = t2165.added_to(t2147);
-        let t2168: f64 = t2166.plus(t2167);
-        let t2169: f64 = t181 * t2168;
-        let t2170: f64 = t1502 * t1962;
-        let t2171: f64 = t5 * t158;
-        let t2172 = product(t930, t2171);
-        let t2173: f64 = t2170 * 0.20597000000000004;
-        let t2174: f64 = t2172.plus(t2173);
-        let t2175 = product(t3, t2174);
-        let t2176: f64 = t943 * t1962;
-        let t2177: f64 = t1511 * t2176;
-        let t2178: f64 = t2124 * 0.4119400000000001;
-        let t2179: f64 = t2146.plus(t2169);
-        let t2180: f64 = t2175.plus(t2179);
-        let t2181: f64 = t2140.plus(t2178);
-        let t2182: f64 = t2164.plus(t2177);
-        let t2183: f64 = t2181 + t2182;
-        let t2184: f64 = t2180 - t2183;
-        let t2185: f64 = t195 * t2184;
-        let t2186: f64 = t2123.plus(t2185);
-        let t2187: f64 = t953 * t1968;
-        let t2188: f64 = t957 * t1292;
-        let t2189: f64 = t8 * t158;
-        let t2190 = product(t123, t2189);
-        let t2191: f64 = t5 * t13;
-        let t2192: f64 = t158 * t2191;
-        let t2193: f64 = t96 * t2192;
-        let t2194: f64 = t2190.minus(t2193);
-        let t2195 = product(t968, t1962);
-        let t2196 = product(t970, t1962);
-        let t2197: f64 = t974 * t1962;
-        let t2198: f64 = t2196.minus(t2197);
-        let t2199: f64 = t2195.plus(t2198);
-        let t2200 = product(t2188, 0.4119400000000001);
-        let t2201 = product(t2194, 1.0298500000000002);
-        let t2202: f64 = t2199 * 0.20597000000000004;
-        let t2203: f64 = t2201.plus(t2202);
-        let t2204: f64 = t2200.subtracted_from(t2203);
-        let t2205 = product(t178, t2204);
-        let t2206 = product(t2194, 2.5);
-        let t2207: f64 = t2199 * 0.5;
-        let t2208: f64 = t2206.plus(t2207);
-        let t2209: f64 = t2208 - t2188;
-        let t2210 = product(t179, t2209);
-        let t2211: f64 = t205 * t2168;
-        let t2212 = product(t204, t2163);
-        let t2213: f64 = t989 * t1973;
-        let t2214: f64 = t3 * t159;
-        let t2215 = product(t993, t2214);
-        let t2216: f64 = t2213 * 0.11221999999999999;
-        let t2217: f64 = t2215.plus(t2216);
-        let t2218 = product(t5, t2217);
-        let t2219: f64 = t1002 * t1973;
-        let t2220: f64 = t1001 * t2219;
-        let t2221: f64 = t2187 * 0.22443999999999997;
-        let t2222: f64 = t2210.plus(t2221);
-        let t2223: f64 = t2212.plus(t2220);
-        let t2224: f64 = t2222 + t2223;
-        let t2225: f64 = t2205.plus(t2211);
-        let t2226: f64 = t2218.plus(t2225);
-        let t2227: f64 = t2224 - t2226;
-        let t2228 = product(t165, t2227);
-        let t2229 = product(t181, t2209);
-        let t2230: f64 = t204 * t2145;
-        let t2231 = product(t205, t2139);
-        let t2232: f64 = t168 * t2204;
-        let t2233: f64 = t209 * t1947;
-        let t2234 = product(t8, t1023);
-        let t2235 = product(t999, 0.5610999999999999);
-        let t2236: f64 = t2233 * 0.22443999999999997;
-        let t2237: f64 = t2235.plus(t2236);
-        let t2238: f64 = t2234.subtracted_from(t2237);
-        let t2239 = product(t169, t2238);
-        let t2240 = product(t225, 0.11221999999999999);
-        let t2241: f64 = t132 * 0.28054999999999997;
-        let t2242: f64 = t2240.subtracted_from(t2241);
-        let t2243 = product(t10, t2242);
-        let t2244: f64 = t224 * 0.11221999999999999;
-        let t2245: f64 = t2243.subtracted_from(t2244);
-        let t2246: f64 = t1031 * t1953;
-        let t2247 = product(t2245, t2246);
-        let t2248: f64 = t2231.plus(t2232);
-        let t2249: f64 = t2239.plus(t2248);
-        let t2250: f64 = t2229.plus(t2230);
-        let t2251: f64 = t2247.plus(t2250);
-        let t2252: f64 = t2249 - t2251;
-        let t2253: f64 = t173 * t2252;
-        let t2254: f64 = t2228.minus(t2253);
-        let t2255: f64 = t2186 + t2254;
-        let t2256: f64 = t2032 * 0.5;
-        let t2257: f64 = t2034 * 2.5;
-        let t2258: f64 = t2040 * 5.0;
-        let t2259: f64 = t2047 + t2258;
-        let t2260: f64 = t2256 + t2257;
-        let t2261: f64 = t2259 - t2260;
-        let t2262 = product(t142, t2261);
-        let t2263: f64 = t148 * t2083;
-        let t2264: f64 = t2262.minus(t2263);
-        let t2265 = product(t209, t2264);
-        let t2266: f64 = t54 * t2076;
-        let t2267: f64 = t72 * t2261;
-        let t2268 = product(t55, t2076);
-        let t2269: f64 = t261 * t2076;
-        let t2270: f64 = t2268.plus(t2269);
-        let t2271: f64 = t2022 + 1.0;
-        let t2272: f64 = t2074 + t2271;
-        let t2273: f64 = t2272 - t2072;
-        let t2274 = product(t264, t2273);
-        let t2275: f64 = t266 * t2076;
+        let t2000 = product(t714, t1999);
+        let t2001: f64 = t2000.subtracted_from(t1631);
+        let t2002: f64 = t7 * t2001;
+        let t2003 = product(t2002, 2.0);
+        let t2004: f64 = t2003.added_to(t1620);
+        let t2005: f64 = t19 * t2004;
+        let t2006: f64 = t1995.minus(t2005);
+        let t2007: f64 = t19 * t2006;
+        let t2008 = product(t43, t1976);
+        let t2009 = product(t47, t1959);
+        let t2010: f64 = t1608 + t1971;
+        let t2011: f64 = t2010 - t1951;
+        let t2012: f64 = t13 * t2011;
+        let t2013: f64 = t2009.minus(t2012);
+        let t2014 = product(t775, t2013);
+        let t2015: f64 = t2014.added_to(t1615);
+        let t2016: f64 = t44 * t2015;
+        let t2017 = product(t2016, 2.0);
+        let t2018: f64 = t2017.added_to(t1593);
+        let t2019: f64 = t52 * t2018;
+        let t2020: f64 = t2008.plus(t2019);
+        let t2021 = product(t52, t2020);
+        let t2022 = product(t58, t1985);
+        let t2023 = product(t63, t1930);
+        let t2024: f64 = t1957 + t1979;
+        let t2025: f64 = t2024 - t1597;
+        let t2026: f64 = t13 * t2025;
+        let t2027: f64 = t2023.plus(t2026);
+        let t2028 = product(t884, t2027);
+        let t2029: f64 = t2028.subtracted_from(t1706);
+        let t2030: f64 = t60 * t2029;
+        let t2031 = product(t2030, 2.0);
+        let t2032: f64 = t2031.added_to(t1700);
+        let t2033: f64 = t68 * t2032;
+        let t2034: f64 = t2022.plus(t2033);
+        let t2035: f64 = t68 * t2034;
+        let t2036: f64 = t1994.plus(t2007);
+        let t2037: f64 = t2021.plus(t2035);
+        let t2038: f64 = t2036 - t2037;
+        let t2039: f64 = t13 * t2038;
+        let t2040: f64 = t1948.plus(t2039);
+        let t2041: f64 = t1741 + t2040;
+        let t2042: f64 = t1947.plus(t1949);
+        let t2043: f64 = t2041 - t2042;
+        let t2044 = product(t59, t2043);
+        let t2045 = product(t926, t1918);
+        let t2046 = product(t928, t1918);
+        let t2047 = product(t930, t1902);
+        let t2048 = product(t932, t1930);
+        let t2049: f64 = t2046.added_to(t1753);
+        let t2050: f64 = t2047.plus(t2049);
+        let t2051: f64 = t2048.subtracted_from(t2050);
+        let t2052: f64 = t47 * t2051;
+        let t2053 = product(t2052, 2.0);
+        let t2054: f64 = t2045.added_to(t1747);
+        let t2055: f64 = t2053.subtracted_from(t2054);
+        let t2056: f64 = t6 * t2055;
+        let t2057: f64 = t2044.plus(t2056);
+        let t2058 = product(t94, t1918);
+        let t2059: f64 = t2058.added_to(t1763);
+        let t2060 = product(t950, t1930);
+        let t2061 = product(t952, t1918);
+        let t2062: f64 = t954 * t1902;
+        let t2063 = product(t956, t1930);
+        let t2064: f64 = t2061.plus(t2062);
+        let t2065: f64 = t2063.plus(t2064);
+        let t2066: f64 = t1772 - t2065;
+        let t2067: f64 = t63 * t2066;
+        let t2068 = product(t2067, 2.0);
+        let t2069: f64 = t2060.added_to(t1766);
+        let t2070: f64 = t2068.plus(t2069);
+        let t2071 = product(t61, t2070);
+        let t2072: f64 = t3 * t1944;
+        let t2073: f64 = t2071.minus(t2072);
+        let t2074: f64 = t2059 - t2073;
+        let t2075: f64 = t2057 + t2074;
+        let t2076: f64 = t1883 * 1.67;
+        let t2077: f64 = t1932 * 0.5;
+        let t2078: f64 = t1946 * 5.0;
+        let t2079: f64 = t2075 * 2.5;
+        let t2080: f64 = t1382 + t2076;
+        let t2081: f64 = t2077 + t2078;
+        let t2082: f64 = t2080 + t2081;
+        let t2083: f64 = t1791 + t2079;
+        let t2084: f64 = t2082 - t2083;
+        let t2085: f64 = t1797 + t2076;
+        let t2086: f64 = t2077 + t2079;
+        let t2087: f64 = t2085 + t2086;
+        let t2088: f64 = t1800 + t2078;
+        let t2089: f64 = t2087 - t2088;
+        let t2090 = product(t1004, t1930);
+        let t2091 = product(t998, t1918);
+        let t2092: f64 = t1000 * t1902;
+        let t2093: f64 = t2091.plus(t2092);
+        let t2094: f64 = t2090.minus(t2093);
+        let t2095 = product(t1003, t2051);
+        let t2096: f64 = t59 * t2055;
+        let t2097: f64 = t2095.minus(t2096);
+        let t2098 = product(t4, t2043);
+        let t2099: f64 = t1 * t2055;
+        let t2100: f64 = t2098.plus(t2099);
+        let t2101 = product(t85, t1930);
+        let t2102: f64 = t2101.subtracted_from(t1818);
+        let t2103 = product(t3, t2070);
+        let t2104: f64 = t8 * t1944;
+        let t2105: f64 = t2103.minus(t2104);
+        let t2106: f64 = t2102 - t2105;
+        let t2107: f64 = t2100 + t2106;
+        let t2108: f64 = t1887 * 1.67;
+        let t2109: f64 = t2094 * 0.5;
+        let t2110: f64 = t2097 * 5.0;
+        let t2111: f64 = t2107 * 2.5;
+        let t2112: f64 = t1806 + t2108;
+        let t2113: f64 = t2109 + t2110;
+        let t2114: f64 = t2112 + t2113;
+        let t2115: f64 = t1831 + t2111;
+        let t2116: f64 = t2114 - t2115;
+        let t2117: f64 = t1837 + t2108;
+        let t2118: f64 = t2109 + t2111;
+        let t2119: f64 = t2117 + t2118;
+        let t2120: f64 = t1839 + t2110;
+        let t2121: f64 = t2119 - t2120;
+        let t2122 = product(t1036, t1930);
+        let t2123 = product(t1038, t1918);
+        let t2124: f64 = t1041 * t1902;
+        let t2125: f64 = t2123.plus(t2124);
+        let t2126: f64 = t2122.plus(t2125);
+        let t2127 = product(t1040, t2066);
+        let t2128: f64 = t4 * t2070;
+        let t2129: f64 = t2127.plus(t2128);
+        let t2130 = product(t1, t1944);
+        let t2131: f64 = t11 * t2043;
+        let t2132: f64 = t2130.plus(t2131);
+        let t2133 = product(t70, t1902);
+        let t2134: f64 = t2133.added_to(t1857);
+        let t2135 = product(t6, t2070);
+        let t2136: f64 = t45 * t2055;
+        let t2137: f64 = t2135.minus(t2136);
+        let t2138: f64 = t2134 + t2137;
+        let t2139: f64 = t2132 - t2138;
+        let t2140: f64 = t1908 * 1.67;
+        let t2141: f64 = t2126 * 0.5;
+        let t2142: f64 = t2129 * 5.0;
+        let t2143: f64 = t2139 * 2.5;
+        let t2144: f64 = t2141 + t2142;
+        let t2145: f64 = t1845 + t2140;
+        let t2146: f64 = t2143 + t2145;
+        let t2147: f64 = t2144 - t2146;
+        let t2148: f64 = t1873 + t2141;
+        let t2149: f64 = t2143 + t2148;
+        let t2150: f64 = t2140 + t2142;
+        let t2151: f64 = t2149 - t2150;
+        let t2152: f64 = t89 * t137;
+        let t2153 = product(t109, t2152);
+        let t2154: f64 = t27 * t89;
+        let t2155: f64 = t2153.minus(t2154);
+        let t2156: f64 = t74 * t137;
+        let t2157 = product(t77, t2156);
+        let t2158: f64 = t32 * t74;
+        let t2159: f64 = t2157.plus(t2158);
+        let t2160: f64 = t2155 - t2159;
+        let t2161: f64 = t87 * t481;
+        let t2162: f64 = t72 * t1366;
+        let t2163: f64 = t2161 + t2162;
+        let t2164 = product(t267, t1366);
+        let t2165: f64 = t252 * t481;
+        let t2166: f64 = t2164.plus(t2165);
+        let t2167 = product(t265, t1366);
+        let t2168: f64 = t250 * t481;
+        let t2169: f64 = t2167.plus(t2168);
+        let t2170: f64 = t2166 + t2169;
+        let t2171 = product(t246, t481);
+        let t2172: f64 = t243 * t481;
+        let t2173: f64 = t2171.plus(t2172);
+        let t2174: f64 = t262 * t1366;
+        let t2175: f64 = t2162 + t2174;
+        let t2176: f64 = t2173 + t2175;
+        let t2177: f64 = t2170 + t2176;
+        let t2178 = product(t71, t1366);
+        let t2179: f64 = t2178.added_to(t2161);
+        let t2180: f64 = t27 + t2179;
+        let t2181: f64 = t1384 + 12.010000000000002;
+        let t2182: f64 = t2181 - t1383;
+        let t2183: f64 = t91 * t2182;
+        let t2184: f64 = t89 * t2182;
+        let t2185: f64 = t2184 + 2.0;
+        let t2186: f64 = t2183 - t2185;
+        let t2187 = product(t479, t2186);
+        let t2188: f64 = t27 * t2182;
+        let t2189: f64 = t2187.minus(t2188);
+        let t2190: f64 = t529 - t528;
+        let t2191: f64 = t112 * t2190;
+        let t2192: f64 = t110 * t2190;
+        let t2193: f64 = t2191 - t2192;
+        let t2194: f64 = qd2 * t137;
+        let t2195 = product(t2193, t2194);
+        let t2196: f64 = qd1 * t137;
+        let t2197: f64 = t2193 * t2196;
+        let t2198: f64 = t2195.minus(t2197);
+        let t2199 = product(t370, t2190);
+        let t2200: f64 = t368 * t2190;
+        let t2201: f64 = t2199.minus(t2200);
+        let t2202: f64 = t2198 - t2201;
+        let t2203 = product(t2160, 10.02);
+        let t2204: f64 = t2180 * 2.0;
+        let t2205: f64 = t2202 * 2.5;
+        let t2206: f64 = t2177 + t2189;
+        let t2207: f64 = t2203.plus(t2204);
+        let t2208: f64 = t2206 + t2207;
+        let t2209: f64 = t2208 - t2205;
+        let t2210 = product(t562, t2209);
+        let t2211: f64 = t102 * t1366;
+        let t2212: f64 = t1379 * 8.35;
+        let t2213 = product(t71, t2212);
+        let t2214: f64 = t2213.added_to(t2211);
+        let t2215: f64 = t497 - t484;
+        let t2216: f64 = t2215 * 4.175;
+        let t2217 = product(t87, t2216);
+        let t2218: f64 = t2217.added_to(t1427);
+        let t2219: f64 = t2214 + t2218;
+        let t2220 = product(t246, t2216);
+        let t2221: f64 = t243 * t2216;
+        let t2222: f64 = t2220.plus(t2221);
+        let t2223: f64 = t252 * t2216;
+        let t2224: f64 = t250 * t2216;
+        let t2225: f64 = t2223 + t2224;
+        let t2226: f64 = t1404 + t2225;
+        let t2227: f64 = t2222 + t2226;
+        let t2228 = product(t89, t496);
+        let t2229: f64 = t77 * t89;
+        let t2230: f64 = t74 * t109;
+        let t2231: f64 = t2229 + t2230;
+        let t2232: f64 = t77 * t2231;
+        let t2233: f64 = t2228.plus(t2232);
+        let t2234: f64 = t24 * t74;
+        let t2235: f64 = t2233 - t2234;
+        let t2236 = product(t496, t2186);
+        let t2237 = product(t77, t2186);
+        let t2238: f64 = t109 * t2193;
+        let t2239: f64 = t2237.minus(t2238);
+        let t2240: f64 = t77 * t2239;
+        let t2241: f64 = t2236.plus(t2240);
+        let t2242 = product(t163, t2190);
+        let t2243: f64 = t161 * t2190;
+        let t2244: f64 = t2242.minus(t2243);
+        let t2245: f64 = t381 + t2244;
+        let t2246: f64 = t2219 * 2.0;
+        let t2247: f64 = t2235 * 10.02;
+        let t2248: f64 = t2245 * 2.5;
+        let t2249: f64 = t1434 + t2246;
+        let t2250: f64 = t2227 + t2241;
+        let t2251: f64 = t2247 + t2248;
+        let t2252: f64 = t2249 + t2250;
+        let t2253: f64 = t2251 + t2252;
+        let t2254 = product(t623, t2253);
+        let t2255: f64 = qd6 * t137;
+        let t2256 = product(t2193, t2255);
+        let t2257: f64 = qd5 * t137;
+        let t2258: f64 = t2193 * t2257;
+        let t2259: f64 = t2256.minus(t2258);
+        let t2260: f64 = t184 + t2259;
+        let t2261 = product(t24, t89);
+        let t2262: f64 = t74 * t496;
+        let t2263 = product(t109, t2231);
+        let t2264: f64 = t2263.added_to(t2262);
+        let t2265: f64 = t2261.plus(t2264);
+        let t2266 = product(t102, t481);
+        let t2267: f64 = t71 * t2216;
+        let t2268: f64 = t2266.plus(t2267);
+        let t2269: f64 = t493 * 8.35;
+        let t2270 = product(t87, t2269);
+        let t2271: f64 = t2270.added_to(t522);
+        let t2272: f64 = t2268 + t2271;
+        let t2273: f64 = t24 + t2272;
+        let t2274 = product(t262, t2216);
+        let t2275: f64 = t72 * t2216;
         let t2276: f64 = t2274.plus(t2275);
-        let t2277: f64 = t2270 + t2276;
-        let t2278 = product(t236, t2261);
-        let t2279: f64 = t238 * t2261;
-        let t2280: f64 = t2278.plus(t2279);
-        let t2281 = product(t241, t2261);
-        let t2282: f64 = t244 * t2261;
-        let t2283: f64 = t2281.plus(t2282);
-        let t2284: f64 = t2280 - t2283;
-        let t2285: f64 = t2266 + t2267;
-        let t2286 = product(t2285, 6.68);
-        let t2287: f64 = t2277 - t2284;
-        let t2288: f64 = t2287 * 3.34;
-        let t2289: f64 = t2286.plus(t2288);
-        let t2290: f64 = t57 * t2289;
-        let t2291: f64 = t2265.plus(t2290);
-        let t2292: f64 = t2255 - t2291;
-        let t2293: f64 = t249 * t2273;
-        let t2294 = product(t138, t2083);
-        let t2295: f64 = t739 - 0.334;
-        let t2296 = product(t2076, t2295);
-        let t2297: f64 = t2293 * 1.67;
-        let t2298: f64 = t2294.plus(t2297);
-        let t2299: f64 = t2296.plus(t2298);
-        let t2300 = product(t133, t2299);
-        let t2301: f64 = t86 * t2083;
-        let t2302 = product(t242, t2083);
-        let t2303: f64 = t245 * t2083;
-        let t2304: f64 = t2302.plus(t2303);
-        let t2305 = product(t249, t2083);
-        let t2306: f64 = t251 * t2083;
+        let t2277 = product(t267, t2216);
+        let t2278: f64 = t265 * t2216;
+        let t2279: f64 = t2277.plus(t2278);
+        let t2280: f64 = t511 + t2279;
+        let t2281: f64 = t2276 + t2280;
+        let t2282 = product(t24, t2182);
+        let t2283: f64 = t109 * t2239;
+        let t2284: f64 = t2282.plus(t2283);
+        let t2285: f64 = t2281 - t2284;
+        let t2286: f64 = t2260 * 2.5;
+        let t2287 = product(t2265, 10.02);
+        let t2288 = product(t2273, 2.0);
+        let t2289: f64 = t2288.added_to(t552);
+        let t2290: f64 = t2285 + t2289;
+        let t2291: f64 = t2287.added_to(t2286);
+        let t2292: f64 = t2291 + 245.2500000000001;
+        let t2293: f64 = t2290 - t2292;
+        let t2294: f64 = t673 * t2293;
+        let t2295: f64 = t2254.plus(t2294);
+        let t2296: f64 = t2210.plus(t2295);
+        let t2297 = product(t678, t2253);
+        let t2298: f64 = t680 * t2293;
+        let t2299 = product(t682, t2209);
+        let t2300: f64 = t22 * t27;
+        let t2301 = product(t208, t231);
+        let t2302: f64 = t195 * t216;
+        let t2303: f64 = t2301.minus(t2302);
+        let t2304: f64 = t2303 * 0.4687500000000003;
+        let t2305 = product(t77, t2304);
+        let t2306: f64 = t2300 * 1.0298500000000002;
         let t2307: f64 = t2305.plus(t2306);
-        let t2308: f64 = t2304 + t2307;
-        let t2309: f64 = t2266 + t2301;
-        let t2310 = product(t2309, 6.68);
-        let t2311: f64 = t2277 + t2308;
-        let t2312: f64 = t2311 * 3.34;
-        let t2313: f64 = t2310.plus(t2312);
-        let t2314 = product(t123, t2313);
-        let t2315: f64 = t62 * t2264;
-        let t2316: f64 = t72 * t2273;
-        let t2317 = product(t138, t2261);
-        let t2318: f64 = t147 - t1603;
-        let t2319 = product(t2076, t2318);
-        let t2320: f64 = t2316 * 1.67;
-        let t2321: f64 = t2317.plus(t2320);
-        let t2322: f64 = t2319.minus(t2321);
-        let t2323 = product(t96, t2322);
-        let t2324: f64 = t2314.plus(t2315);
-        let t2325: f64 = t2323.subtracted_from(t2324);
-        let t2326: f64 = t96 * t2325;
-        let t2327: f64 = t2300.minus(t2326);
-        let t2328 = product(t123, t2322);
-        let t2329: f64 = t62 * t2299;
-        let t2330: f64 = t2267 + t2301;
-        let t2331 = product(t2330, 6.68);
-        let t2332: f64 = t2284 - t2308;
-        let t2333: f64 = t2332 * 3.34;
-        let t2334: f64 = t2331.subtracted_from(t2333);
-        let t2335 = product(t96, t2334);
-        let t2336: f64 = t2328.plus(t2329);
-        let t2337: f64 = t2335.plus(t2336);
-        let t2338 = product(t123, t2337);
-        let t2339: f64 = t131 * t2094;
-        let t2340: f64 = t2338.minus(t2339);
-        let t2341: f64 = t2327 - t2340;
-        let t2342: f64 = t2292 + t2341;
-        let t2343: f64 = -t2070;
-        let t2344 = product(t138, t2343);
-        let t2345: f64 = t356 * t2112;
-        let t2346: f64 = t2344.plus(t2345);
-        let t2347 = product(t352, t2003);
-        let t2348 = product(t123, t2061);
-        let t2349 = product(t95, t2003);
-        let t2350: f64 = t61 * t2029;
-        let t2351: f64 = t2349.subtracted_from(t2350);
-        let t2352: f64 = t62 * t2351;
-        let t2353: f64 = t2348.plus(t2352);
-        let t2354: f64 = t90 * t2353;
-        let t2355: f64 = t2347.plus(t2354);
-        let t2356 = product(t108, t2054);
-        let t2357: f64 = t111 * t2054;
-        let t2358: f64 = t2356.minus(t2357);
-        let t2359 = product(t350, t2003);
-        let t2360: f64 = t88 * t2353;
-        let t2361: f64 = t2359.plus(t2360);
-        let t2362: f64 = t2358 + t2361;
-        let t2363: f64 = t2355 - t2362;
-        let t2364: f64 = -t2363;
-        let t2365 = product(t148, t2364);
-        let t2366: f64 = t359 * t2076;
-        let t2367: f64 = t2365.plus(t2366);
-        let t2368: f64 = t2346 - t2367;
-        let t2369 = product(t2070, 20.020000000000003);
-        let t2370: f64 = t2369.added_to(t2121);
-        let t2371: f64 = -t2370;
-        let t2372 = product(t55, t2371);
-        let t2373: f64 = t374 * t2261;
+        let t2308 = product(t10, t2307);
+        let t2309 = product(t137, t2304);
+        let t2310: f64 = t22 * t32;
+        let t2311 = product(t109, t2304);
+        let t2312: f64 = t2310 * 1.0298500000000002;
+        let t2313: f64 = t2311.plus(t2312);
+        let t2314 = product(t1, t2313);
+        let t2315: f64 = t25 + t35;
+        let t2316: f64 = t2315 * 1.0298500000000002;
+        let t2317: f64 = t2309.plus(t2316);
+        let t2318: f64 = t2314.subtracted_from(t2317);
+        let t2319: f64 = t13 * t2318;
+        let t2320: f64 = t2308.minus(t2319);
+        let t2321: f64 = t706 * t2320;
+        let t2322: f64 = t2321 * 0.5;
+        let t2323: f64 = t2297.plus(t2298);
+        let t2324: f64 = t2299.plus(t2323);
+        let t2325: f64 = t2324 - t2322;
+        let t2326 = product(t622, t2325);
+        let t2327: f64 = t20 * t2307;
+        let t2328 = product(t715, t2293);
+        let t2329: f64 = t10 * t2325;
+        let t2330 = product(t2329, 2.0);
+        let t2331: f64 = t2330.added_to(t2327);
+        let t2332: f64 = t2328.minus(t2331);
+        let t2333: f64 = t11 * t2332;
+        let t2334: f64 = t2326.minus(t2333);
+        let t2335 = product(t723, t2209);
+        let t2336 = product(t725, t2253);
+        let t2337: f64 = t727 * t2293;
+        let t2338: f64 = t684 * t2320;
+        let t2339 = product(t10, t2293);
+        let t2340 = product(t24, t2190);
+        let t2341: f64 = t2340.subtracted_from(t2227);
+        let t2342: f64 = t2241 + t2341;
+        let t2343 = product(t381, 2.5);
+        let t2344: f64 = t2343.added_to(t1434);
+        let t2345: f64 = t2246 + t2247;
+        let t2346: f64 = t2344 + t2345;
+        let t2347: f64 = t2342 + t2346;
+        let t2348 = product(t1, t2347);
+        let t2349 = product(t32, t2190);
+        let t2350: f64 = t2349.minus(t2177);
+        let t2351: f64 = t2189 - t2350;
+        let t2352: f64 = t2348.plus(t2351);
+        let t2353: f64 = t2198 * 2.5;
+        let t2354: f64 = t2207 + t2352;
+        let t2355: f64 = t2354 - t2353;
+        let t2356: f64 = t13 * t2355;
+        let t2357: f64 = t2339.plus(t2356);
+        let t2358 = product(t714, t2357);
+        let t2359: f64 = t2338 * 0.5;
+        let t2360: f64 = t2358.subtracted_from(t2359);
+        let t2361: f64 = t677 * t2360;
+        let t2362: f64 = -t2361;
+        let t2363: f64 = t7 * t2362;
+        let t2364 = product(t784, t2293);
+        let t2365: f64 = t2207 + t2351;
+        let t2366: f64 = t2365 - t2353;
+        let t2367 = product(t787, t2366);
+        let t2368: f64 = t789 * t2347;
+        let t2369: f64 = t2198 * 5.0;
+        let t2370 = product(t2160, 20.04);
+        let t2371: f64 = t2180 * 4.0;
+        let t2372 = product(t2352, 2.0);
+        let t2373: f64 = t2370.plus(t2371);
         let t2374: f64 = t2372.plus(t2373);
-        let t2375 = product(t209, t2102);
-        let t2376: f64 = t57 * t2112;
-        let t2377: f64 = t2375.plus(t2376);
-        let t2378 = product(t123, t2118);
-        let t2379 = product(t62, t2094);
-        let t2380: f64 = t96 * t2102;
-        let t2381: f64 = t2379.minus(t2380);
-        let t2382: f64 = t62 * t2381;
-        let t2383: f64 = t2378.plus(t2382);
-        let t2384: f64 = t2377 - t2383;
-        let t2385 = product(t2363, 20.020000000000003);
-        let t2386: f64 = t2385.added_to(t2384);
-        let t2387: f64 = -t2386;
-        let t2388 = product(t236, t2387);
-        let t2389: f64 = q1 * t2387;
-        let t2390: f64 = t2388.minus(t2389);
-        let t2391: f64 = t2374 - t2390;
-        let t2392: f64 = t2368 - t2391;
-        let t2393: f64 = t2342 + t2392;
-        let t2394: f64 = t1943 * 6.25;
-        let t2395: f64 = t1977 * 1.25;
-        let t2396 = product(t2070, 22.020000000000003);
-        let t2397 = product(t2086, 2.0);
-        let t2398: f64 = t2393 * 2.5;
-        let t2399: f64 = t2396.added_to(t2394);
-        let t2400: f64 = t2397.added_to(t2121);
-        let t2401: f64 = t2399 + t2400;
-        let t2402: f64 = t2395 + t2398;
-        let t2403: f64 = t2401 - t2402;
-        let t2404: f64 = t1998 + t1999;
-        let t2405: f64 = t2000 + t2404;
-        let t2406: f64 = t2405 - t1997;
-        let t2407 = product(t128, t2406);
-        let t2408: f64 = t126 * t2406;
-        let t2409: f64 = t2407.minus(t2408);
-        let t2410: f64 = t2023 + t2024;
-        let t2411: f64 = t2025 + t2026;
-        let t2412: f64 = t2410 + t2411;
-        let t2413 = product(t108, t2412);
-        let t2414: f64 = t2048 + t2050;
-        let t2415: f64 = t2051 + t2414;
-        let t2416: f64 = t2415 - t2049;
-        let t2417 = product(t61, t2416);
-        let t2418: f64 = t122 * t2406;
-        let t2419: f64 = t2417.plus(t2418);
-        let t2420 = product(t62, t2419);
-        let t2421 = product(t95, t2416);
-        let t2422: f64 = t122 * t2412;
-        let t2423: f64 = t2421.plus(t2422);
-        let t2424: f64 = t96 * t2423;
-        let t2425: f64 = t2420.plus(t2424);
-        let t2426: f64 = t60 * t2425;
-        let t2427: f64 = t2413.minus(t2426);
-        let t2428 = product(t110, t2425);
-        let t2429: f64 = t111 * t2412;
-        let t2430: f64 = t2428.minus(t2429);
-        let t2431: f64 = t2427 + t2430;
-        let t2432: f64 = t2409 + t2431;
-        let t2433: f64 = t2079 + t2080;
-        let t2434: f64 = t1996 + t2433;
-        let t2435: f64 = t2434 - t2078;
-        let t2436 = product(t133, t2435);
-        let t2437: f64 = t2071 + t2072;
-        let t2438: f64 = t2022 + t2073;
-        let t2439: f64 = t2437 + t2438;
-        let t2440: f64 = t57 * t2439;
-        let t2441: f64 = t2436.minus(t2440);
-        let t2442: f64 = t2441 - t2425;
-        let t2443: f64 = t2097 + t2098;
-        let t2444: f64 = t2099 + t2443;
-        let t2445: f64 = t2444 - t2096;
-        let t2446 = product(t133, t2445);
-        let t2447: f64 = t2087 + t2088;
-        let t2448: f64 = t2089 + t2090;
-        let t2449: f64 = t2447 + t2448;
-        let t2450: f64 = t2449 - 1.67;
-        let t2451: f64 = t57 * t2450;
-        let t2452: f64 = t2446.minus(t2451);
-        let t2453 = product(t123, t2445);
-        let t2454: f64 = t2106 + t2108;
-        let t2455: f64 = t2109 + t2454;
-        let t2456: f64 = t2455 - t2107;
-        let t2457: f64 = t62 * t2456;
-        let t2458: f64 = t2453.plus(t2457);
-        let t2459 = product(t62, t2458);
-        let t2460 = product(t96, t2456);
-        let t2461: f64 = t123 * t2450;
-        let t2462: f64 = t2460.plus(t2461);
-        let t2463: f64 = t96 * t2462;
-        let t2464: f64 = t2459.plus(t2463);
-        let t2465: f64 = t2452 - t2464;
-        let t2466: f64 = t2256 + t2258;
-        let t2467: f64 = t2047 + t2466;
-        let t2468: f64 = t2467 - t2257;
-        let t2469 = product(t142, t2468);
-        let t2470: f64 = t148 * t2435;
-        let t2471: f64 = t2469.minus(t2470);
-        let t2472 = product(t209, t2471);
-        let t2473: f64 = t54 * t2439;
-        let t2474: f64 = t72 * t2468;
-        let t2475 = product(t55, t2439);
-        let t2476: f64 = t261 * t2439;
-        let t2477: f64 = t2475.plus(t2476);
-        let t2478 = product(t264, t2439);
-        let t2479: f64 = t2439 - 1.0;
-        let t2480: f64 = t266 * t2479;
-        let t2481: f64 = t2478.plus(t2480);
-        let t2482: f64 = t2477 + t2481;
-        let t2483 = product(t236, t2468);
-        let t2484: f64 = t238 * t2468;
-        let t2485: f64 = t2483.plus(t2484);
-        let t2486 = product(t241, t2468);
-        let t2487: f64 = t244 * t2468;
-        let t2488: f64 = t2486.plus(t2487);
-        let t2489: f64 = t2485 - t2488;
-        let t2490: f64 = t2473 + t2474;
-        let t2491 = product(t2490, 6.68);
-        let t2492: f64 = t2482 - t2489;
-        let t2493: f64 = t2492 * 3.34;
-        let t2494: f64 = t2491.plus(t2493);
-        let t2495: f64 = t57 * t2494;
-        let t2496: f64 = t2472.plus(t2495);
-        let t2497: f64 = t2255 - t2496;
-        let t2498: f64 = t251 * t2479;
-        let t2499 = product(t138, t2435);
-        let t2500: f64 = t739 + 0.334;
-        let t2501 = product(t2439, t2500);
-        let t2502: f64 = t2498 * 1.67;
-        let t2503: f64 = t2499.plus(t2502);
-        let t2504: f64 = t2501.plus(t2503);
-        let t2505 = product(t133, t2504);
-        let t2506: f64 = t86 * t2435;
-        let t2507 = product(t242, t2435);
-        let t2508: f64 = t245 * t2435;
-        let t2509: f64 = t2507.plus(t2508);
-        let t2510 = product(t249, t2435);
-        let t2511: f64 = t251 * t2435;
-        let t2512: f64 = t2510.plus(t2511);
-        let t2513: f64 = t2509 + t2512;
-        let t2514: f64 = t2473 + t2506;
-        let t2515 = product(t2514, 6.68);
-        let t2516: f64 = t2482 + t2513;
-        let t2517: f64 = t2516 * 3.34;
-        let t2518: f64 = t2515.plus(t2517);
-        let t2519 = product(t123, t2518);
-        let t2520: f64 = t62 * t2471;
-        let t2521: f64 = t72 * t2479;
-        let t2522 = product(t138, t2468);
-        let t2523 = product(t2318, t2439);
-        let t2524: f64 = t2521 * 1.67;
-        let t2525: f64 = t2522.plus(t2524);
-        let t2526: f64 = t2523.minus(t2525);
-        let t2527 = product(t96, t2526);
-        let t2528: f64 = t2519.plus(t2520);
-        let t2529: f64 = t2527.subtracted_from(t2528);
-        let t2530: f64 = t96 * t2529;
-        let t2531: f64 = t2505.minus(t2530);
-        let t2532 = product(t123, t2526);
-        let t2533: f64 = t62 * t2504;
-        let t2534: f64 = t2474 + t2506;
-        let t2535 = product(t2534, 6.68);
-        let t2536: f64 = t2489 - t2513;
-        let t2537: f64 = t2536 * 3.34;
-        let t2538: f64 = t2535.subtracted_from(t2537);
-        let t2539 = product(t96, t2538);
-        let t2540: f64 = t2532.plus(t2533);
-        let t2541: f64 = t2539.plus(t2540);
-        let t2542 = product(t123, t2541);
-        let t2543: f64 = t131 * t2450;
-        let t2544: f64 = t2542.minus(t2543);
-        let t2545: f64 = t2531 - t2544;
-        let t2546: f64 = t2497 + t2545;
-        let t2547 = product(t138, t2432);
-        let t2548: f64 = t356 * t2456;
-        let t2549: f64 = t2547.plus(t2548);
-        let t2550 = product(t108, t2416);
-        let t2551: f64 = t111 * t2416;
-        let t2552: f64 = t2550.minus(t2551);
-        let t2553 = product(t350, t2406);
-        let t2554 = product(t123, t2423);
-        let t2555 = product(t95, t2406);
-        let t2556: f64 = t61 * t2412;
-        let t2557: f64 = t2555.subtracted_from(t2556);
-        let t2558: f64 = t62 * t2557;
-        let t2559: f64 = t2554.plus(t2558);
-        let t2560: f64 = t88 * t2559;
-        let t2561: f64 = t2553.plus(t2560);
-        let t2562: f64 = t2552 + t2561;
-        let t2563 = product(t352, t2406);
-        let t2564: f64 = t90 * t2559;
-        let t2565: f64 = t2563.plus(t2564);
-        let t2566: f64 = t2562 - t2565;
-        let t2567 = product(t148, t2566);
-        let t2568: f64 = t359 * t2439;
-        let t2569: f64 = t2567.plus(t2568);
-        let t2570: f64 = t2549 - t2569;
-        let t2571 = product(t2432, 20.020000000000003);
-        let t2572: f64 = t2571.added_to(t2465);
-        let t2573 = product(t55, t2572);
-        let t2574: f64 = t374 * t2468;
-        let t2575: f64 = t2573.plus(t2574);
-        let t2576 = product(t123, t2462);
-        let t2577 = product(t62, t2450);
-        let t2578: f64 = t96 * t2445;
-        let t2579: f64 = t2577.minus(t2578);
-        let t2580: f64 = t62 * t2579;
-        let t2581: f64 = t2576.plus(t2580);
-        let t2582 = product(t209, t2445);
-        let t2583: f64 = t57 * t2456;
-        let t2584: f64 = t2582.plus(t2583);
-        let t2585: f64 = t2581 - t2584;
-        let t2586 = product(t2566, 20.020000000000003);
-        let t2587: f64 = t2586.added_to(t2585);
-        let t2588 = product(t236, t2587);
-        let t2589: f64 = q1 * t2587;
-        let t2590: f64 = t2588.minus(t2589);
-        let t2591: f64 = t2575 - t2590;
-        let t2592: f64 = t2570 - t2591;
-        let t2593: f64 = t2546 + t2592;
-        let t2594 = product(t2432, 22.020000000000003);
-        let t2595 = product(t2442, 2.0);
-        let t2596: f64 = t2593 * 2.5;
-        let t2597: f64 = t2594.added_to(t2395);
-        let t2598: f64 = t2595.added_to(t2465);
-        let t2599: f64 = t2597 + t2598;
-        let t2600: f64 = t2596 + t2599;
-        let t2601: f64 = t2600 - t2394;
-        let t2602: f64 = t676 + t692;
-        let t2603 = product(t2602, 2.0);
-        let t2604: f64 = t2603.plus(490.9905000000001);
-        let t2605: f64 = t1058 + t2604;
-        let t2606: f64 = t1048 + t1053;
-        let t2607: f64 = t2605 - t2606;
-        let t2608: f64 = t1089 + t1099;
-        let t2609 = product(t2608, 2.0);
-        let t2610: f64 = t1058 + t1257;
+        let t2375: f64 = t2374 - t2369;
+        let t2376 = product(t803, t2375);
+        let t2377 = product(t6, t2366);
+        let t2378: f64 = t2377.added_to(t2285);
+        let t2379: f64 = t2260 * 5.0;
+        let t2380 = product(t2265, 20.04);
+        let t2381 = product(t2273, 4.0);
+        let t2382 = product(t2378, 2.0);
+        let t2383: f64 = t2381.added_to(t793);
+        let t2384: f64 = t2382.plus(t2383);
+        let t2385: f64 = t2380.added_to(t2379);
+        let t2386: f64 = t2385 + 490.5000000000002;
+        let t2387: f64 = t2384 - t2386;
+        let t2388 = product(t812, t2387);
+        let t2389 = product(t3, t2293);
+        let t2390: f64 = t2389.subtracted_from(t2342);
+        let t2391 = product(t381, 5.0);
+        let t2392: f64 = t2219 * 4.0;
+        let t2393 = product(t2235, 20.04);
+        let t2394 = product(t2390, 2.0);
+        let t2395: f64 = t2391.added_to(t1639);
+        let t2396: f64 = t2393.added_to(t2392);
+        let t2397: f64 = t2395 + t2396;
+        let t2398: f64 = t2394.plus(t2397);
+        let t2399: f64 = t825 * t2398;
+        let t2400: f64 = t2388.plus(t2399);
+        let t2401: f64 = t2376.minus(t2400);
+        let t2402 = product(t13, t2401);
+        let t2403: f64 = t2364.plus(t2368);
+        let t2404: f64 = t2367.subtracted_from(t2403);
+        let t2405: f64 = t2404 * 2.0;
+        let t2406: f64 = t2402.plus(t2405);
+        let t2407 = product(t13, t2406);
+        let t2408 = product(t43, t2387);
+        let t2409: f64 = t32 * t195;
+        let t2410: f64 = t109 * t208;
+        let t2411: f64 = t206 * t2410;
+        let t2412 = product(t2409, 0.5610999999999999);
+        let t2413: f64 = t2411 * 0.4687500000000003;
+        let t2414: f64 = t2412.plus(t2413);
+        let t2415 = product(t47, t2414);
+        let t2416: f64 = t27 * t195;
+        let t2417: f64 = t77 * t208;
+        let t2418: f64 = t206 * t2417;
+        let t2419 = product(t206, t209);
+        let t2420: f64 = t196 + t201;
+        let t2421 = product(t2420, 0.5610999999999999);
+        let t2422: f64 = t2419.minus(t217);
+        let t2423: f64 = t2422 * 0.4687500000000003;
+        let t2424: f64 = t2421.plus(t2423);
+        let t2425 = product(t6, t2424);
+        let t2426 = product(t2416, 0.5610999999999999);
+        let t2427: f64 = t2418 * 0.4687500000000003;
+        let t2428: f64 = t2426.plus(t2427);
+        let t2429: f64 = t2425.subtracted_from(t2428);
+        let t2430: f64 = t13 * t2429;
+        let t2431: f64 = t2415.minus(t2430);
+        let t2432: f64 = t730 * t2431;
+        let t2433 = product(t47, t2347);
+        let t2434: f64 = t2289 + t2378;
+        let t2435: f64 = t2434 - t2292;
+        let t2436: f64 = t13 * t2435;
+        let t2437: f64 = t2433.minus(t2436);
+        let t2438 = product(t775, t2437);
+        let t2439: f64 = t2432 * 0.5;
+        let t2440: f64 = t2438.plus(t2439);
+        let t2441: f64 = t44 * t2440;
+        let t2442 = product(t2441, 2.0);
+        let t2443: f64 = t2442.added_to(t2432);
+        let t2444: f64 = t52 * t2443;
+        let t2445: f64 = t2408.plus(t2444);
+        let t2446 = product(t52, t2445);
+        let t2447 = product(t58, t2398);
+        let t2448 = product(t206, t227);
+        let t2449: f64 = t222 + t226;
+        let t2450 = product(t2449, 0.5610999999999999);
+        let t2451: f64 = t2448.subtracted_from(t232);
+        let t2452: f64 = t2451 * 0.4687500000000003;
+        let t2453: f64 = t2450.plus(t2452);
+        let t2454 = product(t63, t2453);
+        let t2455: f64 = t32 * t208;
+        let t2456: f64 = t109 * t195;
+        let t2457: f64 = t206 * t2456;
+        let t2458: f64 = t27 * t208;
+        let t2459: f64 = t77 * t195;
+        let t2460: f64 = t206 * t2459;
+        let t2461 = product(t2458, 0.5610999999999999);
+        let t2462: f64 = t2460 * 0.4687500000000003;
+        let t2463: f64 = t2461.minus(t2462);
+        let t2464 = product(t3, t2463);
+        let t2465: f64 = t2455 * 0.5610999999999999;
+        let t2466: f64 = t2457 * 0.4687500000000003;
+        let t2467: f64 = t2464.plus(t2466);
+        let t2468: f64 = t2465 - t2467;
+        let t2469: f64 = t13 * t2468;
+        let t2470: f64 = t2454.subtracted_from(t2469);
+        let t2471: f64 = t853 * t2470;
+        let t2472 = product(t63, t2366);
+        let t2473: f64 = t2346 + t2390;
+        let t2474: f64 = t13 * t2473;
+        let t2475: f64 = t2472.plus(t2474);
+        let t2476 = product(t884, t2475);
+        let t2477: f64 = t2471 * 0.5;
+        let t2478: f64 = t2476.plus(t2477);
+        let t2479: f64 = t60 * t2478;
+        let t2480 = product(t2479, 2.0);
+        let t2481: f64 = t2480.added_to(t2471);
+        let t2482: f64 = t68 * t2481;
+        let t2483: f64 = t2447.minus(t2482);
+        let t2484: f64 = t68 * t2483;
+        let t2485 = product(t1714, t2320);
+        let t2486: f64 = t38 * t2375;
+        let t2487: f64 = t2485.plus(t2486);
+        let t2488 = product(t19, t2487);
+        let t2489: f64 = t2363 * 2.0;
+        let t2490: f64 = t2407.plus(t2489);
+        let t2491: f64 = t2446.plus(t2484);
+        let t2492: f64 = t2490 + t2491;
+        let t2493: f64 = t2488.subtracted_from(t2492);
+        let t2494: f64 = t13 * t2493;
+        let t2495 = product(t907, t2313);
+        let t2496: f64 = t20 * t2317;
+        let t2497: f64 = t2495.minus(t2496);
+        let t2498: f64 = t2465 - t2466;
+        let t2499 = product(t207, t2498);
+        let t2500: f64 = t911 * t2463;
+        let t2501: f64 = t2499.minus(t2500);
+        let t2502 = product(t192, t2428);
+        let t2503: f64 = t914 * t2424;
+        let t2504: f64 = t2502.minus(t2503);
+        let t2505: f64 = t2501 + t2504;
+        let t2506: f64 = t2497 + t2505;
+        let t2507: f64 = t2335.plus(t2494);
+        let t2508: f64 = t2506 + t2507;
+        let t2509: f64 = t2336.plus(t2337);
+        let t2510: f64 = t2508 - t2509;
+        let t2511 = product(t59, t2510);
+        let t2512: f64 = t192 * t2414;
+        let t2513 = product(t926, t2253);
+        let t2514 = product(t928, t2253);
+        let t2515 = product(t930, t2293);
+        let t2516: f64 = t932 * t2209;
+        let t2517: f64 = t934 * t2431;
+        let t2518: f64 = t2517 * 0.5;
+        let t2519: f64 = t2514.plus(t2518);
+        let t2520: f64 = t2515.plus(t2516);
+        let t2521: f64 = t2519 - t2520;
+        let t2522: f64 = t47 * t2521;
+        let t2523 = product(t2522, 2.0);
+        let t2524: f64 = t2513.added_to(t2512);
+        let t2525: f64 = t2523.subtracted_from(t2524);
+        let t2526: f64 = t6 * t2525;
+        let t2527: f64 = t2511.minus(t2526);
+        let t2528: f64 = t22 * t2313;
+        let t2529 = product(t94, t2253);
+        let t2530: f64 = t2529.subtracted_from(t2528);
+        let t2531: f64 = t207 * t2453;
+        let t2532 = product(t950, t2209);
+        let t2533 = product(t952, t2253);
+        let t2534 = product(t954, t2293);
+        let t2535: f64 = t956 * t2209;
+        let t2536: f64 = t958 * t2470;
+        let t2537: f64 = t2536 * 0.5;
+        let t2538: f64 = t2533.plus(t2535);
+        let t2539: f64 = t2537 + t2538;
+        let t2540: f64 = t2534.subtracted_from(t2539);
+        let t2541: f64 = t63 * t2540;
+        let t2542 = product(t2541, 2.0);
+        let t2543: f64 = t2542.added_to(t2531);
+        let t2544: f64 = t2532.minus(t2543);
+        let t2545 = product(t61, t2544);
+        let t2546: f64 = t3 * t2332;
+        let t2547: f64 = t2545.minus(t2546);
+        let t2548: f64 = t2530 + t2547;
+        let t2549: f64 = t2527 + t2548;
+        let t2550: f64 = t2160 * 1.67;
+        let t2551: f64 = t2296 * 0.5;
+        let t2552: f64 = t2334 * 5.0;
+        let t2553: f64 = t2549 * 2.5;
+        let t2554: f64 = t2163 + t2550;
+        let t2555: f64 = t2552 + t2553;
+        let t2556: f64 = t2554 + t2555;
+        let t2557: f64 = t2551 - t2556;
+        let t2558: f64 = t2161 + t2174;
+        let t2559: f64 = t2551 + t2552;
+        let t2560: f64 = t2553 + t2559;
+        let t2561: f64 = t2550 + t2558;
+        let t2562: f64 = t2560 - t2561;
+        let t2563: f64 = t507 + t2267;
+        let t2564 = product(t998, t2253);
+        let t2565: f64 = t1000 * t2293;
+        let t2566: f64 = t2564.minus(t2565);
+        let t2567 = product(t1004, t2209);
+        let t2568: f64 = t2567.subtracted_from(t2566);
+        let t2569 = product(t1003, t2521);
+        let t2570: f64 = t59 * t2525;
+        let t2571: f64 = t2569.minus(t2570);
+        let t2572 = product(t4, t2510);
+        let t2573: f64 = t1 * t2525;
+        let t2574: f64 = t2572.minus(t2573);
+        let t2575: f64 = t193 * t2424;
+        let t2576 = product(t85, t2209);
+        let t2577: f64 = t2576.subtracted_from(t2575);
+        let t2578 = product(t3, t2544);
+        let t2579: f64 = t8 * t2332;
+        let t2580: f64 = t2578.minus(t2579);
+        let t2581: f64 = t2577 - t2580;
+        let t2582: f64 = t2574 - t2581;
+        let t2583 = product(t520, 2.0);
+        let t2584 = product(t2265, 1.67);
+        let t2585: f64 = t2568 * 0.5;
+        let t2586: f64 = t2571 * 5.0;
+        let t2587: f64 = t2582 * 2.5;
+        let t2588: f64 = t2583.added_to(t2563);
+        let t2589: f64 = t2585 + 40.95675;
+        let t2590: f64 = t2588 + t2589;
+        let t2591: f64 = t2584.added_to(t988);
+        let t2592: f64 = t2586 + t2587;
+        let t2593: f64 = t2591 + t2592;
+        let t2594: f64 = t2590 - t2593;
+        let t2595: f64 = t506 + t2267;
+        let t2596 = product(t519, 2.0);
+        let t2597: f64 = t2596.added_to(t2595);
+        let t2598: f64 = t2585 + t2586;
+        let t2599: f64 = t2587 + 40.95675;
+        let t2600: f64 = t2597 + t2598;
+        let t2601: f64 = t2599 + t2600;
+        let t2602: f64 = t2601 - t2591;
+        let t2603: f64 = t2211 + t2224;
+        let t2604 = product(t1041, t2293);
+        let t2605: f64 = t1038 * t2253;
+        let t2606: f64 = t2604.minus(t2605);
+        let t2607 = product(t1036, t2209);
+        let t2608: f64 = t2607.subtracted_from(t2606);
+        let t2609 = product(t1040, t2540);
+        let t2610: f64 = t4 * t2544;
         let t2611: f64 = t2609.minus(t2610);
-        let t2612: f64 = t1402 + t1418;
-        let t2613 = product(t2612, 2.0);
-        let t2614: f64 = t2613.added_to(t1733);
-        let t2615: f64 = t1736 + t2614;
-        let t2616: f64 = t1767 + t1777;
-        let t2617 = product(t2616, 2.0);
-        let t2618: f64 = t1736 + t1933;
-        let t2619: f64 = t2617.minus(t2618);
-        let t2620: f64 = t2070 + t2086;
-        let t2621 = product(t2620, 2.0);
-        let t2622: f64 = t2621.added_to(t2395);
-        let t2623: f64 = t2398 + t2622;
-        let t2624: f64 = t2623 - t2394;
-        let t2625: f64 = t2432 + t2442;
-        let t2626 = product(t2625, 2.0);
-        let t2627: f64 = t2626.added_to(t2394);
-        let t2628: f64 = t2395 + t2596;
-        let t2629: f64 = t2627 - t2628;
-        let t2630 = product(t350, t630);
-        let t2631: f64 = t352 * t630;
-        let t2632: f64 = t2630.minus(t2631);
-        let t2633 = product(t126, t660);
-        let t2634 = product(t96, t825);
-        let t2635: f64 = t123 * t663;
-        let t2636: f64 = t2634.minus(t2635);
-        let t2637: f64 = t97 * t2636;
-        let t2638: f64 = t2633.minus(t2637);
-        let t2639 = product(t99, t2636);
-        let t2640: f64 = t128 * t660;
-        let t2641: f64 = t2639.minus(t2640);
-        let t2642: f64 = t2638 + t2641;
-        let t2643: f64 = t2632 + t2642;
-        let t2644 = product(t96, t855);
-        let t2645: f64 = t123 * t720;
-        let t2646: f64 = t2644.minus(t2645);
-        let t2647 = product(t133, t718);
-        let t2648: f64 = t209 * t699;
-        let t2649: f64 = t2647.plus(t2648);
-        let t2650: f64 = t2646 - t2649;
-        let t2651 = product(t2643, 20.020000000000003);
-        let t2652: f64 = t2651.added_to(t2650);
-        let t2653 = product(t395, t2652);
-        let t2654 = product(t234, t894);
-        let t2655 = product(t194, t963);
-        let t2656: f64 = t2655.added_to(t460);
-        let t2657: f64 = t2654.plus(t2656);
-        let t2658: f64 = t522 * t898;
-        let t2659 = product(t234, t2658);
-        let t2660: f64 = t194 * t967;
-        let t2661 = product(t541, t2660);
-        let t2662: f64 = t556 * t882;
-        let t2663: f64 = t219 * t2662;
-        let t2664: f64 = t2661.minus(t2663);
-        let t2665: f64 = t2659.plus(t2664);
-        let t2666: f64 = t2636 + t2643;
-        let t2667 = product(t209, t682);
-        let t2668: f64 = t133 * t737;
-        let t2669: f64 = t2667.plus(t2668);
-        let t2670: f64 = t2666 - t2669;
-        let t2671 = product(t202, t950);
-        let t2672: f64 = t159 * t551;
-        let t2673: f64 = t219 * t2672;
-        let t2674: f64 = t2671.minus(t2673);
-        let t2675 = product(t160, t1011);
-        let t2676: f64 = t176 * t1040;
-        let t2677: f64 = t2675.minus(t2676);
-        let t2678: f64 = t2674 - t2677;
-        let t2679 = product(t209, t795);
-        let t2680: f64 = t57 * t770;
-        let t2681: f64 = t2679.plus(t2680);
-        let t2682: f64 = t2678 + t2681;
-        let t2683 = product(t133, t808);
-        let t2684 = product(t123, t743);
-        let t2685: f64 = t62 * t765;
-        let t2686 = product(t96, t770);
-        let t2687: f64 = t2684.plus(t2685);
-        let t2688: f64 = t2686.subtracted_from(t2687);
-        let t2689: f64 = t123 * t2688;
-        let t2690: f64 = t2683.minus(t2689);
-        let t2691 = product(t62, t798);
-        let t2692: f64 = t148 * t2643;
-        let t2693: f64 = t2691.minus(t2692);
-        let t2694: f64 = t2690 + t2693;
-        let t2695: f64 = t2682 + t2694;
-        let t2696 = product(t402, t718);
-        let t2697: f64 = t131 * t707;
-        let t2698: f64 = t2696.minus(t2697);
-        let t2699 = product(t142, t815);
-        let t2700: f64 = t359 * t689;
-        let t2701: f64 = t2699.minus(t2700);
-        let t2702: f64 = t2698 - t2701;
-        let t2703 = product(t86, t844);
-        let t2704: f64 = t411 * t734;
-        let t2705: f64 = t2703.minus(t2704);
-        let t2706 = product(t236, t2652);
-        let t2707: f64 = t2706.minus(t409);
-        let t2708: f64 = t2705 + t2707;
-        let t2709: f64 = t2702 + t2708;
-        let t2710: f64 = t2695 + t2709;
-        let t2711: f64 = t402 * 50.05000000000001;
-        let t2712: f64 = t2657 * 6.25;
-        let t2713: f64 = t2665 * 1.25;
-        let t2714: f64 = t2670 * 2.0;
-        let t2715: f64 = t2710 * 2.5;
-        let t2716: f64 = t2653.plus(t2711);
-        let t2717: f64 = t2713 + t2714;
-        let t2718: f64 = t2716 + t2717;
-        let t2719: f64 = t2712 + t2715;
-        let t2720: f64 = t2718 - t2719;
-        let t2721 = product(t352, t1069);
-        let t2722: f64 = t350 * t1069;
-        let t2723: f64 = t2721.minus(t2722);
-        let t2724 = product(t126, t1073);
-        let t2725 = product(t96, t1211);
-        let t2726: f64 = t123 * t1076;
-        let t2727: f64 = t2725.plus(t2726);
-        let t2728: f64 = t97 * t2727;
-        let t2729: f64 = t2724.plus(t2728);
-        let t2730 = product(t128, t1073);
-        let t2731: f64 = t99 * t2727;
-        let t2732: f64 = t2730.plus(t2731);
-        let t2733: f64 = t2729 - t2732;
-        let t2734: f64 = t2723 + t2733;
-        let t2735 = product(t209, t1114);
-        let t2736: f64 = t133 * t1107;
-        let t2737: f64 = t2735.minus(t2736);
-        let t2738 = product(t96, t1241);
-        let t2739: f64 = t123 * t1109;
-        let t2740: f64 = t2738.plus(t2739);
-        let t2741: f64 = t2737 - t2740;
-        let t2742 = product(t2734, 20.020000000000003);
-        let t2743: f64 = t2742.added_to(t2741);
-        let t2744 = product(t395, t2743);
-        let t2745 = product(t209, t1096);
-        let t2746: f64 = t133 * t1128;
-        let t2747: f64 = t2745.minus(t2746);
-        let t2748: f64 = t2734 - t2727;
-        let t2749: f64 = t2747 + t2748;
-        let t2750 = product(t236, t2743);
-        let t2751: f64 = t2750.minus(t2678);
-        let t2752 = product(t209, t1184);
-        let t2753: f64 = t57 * t1161;
-        let t2754: f64 = t2752.plus(t2753);
-        let t2755 = product(t133, t1196);
-        let t2756 = product(t123, t1133);
-        let t2757 = product(t62, t1155);
-        let t2758: f64 = t96 * t1161;
-        let t2759: f64 = t2756.plus(t2758);
-        let t2760: f64 = t2757.subtracted_from(t2759);
-        let t2761: f64 = t123 * t2760;
-        let t2762: f64 = t2755.minus(t2761);
-        let t2763: f64 = t2754 - t2762;
-        let t2764: f64 = t2751 - t2763;
-        let t2765 = product(t62, t1187);
-        let t2766: f64 = t148 * t2734;
-        let t2767: f64 = t2765.plus(t2766);
-        let t2768 = product(t402, t1107);
-        let t2769: f64 = t131 * t1102;
-        let t2770: f64 = t2768.minus(t2769);
-        let t2771: f64 = t2767 - t2770;
-        let t2772 = product(t142, t1089);
-        let t2773: f64 = t359 * t1092;
-        let t2774: f64 = t2772.plus(t2773);
-        let t2775 = product(t86, t1232);
-        let t2776: f64 = t411 * t1128;
-        let t2777: f64 = t2775.plus(t2776);
-        let t2778: f64 = t2774 - t2777;
-        let t2779: f64 = t2771 - t2778;
-        let t2780: f64 = t2764 - t2779;
-        let t2781: f64 = t2749 * 2.0;
-        let t2782: f64 = t2780 * 2.5;
-        let t2783: f64 = t2744.added_to(t2712);
-        let t2784: f64 = t2781 + t2783;
-        let t2785: f64 = t2713 + t2782;
-        let t2786: f64 = t2784 - t2785;
-        let t2787 = product(t350, t1359);
-        let t2788: f64 = t352 * t1359;
-        let t2789: f64 = t2787.minus(t2788);
-        let t2790 = product(t126, t1386);
-        let t2791 = product(t96, t1688);
-        let t2792: f64 = t123 * t1389;
-        let t2793: f64 = t2791.plus(t2792);
-        let t2794: f64 = t97 * t2793;
-        let t2795: f64 = t2790.plus(t2794);
-        let t2796 = product(t128, t1386);
-        let t2797: f64 = t99 * t2793;
-        let t2798: f64 = t2796.plus(t2797);
-        let t2799: f64 = t2795 - t2798;
-        let t2800: f64 = t2789 - t2799;
-        let t2801 = product(t209, t1425);
-        let t2802: f64 = t133 * t1444;
-        let t2803: f64 = t2801.minus(t2802);
-        let t2804 = product(t123, t1446);
-        let t2805: f64 = t96 * t1717;
-        let t2806: f64 = t2804.minus(t2805);
-        let t2807: f64 = t2803 + t2806;
-        let t2808 = product(t2800, 20.020000000000003);
-        let t2809: f64 = t2808.subtracted_from(t2807);
-        let t2810 = product(t395, t2809);
-        let t2811 = product(t194, t1528);
-        let t2812: f64 = t234 * t1460;
-        let t2813: f64 = t2811.plus(t2812);
-        let t2814: f64 = t898 * t1275;
-        let t2815 = product(t234, t2814);
-        let t2816: f64 = t967 * t1287;
-        let t2817 = product(t194, t2816);
-        let t2818: f64 = t219 * t882;
-        let t2819: f64 = t1299 * t2818;
-        let t2820: f64 = t2817.minus(t2819);
-        let t2821: f64 = t2815.plus(t2820);
-        let t2822 = product(t133, t1601);
-        let t2823: f64 = t209 * t1408;
-        let t2824: f64 = t2822.minus(t2823);
-        let t2825: f64 = t2793 + t2800;
-        let t2826: f64 = t2824 + t2825;
-        let t2827 = product(t236, t2809);
-        let t2828 = product(t202, t1520);
-        let t2829: f64 = t159 * t1293;
-        let t2830: f64 = t219 * t2829;
-        let t2831: f64 = t2828.minus(t2830);
-        let t2832 = product(t160, t1567);
-        let t2833: f64 = t176 * t1588;
-        let t2834: f64 = t2832.minus(t2833);
-        let t2835: f64 = t2831 - t2834;
-        let t2836: f64 = t2827.minus(t2835);
-        let t2837 = product(t209, t1659);
-        let t2838: f64 = t57 * t1640;
-        let t2839: f64 = t2837.plus(t2838);
-        let t2840 = product(t133, t1671);
-        let t2841 = product(t123, t1609);
-        let t2842 = product(t62, t1631);
-        let t2843: f64 = t96 * t1640;
-        let t2844: f64 = t2841.plus(t2843);
-        let t2845: f64 = t2842.subtracted_from(t2844);
-        let t2846: f64 = t123 * t2845;
-        let t2847: f64 = t2840.minus(t2846);
-        let t2848: f64 = t2839 - t2847;
-        let t2849: f64 = t2836 - t2848;
-        let t2850 = product(t62, t1662);
-        let t2851: f64 = -t2800;
-        let t2852: f64 = t148 * t2851;
-        let t2853: f64 = t2850.plus(t2852);
-        let t2854 = product(t402, t1444);
-        let t2855: f64 = t131 * t1434;
-        let t2856: f64 = t2854.plus(t2855);
-        let t2857: f64 = t2853 - t2856;
-        let t2858 = product(t142, t1680);
-        let t2859: f64 = t359 * t1415;
-        let t2860: f64 = t2858.minus(t2859);
-        let t2861 = product(t86, t1707);
-        let t2862: f64 = t411 * t1601;
-        let t2863: f64 = t2861.plus(t2862);
-        let t2864: f64 = t2860 - t2863;
-        let t2865: f64 = t2857 - t2864;
-        let t2866: f64 = t2849 - t2865;
-        let t2867: f64 = t2813 * 6.25;
-        let t2868: f64 = t2821 * 1.25;
-        let t2869: f64 = t2826 * 2.0;
-        let t2870: f64 = t2866 * 2.5;
-        let t2871: f64 = t2868 + t2869;
-        let t2872: f64 = t2870 + t2871;
-        let t2873: f64 = t2810.plus(t2867);
-        let t2874: f64 = t2872 - t2873;
-        let t2875 = product(t352, t1747);
-        let t2876: f64 = t350 * t1747;
-        let t2877: f64 = t2875.minus(t2876);
-        let t2878 = product(t126, t1751);
-        let t2879 = product(t96, t1889);
-        let t2880: f64 = t123 * t1754;
-        let t2881: f64 = t2879.plus(t2880);
-        let t2882: f64 = t97 * t2881;
-        let t2883: f64 = t2878.plus(t2882);
-        let t2884 = product(t128, t1751);
-        let t2885: f64 = t99 * t2881;
-        let t2886: f64 = t2884.plus(t2885);
-        let t2887: f64 = t2883 - t2886;
-        let t2888: f64 = t2877 + t2887;
-        let t2889 = product(t209, t1785);
-        let t2890: f64 = t133 * t1790;
-        let t2891: f64 = t2889.minus(t2890);
-        let t2892 = product(t123, t1797);
-        let t2893: f64 = t96 * t1918;
-        let t2894: f64 = t2892.minus(t2893);
-        let t2895: f64 = t2891 + t2894;
-        let t2896 = product(t2888, 20.020000000000003);
-        let t2897: f64 = t2896.added_to(t2895);
-        let t2898 = product(t395, t2897);
-        let t2899 = product(t209, t1774);
-        let t2900: f64 = t133 * t1805;
-        let t2901: f64 = t2899.minus(t2900);
-        let t2902: f64 = t2888 - t2881;
-        let t2903: f64 = t2901 + t2902;
-        let t2904 = product(t236, t2897);
-        let t2905: f64 = t2904.minus(t2835);
-        let t2906 = product(t209, t1862);
-        let t2907: f64 = t57 * t1843;
-        let t2908: f64 = t2906.plus(t2907);
-        let t2909 = product(t133, t1874);
-        let t2910 = product(t123, t1812);
-        let t2911 = product(t62, t1834);
-        let t2912: f64 = t96 * t1843;
-        let t2913: f64 = t2910.plus(t2912);
-        let t2914: f64 = t2911.subtracted_from(t2913);
-        let t2915: f64 = t123 * t2914;
-        let t2916: f64 = t2909.minus(t2915);
-        let t2917: f64 = t2908 - t2916;
-        let t2918: f64 = t2905 - t2917;
-        let t2919 = product(t62, t1865);
-        let t2920: f64 = t148 * t2888;
-        let t2921: f64 = t2919.plus(t2920);
-        let t2922 = product(t402, t1790);
-        let t2923: f64 = t131 * t1781;
-        let t2924: f64 = t2922.plus(t2923);
-        let t2925: f64 = t2921 - t2924;
-        let t2926 = product(t142, t1767);
-        let t2927: f64 = t359 * t1770;
-        let t2928: f64 = t2926.minus(t2927);
-        let t2929 = product(t86, t1909);
-        let t2930: f64 = t411 * t1805;
-        let t2931: f64 = t2929.plus(t2930);
-        let t2932: f64 = t2928 - t2931;
-        let t2933: f64 = t2925 - t2932;
-        let t2934: f64 = t2918 - t2933;
-        let t2935: f64 = t2903 * 2.0;
-        let t2936: f64 = t2934 * 2.5;
-        let t2937: f64 = t2898.added_to(t2867);
-        let t2938: f64 = t2935 + t2937;
-        let t2939: f64 = t2868 + t2936;
-        let t2940: f64 = t2938 - t2939;
-        let t2941 = product(t350, t2029);
-        let t2942: f64 = t352 * t2029;
-        let t2943: f64 = t2941.minus(t2942);
-        let t2944 = product(t126, t2054);
-        let t2945 = product(t96, t2351);
-        let t2946: f64 = t123 * t2057;
-        let t2947: f64 = t2945.minus(t2946);
-        let t2948: f64 = t97 * t2947;
-        let t2949: f64 = t2944.minus(t2948);
-        let t2950 = product(t99, t2947);
-        let t2951: f64 = t128 * t2054;
-        let t2952: f64 = t2950.minus(t2951);
-        let t2953: f64 = t2949 + t2952;
-        let t2954: f64 = t2943 + t2953;
-        let t2955 = product(t96, t2381);
-        let t2956: f64 = t123 * t2114;
-        let t2957: f64 = t2955.minus(t2956);
-        let t2958 = product(t133, t2112);
-        let t2959: f64 = t209 * t2094;
-        let t2960: f64 = t2958.plus(t2959);
-        let t2961: f64 = t2957 - t2960;
-        let t2962 = product(t2954, 20.020000000000003);
-        let t2963: f64 = t2962.added_to(t2961);
-        let t2964 = product(t395, t2963);
-        let t2965 = product(t194, t2192);
-        let t2966: f64 = t234 * t2151;
-        let t2967: f64 = t2965.plus(t2966);
-        let t2968: f64 = t234 * t898;
-        let t2969 = product(t1953, t2968);
-        let t2970: f64 = t967 * t1962;
-        let t2971 = product(t194, t2970);
-        let t2972: f64 = t882 * t1973;
-        let t2973: f64 = t219 * t2972;
-        let t2974: f64 = t2971.minus(t2973);
-        let t2975: f64 = t2969.plus(t2974);
-        let t2976: f64 = t2947 + t2954;
-        let t2977 = product(t209, t2076);
-        let t2978: f64 = t133 * t2261;
-        let t2979: f64 = t2977.plus(t2978);
+        let t2612 = product(t1, t2332);
+        let t2613: f64 = t11 * t2510;
+        let t2614: f64 = t2612.minus(t2613);
+        let t2615: f64 = t213 * t2463;
+        let t2616 = product(t70, t2293);
+        let t2617: f64 = t2616.added_to(t2615);
+        let t2618 = product(t6, t2544);
+        let t2619: f64 = t45 * t2525;
+        let t2620: f64 = t2618.minus(t2619);
+        let t2621: f64 = t2617 - t2620;
+        let t2622: f64 = t2614 + t2621;
+        let t2623: f64 = t1423 * 2.0;
+        let t2624: f64 = t2235 * 1.67;
+        let t2625: f64 = t2608 * 0.5;
+        let t2626: f64 = t2611 * 5.0;
+        let t2627: f64 = t2622 * 2.5;
+        let t2628: f64 = t2623 + t2624;
+        let t2629: f64 = t2603 + t2625;
+        let t2630: f64 = t2626 + t2627;
+        let t2631: f64 = t2628 + t2629;
+        let t2632: f64 = t2630 + t2631;
+        let t2633: f64 = t2632 - t1799;
+        let t2634: f64 = t2211 + t2223;
+        let t2635: f64 = t1422 * 2.0;
+        let t2636: f64 = t2624 + t2635;
+        let t2637: f64 = t2625 + t2634;
+        let t2638: f64 = t2636 + t2637;
+        let t2639: f64 = t1799 + t2626;
+        let t2640: f64 = t2627 + t2639;
+        let t2641: f64 = t2638 - t2640;
+        let t2642 = product(t27, t91);
+        let t2643: f64 = t91 * t137;
+        let t2644: f64 = t109 * t2643;
+        let t2645: f64 = t2642.minus(t2644);
+        let t2646: f64 = t2159 + t2645;
+        let t2647: f64 = t27 - t2179;
+        let t2648: f64 = t1383 + 12.010000000000002;
+        let t2649: f64 = t1384 - t2648;
+        let t2650 = product(t27, t2649);
+        let t2651: f64 = t91 * t2649;
+        let t2652: f64 = t89 * t2649;
+        let t2653: f64 = t2651 + 2.0;
+        let t2654: f64 = t2653 - t2652;
+        let t2655: f64 = t479 * t2654;
+        let t2656: f64 = t2650.minus(t2655);
+        let t2657: f64 = t2646 * 10.02;
+        let t2658: f64 = t2647 * 2.0;
+        let t2659: f64 = t2656 + t2657;
+        let t2660: f64 = t2205 + t2658;
+        let t2661: f64 = t2659 + t2660;
+        let t2662: f64 = t2661 - t2177;
+        let t2663 = product(t562, t2662);
+        let t2664 = product(t24, t91);
+        let t2665: f64 = t77 * t91;
+        let t2666: f64 = t2230 + t2665;
+        let t2667 = product(t109, t2666);
+        let t2668: f64 = t2667.added_to(t2262);
+        let t2669: f64 = t2664.plus(t2668);
+        let t2670: f64 = t24 - t2272;
+        let t2671 = product(t24, t2649);
+        let t2672 = product(t77, t2654);
+        let t2673: f64 = t2672.subtracted_from(t2238);
+        let t2674: f64 = t109 * t2673;
+        let t2675: f64 = t2671.minus(t2674);
+        let t2676: f64 = t2675 - t2281;
+        let t2677 = product(t2669, 10.02);
+        let t2678: f64 = t2670 * 2.0;
+        let t2679: f64 = t2677.added_to(t2286);
+        let t2680: f64 = t2676 + t2678;
+        let t2681: f64 = t2679 + t2680;
+        let t2682: f64 = t2681 + 245.2500000000001;
+        let t2683: f64 = t2682 - t552;
+        let t2684 = product(t673, t2683);
+        let t2685 = product(t77, t2666);
+        let t2686 = product(t91, t496);
+        let t2687: f64 = t2686.minus(t2234);
+        let t2688: f64 = t2685.plus(t2687);
+        let t2689 = product(t496, t2654);
+        let t2690: f64 = t77 * t2673;
+        let t2691: f64 = t2689.minus(t2690);
+        let t2692: f64 = t2688 * 10.02;
+        let t2693: f64 = t2227 + t2691;
+        let t2694: f64 = t2248 + t2692;
+        let t2695: f64 = t2249 + t2693;
+        let t2696: f64 = t2694 + t2695;
+        let t2697: f64 = t623 * t2696;
+        let t2698: f64 = t2684.minus(t2697);
+        let t2699: f64 = t2663.plus(t2698);
+        let t2700 = product(t678, t2696);
+        let t2701 = product(t680, t2683);
+        let t2702 = product(t682, t2662);
+        let t2703: f64 = t2701.added_to(t2322);
+        let t2704: f64 = t2702.plus(t2703);
+        let t2705: f64 = t2700.subtracted_from(t2704);
+        let t2706 = product(t622, t2705);
+        let t2707 = product(t715, t2683);
+        let t2708: f64 = t10 * t2705;
+        let t2709 = product(t2708, 2.0);
+        let t2710: f64 = t2707.added_to(t2327);
+        let t2711: f64 = t2709.subtracted_from(t2710);
+        let t2712: f64 = t11 * t2711;
+        let t2713: f64 = t2706.minus(t2712);
+        let t2714 = product(t723, t2662);
+        let t2715: f64 = t725 * t2696;
+        let t2716 = product(t727, t2683);
+        let t2717 = product(t784, t2683);
+        let t2718: f64 = t2350 + t2656;
+        let t2719: f64 = t2353 + t2657;
+        let t2720: f64 = t2658 + t2718;
+        let t2721: f64 = t2719 + t2720;
+        let t2722 = product(t787, t2721);
+        let t2723: f64 = t2341 + t2691;
+        let t2724: f64 = t2246 + t2692;
+        let t2725: f64 = t2344 + t2724;
+        let t2726: f64 = t2723 + t2725;
+        let t2727: f64 = t789 * t2726;
+        let t2728 = product(t1, t2726);
+        let t2729: f64 = t2728.subtracted_from(t2718);
+        let t2730 = product(t2646, 20.04);
+        let t2731 = product(t2647, 4.0);
+        let t2732: f64 = t2729 * 2.0;
+        let t2733: f64 = t2730.added_to(t2369);
+        let t2734: f64 = t2731.plus(t2732);
+        let t2735: f64 = t2733 + t2734;
+        let t2736 = product(t803, t2735);
+        let t2737 = product(t6, t2721);
+        let t2738: f64 = t2737.added_to(t2676);
+        let t2739 = product(t2669, 20.04);
+        let t2740 = product(t2670, 4.0);
+        let t2741: f64 = t2738 * 2.0;
+        let t2742: f64 = t2739.added_to(t2379);
+        let t2743: f64 = t2740.plus(t2741);
+        let t2744: f64 = t2742 + t2743;
+        let t2745: f64 = t2744 + 490.5000000000002;
+        let t2746: f64 = t2745 - t793;
+        let t2747 = product(t812, t2746);
+        let t2748 = product(t3, t2683);
+        let t2749: f64 = t2748.added_to(t2723);
+        let t2750 = product(t2688, 20.04);
+        let t2751 = product(t2749, 2.0);
+        let t2752: f64 = t2750.added_to(t2392);
+        let t2753: f64 = t2395 + t2752;
+        let t2754: f64 = t2751.plus(t2753);
+        let t2755: f64 = t825 * t2754;
+        let t2756: f64 = t2736.plus(t2755);
+        let t2757: f64 = t2747.subtracted_from(t2756);
+        let t2758 = product(t13, t2757);
+        let t2759: f64 = t2722.plus(t2727);
+        let t2760: f64 = t2717.minus(t2759);
+        let t2761: f64 = t2760 * 2.0;
+        let t2762: f64 = t2758.plus(t2761);
+        let t2763 = product(t13, t2762);
+        let t2764 = product(t38, t2735);
+        let t2765 = product(t10, t2683);
+        let t2766: f64 = t2658 + t2729;
+        let t2767: f64 = t2719 + t2766;
+        let t2768: f64 = t13 * t2767;
+        let t2769: f64 = t2765.plus(t2768);
+        let t2770 = product(t714, t2769);
+        let t2771: f64 = t2770.added_to(t2359);
+        let t2772: f64 = t7 * t2771;
+        let t2773 = product(t2772, 2.0);
+        let t2774: f64 = t2773.added_to(t2338);
+        let t2775: f64 = t19 * t2774;
+        let t2776: f64 = t2764.minus(t2775);
+        let t2777 = product(t19, t2776);
+        let t2778 = product(t43, t2746);
+        let t2779 = product(t47, t2726);
+        let t2780: f64 = t2678 + t2738;
+        let t2781: f64 = t2679 + t2780;
+        let t2782: f64 = t2781 + 245.2500000000001;
+        let t2783: f64 = t2782 - t552;
+        let t2784: f64 = t13 * t2783;
+        let t2785: f64 = t2779.plus(t2784);
+        let t2786 = product(t775, t2785);
+        let t2787: f64 = t2786.added_to(t2439);
+        let t2788: f64 = t44 * t2787;
+        let t2789 = product(t2788, 2.0);
+        let t2790: f64 = t2789.added_to(t2432);
+        let t2791: f64 = t52 * t2790;
+        let t2792: f64 = t2778.minus(t2791);
+        let t2793: f64 = t52 * t2792;
+        let t2794 = product(t58, t2754);
+        let t2795 = product(t63, t2721);
+        let t2796: f64 = t2725 + t2749;
+        let t2797: f64 = t13 * t2796;
+        let t2798: f64 = t2795.minus(t2797);
+        let t2799 = product(t884, t2798);
+        let t2800: f64 = t2799.subtracted_from(t2477);
+        let t2801: f64 = t60 * t2800;
+        let t2802 = product(t2801, 2.0);
+        let t2803: f64 = t2802.added_to(t2471);
+        let t2804: f64 = t68 * t2803;
+        let t2805: f64 = t2794.minus(t2804);
+        let t2806: f64 = t68 * t2805;
+        let t2807: f64 = t2763.plus(t2793);
+        let t2808: f64 = t2777.plus(t2806);
+        let t2809: f64 = t2807 - t2808;
+        let t2810 = product(t13, t2809);
+        let t2811: f64 = t2716.added_to(t2506);
+        let t2812: f64 = t2714.plus(t2715);
+        let t2813: f64 = t2810.plus(t2812);
+        let t2814: f64 = t2811 - t2813;
+        let t2815 = product(t59, t2814);
+        let t2816 = product(t926, t2696);
+        let t2817 = product(t928, t2696);
+        let t2818 = product(t930, t2683);
+        let t2819: f64 = t932 * t2662;
+        let t2820: f64 = t2817.added_to(t2518);
+        let t2821: f64 = t2818.plus(t2819);
+        let t2822: f64 = t2820 + t2821;
+        let t2823: f64 = t47 * t2822;
+        let t2824 = product(t2823, 2.0);
+        let t2825: f64 = t2816.added_to(t2512);
+        let t2826: f64 = t2824.subtracted_from(t2825);
+        let t2827: f64 = t6 * t2826;
+        let t2828: f64 = t2815.minus(t2827);
+        let t2829 = product(t94, t2696);
+        let t2830: f64 = t2829.subtracted_from(t2528);
+        let t2831 = product(t950, t2662);
+        let t2832 = product(t952, t2696);
+        let t2833 = product(t954, t2683);
+        let t2834 = product(t956, t2662);
+        let t2835: f64 = t2832.added_to(t2537);
+        let t2836: f64 = t2833.plus(t2835);
+        let t2837: f64 = t2834.subtracted_from(t2836);
+        let t2838: f64 = t63 * t2837;
+        let t2839 = product(t2838, 2.0);
+        let t2840: f64 = t2831.added_to(t2531);
+        let t2841: f64 = t2839.plus(t2840);
+        let t2842 = product(t61, t2841);
+        let t2843: f64 = t3 * t2711;
+        let t2844: f64 = t2842.minus(t2843);
+        let t2845: f64 = t2830 - t2844;
+        let t2846: f64 = t2828 + t2845;
+        let t2847: f64 = t2646 * 1.67;
+        let t2848: f64 = t2699 * 0.5;
+        let t2849: f64 = t2713 * 5.0;
+        let t2850: f64 = t2846 * 2.5;
+        let t2851: f64 = t2163 + t2848;
+        let t2852: f64 = t2850 + t2851;
+        let t2853: f64 = t2847 + t2849;
+        let t2854: f64 = t2852 - t2853;
+        let t2855: f64 = t2558 + t2848;
+        let t2856: f64 = t2849 + t2855;
+        let t2857: f64 = t2847 + t2850;
+        let t2858: f64 = t2856 - t2857;
+        let t2859 = product(t1004, t2662);
+        let t2860 = product(t998, t2696);
+        let t2861: f64 = t1000 * t2683;
+        let t2862: f64 = t2860.plus(t2861);
+        let t2863: f64 = t2859.plus(t2862);
+        let t2864 = product(t1003, t2822);
+        let t2865: f64 = t59 * t2826;
+        let t2866: f64 = t2864.minus(t2865);
+        let t2867 = product(t4, t2814);
+        let t2868: f64 = t1 * t2826;
+        let t2869: f64 = t2867.minus(t2868);
+        let t2870 = product(t85, t2662);
+        let t2871: f64 = t2870.added_to(t2575);
+        let t2872 = product(t3, t2841);
+        let t2873: f64 = t8 * t2711;
+        let t2874: f64 = t2872.minus(t2873);
+        let t2875: f64 = t2871 + t2874;
+        let t2876: f64 = t2869 - t2875;
+        let t2877 = product(t2669, 1.67);
+        let t2878: f64 = t2863 * 0.5;
+        let t2879: f64 = t2866 * 5.0;
+        let t2880: f64 = t2876 * 2.5;
+        let t2881: f64 = t2877.added_to(t988);
+        let t2882: f64 = t2879 + t2880;
+        let t2883: f64 = t2881 + t2882;
+        let t2884: f64 = t2878 + 40.95675;
+        let t2885: f64 = t2588 + t2884;
+        let t2886: f64 = t2883 - t2885;
+        let t2887: f64 = t2878 + t2879;
+        let t2888: f64 = t2880 + 40.95675;
+        let t2889: f64 = t2597 + t2887;
+        let t2890: f64 = t2888 + t2889;
+        let t2891: f64 = t2881 - t2890;
+        let t2892 = product(t1038, t2696);
+        let t2893: f64 = t1041 * t2683;
+        let t2894: f64 = t2892.plus(t2893);
+        let t2895 = product(t1036, t2662);
+        let t2896: f64 = t2895.subtracted_from(t2894);
+        let t2897 = product(t1040, t2837);
+        let t2898: f64 = t4 * t2841;
+        let t2899: f64 = t2897.plus(t2898);
+        let t2900 = product(t1, t2711);
+        let t2901: f64 = t11 * t2814;
+        let t2902: f64 = t2900.plus(t2901);
+        let t2903 = product(t70, t2683);
+        let t2904: f64 = t2903.subtracted_from(t2615);
+        let t2905 = product(t6, t2841);
+        let t2906: f64 = t45 * t2826;
+        let t2907: f64 = t2905.plus(t2906);
+        let t2908: f64 = t2904 + t2907;
+        let t2909: f64 = t2902 - t2908;
+        let t2910: f64 = t2688 * 1.67;
+        let t2911 = product(t2896, 0.5);
+        let t2912: f64 = t2899 * 5.0;
+        let t2913: f64 = t2909 * 2.5;
+        let t2914: f64 = t2911.added_to(t1799);
+        let t2915: f64 = t2913 + t2914;
+        let t2916: f64 = t2623 + t2910;
+        let t2917: f64 = t2603 + t2912;
+        let t2918: f64 = t2916 + t2917;
+        let t2919: f64 = t2915 - t2918;
+        let t2920: f64 = t2912 + t2914;
+        let t2921: f64 = t2635 + t2910;
+        let t2922: f64 = t2634 + t2913;
+        let t2923: f64 = t2921 + t2922;
+        let t2924: f64 = t2920 - t2923;
+        let t2925: f64 = t535 * t640;
+        let t2926: f64 = t75 * t77;
+        let t2927: f64 = t542 * t2926;
+        let t2928: f64 = t137 * t296;
+        let t2929: f64 = t109 * t256;
+        let t2930: f64 = t2928 - t2929;
+        let t2931 = product(t75, t143);
+        let t2932: f64 = t141 * t2926;
+        let t2933: f64 = t2931.minus(t2932);
+        let t2934 = product(t106, t535);
+        let t2935 = product(t103, t181);
+        let t2936: f64 = t130 * t640;
+        let t2937: f64 = t2935.plus(t2936);
+        let t2938 = product(t21, t688);
+        let t2939: f64 = t158 * t542;
+        let t2940: f64 = t2938.plus(t2939);
+        let t2941: f64 = t2937 - t2940;
+        let t2942: f64 = t2934.minus(t2941);
+        let t2943: f64 = t2933 + t2942;
+        let t2944: f64 = t2930 * 6.25;
+        let t2945: f64 = t2943 * 2.5;
+        let t2946: f64 = t2925 + t2927;
+        let t2947: f64 = t2945 + t2946;
+        let t2948: f64 = t2944 - t2947;
+        let t2949: f64 = t77 * t122;
+        let t2950: f64 = t542 * t2949;
+        let t2951: f64 = t2925 + t2950;
+        let t2952: f64 = t2945 + t2951;
+        let t2953: f64 = t2952 - t2944;
+        let t2954 = product(t110, t545);
+        let t2955: f64 = t542 * t1370;
+        let t2956: f64 = t193 * t213;
+        let t2957 = product(t206, t2956);
+        let t2958: f64 = t198 * t211;
+        let t2959: f64 = t206 * t2958;
+        let t2960: f64 = t2957.minus(t2959);
+        let t2961 = product(t137, t336);
+        let t2962: f64 = t2961.minus(t326);
+        let t2963 = product(t75, t147);
+        let t2964: f64 = t141 * t488;
+        let t2965: f64 = t2963.minus(t2964);
+        let t2966 = product(t117, t535);
+        let t2967 = product(t134, t640);
+        let t2968: f64 = t30 * t688;
+        let t2969: f64 = t2967.plus(t2968);
+        let t2970: f64 = t2966.plus(t2969);
+        let t2971: f64 = t2965 - t2970;
+        let t2972: f64 = t310 * 12.5;
+        let t2973: f64 = t2960 * 1.1718750000000007;
+        let t2974 = product(t2962, 6.25);
+        let t2975 = product(t2971, 2.5);
+        let t2976: f64 = t2975.added_to(t2955);
+        let t2977: f64 = t2954.plus(t2972);
+        let t2978: f64 = t2974.added_to(t2973);
+        let t2979: f64 = t2977 + t2978;
         let t2980: f64 = t2976 - t2979;
-        let t2981 = product(t236, t2963);
-        let t2982 = product(t202, t2184);
-        let t2983: f64 = t159 * t1968;
-        let t2984: f64 = t219 * t2983;
-        let t2985: f64 = t2982.minus(t2984);
-        let t2986 = product(t160, t2227);
-        let t2987: f64 = t176 * t2252;
-        let t2988: f64 = t2986.minus(t2987);
-        let t2989: f64 = t2985 - t2988;
-        let t2990: f64 = t2981.plus(t2989);
-        let t2991 = product(t209, t2322);
-        let t2992: f64 = t57 * t2299;
-        let t2993: f64 = t2991.plus(t2992);
-        let t2994 = product(t133, t2334);
-        let t2995 = product(t123, t2264);
-        let t2996: f64 = t62 * t2289;
-        let t2997 = product(t96, t2299);
-        let t2998: f64 = t2995.plus(t2996);
-        let t2999: f64 = t2997.subtracted_from(t2998);
+        let t2981 = product(t112, t545);
+        let t2982: f64 = t2981.added_to(t2972);
+        let t2983: f64 = t2978 + t2982;
+        let t2984: f64 = t2983 - t2976;
+        let t2985 = product(t535, t2229);
+        let t2986: f64 = t74 * t545;
+        let t2987: f64 = t193 * t208;
+        let t2988 = product(t206, t2987);
+        let t2989: f64 = t195 * t211;
+        let t2990: f64 = t206 * t2989;
+        let t2991: f64 = t2988.plus(t2990);
+        let t2992 = product(t109, t323);
+        let t2993: f64 = t330 - t337;
+        let t2994: f64 = t2992.plus(t2993);
+        let t2995 = product(t117, t542);
+        let t2996 = product(t103, t147);
+        let t2997: f64 = t22 * t688;
+        let t2998: f64 = t2996.minus(t2997);
+        let t2999: f64 = t2995.plus(t2998);
         (
-            t2031,
-            t2076,
-            t2083,
-            t2094,
-            t2102,
-            t2112,
-            t2127,
+            t2084,
+            t2089,
+            t2116,
+            t2121,
+            t2147,
+            t2151,
+            t2152,
+            t2156,
+            t2182,
+            t2183,
             t2184,
-            t2189,
-            t2227,
-            t2252,
-            t2261,
-            t2264,
-            t2313,
-            t2322,
-            t2325,
-            t2337,
-            t2343,
-            t2353,
-            t2363,
-            t2364,
-            t2371,
-            t2384,
-            t2387,
-            t2403,
-            t2412,
-            t2416,
-            t2419,
-            t2432,
-            t2435,
-            t2439,
-            t2445,
-            t2450,
-            t2456,
-            t2458,
-            t2468,
-            t2471,
-            t2494,
-            t2504,
-            t2518,
-            t2526,
-            t2529,
-            t2538,
-            t2541,
+            t2186,
+            t2190,
+            t2191,
+            t2192,
+            t2193,
+            t2229,
+            t2230,
+            t2231,
+            t2239,
+            t2304,
             t2557,
-            t2559,
-            t2566,
-            t2572,
-            t2579,
-            t2585,
-            t2587,
-            t2601,
-            t2607,
-            t2611,
-            t2615,
-            t2619,
-            t2624,
-            t2629,
+            t2562,
+            t2594,
+            t2602,
+            t2633,
+            t2641,
             t2643,
-            t2650,
+            t2649,
+            t2651,
             t2652,
-            t2688,
-            t2711,
-            t2712,
-            t2713,
-            t2714,
-            t2715,
-            t2720,
-            t2734,
-            t2741,
-            t2743,
-            t2760,
-            t2781,
-            t2782,
-            t2786,
-            t2800,
-            t2807,
-            t2809,
-            t2845,
-            t2851,
-            t2867,
-            t2868,
-            t2869,
-            t2870,
-            t2874,
-            t2888,
-            t2895,
-            t2897,
-            t2914,
-            t2935,
-            t2936,
-            t2940,
-            t2954,
-            t2961,
-            t2963,
-            t2964,
-            t2967,
-            t2975,
+            t2654,
+            t2665,
+            t2666,
+            t2673,
+            t2854,
+            t2858,
+            t2886,
+            t2891,
+            t2919,
+            t2924,
+            t2926,
+            t2927,
+            t2928,
+            t2929,
+            t2941,
+            t2944,
+            t2948,
+            t2949,
+            t2950,
+            t2953,
+            t2955,
+            t2969,
+            t2972,
+            t2973,
+            t2978,
             t2980,
-            t2989,
-            t2990,
-            t2993,
+            t2984,
+            t2985,
+            t2986,
+            t2991,
             t2994,
             t2999,
         )
     };
     let (
+        t3012,
+        t3016,
         t3027,
-        t3094,
-        t3100,
-        t3105,
-        t3110,
+        t3030,
+        t3042,
+        t3046,
+        t3056,
+        t3060,
+        t3083,
+        t3088,
+        t3111,
         t3115,
-        t3120,
-        t3125,
-        t3188,
-        t3230,
-        t3294,
-        t3336,
-        t3399,
-        t3441,
-        t3448,
-        t3455,
-        t3462,
+        t3143,
+        t3148,
+        t3161,
+        t3165,
+        t3176,
+        t3178,
+        t3191,
+        t3194,
+        t3215,
+        t3219,
+        t3240,
+        t3244,
+        t3265,
+        t3269,
+        t3282,
+        t3286,
+        t3298,
+        t3303,
+        t3314,
+        t3317,
+        t3339,
+        t3340,
+        t3356,
+        t3357,
+        t3370,
+        t3372,
+        t3382,
+        t3384,
+        t3392,
+        t3393,
+        t3394,
+        t3395,
+        t3400,
+        t3402,
+        t3424,
+        t3428,
+        t3443,
+        t3444,
+        t3445,
+        t3446,
+        t3457,
+        t3461,
         t3469,
-        t3476,
-        t3483,
-        t3486,
-        t3502,
-        t3504,
+        t3470,
+        t3478,
+        t3479,
+        t3484,
+        t3487,
+        t3508,
+        t3511,
+        t3519,
         t3520,
         t3521,
-        t3552,
-        t3570,
-        t3580,
-        t3583,
-        t3586,
-        t3590,
-        t3592,
-        t3597,
-        t3603,
-        t3609,
-        t3616,
-        t3629,
-        t3638,
-        t3645,
-        t3649,
-        t3651,
-        t3673,
-        t3688,
-        t3692,
-        t3694,
-        t3697,
-        t3705,
-        t3712,
-        t3723,
-        t3730,
-        t3748,
-        t3753,
-        t3755,
-        t3761,
-        t3767,
-        t3771,
-        t3775,
-        t3782,
-        t3813,
-        t3831,
-        t3832,
-        t3837,
-        t3840,
-        t3844,
-        t3859,
-        t3864,
-        t3871,
-        t3872,
-        t3877,
-        t3880,
-        t3899,
-        t3905,
-        t3910,
-        t3912,
-        t3918,
-        t3929,
-        t3933,
-        t3937,
-        t3941,
-        t3943,
-        t3948,
-        t3953,
-        t3959,
-        t3974,
-        t3975,
-        t3976,
-        t3977,
-        t3978,
-        t3979,
-        t3980,
-        t3985,
-        t3995,
-        t3996,
-        t3997,
-        t3998,
-        t3999,
+        t3522,
+        t3533,
+        t3536,
+        t3537,
+        t3538,
+        t3539,
+        t3540,
     ) = {
-        let t3000: f64 = t123 * t2999;
-        let t3001: f64 = t2994.minus(t3000);
-        let t3002: f64 = t2993 + t3001;
-        let t3003: f64 = t2990 + t3002;
-        let t3004 = product(t62, t2325);
-        let t3005: f64 = t148 * t2954;
-        let t3006: f64 = t3004.minus(t3005);
-        let t3007 = product(t402, t2112);
-        let t3008: f64 = t131 * t2102;
-        let t3009: f64 = t3007.minus(t3008);
-        let t3010: f64 = t3006 + t3009;
-        let t3011 = product(t142, t2343);
-        let t3012: f64 = t359 * t2083;
-        let t3013: f64 = t3011.minus(t3012);
-        let t3014 = product(t86, t2371);
-        let t3015: f64 = t411 * t2261;
-        let t3016: f64 = t3014.minus(t3015);
-        let t3017: f64 = t3013 - t3016;
-        let t3018: f64 = t3010 - t3017;
-        let t3019: f64 = t3003 + t3018;
-        let t3020: f64 = t2967 * 6.25;
-        let t3021: f64 = t2975 * 1.25;
-        let t3022: f64 = t2980 * 2.0;
-        let t3023: f64 = t3019 * 2.5;
-        let t3024: f64 = t2964.plus(t3021);
-        let t3025: f64 = t3022 + t3024;
-        let t3026: f64 = t3020 + t3023;
-        let t3027: f64 = t3025 - t3026;
-        let t3028 = product(t350, t2412);
-        let t3029: f64 = t352 * t2412;
-        let t3030: f64 = t3028.minus(t3029);
-        let t3031 = product(t126, t2416);
-        let t3032 = product(t123, t2419);
-        let t3033: f64 = t96 * t2557;
+        let t3000 = product(t134, t2926);
+        let t3001: f64 = t130 * t488;
+        let t3002: f64 = t3000.minus(t3001);
+        let t3003: f64 = t2999 + t3002;
+        let t3004 = product(t331, 12.5);
+        let t3005: f64 = t2991 * 1.1718750000000007;
+        let t3006 = product(t2994, 6.25);
+        let t3007: f64 = t3003 * 2.5;
+        let t3008: f64 = t3004.plus(t3005);
+        let t3009: f64 = t3006.plus(t3008);
+        let t3010: f64 = t2985.plus(t2986);
+        let t3011: f64 = t3007 + t3010;
+        let t3012: f64 = t3009 - t3011;
+        let t3013 = product(t535, t2665);
+        let t3014: f64 = t3013.added_to(t2986);
+        let t3015: f64 = t3007 + t3014;
+        let t3016: f64 = t3015 - t3009;
+        let t3017: f64 = t640 * t1096;
+        let t3018 = product(t122, t143);
+        let t3019: f64 = t141 * t2949;
+        let t3020: f64 = t3018.minus(t3019);
+        let t3021 = product(t106, t1096);
+        let t3022: f64 = t3021.minus(t2941);
+        let t3023: f64 = t3020 + t3022;
+        let t3024: f64 = t3023 * 2.5;
+        let t3025: f64 = t2927 + t3017;
+        let t3026: f64 = t3024 + t3025;
+        let t3027: f64 = t3026 - t2944;
+        let t3028: f64 = t2950 + t3017;
+        let t3029: f64 = t3024 + t3028;
+        let t3030: f64 = t2944 - t3029;
+        let t3031 = product(t110, t1098);
+        let t3032 = product(t122, t147);
+        let t3033: f64 = t141 * t1080;
         let t3034: f64 = t3032.minus(t3033);
-        let t3035: f64 = -t3034;
-        let t3036: f64 = t97 * t3035;
-        let t3037: f64 = t3031.minus(t3036);
-        let t3038 = product(t128, t2416);
-        let t3039: f64 = t99 * t3035;
-        let t3040: f64 = t3038.minus(t3039);
-        let t3041: f64 = t3037 - t3040;
-        let t3042: f64 = t3030 + t3041;
-        let t3043 = product(t96, t2579);
-        let t3044: f64 = t123 * t2458;
-        let t3045: f64 = t3043.minus(t3044);
-        let t3046 = product(t133, t2456);
-        let t3047: f64 = t209 * t2450;
-        let t3048: f64 = t3046.plus(t3047);
-        let t3049: f64 = t3045 - t3048;
-        let t3050 = product(t3042, 20.020000000000003);
-        let t3051: f64 = t3050.added_to(t3049);
-        let t3052 = product(t395, t3051);
-        let t3053 = product(t209, t2439);
-        let t3054: f64 = t133 * t2468;
-        let t3055: f64 = t3053.plus(t3054);
-        let t3056: f64 = t3034 - t3042;
-        let t3057: f64 = t3055 + t3056;
-        let t3058 = product(t236, t3051);
-        let t3059: f64 = t3058.added_to(t2989);
-        let t3060 = product(t209, t2526);
-        let t3061: f64 = t57 * t2504;
-        let t3062: f64 = t3060.plus(t3061);
-        let t3063 = product(t133, t2538);
-        let t3064 = product(t123, t2471);
-        let t3065: f64 = t62 * t2494;
-        let t3066 = product(t96, t2504);
-        let t3067: f64 = t3064.plus(t3065);
-        let t3068: f64 = t3066.subtracted_from(t3067);
-        let t3069: f64 = t123 * t3068;
-        let t3070: f64 = t3063.minus(t3069);
-        let t3071: f64 = t3062 + t3070;
-        let t3072: f64 = t3059 + t3071;
-        let t3073 = product(t62, t2529);
-        let t3074: f64 = t148 * t3042;
-        let t3075: f64 = t3073.minus(t3074);
-        let t3076 = product(t402, t2456);
-        let t3077: f64 = t131 * t2445;
-        let t3078: f64 = t3076.minus(t3077);
-        let t3079: f64 = t3075 + t3078;
-        let t3080 = product(t142, t2432);
-        let t3081: f64 = t359 * t2435;
-        let t3082: f64 = t3080.minus(t3081);
-        let t3083 = product(t86, t2572);
-        let t3084: f64 = t411 * t2468;
-        let t3085: f64 = t3083.minus(t3084);
-        let t3086: f64 = t3082 - t3085;
-        let t3087: f64 = t3079 - t3086;
-        let t3088: f64 = t3072 + t3087;
-        let t3089: f64 = t3057 * 2.0;
-        let t3090: f64 = t3088 * 2.5;
-        let t3091: f64 = t3020 + t3089;
-        let t3092: f64 = t3090 + t3091;
-        let t3093: f64 = t3052.added_to(t3021);
-        let t3094: f64 = t3092 - t3093;
-        let t3095 = product(t450, t2652);
-        let t3096: f64 = t2712 + t2714;
-        let t3097: f64 = t2715 + t3096;
-        let t3098: f64 = t3095.added_to(t2711);
-        let t3099: f64 = t2713 + t3098;
-        let t3100: f64 = t3097 - t3099;
-        let t3101 = product(t450, t2743);
-        let t3102: f64 = t2713 + t2781;
-        let t3103: f64 = t2782 + t3102;
-        let t3104: f64 = t3101.added_to(t2712);
-        let t3105: f64 = t3103 - t3104;
-        let t3106 = product(t450, t2809);
-        let t3107: f64 = t3106.added_to(t2867);
-        let t3108: f64 = t2869 + t3107;
-        let t3109: f64 = t2868 + t2870;
-        let t3110: f64 = t3108 - t3109;
-        let t3111 = product(t450, t2897);
-        let t3112: f64 = t2868 + t2935;
-        let t3113: f64 = t2936 + t3112;
-        let t3114: f64 = t3111.added_to(t2867);
-        let t3115: f64 = t3113 - t3114;
-        let t3116 = product(t450, t2963);
-        let t3117: f64 = t3020 + t3022;
-        let t3118: f64 = t3023 + t3117;
-        let t3119: f64 = t3116.added_to(t3021);
-        let t3120: f64 = t3118 - t3119;
-        let t3121 = product(t450, t3051);
-        let t3122: f64 = t3121.added_to(t3021);
-        let t3123: f64 = t3089 + t3122;
-        let t3124: f64 = t3020 + t3090;
-        let t3125: f64 = t3123 - t3124;
-        let t3126 = product(t194, t959);
-        let t3127: f64 = t219 * t870;
+        let t3035 = product(t117, t1096);
+        let t3036: f64 = t3035.added_to(t2969);
+        let t3037: f64 = t3034 - t3036;
+        let t3038 = product(t3037, 2.5);
+        let t3039: f64 = t3031.added_to(t2972);
+        let t3040: f64 = t2978 + t3039;
+        let t3041: f64 = t3038.added_to(t2955);
+        let t3042: f64 = t3040 - t3041;
+        let t3043 = product(t112, t1098);
+        let t3044: f64 = t3043.added_to(t2972);
+        let t3045: f64 = t2978 + t3044;
+        let t3046: f64 = t3041 - t3045;
+        let t3047 = product(t1096, t2229);
+        let t3048: f64 = t74 * t1098;
+        let t3049 = product(t134, t2949);
+        let t3050: f64 = t130 * t1080;
+        let t3051: f64 = t3049.minus(t3050);
+        let t3052: f64 = t2999 + t3051;
+        let t3053: f64 = t3052 * 2.5;
+        let t3054: f64 = t3047.plus(t3048);
+        let t3055: f64 = t3053 + t3054;
+        let t3056: f64 = t3055 - t3009;
+        let t3057 = product(t1096, t2665);
+        let t3058: f64 = t3057.added_to(t3048);
+        let t3059: f64 = t3053 + t3058;
+        let t3060: f64 = t3009 - t3059;
+        let t3061: f64 = t103 * t1415;
+        let t3062 = product(t487, t1412);
+        let t3063 = product(t137, t281);
+        let t3064: f64 = t324 - t310;
+        let t3065: f64 = t3063.minus(t3064);
+        let t3066 = product(t106, t1388);
+        let t3067 = product(t88, t143);
+        let t3068: f64 = t21 * t1536;
+        let t3069: f64 = t3067.plus(t3068);
+        let t3070: f64 = t3066.plus(t3069);
+        let t3071 = product(t141, t1371);
+        let t3072: f64 = t109 * t110;
+        let t3073: f64 = t130 * t3072;
+        let t3074: f64 = t3071.plus(t3073);
+        let t3075: f64 = t3070 + t3074;
+        let t3076: f64 = t325 * 12.5;
+        let t3077: f64 = t3065 * 6.25;
+        let t3078: f64 = t3075 * 2.5;
+        let t3079: f64 = t3062.plus(t3076);
+        let t3080: f64 = t2973 + t3077;
+        let t3081: f64 = t3079 + t3080;
+        let t3082: f64 = t3078 + t3081;
+        let t3083: f64 = t3082 - t3061;
+        let t3084 = product(t1079, t1412);
+        let t3085: f64 = t3084.added_to(t3076);
+        let t3086: f64 = t3080 + t3085;
+        let t3087: f64 = t3078 + t3086;
+        let t3088: f64 = t3061 - t3087;
+        let t3089: f64 = t1388 * t3072;
+        let t3090: f64 = t88 * t109;
+        let t3091 = product(t1412, t3090);
+        let t3092: f64 = t77 * t309;
+        let t3093: f64 = t2928 - t3092;
+        let t3094 = product(t110, t181);
+        let t3095: f64 = t134 * t3072;
+        let t3096: f64 = t3094.minus(t3095);
+        let t3097 = product(t158, t1412);
+        let t3098 = product(t88, t147);
+        let t3099: f64 = t141 * t3090;
+        let t3100: f64 = t3098.plus(t3099);
+        let t3101 = product(t30, t1536);
+        let t3102: f64 = t117 * t1388;
+        let t3103: f64 = t3101.plus(t3102);
+        let t3104: f64 = t3100 - t3103;
+        let t3105: f64 = t3097.minus(t3104);
+        let t3106: f64 = t3096 + t3105;
+        let t3107: f64 = t3093 * 6.25;
+        let t3108: f64 = t3106 * 2.5;
+        let t3109: f64 = t3089 + t3108;
+        let t3110: f64 = t3091.plus(t3107);
+        let t3111: f64 = t3109 - t3110;
+        let t3112: f64 = t109 * t112;
+        let t3113: f64 = t1388 * t3112;
+        let t3114: f64 = t3108 + t3113;
+        let t3115: f64 = t3110 - t3114;
+        let t3116 = product(t89, t1415);
+        let t3117: f64 = t1388 * t2230;
+        let t3118: f64 = t198 * t208;
+        let t3119 = product(t206, t3118);
+        let t3120: f64 = t195 * t213;
+        let t3121: f64 = t206 * t3120;
+        let t3122: f64 = t3119.plus(t3121);
+        let t3123 = product(t77, t323);
+        let t3124: f64 = t406 - t404;
+        let t3125: f64 = t3123.minus(t3124);
+        let t3126 = product(t110, t143);
+        let t3127: f64 = t134 * t1371;
         let t3128: f64 = t3126.plus(t3127);
-        let t3129: f64 = t522 * t902;
-        let t3130 = product(t234, t3129);
-        let t3131: f64 = t194 * t973;
-        let t3132 = product(t541, t3131);
-        let t3133: f64 = t556 * t877;
-        let t3134: f64 = t219 * t3133;
-        let t3135: f64 = t3132.plus(t3134);
-        let t3136: f64 = t3130.plus(t3135);
-        let t3137 = product(t57, t737);
-        let t3138: f64 = t209 * t689;
-        let t3139: f64 = t3137.plus(t3138);
-        let t3140: f64 = t3139 - t827;
-        let t3141 = product(t86, t861);
-        let t3142 = product(t197, t950);
-        let t3143: f64 = t163 * t1011;
-        let t3144: f64 = t3142.plus(t3143);
-        let t3145: f64 = t169 * t514;
-        let t3146 = product(t234, t3145);
-        let t3147: f64 = t170 * t1040;
-        let t3148: f64 = t3146.plus(t3147);
-        let t3149: f64 = t3144 + t3148;
-        let t3150: f64 = t3141.plus(t3149);
-        let t3151 = product(t209, t784);
-        let t3152: f64 = t57 * t743;
-        let t3153: f64 = t3151.plus(t3152);
-        let t3154 = product(t133, t795);
-        let t3155: f64 = t62 * t811;
-        let t3156: f64 = t3154.plus(t3155);
-        let t3157: f64 = t3153 - t3156;
-        let t3158: f64 = t3150 + t3157;
-        let t3159 = product(t96, t2688);
-        let t3160: f64 = t356 * t707;
-        let t3161: f64 = t3159.plus(t3160);
-        let t3162 = product(t142, t838);
-        let t3163: f64 = t138 * t2643;
-        let t3164: f64 = t3162.plus(t3163);
-        let t3165: f64 = t3161 + t3164;
-        let t3166 = product(t402, t699);
-        let t3167: f64 = t411 * t682;
-        let t3168: f64 = t3166.minus(t3167);
-        let t3169 = product(t55, t2652);
-        let t3170: f64 = t374 * t689;
-        let t3171: f64 = t3169.plus(t3170);
-        let t3172: f64 = t3168 - t3171;
-        let t3173: f64 = t3165 + t3172;
-        let t3174: f64 = t3158 - t3173;
-        let t3175 = product(t2643, 10.010000000000002);
-        let t3176: f64 = t3128 * 6.25;
-        let t3177: f64 = t3136 * 1.25;
-        let t3178: f64 = t837 * 12.010000000000002;
-        let t3179: f64 = t858 - t2650;
-        let t3180 = product(t3179, 0.5);
-        let t3181: f64 = t3140 * 2.0;
-        let t3182: f64 = t3174 * 2.5;
-        let t3183: f64 = t3176 + t3178;
-        let t3184: f64 = t3180.plus(t3181);
-        let t3185: f64 = t3183 + t3184;
-        let t3186: f64 = t3182 + t3185;
-        let t3187: f64 = t3175.plus(t3177);
-        let t3188: f64 = t3186 - t3187;
-        let t3189 = product(t57, t1128);
-        let t3190: f64 = t209 * t1092;
-        let t3191: f64 = t3189.plus(t3190);
-        let t3192: f64 = t1214 + t3191;
-        let t3193 = product(t86, t1248);
-        let t3194: f64 = t3193.minus(t3149);
-        let t3195 = product(t209, t1175);
-        let t3196: f64 = t57 * t1133;
-        let t3197: f64 = t3195.minus(t3196);
-        let t3198 = product(t133, t1184);
-        let t3199: f64 = t62 * t1199;
-        let t3200: f64 = t3198.plus(t3199);
-        let t3201: f64 = t3197 - t3200;
-        let t3202: f64 = t3194 - t3201;
-        let t3203 = product(t96, t2760);
-        let t3204: f64 = t356 * t1102;
-        let t3205: f64 = t3203.plus(t3204);
-        let t3206 = product(t142, t1226);
-        let t3207: f64 = t138 * t2734;
-        let t3208: f64 = t3206.plus(t3207);
-        let t3209: f64 = t3205 + t3208;
-        let t3210 = product(t402, t1114);
-        let t3211: f64 = t411 * t1096;
-        let t3212: f64 = t3210.minus(t3211);
-        let t3213 = product(t55, t2743);
-        let t3214: f64 = t374 * t1092;
-        let t3215: f64 = t3213.plus(t3214);
-        let t3216: f64 = t3212 + t3215;
-        let t3217: f64 = t3209 - t3216;
-        let t3218: f64 = t3202 - t3217;
-        let t3219 = product(t2734, 10.010000000000002);
-        let t3220: f64 = t1225 * 12.010000000000002;
-        let t3221: f64 = t1245 - t2741;
-        let t3222 = product(t3221, 0.5);
-        let t3223: f64 = t3192 * 2.0;
-        let t3224: f64 = t3218 * 2.5;
-        let t3225: f64 = t3177 + t3220;
-        let t3226: f64 = t3222.plus(t3223);
-        let t3227: f64 = t3225 + t3226;
-        let t3228: f64 = t3224 + t3227;
-        let t3229: f64 = t3219.added_to(t3176);
-        let t3230: f64 = t3228 - t3229;
-        let t3231 = product(t219, t1481);
-        let t3232 = product(t194, t1525);
-        let t3233: f64 = t3232.added_to(t220);
-        let t3234: f64 = t3231.plus(t3233);
-        let t3235: f64 = t902 * t1275;
-        let t3236 = product(t234, t3235);
-        let t3237: f64 = t973 * t1287;
-        let t3238 = product(t194, t3237);
-        let t3239: f64 = t219 * t877;
-        let t3240: f64 = t1299 * t3239;
-        let t3241: f64 = t3238.plus(t3240);
-        let t3242: f64 = t3236.plus(t3241);
-        let t3243 = product(t209, t1415);
-        let t3244: f64 = t57 * t1601;
-        let t3245: f64 = t3243.minus(t3244);
-        let t3246: f64 = t1690 + t3245;
-        let t3247 = product(t86, t1722);
-        let t3248 = product(t197, t1520);
-        let t3249: f64 = t163 * t1567;
-        let t3250: f64 = t3248.plus(t3249);
-        let t3251: f64 = t169 * t531;
-        let t3252 = product(t234, t3251);
-        let t3253: f64 = t170 * t1588;
+        let t3129 = product(t106, t1412);
+        let t3130 = product(t130, t3090);
+        let t3131: f64 = t22 * t1536;
+        let t3132: f64 = t3130.minus(t3131);
+        let t3133: f64 = t3129.minus(t3132);
+        let t3134: f64 = t3128 + t3133;
+        let t3135: f64 = t405 * 12.5;
+        let t3136: f64 = t3122 * 1.1718750000000007;
+        let t3137: f64 = t3125 * 6.25;
+        let t3138: f64 = t3134 * 2.5;
+        let t3139: f64 = t3116.plus(t3135);
+        let t3140: f64 = t3136 + t3137;
+        let t3141: f64 = t3139 + t3140;
+        let t3142: f64 = t3138 + t3141;
+        let t3143: f64 = t3117 - t3142;
+        let t3144 = product(t91, t1415);
+        let t3145: f64 = t3144.added_to(t3135);
+        let t3146: f64 = t3140 + t3145;
+        let t3147: f64 = t3138 + t3146;
+        let t3148: f64 = t3147 - t3117;
+        let t3149 = product(t103, t1895);
+        let t3150 = product(t487, t1892);
+        let t3151 = product(t141, t1879);
+        let t3152: f64 = t130 * t3112;
+        let t3153: f64 = t3151.minus(t3152);
+        let t3154: f64 = t3070 - t3153;
+        let t3155 = product(t3154, 2.5);
+        let t3156: f64 = t3149.added_to(t3076);
+        let t3157: f64 = t3150.added_to(t2973);
+        let t3158: f64 = t3155.added_to(t3077);
+        let t3159: f64 = t3156 + t3157;
+        let t3160: f64 = t3158 + t3159;
+        let t3161: f64 = -t3160;
+        let t3162 = product(t1079, t1892);
+        let t3163: f64 = t3162.added_to(t2973);
+        let t3164: f64 = t3156 + t3163;
+        let t3165: f64 = t3158 + t3164;
+        let t3166 = product(t1892, t3090);
+        let t3167 = product(t112, t181);
+        let t3168: f64 = t134 * t3112;
+        let t3169: f64 = t3167.minus(t3168);
+        let t3170 = product(t158, t1892);
+        let t3171: f64 = t3170.minus(t3104);
+        let t3172: f64 = t3169 + t3171;
+        let t3173: f64 = t3172 * 2.5;
+        let t3174: f64 = t3166.added_to(t3107);
+        let t3175: f64 = t3089 + t3173;
+        let t3176: f64 = t3174 - t3175;
+        let t3177: f64 = t3113 + t3173;
+        let t3178: f64 = t3177 - t3174;
+        let t3179 = product(t89, t1895);
+        let t3180 = product(t112, t143);
+        let t3181: f64 = t134 * t1879;
+        let t3182: f64 = t3180.minus(t3181);
+        let t3183 = product(t106, t1892);
+        let t3184: f64 = t3183.minus(t3132);
+        let t3185: f64 = t3182 + t3184;
+        let t3186 = product(t3185, 2.5);
+        let t3187: f64 = t3135 + t3136;
+        let t3188: f64 = t3186.added_to(t3137);
+        let t3189: f64 = t3187 + t3188;
+        let t3190: f64 = t3179.added_to(t3117);
+        let t3191: f64 = t3189 - t3190;
+        let t3192 = product(t91, t1895);
+        let t3193: f64 = t3192.added_to(t3117);
+        let t3194: f64 = t3193 - t3189;
+        let t3195: f64 = t486 * t2193;
+        let t3196 = product(t75, t2239);
+        let t3197 = product(t109, t281);
+        let t3198: f64 = t3197.added_to(t338);
+        let t3199 = product(t89, t181);
+        let t3200: f64 = t130 * t2231;
+        let t3201: f64 = t3199.plus(t3200);
+        let t3202 = product(t158, t2186);
+        let t3203 = product(t141, t2156);
+        let t3204: f64 = t21 * t2304;
+        let t3205: f64 = t3203.minus(t3204);
+        let t3206: f64 = t3202.plus(t3205);
+        let t3207: f64 = t3201 + t3206;
+        let t3208: f64 = t330 * 12.5;
+        let t3209: f64 = t3198 * 6.25;
+        let t3210: f64 = t3207 * 2.5;
+        let t3211: f64 = t3196.added_to(t3195);
+        let t3212: f64 = t3210 + t3211;
+        let t3213: f64 = t3005 + t3208;
+        let t3214: f64 = t3209 + t3213;
+        let t3215: f64 = t3212 - t3214;
+        let t3216 = product(t122, t2239);
+        let t3217: f64 = t3216.added_to(t3195);
+        let t3218: f64 = t3210 + t3217;
+        let t3219: f64 = t3214 - t3218;
+        let t3220 = product(t1369, t2186);
+        let t3221 = product(t88, t2239);
+        let t3222 = product(t77, t336);
+        let t3223: f64 = t3222.added_to(t407);
+        let t3224 = product(t158, t2193);
+        let t3225 = product(t74, t181);
+        let t3226: f64 = t30 * t2304;
+        let t3227: f64 = t3225.minus(t3226);
+        let t3228: f64 = t3224.minus(t3227);
+        let t3229 = product(t141, t2152);
+        let t3230: f64 = t134 * t2231;
+        let t3231: f64 = t3229.plus(t3230);
+        let t3232: f64 = t3228 + t3231;
+        let t3233: f64 = t404 * 12.5;
+        let t3234: f64 = t3223 * 6.25;
+        let t3235: f64 = t3232 * 2.5;
+        let t3236: f64 = t3220.plus(t3233);
+        let t3237: f64 = t3136 + t3234;
+        let t3238: f64 = t3236 + t3237;
+        let t3239: f64 = t3221.plus(t3235);
+        let t3240: f64 = t3238 - t3239;
+        let t3241 = product(t1878, t2186);
+        let t3242: f64 = t3241.added_to(t3233);
+        let t3243: f64 = t3237 + t3242;
+        let t3244: f64 = t3239 - t3243;
+        let t3245: f64 = t2152 * t2193;
+        let t3246: f64 = t2156 * t2186;
+        let t3247: f64 = t2929 - t3092;
+        let t3248 = product(t89, t147);
+        let t3249: f64 = t130 * t2152;
+        let t3250: f64 = t3248.minus(t3249);
+        let t3251 = product(t117, t2186);
+        let t3252 = product(t74, t143);
+        let t3253: f64 = t134 * t2156;
         let t3254: f64 = t3252.plus(t3253);
-        let t3255: f64 = t3250 + t3254;
-        let t3256: f64 = t3247.minus(t3255);
-        let t3257 = product(t209, t1654);
-        let t3258: f64 = t57 * t1609;
-        let t3259: f64 = t3257.minus(t3258);
-        let t3260 = product(t133, t1659);
-        let t3261: f64 = t62 * t1674;
-        let t3262: f64 = t3260.plus(t3261);
-        let t3263: f64 = t3259 - t3262;
-        let t3264: f64 = t3256 - t3263;
-        let t3265 = product(t96, t2845);
-        let t3266: f64 = t356 * t1434;
-        let t3267: f64 = t3265.minus(t3266);
-        let t3268 = product(t142, t1700);
-        let t3269: f64 = t138 * t2851;
-        let t3270: f64 = t3268.plus(t3269);
-        let t3271: f64 = t3267 + t3270;
-        let t3272 = product(t402, t1425);
-        let t3273: f64 = t411 * t1408;
-        let t3274: f64 = t3272.minus(t3273);
-        let t3275 = product(t55, t2809);
-        let t3276: f64 = t374 * t1415;
-        let t3277: f64 = t3275.minus(t3276);
-        let t3278: f64 = t3274 + t3277;
-        let t3279: f64 = t3271 - t3278;
-        let t3280: f64 = t3264 - t3279;
-        let t3281 = product(t2800, 10.010000000000002);
-        let t3282: f64 = t3234 * 6.25;
-        let t3283: f64 = t3242 * 1.25;
-        let t3284: f64 = t1700 * 12.010000000000002;
-        let t3285: f64 = t1720 + t2807;
-        let t3286 = product(t3285, 0.5);
-        let t3287: f64 = t3246 * 2.0;
-        let t3288: f64 = t3280 * 2.5;
-        let t3289: f64 = t3282 + t3284;
-        let t3290: f64 = t3286.plus(t3287);
-        let t3291: f64 = t3289 + t3290;
-        let t3292: f64 = t3281.plus(t3283);
-        let t3293: f64 = t3288 + t3292;
-        let t3294: f64 = t3291 - t3293;
-        let t3295 = product(t57, t1805);
-        let t3296: f64 = t209 * t1770;
-        let t3297: f64 = t3295.minus(t3296);
-        let t3298: f64 = t1892 + t3297;
-        let t3299 = product(t86, t1924);
-        let t3300: f64 = t3299.minus(t3255);
-        let t3301 = product(t209, t1857);
-        let t3302: f64 = t57 * t1812;
-        let t3303: f64 = t3301.minus(t3302);
-        let t3304 = product(t133, t1862);
-        let t3305: f64 = t62 * t1877;
-        let t3306: f64 = t3304.plus(t3305);
-        let t3307: f64 = t3303 - t3306;
-        let t3308: f64 = t3300 - t3307;
-        let t3309 = product(t96, t2914);
-        let t3310: f64 = t356 * t1781;
-        let t3311: f64 = t3309.minus(t3310);
-        let t3312 = product(t142, t1903);
-        let t3313: f64 = t138 * t2888;
-        let t3314: f64 = t3312.plus(t3313);
-        let t3315: f64 = t3311 + t3314;
-        let t3316 = product(t402, t1785);
-        let t3317: f64 = t411 * t1774;
-        let t3318: f64 = t3316.minus(t3317);
-        let t3319 = product(t55, t2897);
-        let t3320: f64 = t374 * t1770;
-        let t3321: f64 = t3319.minus(t3320);
-        let t3322: f64 = t3318 + t3321;
-        let t3323: f64 = t3315 - t3322;
-        let t3324: f64 = t3308 - t3323;
-        let t3325 = product(t2888, 10.010000000000002);
-        let t3326: f64 = t1903 * 12.010000000000002;
-        let t3327: f64 = t1922 - t2895;
-        let t3328 = product(t3327, 0.5);
-        let t3329: f64 = t3298 * 2.0;
-        let t3330: f64 = t3324 * 2.5;
-        let t3331: f64 = t3328.added_to(t3283);
-        let t3332: f64 = t3329 + t3330;
-        let t3333: f64 = t3331 + t3332;
-        let t3334: f64 = t3325.added_to(t3282);
-        let t3335: f64 = t3326 + t3334;
-        let t3336: f64 = t3333 - t3335;
-        let t3337 = product(t194, t2189);
-        let t3338: f64 = t219 * t2127;
-        let t3339: f64 = t3337.plus(t3338);
-        let t3340: f64 = t234 * t902;
-        let t3341 = product(t1953, t3340);
-        let t3342: f64 = t973 * t1962;
-        let t3343 = product(t194, t3342);
-        let t3344: f64 = t877 * t1973;
-        let t3345: f64 = t219 * t3344;
-        let t3346: f64 = t3343.plus(t3345);
-        let t3347: f64 = t3341.plus(t3346);
-        let t3348 = product(t57, t2261);
-        let t3349: f64 = t209 * t2083;
-        let t3350: f64 = t3348.plus(t3349);
-        let t3351: f64 = t3350 - t2353;
-        let t3352 = product(t86, t2387);
-        let t3353 = product(t197, t2184);
-        let t3354: f64 = t163 * t2227;
-        let t3355: f64 = t3353.plus(t3354);
-        let t3356: f64 = t169 * t1947;
-        let t3357 = product(t234, t3356);
-        let t3358: f64 = t170 * t2252;
-        let t3359: f64 = t3357.plus(t3358);
-        let t3360: f64 = t3355 + t3359;
-        let t3361: f64 = t3352.plus(t3360);
-        let t3362 = product(t209, t2313);
-        let t3363: f64 = t57 * t2264;
-        let t3364: f64 = t3362.plus(t3363);
-        let t3365 = product(t133, t2322);
-        let t3366: f64 = t62 * t2337;
-        let t3367: f64 = t3365.plus(t3366);
-        let t3368: f64 = t3364 - t3367;
-        let t3369: f64 = t3361 + t3368;
-        let t3370 = product(t96, t2999);
-        let t3371: f64 = t356 * t2102;
-        let t3372: f64 = t3370.plus(t3371);
-        let t3373 = product(t142, t2364);
-        let t3374: f64 = t138 * t2954;
-        let t3375: f64 = t3373.plus(t3374);
-        let t3376: f64 = t3372 + t3375;
-        let t3377 = product(t402, t2094);
-        let t3378: f64 = t411 * t2076;
-        let t3379: f64 = t3377.minus(t3378);
-        let t3380 = product(t55, t2963);
-        let t3381: f64 = t374 * t2083;
-        let t3382: f64 = t3380.plus(t3381);
-        let t3383: f64 = t3379 - t3382;
-        let t3384: f64 = t3376 + t3383;
-        let t3385: f64 = t3369 - t3384;
-        let t3386 = product(t2954, 10.010000000000002);
-        let t3387: f64 = t3339 * 6.25;
-        let t3388: f64 = t3347 * 1.25;
-        let t3389: f64 = t2363 * 12.010000000000002;
-        let t3390: f64 = t2384 - t2961;
-        let t3391 = product(t3390, 0.5);
-        let t3392: f64 = t3351 * 2.0;
-        let t3393: f64 = t3385 * 2.5;
-        let t3394: f64 = t3387 + t3389;
-        let t3395: f64 = t3391.plus(t3392);
-        let t3396: f64 = t3394 + t3395;
-        let t3397: f64 = t3393 + t3396;
-        let t3398: f64 = t3386.plus(t3388);
-        let t3399: f64 = t3397 - t3398;
-        let t3400 = product(t57, t2468);
-        let t3401: f64 = t209 * t2435;
-        let t3402: f64 = t3400.plus(t3401);
-        let t3403: f64 = t2559 - t3402;
-        let t3404 = product(t86, t2587);
-        let t3405: f64 = t3404.added_to(t3360);
-        let t3406 = product(t209, t2518);
-        let t3407: f64 = t57 * t2471;
-        let t3408: f64 = t3406.plus(t3407);
-        let t3409 = product(t133, t2526);
-        let t3410: f64 = t62 * t2541;
-        let t3411: f64 = t3409.plus(t3410);
-        let t3412: f64 = t3408 - t3411;
-        let t3413: f64 = t3405 + t3412;
-        let t3414 = product(t96, t3068);
-        let t3415: f64 = t356 * t2445;
-        let t3416: f64 = t3414.plus(t3415);
-        let t3417 = product(t142, t2566);
-        let t3418: f64 = t138 * t3042;
-        let t3419: f64 = t3417.plus(t3418);
-        let t3420: f64 = t3416 + t3419;
-        let t3421 = product(t402, t2450);
-        let t3422: f64 = t411 * t2439;
-        let t3423: f64 = t3421.minus(t3422);
-        let t3424 = product(t55, t3051);
-        let t3425: f64 = t374 * t2435;
-        let t3426: f64 = t3424.plus(t3425);
-        let t3427: f64 = t3423 - t3426;
-        let t3428: f64 = t3420 + t3427;
-        let t3429: f64 = t3413 - t3428;
-        let t3430 = product(t3042, 10.010000000000002);
-        let t3431: f64 = t2566 * 12.010000000000002;
-        let t3432: f64 = t2585 + t3049;
-        let t3433 = product(t3432, 0.5);
-        let t3434: f64 = t3403 * 2.0;
-        let t3435: f64 = t3429 * 2.5;
-        let t3436: f64 = t3430.added_to(t3388);
-        let t3437: f64 = t3433.added_to(t3431);
-        let t3438: f64 = t3436 + t3437;
-        let t3439: f64 = t3434 + t3438;
-        let t3440: f64 = t3387 + t3435;
-        let t3441: f64 = t3439 - t3440;
-        let t3442: f64 = t858 + t2650;
-        let t3443 = product(t3442, 0.5);
-        let t3444: f64 = t3443.added_to(t3178);
-        let t3445: f64 = t3187 + t3444;
-        let t3446: f64 = t3181 + t3445;
-        let t3447: f64 = t3176 + t3182;
-        let t3448: f64 = t3446 - t3447;
-        let t3449: f64 = t1245 + t2741;
-        let t3450 = product(t3449, 0.5);
-        let t3451: f64 = t3450.added_to(t3220);
-        let t3452: f64 = t3229 + t3451;
-        let t3453: f64 = t3223 + t3452;
-        let t3454: f64 = t3177 + t3224;
-        let t3455: f64 = t3453 - t3454;
-        let t3456: f64 = t1720 - t2807;
-        let t3457 = product(t3456, 0.5);
-        let t3458: f64 = t3457.added_to(t3284);
-        let t3459: f64 = t3287 + t3288;
-        let t3460: f64 = t3292 + t3458;
-        let t3461: f64 = t3459 + t3460;
-        let t3462: f64 = t3461 - t3282;
-        let t3463: f64 = t1922 + t2895;
-        let t3464 = product(t3463, 0.5);
-        let t3465: f64 = t3464.added_to(t3329);
-        let t3466: f64 = t3334 + t3465;
-        let t3467: f64 = t3283 + t3326;
-        let t3468: f64 = t3330 + t3467;
-        let t3469: f64 = t3466 - t3468;
-        let t3470: f64 = t2384 + t2961;
-        let t3471 = product(t3470, 0.5);
-        let t3472: f64 = t3471.added_to(t3389);
-        let t3473: f64 = t3398 + t3472;
-        let t3474: f64 = t3392 + t3473;
-        let t3475: f64 = t3387 + t3393;
-        let t3476: f64 = t3474 - t3475;
-        let t3477: f64 = t2585 - t3049;
-        let t3478 = product(t3477, 0.5);
-        let t3479: f64 = t3387 + t3431;
-        let t3480: f64 = t3478.added_to(t3434);
-        let t3481: f64 = t3479 + t3480;
-        let t3482: f64 = t3435 + t3481;
-        let t3483: f64 = t3482 - t3436;
-        let t3484: f64 = t62 * t73;
-        let t3485 = product(t72, 25.049999999999997);
-        let t3486: f64 = t0 * 4.175;
-        let t3487: f64 = t3485.subtracted_from(t3486);
-        let t3488: f64 = t62 * t3487;
-        let t3489: f64 = t93 * 2.5;
-        let t3490: f64 = t3484 + t3489;
-        let t3491 = product(t60, t3490);
-        let t3492: f64 = t110 * t3490;
-        let t3493: f64 = t3491.minus(t3492);
-        let t3494: f64 = t60 * t62;
-        let t3495: f64 = t120 * 2.5;
-        let t3496: f64 = t3494 + t3495;
-        let t3497 = product(t88, t3496);
-        let t3498: f64 = t90 * t3496;
-        let t3499: f64 = t3497.minus(t3498);
-        let t3500 = product(t148, t3499);
-        let t3501 = product(t54, 25.049999999999997);
-        let t3502: f64 = t40 * 4.175;
-        let t3503: f64 = t3501.plus(t3502);
-        let t3504: f64 = t62 * t3503;
-        let t3505: f64 = t368 * 2.5;
-        let t3506 = product(t3499, 20.020000000000003);
-        let t3507: f64 = t3504 + t3505;
-        let t3508: f64 = t3506.plus(t3507);
-        let t3509: f64 = t236 * t3508;
-        let t3510: f64 = t3500.minus(t3509);
-        let t3511 = product(q1, t3508);
-        let t3512: f64 = t168 * 0.4687500000000002;
-        let t3513 = product(t195, t3512);
-        let t3514: f64 = t204 * 0.4687500000000002;
-        let t3515: f64 = t165 * t3514;
-        let t3516: f64 = t3513.plus(t3515);
-        let t3517: f64 = -t3516;
-        let t3518 = product(t173, t3517);
-        let t3519: f64 = t254 * 4.175;
-        let t3520: f64 = t96 * t3519;
-        let t3521: f64 = t295 * 4.175;
-        let t3522: f64 = t123 * t3521;
-        let t3523: f64 = t3520 - t3522;
-        let t3524: f64 = t3518.minus(t3523);
-        let t3525 = product(t138, t3493);
-        let t3526: f64 = t150 * 2.5;
-        let t3527 = product(t3493, 20.020000000000003);
-        let t3528: f64 = t3527.added_to(t3526);
-        let t3529: f64 = t3528 - t3488;
-        let t3530: f64 = t55 * t3529;
-        let t3531: f64 = t3525.minus(t3530);
-        let t3532: f64 = t16 * 0.0;
-        let t3533: f64 = t158 * t3532;
-        let t3534 = product(t173, t3514);
-        let t3535: f64 = t178 * 0.4687500000000002;
-        let t3536: f64 = t195 * t3535;
-        let t3537: f64 = t3534.minus(t3536);
-        let t3538 = product(t165, t3537);
-        let t3539: f64 = t3538.subtracted_from(t3533);
-        let t3540: f64 = t3531 - t3539;
-        let t3541: f64 = t3524 + t3540;
-        let t3542: f64 = t3511.plus(t3541);
-        let t3543: f64 = t3510 + t3542;
-        let t3544 = product(t3484, 2.0);
-        let t3545: f64 = t93 * 5.0;
-        let t3546: f64 = t150 + t3543;
-        let t3547 = product(t3546, 2.5);
-        let t3548: f64 = t3493 * 22.020000000000003;
-        let t3549: f64 = t3544.plus(t3545);
-        let t3550: f64 = t3547.plus(t3548);
-        let t3551: f64 = t3549 + t3550;
-        let t3552: f64 = t3551 - t3488;
-        let t3553: f64 = t62 * t110;
-        let t3554: f64 = t3495 + t3553;
-        let t3555 = product(t88, t3554);
-        let t3556: f64 = t90 * t3554;
-        let t3557: f64 = t3555.minus(t3556);
-        let t3558 = product(t148, t3557);
-        let t3559 = product(t3557, 20.020000000000003);
-        let t3560: f64 = t3559.added_to(t3507);
-        let t3561: f64 = t236 * t3560;
-        let t3562: f64 = t3558.minus(t3561);
-        let t3563 = product(q1, t3560);
-        let t3564: f64 = t3563.added_to(t3541);
-        let t3565: f64 = t3562 + t3564;
-        let t3566: f64 = t150 + t3565;
-        let t3567 = product(t3566, 2.5);
-        let t3568: f64 = t3567.added_to(t3548);
-        let t3569: f64 = t3549 + t3568;
-        let t3570: f64 = t3488 - t3569;
-        let t3571: f64 = t96 * t97;
-        let t3572: f64 = t96 * t3487;
-        let t3573: f64 = t105 * 2.5;
-        let t3574: f64 = t3571 + t3573;
-        let t3575 = product(t60, t3574);
-        let t3576: f64 = t110 * t3574;
-        let t3577: f64 = t3575.minus(t3576);
-        let t3578: f64 = t123 * t3487;
-        let t3579 = product(t86, 25.049999999999997);
-        let t3580: f64 = t25 * 4.175;
-        let t3581: f64 = t3579.plus(t3580);
-        let t3582: f64 = t62 * t3581;
-        let t3583: f64 = t3578 + t3582;
-        let t3584: f64 = t62 * t87;
-        let t3585 = product(t97, t123);
-        let t3586: f64 = t3585.subtracted_from(t3584);
-        let t3587: f64 = -t3586;
-        let t3588 = product(t90, t3587);
-        let t3589: f64 = t88 * t3587;
-        let t3590: f64 = t3588.minus(t3589);
-        let t3591 = product(t3590, 20.020000000000003);
-        let t3592: f64 = t3591.added_to(t3583);
-        let t3593 = product(q1, t3592);
-        let t3594 = product(t169, t3514);
-        let t3595: f64 = t3 * t158;
-        let t3596: f64 = t3535 * t3595;
-        let t3597: f64 = t3594.plus(t3596);
-        let t3598: f64 = t11 * t159;
-        let t3599 = product(t3597, t3598);
-        let t3600: f64 = t3599.subtracted_from(t3533);
-        let t3601 = product(t202, t3512);
-        let t3602: f64 = t160 * t3514;
-        let t3603: f64 = t3601.subtracted_from(t3602);
-        let t3604 = product(t173, t3603);
-        let t3605: f64 = t324 * 4.175;
-        let t3606 = product(t96, t3605);
-        let t3607 = product(t333, 8.35);
-        let t3608: f64 = t334 * 4.175;
-        let t3609: f64 = t3607.plus(t3608);
-        let t3610: f64 = t123 * t3609;
-        let t3611: f64 = t3606.plus(t3610);
-        let t3612: f64 = t3604.minus(t3611);
-        let t3613: f64 = t3600 + t3612;
-        let t3614: f64 = t3593.minus(t3613);
-        let t3615 = product(t138, t3577);
-        let t3616: f64 = -t3590;
-        let t3617: f64 = t148 * t3616;
-        let t3618: f64 = t3615.plus(t3617);
-        let t3619: f64 = t154 * 2.5;
-        let t3620 = product(t3577, 20.020000000000003);
-        let t3621: f64 = t3572 + t3619;
-        let t3622: f64 = t3620.subtracted_from(t3621);
-        let t3623 = product(t55, t3622);
-        let t3624: f64 = t236 * t3592;
-        let t3625: f64 = t3623.plus(t3624);
-        let t3626: f64 = t3618 + t3625;
-        let t3627: f64 = t3614 - t3626;
-        let t3628 = product(t3571, 2.0);
-        let t3629: f64 = t105 * 5.0;
-        let t3630: f64 = t154 + t3627;
-        let t3631 = product(t3630, 2.5);
-        let t3632: f64 = t327 * 6.25;
-        let t3633 = product(t3577, 22.020000000000003);
-        let t3634: f64 = t3628.plus(t3629);
-        let t3635: f64 = t3633.added_to(t3632);
-        let t3636: f64 = t3634 + t3635;
-        let t3637: f64 = t3631.added_to(t3572);
-        let t3638: f64 = t3636 - t3637;
-        let t3639: f64 = t96 * t99;
-        let t3640: f64 = t3573 + t3639;
-        let t3641 = product(t110, t3640);
-        let t3642: f64 = t60 * t3640;
-        let t3643: f64 = t3641.minus(t3642);
-        let t3644 = product(t99, t123);
-        let t3645: f64 = t3644.minus(t3584);
-        let t3646: f64 = -t3645;
-        let t3647 = product(t88, t3646);
-        let t3648: f64 = t90 * t3646;
-        let t3649: f64 = t3647.minus(t3648);
-        let t3650 = product(t3649, 20.020000000000003);
-        let t3651: f64 = t3650.added_to(t3583);
-        let t3652 = product(q1, t3651);
-        let t3653: f64 = t3652.minus(t3613);
-        let t3654: f64 = -t3643;
-        let t3655 = product(t138, t3654);
-        let t3656: f64 = t148 * t3649;
-        let t3657: f64 = t3655.minus(t3656);
-        let t3658 = product(t3643, 20.020000000000003);
-        let t3659: f64 = t3658.added_to(t3621);
-        let t3660 = product(t55, t3659);
-        let t3661: f64 = t236 * t3651;
-        let t3662: f64 = t3660.plus(t3661);
-        let t3663: f64 = t3657 + t3662;
-        let t3664: f64 = t3653 - t3663;
-        let t3665 = product(t3639, 2.0);
-        let t3666: f64 = t154 + t3664;
-        let t3667 = product(t3666, 2.5);
-        let t3668 = product(t3643, 22.020000000000003);
-        let t3669: f64 = t3667.added_to(t3572);
-        let t3670: f64 = t3668.plus(t3669);
-        let t3671: f64 = t3665.added_to(t3629);
-        let t3672: f64 = t3632 + t3671;
-        let t3673: f64 = t3670 - t3672;
-        let t3674: f64 = t96 * t3503;
-        let t3675: f64 = t3582 + t3674;
-        let t3676 = product(t62, t88);
-        let t3677: f64 = t59 * t96;
-        let t3678: f64 = t3676.plus(t3677);
-        let t3679 = product(t60, t3678);
-        let t3680: f64 = t110 * t3678;
-        let t3681: f64 = t3679.minus(t3680);
-        let t3682 = product(t299, 8.35);
-        let t3683: f64 = t307 * 4.175;
-        let t3684: f64 = t3682.plus(t3683);
-        let t3685 = product(t96, t3684);
-        let t3686: f64 = t123 * t3605;
-        let t3687: f64 = t3685.plus(t3686);
-        let t3688: f64 = t59 * t123;
-        let t3689: f64 = t3573 + t3688;
-        let t3690 = product(t88, t3689);
-        let t3691: f64 = t90 * t3689;
-        let t3692: f64 = t3690.minus(t3691);
-        let t3693 = product(t148, t3692);
-        let t3694: f64 = t123 * t3503;
-        let t3695 = product(t3692, 20.020000000000003);
-        let t3696: f64 = t3695.added_to(t3694);
-        let t3697: f64 = t3619 - t3696;
-        let t3698: f64 = t236 * t3697;
-        let t3699: f64 = t3693.plus(t3698);
-        let t3700: f64 = t3687 + t3699;
-        let t3701 = product(q1, t3697);
-        let t3702: f64 = t3701.minus(t3533);
-        let t3703 = product(t170, t3514);
-        let t3704: f64 = t197 * t3535;
-        let t3705: f64 = t3703.plus(t3704);
-        let t3706 = product(t165, t3705);
-        let t3707 = product(t158, t3512);
-        let t3708: f64 = t5 * t159;
-        let t3709: f64 = t3514 * t3708;
-        let t3710: f64 = t3707.plus(t3709);
-        let t3711: f64 = t10 * t3710;
-        let t3712: f64 = -t3711;
-        let t3713: f64 = t173 * t3712;
-        let t3714: f64 = t3706.minus(t3713);
-        let t3715: f64 = t3702 - t3714;
-        let t3716: f64 = t3700 - t3715;
-        let t3717 = product(t138, t3681);
-        let t3718 = product(t3681, 20.020000000000003);
-        let t3719: f64 = t3718.added_to(t3675);
-        let t3720: f64 = t55 * t3719;
-        let t3721: f64 = t3717.minus(t3720);
-        let t3722: f64 = t3716 + t3721;
-        let t3723: f64 = t339 * 6.25;
-        let t3724 = product(t3681, 22.020000000000003);
-        let t3725: f64 = t3678 * 2.0;
-        let t3726: f64 = t3722 * 2.5;
-        let t3727: f64 = t3675 + t3723;
-        let t3728: f64 = t3724.plus(t3725);
-        let t3729: f64 = t3727 + t3728;
-        let t3730: f64 = t3726 + t3729;
-        let t3731 = product(t62, t90);
-        let t3732: f64 = t3731.added_to(t3677);
-        let t3733 = product(t60, t3732);
-        let t3734: f64 = t110 * t3732;
-        let t3735: f64 = t3733.minus(t3734);
-        let t3736 = product(t138, t3735);
-        let t3737 = product(t3735, 20.020000000000003);
-        let t3738: f64 = t3737.added_to(t3675);
-        let t3739: f64 = t55 * t3738;
-        let t3740: f64 = t3736.minus(t3739);
-        let t3741: f64 = t3716 + t3740;
-        let t3742 = product(t3735, 22.020000000000003);
-        let t3743: f64 = t3732 * 2.0;
-        let t3744: f64 = t3741 * 2.5;
-        let t3745: f64 = t3742.plus(t3743);
-        let t3746: f64 = t3727 + t3745;
-        let t3747: f64 = t3744 + t3746;
-        let t3748: f64 = -t3747;
-        let t3749: f64 = t3484 + t3493;
-        let t3750 = product(t3749, 2.0);
-        let t3751 = product(t3543, 2.5);
-        let t3752: f64 = t3750.added_to(t3545);
-        let t3753: f64 = t3751.subtracted_from(t3752);
-        let t3754 = product(t3565, 2.5);
-        let t3755: f64 = t3754.minus(t3752);
-        let t3756: f64 = t3571 + t3577;
-        let t3757 = product(t3756, 2.0);
-        let t3758 = product(t3627, 2.5);
-        let t3759: f64 = t3757.added_to(t3629);
-        let t3760: f64 = t3758.plus(t3759);
-        let t3761: f64 = t3760 - t3632;
-        let t3762: f64 = t3643 - t3639;
-        let t3763 = product(t3762, 2.0);
-        let t3764 = product(t3664, 2.5);
-        let t3765: f64 = t3763.added_to(t3632);
-        let t3766: f64 = t3764.added_to(t3629);
-        let t3767: f64 = t3765 - t3766;
-        let t3768: f64 = t3678 + t3681;
-        let t3769 = product(t3768, 2.0);
-        let t3770: f64 = t3723 + t3726;
-        let t3771: f64 = t3769.minus(t3770);
-        let t3772: f64 = t3732 + t3735;
-        let t3773 = product(t3772, 2.0);
-        let t3774: f64 = t3723 + t3744;
-        let t3775: f64 = t3773.subtracted_from(t3774);
-        let t3776 = product(t60, t96);
-        let t3777: f64 = t73 * t123;
-        let t3778: f64 = t3776.minus(t3777);
-        let t3779 = product(t97, t3778);
-        let t3780: f64 = t99 * t3778;
-        let t3781: f64 = t3779.minus(t3780);
-        let t3782: f64 = t3578 + t3674;
-        let t3783 = product(t3781, 20.020000000000003);
-        let t3784: f64 = t3783.minus(t3782);
-        let t3785 = product(t395, t3784);
-        let t3786: f64 = t3778 - t3781;
-        let t3787 = product(t176, t3517);
-        let t3788 = product(t259, 8.35);
-        let t3789: f64 = t277 * 4.175;
-        let t3790: f64 = t3788.plus(t3789);
-        let t3791 = product(t123, t3790);
-        let t3792: f64 = t62 * t3519;
-        let t3793: f64 = t3791.plus(t3792);
-        let t3794: f64 = t3787.minus(t3793);
-        let t3795 = product(t142, t3493);
-        let t3796: f64 = t86 * t3529;
-        let t3797: f64 = t3795.minus(t3796);
-        let t3798: f64 = t3 * 0.0;
-        let t3799: f64 = t10 * t3798;
-        let t3800: f64 = t158 * t3799;
-        let t3801 = product(t160, t3537);
-        let t3802: f64 = t3801.added_to(t3800);
-        let t3803: f64 = t3797 + t3802;
-        let t3804: f64 = t3794 + t3803;
-        let t3805 = product(t148, t3781);
-        let t3806: f64 = t236 * t3784;
-        let t3807: f64 = t3805.minus(t3806);
-        let t3808: f64 = t3804 + t3807;
-        let t3809: f64 = t3786 * 2.0;
-        let t3810: f64 = t3808 * 2.5;
-        let t3811: f64 = t3785.added_to(t3632);
-        let t3812: f64 = t3810 + t3811;
-        let t3813: f64 = t3809 - t3812;
-        let t3814 = product(t96, t110);
-        let t3815: f64 = t3814.subtracted_from(t3777);
-        let t3816 = product(t97, t3815);
-        let t3817: f64 = t99 * t3815;
-        let t3818: f64 = t3816.minus(t3817);
-        let t3819 = product(t3818, 20.020000000000003);
-        let t3820: f64 = t3819.added_to(t3782);
-        let t3821 = product(t395, t3820);
-        let t3822: f64 = t3815 - t3818;
-        let t3823 = product(t148, t3818);
-        let t3824: f64 = t236 * t3820;
-        let t3825: f64 = t3823.minus(t3824);
-        let t3826: f64 = t3804 - t3825;
-        let t3827: f64 = t3822 * 2.0;
-        let t3828: f64 = t3826 * 2.5;
-        let t3829: f64 = t3632 + t3827;
-        let t3830: f64 = t3828 + t3829;
-        let t3831: f64 = t3821.subtracted_from(t3830);
-        let t3832: f64 = t96 * t3581;
-        let t3833: f64 = t87 * t96;
-        let t3834: f64 = t3495 - t3833;
-        let t3835 = product(t97, t3834);
-        let t3836: f64 = t99 * t3834;
-        let t3837: f64 = t3835.minus(t3836);
-        let t3838 = product(t3837, 20.020000000000003);
-        let t3839: f64 = t3838.added_to(t3832);
-        let t3840: f64 = t3505 - t3839;
-        let t3841 = product(t395, t3840);
-        let t3842: f64 = t3833 + t3837;
-        let t3843 = product(t176, t3603);
-        let t3844: f64 = t62 * t3605;
-        let t3845: f64 = t3522 - t3844;
-        let t3846: f64 = t3843.plus(t3845);
-        let t3847 = product(t148, t3837);
-        let t3848: f64 = t236 * t3840;
-        let t3849: f64 = t3847.plus(t3848);
-        let t3850: f64 = t159 * t1334;
-        let t3851 = product(t3597, t3850);
-        let t3852: f64 = t3851.added_to(t3800);
-        let t3853: f64 = t3849 - t3852;
-        let t3854: f64 = t3846 + t3853;
-        let t3855 = product(t142, t3577);
-        let t3856: f64 = t86 * t3622;
-        let t3857: f64 = t3855.plus(t3856);
-        let t3858: f64 = t3854 + t3857;
-        let t3859: f64 = t120 * 5.0;
-        let t3860: f64 = t3842 * 2.0;
-        let t3861: f64 = t3858 * 2.5;
-        let t3862: f64 = t3841.plus(t3859);
-        let t3863: f64 = t3860 + t3861;
-        let t3864: f64 = t3862 - t3863;
-        let t3865 = product(t142, t3654);
-        let t3866: f64 = t86 * t3659;
-        let t3867: f64 = t3865.plus(t3866);
-        let t3868: f64 = t3854 + t3867;
-        let t3869: f64 = t3868 * 2.5;
-        let t3870: f64 = t3860 + t3869;
-        let t3871: f64 = t3870 - t3862;
-        let t3872: f64 = t123 * t3581;
-        let t3873: f64 = t88 * t123;
-        let t3874: f64 = t3489 + t3873;
-        let t3875 = product(t97, t3874);
-        let t3876: f64 = t99 * t3874;
-        let t3877: f64 = t3875.minus(t3876);
-        let t3878 = product(t3877, 20.020000000000003);
-        let t3879: f64 = t3526 + t3872;
-        let t3880: f64 = t3878.subtracted_from(t3879);
-        let t3881 = product(t395, t3880);
-        let t3882: f64 = t3877 - t3873;
-        let t3883 = product(t86, t3719);
-        let t3884: f64 = t236 * t3880;
-        let t3885: f64 = t3883.plus(t3884);
-        let t3886 = product(t160, t3705);
-        let t3887: f64 = t3886.subtracted_from(t3800);
-        let t3888 = product(t176, t3712);
-        let t3889 = product(t123, t3519);
-        let t3890: f64 = t62 * t3684;
-        let t3891: f64 = t3889.plus(t3890);
-        let t3892: f64 = t3888.minus(t3891);
-        let t3893: f64 = t3887 + t3892;
-        let t3894 = product(t148, t3877);
-        let t3895: f64 = t142 * t3681;
-        let t3896: f64 = t3894.minus(t3895);
-        let t3897: f64 = t3893 + t3896;
-        let t3898: f64 = t3885 + t3897;
-        let t3899: f64 = t431 * 6.25;
-        let t3900: f64 = t3882 * 2.0;
-        let t3901: f64 = t3898 * 2.5;
-        let t3902: f64 = t3900 + t3901;
-        let t3903: f64 = t3881.added_to(t3545);
-        let t3904: f64 = t3899 + t3903;
-        let t3905: f64 = t3902 - t3904;
-        let t3906: f64 = t90 * t123;
-        let t3907: f64 = t3489 + t3906;
-        let t3908 = product(t99, t3907);
-        let t3909: f64 = t97 * t3907;
-        let t3910: f64 = t3908.minus(t3909);
-        let t3911 = product(t3910, 20.020000000000003);
-        let t3912: f64 = t3911.added_to(t3879);
-        let t3913 = product(t395, t3912);
-        let t3914: f64 = t3906 + t3910;
-        let t3915 = product(t86, t3738);
-        let t3916: f64 = t236 * t3912;
-        let t3917: f64 = t3915.plus(t3916);
-        let t3918: f64 = -t3910;
-        let t3919 = product(t148, t3918);
-        let t3920: f64 = t142 * t3735;
-        let t3921: f64 = t3919.minus(t3920);
-        let t3922: f64 = t3893 + t3921;
-        let t3923: f64 = t3917 + t3922;
-        let t3924: f64 = t3914 * 2.0;
-        let t3925: f64 = t3923 * 2.5;
-        let t3926: f64 = t3913.added_to(t3545);
-        let t3927: f64 = t3899 + t3924;
-        let t3928: f64 = t3926 + t3927;
-        let t3929: f64 = t3928 - t3925;
-        let t3930 = product(t450, t3784);
-        let t3931: f64 = t3930.added_to(t3632);
-        let t3932: f64 = t3809 + t3810;
-        let t3933: f64 = t3931 + t3932;
-        let t3934 = product(t450, t3820);
-        let t3935: f64 = t3934.added_to(t3827);
-        let t3936: f64 = t3632 + t3828;
-        let t3937: f64 = t3935 - t3936;
-        let t3938 = product(t450, t3840);
-        let t3939: f64 = t3859 + t3861;
-        let t3940: f64 = t3938.added_to(t3860);
-        let t3941: f64 = t3939 - t3940;
-        let t3942: f64 = t3859 + t3869;
-        let t3943: f64 = t3940 - t3942;
-        let t3944 = product(t450, t3880);
-        let t3945: f64 = t3944.added_to(t3899);
-        let t3946: f64 = t3900 + t3945;
-        let t3947: f64 = t3545 + t3901;
-        let t3948: f64 = t3946 - t3947;
-        let t3949 = product(t450, t3912);
-        let t3950: f64 = t3545 + t3924;
-        let t3951: f64 = t3925 + t3950;
-        let t3952: f64 = t3949.added_to(t3899);
-        let t3953: f64 = t3951 - t3952;
-        let t3954: f64 = t3504 + t3782;
-        let t3955 = product(t55, t3784);
-        let t3956: f64 = t86 * t3508;
-        let t3957: f64 = t3955.minus(t3956);
-        let t3958: f64 = t10 * 0.0;
-        let t3959: f64 = t158 * t3958;
-        let t3960 = product(t163, t3537);
-        let t3961: f64 = t3960.subtracted_from(t3959);
-        let t3962 = product(t170, t3517);
-        let t3963 = product(t62, t3521);
-        let t3964: f64 = t96 * t3790;
-        let t3965: f64 = t3963.plus(t3964);
-        let t3966: f64 = t3962.minus(t3965);
-        let t3967: f64 = t3961 + t3966;
-        let t3968 = product(t142, t3499);
-        let t3969: f64 = t138 * t3781;
-        let t3970: f64 = t3968.minus(t3969);
-        let t3971: f64 = t3967 - t3970;
-        let t3972: f64 = t3957 - t3971;
-        let t3973 = product(t3494, 2.0);
-        let t3974: f64 = t368 * 1.25;
-        let t3975: f64 = t3781 * 10.010000000000002;
-        let t3976: f64 = t3499 * 12.010000000000002;
-        let t3977: f64 = t3954 * 0.5;
-        let t3978: f64 = t3972 * 2.5;
-        let t3979: f64 = t3973.plus(t3974);
-        let t3980: f64 = t3723 + t3859;
-        let t3981: f64 = t3976 + t3977;
-        let t3982: f64 = t3979 + t3980;
-        let t3983: f64 = t3978 + t3981;
-        let t3984: f64 = t3982 + t3983;
-        let t3985: f64 = t3975 - t3984;
-        let t3986 = product(t55, t3820);
-        let t3987: f64 = t86 * t3560;
-        let t3988: f64 = t3986.plus(t3987);
-        let t3989 = product(t142, t3557);
-        let t3990: f64 = t138 * t3818;
-        let t3991: f64 = t3989.plus(t3990);
-        let t3992: f64 = t3967 - t3991;
-        let t3993: f64 = t3988 + t3992;
-        let t3994 = product(t3553, 2.0);
-        let t3995: f64 = t3818 * 10.010000000000002;
-        let t3996: f64 = t3557 * 12.010000000000002;
-        let t3997: f64 = t3993 * 2.5;
-        let t3998: f64 = t3994.added_to(t3974);
-        let t3999: f64 = t3995 + t3996;
+        let t3255 = product(t22, t2304);
+        let t3256: f64 = t106 * t2193;
+        let t3257: f64 = t3255.plus(t3256);
+        let t3258: f64 = t3254 - t3257;
+        let t3259: f64 = t3251.minus(t3258);
+        let t3260: f64 = t3250 - t3259;
+        let t3261: f64 = t3247 * 6.25;
+        let t3262: f64 = t3260 * 2.5;
+        let t3263: f64 = t3245 + t3246;
+        let t3264: f64 = t3261 + t3263;
+        let t3265: f64 = t3264 - t3262;
+        let t3266: f64 = t2193 * t2643;
+        let t3267: f64 = t3246 + t3266;
+        let t3268: f64 = t3261 + t3267;
+        let t3269: f64 = t3262 - t3268;
+        let t3270 = product(t75, t2673);
+        let t3271 = product(t91, t181);
+        let t3272: f64 = t130 * t2666;
+        let t3273: f64 = t3271.plus(t3272);
+        let t3274 = product(t158, t2654);
+        let t3275: f64 = t3274.added_to(t3205);
+        let t3276: f64 = t3273 + t3275;
+        let t3277 = product(t3276, 2.5);
+        let t3278: f64 = t3270.added_to(t3208);
+        let t3279: f64 = t3005 + t3209;
+        let t3280: f64 = t3278 + t3279;
+        let t3281: f64 = t3277.added_to(t3195);
+        let t3282: f64 = t3280 - t3281;
+        let t3283 = product(t122, t2673);
+        let t3284: f64 = t3283.added_to(t3208);
+        let t3285: f64 = t3279 + t3284;
+        let t3286: f64 = t3281 - t3285;
+        let t3287 = product(t1369, t2654);
+        let t3288 = product(t88, t2673);
+        let t3289 = product(t141, t2643);
+        let t3290: f64 = t134 * t2666;
+        let t3291: f64 = t3289.plus(t3290);
+        let t3292: f64 = t3228 + t3291;
+        let t3293: f64 = t3292 * 2.5;
+        let t3294: f64 = t3287.added_to(t3233);
+        let t3295: f64 = t3288.added_to(t3136);
+        let t3296: f64 = t3294 + t3295;
+        let t3297: f64 = t3234 + t3296;
+        let t3298: f64 = t3293 - t3297;
+        let t3299 = product(t1878, t2654);
+        let t3300: f64 = t3299.added_to(t3233);
+        let t3301: f64 = t3295 + t3300;
+        let t3302: f64 = t3234 + t3301;
+        let t3303: f64 = t3302 - t3293;
+        let t3304: f64 = t2156 * t2654;
+        let t3305 = product(t91, t147);
+        let t3306: f64 = t130 * t2643;
+        let t3307: f64 = t3305.minus(t3306);
+        let t3308 = product(t117, t2654);
+        let t3309: f64 = t3308.minus(t3258);
+        let t3310: f64 = t3307 - t3309;
+        let t3311: f64 = t3310 * 2.5;
+        let t3312: f64 = t3245 + t3304;
+        let t3313: f64 = t3261 + t3312;
+        let t3314: f64 = t3311 - t3313;
+        let t3315: f64 = t3266 + t3304;
+        let t3316: f64 = t3261 + t3315;
+        let t3317: f64 = t3316 - t3311;
+        let t3318: f64 = t21 * t21;
+        let t3319 = product(t103, t539);
+        let t3320 = product(t211, t211);
+        let t3321: f64 = t193 * t193;
+        let t3322: f64 = t3320.plus(t3321);
+        let t3323: f64 = t103 * t141;
+        let t3324 = product(t75, t130);
+        let t3325: f64 = t3324.subtracted_from(t3323);
+        let t3326: f64 = t3318 * 2.574625;
+        let t3327: f64 = t71 * 5.0;
+        let t3328: f64 = t260 * 20.875;
+        let t3329: f64 = t278 * 10.4375;
+        let t3330: f64 = t3322 * 1.4027499999999997;
+        let t3331 = product(t3325, 2.5);
+        let t3332: f64 = t3319.plus(t3326);
+        let t3333: f64 = t3327 + t3328;
+        let t3334: f64 = t3329 + t3330;
+        let t3335: f64 = t3331.plus(1.0);
+        let t3336: f64 = t3332 + t3333;
+        let t3337: f64 = t3334 + t3335;
+        let t3338: f64 = t3336 + t3337;
+        let t3339: f64 = t3338 - t533;
+        let t3340: f64 = t532 - t3338;
+        let t3341: f64 = t75 * t134;
+        let t3342: f64 = t21 * t30;
+        let t3343 = product(t88, t531);
+        let t3344 = product(t211, t213);
+        let t3345: f64 = t193 * t198;
+        let t3346: f64 = t3344.plus(t3345);
+        let t3347 = product(t3341, 2.5);
+        let t3348: f64 = t3342 * 2.574625;
+        let t3349: f64 = t87 * 5.0;
+        let t3350: f64 = t295 * 10.4375;
+        let t3351: f64 = t3346 * 1.4027499999999997;
+        let t3352: f64 = t3347.plus(t3348);
+        let t3353: f64 = t3343.plus(t3352);
+        let t3354: f64 = t3349 + t3350;
+        let t3355: f64 = t3351 + t3354;
+        let t3356: f64 = t3353 - t3355;
+        let t3357: f64 = t3355 - t3353;
+        let t3358: f64 = t103 * t134;
+        let t3359: f64 = t21 * t22;
+        let t3360 = product(t208, t211);
+        let t3361: f64 = t193 * t195;
+        let t3362: f64 = t3360.minus(t3361);
+        let t3363 = product(t3358, 2.5);
+        let t3364: f64 = t3359 * 2.574625;
+        let t3365: f64 = t255 * 10.4375;
+        let t3366: f64 = t3362 * 1.4027499999999997;
+        let t3367: f64 = t541 + t3366;
+        let t3368: f64 = t3363.plus(t3364);
+        let t3369: f64 = t3365 + t3368;
+        let t3370: f64 = t3367 - t3369;
+        let t3371: f64 = t540 + t3366;
+        let t3372: f64 = t3369 - t3371;
+        let t3373 = product(t122, t130);
+        let t3374: f64 = t3373.subtracted_from(t3323);
+        let t3375 = product(t3374, 2.5);
+        let t3376: f64 = t1094 + t3327;
+        let t3377: f64 = t3328 + t3329;
+        let t3378: f64 = t3375.added_to(t3330);
+        let t3379: f64 = t3332 + t3377;
+        let t3380: f64 = t3378 + 1.0;
+        let t3381: f64 = t3379 + t3380;
+        let t3382: f64 = t3376 - t3381;
+        let t3383: f64 = t1093 + t3327;
+        let t3384: f64 = t3381 - t3383;
+        let t3385: f64 = t122 * t134;
+        let t3386 = product(t88, t1091);
+        let t3387 = product(t3385, 2.5);
+        let t3388: f64 = t3350 + t3351;
+        let t3389: f64 = t3387.added_to(t3348);
+        let t3390: f64 = t3386.added_to(t3349);
+        let t3391: f64 = t3389 + t3390;
+        let t3392: f64 = t3388 - t3391;
+        let t3393: f64 = t3391 - t3388;
+        let t3394: f64 = t3369 - t3367;
+        let t3395: f64 = t3371 - t3369;
+        let t3396: f64 = t88 * t130;
+        let t3397 = product(t3396, 2.5);
+        let t3398: f64 = t3397.added_to(t3348);
+        let t3399: f64 = t1387 + t3398;
+        let t3400: f64 = t3399 - t3388;
+        let t3401: f64 = t1386 + t3398;
+        let t3402: f64 = t3388 - t3401;
+        let t3403: f64 = t30 * t30;
+        let t3404: f64 = t88 * t1385;
+        let t3405 = product(t213, t213);
+        let t3406: f64 = t198 * t198;
+        let t3407: f64 = t3405.plus(t3406);
+        let t3408 = product(t110, t141);
+        let t3409: f64 = t88 * t134;
+        let t3410: f64 = t3408.minus(t3409);
+        let t3411: f64 = t3403 * 2.574625;
+        let t3412: f64 = t102 * 5.0;
+        let t3413: f64 = t332 * 20.875;
+        let t3414: f64 = t333 * 10.4375;
+        let t3415: f64 = t3407 * 1.4027499999999997;
+        let t3416 = product(t3410, 2.5);
+        let t3417: f64 = t1410 + t3411;
+        let t3418: f64 = t3413 + t3414;
+        let t3419: f64 = t3416.added_to(t3415);
+        let t3420: f64 = t3417 + t3418;
+        let t3421: f64 = t3419 + 1.0;
+        let t3422: f64 = t3420 + t3421;
+        let t3423: f64 = t3404 + t3412;
+        let t3424: f64 = t3422 - t3423;
+        let t3425: f64 = t1409 + t3411;
+        let t3426: f64 = t3418 + t3425;
+        let t3427: f64 = t3421 + t3426;
+        let t3428: f64 = t3423 - t3427;
+        let t3429: f64 = t110 * t130;
+        let t3430: f64 = t22 * t30;
+        let t3431: f64 = t74 * t1408;
+        let t3432 = product(t208, t213);
+        let t3433: f64 = t195 * t198;
+        let t3434: f64 = t3432.minus(t3433);
+        let t3435 = product(t3429, 2.5);
+        let t3436: f64 = t3430 * 2.574625;
+        let t3437: f64 = t308 * 10.4375;
+        let t3438: f64 = t3434 * 1.4027499999999997;
+        let t3439: f64 = t3435.plus(t3436);
+        let t3440: f64 = t3327 + t3437;
+        let t3441: f64 = t3439 + t3440;
+        let t3442: f64 = t3438 + t3441;
+        let t3443: f64 = t3431 - t3442;
+        let t3444: f64 = t3442 - t3431;
+        let t3445: f64 = t3388 - t3399;
+        let t3446: f64 = t3401 - t3388;
+        let t3447 = product(t112, t141);
+        let t3448: f64 = t3447.subtracted_from(t3409);
+        let t3449 = product(t3448, 2.5);
+        let t3450: f64 = t3449.added_to(t3404);
+        let t3451: f64 = t1890 + t3411;
+        let t3452: f64 = t3412 + t3413;
+        let t3453: f64 = t3414 + t3415;
+        let t3454: f64 = t3451 + t3452;
+        let t3455: f64 = t3453 + 1.0;
+        let t3456: f64 = t3454 + t3455;
+        let t3457: f64 = t3450 - t3456;
+        let t3458: f64 = t1889 + t3411;
+        let t3459: f64 = t3452 + t3458;
+        let t3460: f64 = t3455 + t3459;
+        let t3461: f64 = t3460 - t3450;
+        let t3462: f64 = t112 * t130;
+        let t3463 = product(t74, t1888);
+        let t3464 = product(t3462, 2.5);
+        let t3465: f64 = t3464.added_to(t3436);
+        let t3466: f64 = t3437 + t3438;
+        let t3467: f64 = t3465 + t3466;
+        let t3468: f64 = t3463.added_to(t3327);
+        let t3469: f64 = t3467 - t3468;
+        let t3470: f64 = t3468 - t3467;
+        let t3471: f64 = t89 * t141;
+        let t3472 = product(t103, t2182);
+        let t3473 = product(t3471, 2.5);
+        let t3474: f64 = t3473.added_to(t3412);
+        let t3475: f64 = t3366 + t3474;
+        let t3476: f64 = t3472.added_to(t3364);
+        let t3477: f64 = t3365 + t3476;
+        let t3478: f64 = t3475 - t3477;
+        let t3479: f64 = t3477 - t3475;
+        let t3480: f64 = t74 * t141;
+        let t3481: f64 = t3480 * 2.5;
+        let t3482: f64 = t2192 + t3436;
+        let t3483: f64 = t3466 + t3482;
+        let t3484: f64 = t3481 - t3483;
+        let t3485: f64 = t2191 + t3436;
+        let t3486: f64 = t3466 + t3485;
+        let t3487: f64 = t3486 - t3481;
+        let t3488: f64 = t22 * t22;
+        let t3489: f64 = t74 * t2190;
+        let t3490 = product(t208, t208);
+        let t3491: f64 = t195 * t195;
+        let t3492: f64 = t3490.plus(t3491);
+        let t3493 = product(t89, t134);
+        let t3494: f64 = t74 * t130;
+        let t3495: f64 = t3493.plus(t3494);
+        let t3496: f64 = t3488 * 2.574625;
+        let t3497: f64 = t312 * 20.875;
+        let t3498: f64 = t320 * 10.4375;
+        let t3499: f64 = t3492 * 1.4027499999999997;
+        let t3500: f64 = t3495 * 2.5;
+        let t3501: f64 = t3349 + t3496;
+        let t3502: f64 = t3497 + t3498;
+        let t3503: f64 = t3499 + 1.0;
+        let t3504: f64 = t3501 + t3502;
+        let t3505: f64 = t3503 + t3504;
+        let t3506: f64 = t2184 + t3489;
+        let t3507: f64 = t3500 + t3506;
+        let t3508: f64 = t3505 - t3507;
+        let t3509: f64 = t2183 + t3489;
+        let t3510: f64 = t3500 + t3509;
+        let t3511: f64 = t3510 - t3505;
+        let t3512: f64 = t91 * t141;
+        let t3513 = product(t103, t2649);
+        let t3514 = product(t3512, 2.5);
+        let t3515: f64 = t3513.added_to(t3364);
+        let t3516: f64 = t3365 + t3412;
+        let t3517: f64 = t3515 + t3516;
+        let t3518: f64 = t3514.added_to(t3366);
+        let t3519: f64 = t3517 - t3518;
+        let t3520: f64 = t3518 - t3517;
+        let t3521: f64 = t3483 - t3481;
+        let t3522: f64 = t3481 - t3486;
+        let t3523 = product(t91, t134);
+        let t3524: f64 = t3523.added_to(t3494);
+        let t3525 = product(t3524, 2.5);
+        let t3526: f64 = t2652 + t3489;
+        let t3527: f64 = t3525.added_to(t3349);
+        let t3528: f64 = t3526 + t3527;
+        let t3529: f64 = t3496 + t3497;
+        let t3530: f64 = t3498 + t3499;
+        let t3531: f64 = t3529 + t3530;
+        let t3532: f64 = t3531 + 1.0;
+        let t3533: f64 = t3528 - t3532;
+        let t3534: f64 = t2651 + t3489;
+        let t3535: f64 = t3527 + t3534;
+        let t3536: f64 = t3532 - t3535;
+        let t3537: f64 = 1.0 - t12;
+        let t3538: f64 = -t22;
+        let t3539: f64 = -t193;
+        let t3540: f64 = -t213;
         (
+            t3012,
+            t3016,
             t3027,
-            t3094,
-            t3100,
-            t3105,
-            t3110,
+            t3030,
+            t3042,
+            t3046,
+            t3056,
+            t3060,
+            t3083,
+            t3088,
+            t3111,
             t3115,
-            t3120,
-            t3125,
-            t3188,
-            t3230,
-            t3294,
-            t3336,
-            t3399,
-            t3441,
-            t3448,
-            t3455,
-            t3462,
+            t3143,
+            t3148,
+            t3161,
+            t3165,
+            t3176,
+            t3178,
+            t3191,
+            t3194,
+            t3215,
+            t3219,
+            t3240,
+            t3244,
+            t3265,
+            t3269,
+            t3282,
+            t3286,
+            t3298,
+            t3303,
+            t3314,
+            t3317,
+            t3339,
+            t3340,
+            t3356,
+            t3357,
+            t3370,
+            t3372,
+            t3382,
+            t3384,
+            t3392,
+            t3393,
+            t3394,
+            t3395,
+            t3400,
+            t3402,
+            t3424,
+            t3428,
+            t3443,
+            t3444,
+            t3445,
+            t3446,
+            t3457,
+            t3461,
             t3469,
-            t3476,
-            t3483,
-            t3486,
-            t3502,
-            t3504,
+            t3470,
+            t3478,
+            t3479,
+            t3484,
+            t3487,
+            t3508,
+            t3511,
+            t3519,
             t3520,
             t3521,
-            t3552,
-            t3570,
-            t3580,
-            t3583,
-            t3586,
-            t3590,
-            t3592,
-            t3597,
-            t3603,
-            t3609,
-            t3616,
-            t3629,
-            t3638,
-            t3645,
-            t3649,
-            t3651,
-            t3673,
-            t3688,
-            t3692,
-            t3694,
-            t3697,
-            t3705,
-            t3712,
-            t3723,
-            t3730,
-            t3748,
-            t3753,
-            t3755,
-            t3761,
-            t3767,
-            t3771,
-            t3775,
-            t3782,
-            t3813,
-            t3831,
-            t3832,
-            t3837,
-            t3840,
-            t3844,
-            t3859,
-            t3864,
-            t3871,
-            t3872,
-            t3877,
-            t3880,
-            t3899,
-            t3905,
-            t3910,
-            t3912,
-            t3918,
-            t3929,
-            t3933,
-            t3937,
-            t3941,
-            t3943,
-            t3948,
-            t3953,
-            t3959,
-            t3974,
-            t3975,
-            t3976,
-            t3977,
-            t3978,
-            t3979,
-            t3980,
-            t3985,
-            t3995,
-            t3996,
-            t3997,
-            t3998,
-            t3999,
-        )
-    };
-    let (
-        t4003,
-        t4032,
-        t4044,
-        t4072,
-        t4083,
-        t4091,
-        t4097,
-        t4104,
-        t4109,
-        t4118,
-        t4123,
-        t4156,
-        t4166,
-        t4186,
-        t4187,
-        t4207,
-        t4208,
-        t4218,
-        t4223,
-        t4225,
-        t4228,
-        t4229,
-        t4230,
-        t4236,
-        t4242,
-        t4266,
-        t4277,
-        t4296,
-        t4297,
-        t4298,
-        t4299,
-        t4304,
-        t4309,
-        t4313,
-        t4314,
-        t4325,
-        t4326,
-        t4336,
-        t4343,
-        t4370,
-        t4379,
-        t4382,
-        t4383,
-        t4384,
-        t4385,
-        t4393,
-        t4397,
-        t4398,
-        t4399,
-        t4400,
-        t4401,
-    ) = {
-        let t4000: f64 = t3980 + t3998;
-        let t4001: f64 = t3977 + t3999;
-        let t4002: f64 = t4000 + t4001;
-        let t4003: f64 = t4002 - t3997;
-        let t4004: f64 = t3583 + t3832;
-        let t4005 = product(t170, t3603);
-        let t4006 = product(t62, t3609);
-        let t4007: f64 = t96 * t3521;
-        let t4008: f64 = t4006.plus(t4007);
-        let t4009: f64 = t4005.plus(t4008);
-        let t4010 = product(t138, t3837);
-        let t4011: f64 = t55 * t3840;
-        let t4012: f64 = t4010.plus(t4011);
-        let t4013: f64 = t159 * t1361;
-        let t4014 = product(t3597, t4013);
-        let t4015: f64 = t4014.subtracted_from(t3959);
-        let t4016: f64 = t4012 - t4015;
-        let t4017: f64 = t4009 + t4016;
-        let t4018 = product(t142, t3616);
-        let t4019: f64 = t86 * t3592;
-        let t4020: f64 = t4018.plus(t4019);
-        let t4021: f64 = t4017 - t4020;
-        let t4022 = product(t3837, 10.010000000000002);
-        let t4023: f64 = t3590 * 12.010000000000002;
-        let t4024: f64 = t3586 * 2.0;
-        let t4025: f64 = t4004 * 0.5;
-        let t4026: f64 = t4021 * 2.5;
-        let t4027: f64 = t4022.added_to(t3899);
-        let t4028: f64 = t4023 + t4024;
-        let t4029: f64 = t4025 + t4026;
-        let t4030: f64 = t4027 + t4028;
-        let t4031: f64 = t4029 + t4030;
-        let t4032: f64 = t4031 - t3974;
-        let t4033 = product(t142, t3649);
-        let t4034: f64 = t86 * t3651;
-        let t4035: f64 = t4033.minus(t4034);
-        let t4036: f64 = t4017 + t4035;
-        let t4037: f64 = t3649 * 12.010000000000002;
-        let t4038: f64 = t3645 * 2.0;
-        let t4039: f64 = t4036 * 2.5;
-        let t4040: f64 = t3974 + t4038;
-        let t4041: f64 = t4025 + t4037;
-        let t4042: f64 = t4027 + t4041;
-        let t4043: f64 = t4039 + t4042;
-        let t4044: f64 = t4040 - t4043;
-        let t4045: f64 = t3694 - t3872;
-        let t4046: f64 = t150 + t154;
-        let t4047 = product(t170, t3712);
-        let t4048: f64 = t3520 - t3844;
-        let t4049: f64 = t4047.minus(t4048);
-        let t4050 = product(t142, t3692);
-        let t4051: f64 = t86 * t3697;
-        let t4052: f64 = t4050.plus(t4051);
-        let t4053 = product(t163, t3705);
-        let t4054: f64 = t4053.added_to(t3959);
-        let t4055: f64 = t4052 + t4054;
-        let t4056: f64 = t4049 + t4055;
-        let t4057 = product(t138, t3877);
-        let t4058: f64 = t55 * t3880;
-        let t4059: f64 = t4057.plus(t4058);
-        let t4060: f64 = t4056 + t4059;
-        let t4061 = product(t3688, 2.0);
-        let t4062: f64 = t3692 * 12.010000000000002;
-        let t4063: f64 = t3877 * 10.010000000000002;
-        let t4064: f64 = t4045 * 0.5;
-        let t4065: f64 = t4046 * 1.25;
-        let t4066: f64 = t4060 * 2.5;
-        let t4067: f64 = t4061.added_to(t3629);
-        let t4068: f64 = t4062 + t4063;
-        let t4069: f64 = t4064 + t4066;
-        let t4070: f64 = t4067 + t4068;
-        let t4071: f64 = t4069 + t4070;
-        let t4072: f64 = t4065 - t4071;
-        let t4073 = product(t138, t3918);
-        let t4074: f64 = t55 * t3912;
-        let t4075: f64 = t4073.plus(t4074);
-        let t4076: f64 = t4056 + t4075;
-        let t4077: f64 = t3910 * 10.010000000000002;
-        let t4078: f64 = t4076 * 2.5;
-        let t4079: f64 = t4062 + t4064;
-        let t4080: f64 = t4067 + t4079;
-        let t4081: f64 = t4078 + t4080;
-        let t4082: f64 = t4065 + t4077;
-        let t4083: f64 = t4081 - t4082;
-        let t4084: f64 = t3504 - t3782;
-        let t4085: f64 = t4084 * 0.5;
-        let t4086: f64 = t3723 + t3978;
-        let t4087: f64 = t3859 + t3975;
-        let t4088: f64 = t3976 + t4085;
-        let t4089: f64 = t3979 + t4087;
-        let t4090: f64 = t4088 + t4089;
-        let t4091: f64 = t4086 - t4090;
-        let t4092: f64 = t3859 + t3996;
-        let t4093: f64 = t3997 + t4085;
-        let t4094: f64 = t3998 + t4092;
-        let t4095: f64 = t4093 + t4094;
-        let t4096: f64 = t3723 + t3995;
-        let t4097: f64 = t4095 - t4096;
-        let t4098: f64 = t3832 - t3583;
-        let t4099: f64 = t4098 * 0.5;
-        let t4100: f64 = t3974 + t4023;
-        let t4101: f64 = t4024 + t4100;
-        let t4102: f64 = t4026 + t4099;
-        let t4103: f64 = t4027 + t4102;
-        let t4104: f64 = t4101 - t4103;
-        let t4105: f64 = t4038 + t4099;
-        let t4106: f64 = t4027 + t4105;
-        let t4107: f64 = t4039 + t4106;
-        let t4108: f64 = t3974 + t4037;
-        let t4109: f64 = t4107 - t4108;
-        let t4110: f64 = t3694 + t3872;
-        let t4111: f64 = t154 - t150;
-        let t4112: f64 = t4110 * 0.5;
-        let t4113: f64 = t4111 * 1.25;
-        let t4114: f64 = t4063 + t4113;
-        let t4115: f64 = t4066 + t4114;
-        let t4116: f64 = t4062 + t4112;
-        let t4117: f64 = t4067 + t4116;
-        let t4118: f64 = t4115 - t4117;
-        let t4119: f64 = t4062 + t4077;
-        let t4120: f64 = t4067 + t4119;
-        let t4121: f64 = t4112 + t4120;
-        let t4122: f64 = t4078 + t4113;
-        let t4123: f64 = t4121 - t4122;
-        let t4124: f64 = t158 * t158;
-        let t4125: f64 = t17 * t4124;
-        let t4126: f64 = t159 * t159;
-        let t4127 = product(t11, t4126);
-        let t4128: f64 = t169 * t169;
-        let t4129: f64 = t48 * t4128;
-        let t4130: f64 = t4127.plus(t4129);
-        let t4131 = product(t72, 25.000000000000014);
-        let t4132: f64 = t4131.added_to(t3486);
-        let t4133 = product(q1, t4132);
-        let t4134 = product(t73, t148);
-        let t4135: f64 = t236 * t4132;
-        let t4136: f64 = t4134.minus(t4135);
-        let t4137: f64 = t4133.plus(t4136);
-        let t4138 = product(t60, t138);
-        let t4139: f64 = t54 * 25.000000000000014;
-        let t4140: f64 = t3502 + 10.010000000000002;
-        let t4141: f64 = t4140 - t4139;
-        let t4142: f64 = t55 * t4141;
-        let t4143: f64 = t4138.plus(t4142);
-        let t4144: f64 = t4137 - t4143;
-        let t4145: f64 = t4125 * 2.574625;
-        let t4146: f64 = t259 * 20.875;
-        let t4147: f64 = t277 * 10.4375;
-        let t4148: f64 = t4130 * 1.4027499999999997;
-        let t4149: f64 = t4144 * 2.5;
-        let t4150: f64 = t3502 + t4145;
-        let t4151: f64 = t4146 + t4147;
-        let t4152: f64 = t4148 + t4149;
-        let t4153: f64 = t4150 + t4151;
-        let t4154: f64 = t4152 + 12.010000000000002;
-        let t4155: f64 = t4153 + t4154;
-        let t4156: f64 = t4155 - t4139;
-        let t4157 = product(t110, t138);
-        let t4158: f64 = t4139 + 10.010000000000002;
-        let t4159: f64 = t3502 - t4158;
-        let t4160: f64 = t55 * t4159;
-        let t4161: f64 = t4157.plus(t4160);
-        let t4162: f64 = t4137 - t4161;
-        let t4163: f64 = t4162 * 2.5;
-        let t4164: f64 = t4148 + t4163;
-        let t4165: f64 = t4153 + t4164;
-        let t4166: f64 = t4158 - t4165;
-        let t4167: f64 = t3 * t16;
-        let t4168: f64 = t10 * t4167;
-        let t4169: f64 = t4124 * t4168;
-        let t4170 = product(t1334, t4126);
-        let t4171: f64 = t1978 * t4128;
-        let t4172: f64 = t4170.plus(t4171);
-        let t4173 = product(t87, t138);
-        let t4174: f64 = t86 * 25.000000000000014;
-        let t4175: f64 = t3580 - t4174;
-        let t4176: f64 = t55 * t4175;
-        let t4177: f64 = t4173.plus(t4176);
-        let t4178: f64 = t4169 * 2.574625;
-        let t4179: f64 = t295 * 10.4375;
-        let t4180: f64 = t4172 * 1.4027499999999997;
-        let t4181: f64 = t4177 * 2.5;
-        let t4182: f64 = t4174 + t4178;
-        let t4183: f64 = t4181 + t4182;
-        let t4184: f64 = t3580 + t4179;
-        let t4185: f64 = t4180 + t4184;
-        let t4186: f64 = t4183 - t4185;
-        let t4187: f64 = t4185 - t4183;
-        let t4188: f64 = t563 * t4124;
-        let t4189 = product(t1361, t4126);
-        let t4190: f64 = t7 * t46;
-        let t4191: f64 = t10 * t4190;
-        let t4192: f64 = t4128 * t4191;
-        let t4193: f64 = t4189.minus(t4192);
-        let t4194: f64 = t3580 + 10.010000000000002;
-        let t4195: f64 = t4194 - t4174;
-        let t4196 = product(q1, t4195);
-        let t4197 = product(t88, t148);
-        let t4198: f64 = t236 * t4195;
-        let t4199: f64 = t4197.plus(t4198);
-        let t4200: f64 = t4196.minus(t4199);
-        let t4201: f64 = t4188 * 2.574625;
-        let t4202: f64 = t254 * 10.4375;
-        let t4203: f64 = t4193 * 1.4027499999999997;
-        let t4204 = product(t4200, 2.5);
-        let t4205: f64 = t4201 + t4202;
-        let t4206: f64 = t4204.added_to(t4203);
-        let t4207: f64 = t4205 + t4206;
-        let t4208: f64 = -t4207;
-        let t4209: f64 = t4174 + 10.010000000000002;
-        let t4210: f64 = t3580 - t4209;
-        let t4211 = product(q1, t4210);
-        let t4212 = product(t90, t148);
-        let t4213: f64 = t236 * t4210;
-        let t4214: f64 = t4212.plus(t4213);
-        let t4215: f64 = t4211.minus(t4214);
-        let t4216 = product(t4215, 2.5);
-        let t4217: f64 = t4216.added_to(t4203);
-        let t4218: f64 = t4205 + t4217;
-        let t4219: f64 = t4145 + t4146;
-        let t4220: f64 = t4147 + t4148;
-        let t4221: f64 = t4219 + t4220;
-        let t4222: f64 = t4149 + t4221;
-        let t4223: f64 = -t4222;
-        let t4224: f64 = t4163 + 2.0;
-        let t4225: f64 = t4221 + t4224;
-        let t4226: f64 = t4179 + t4180;
-        let t4227: f64 = t4178 + t4181;
-        let t4228: f64 = t4226 - t4227;
-        let t4229: f64 = t4227 - t4226;
-        let t4230: f64 = -t4218;
-        let t4231 = product(t60, t142);
-        let t4232: f64 = t86 * t4141;
-        let t4233: f64 = t4231.plus(t4232);
-        let t4234 = product(t4233, 2.5);
-        let t4235: f64 = t4234.added_to(t4178);
-        let t4236: f64 = t4235 - t4226;
-        let t4237 = product(t110, t142);
-        let t4238: f64 = t86 * t4159;
-        let t4239: f64 = t4237.plus(t4238);
-        let t4240 = product(t4239, 2.5);
-        let t4241: f64 = t4240.added_to(t4178);
-        let t4242: f64 = t4226 - t4241;
-        let t4243: f64 = t18 * t4124;
-        let t4244: f64 = t4132 + 10.010000000000002;
-        let t4245 = product(t395, t4244);
-        let t4246 = product(t32, t4126);
-        let t4247: f64 = t11 * t4128;
-        let t4248: f64 = t4246.plus(t4247);
-        let t4249 = product(t87, t142);
-        let t4250: f64 = t86 * t4175;
-        let t4251: f64 = t4249.plus(t4250);
-        let t4252 = product(t97, t148);
-        let t4253: f64 = t236 * t4244;
-        let t4254: f64 = t4252.minus(t4253);
-        let t4255: f64 = t4251 - t4254;
-        let t4256: f64 = t4243 * 2.574625;
-        let t4257 = product(t333, 20.875);
-        let t4258: f64 = t334 * 10.4375;
-        let t4259: f64 = t4248 * 1.4027499999999997;
-        let t4260: f64 = t4255 * 2.5;
-        let t4261: f64 = t4245.plus(t4256);
-        let t4262: f64 = t4257.plus(t4258);
-        let t4263: f64 = t4259 + 2.0;
-        let t4264: f64 = t4261 + t4262;
-        let t4265: f64 = t4263 + t4264;
-        let t4266: f64 = t4265 - t4260;
-        let t4267: f64 = t4132 - 10.010000000000002;
-        let t4268 = product(t395, t4267);
-        let t4269 = product(t99, t148);
-        let t4270: f64 = t236 * t4267;
-        let t4271: f64 = t4269.minus(t4270);
-        let t4272: f64 = t4251 - t4271;
-        let t4273: f64 = t4272 * 2.5;
-        let t4274: f64 = t4268.added_to(t4256);
-        let t4275: f64 = t4262 + t4274;
-        let t4276: f64 = t4259 + t4275;
-        let t4277: f64 = t4273 - t4276;
-        let t4278: f64 = t599 * t4124;
-        let t4279: f64 = t3502 - t4139;
-        let t4280 = product(t395, t4279);
-        let t4281: f64 = t5 * t30;
-        let t4282: f64 = t10 * t4281;
-        let t4283 = product(t4126, t4282);
-        let t4284: f64 = t2031 * t4128;
-        let t4285: f64 = t4283.minus(t4284);
-        let t4286 = product(t59, t148);
-        let t4287: f64 = t236 * t4279;
-        let t4288: f64 = t4286.plus(t4287);
-        let t4289: f64 = t4278 * 2.574625;
-        let t4290: f64 = t324 * 10.4375;
-        let t4291: f64 = t4285 * 1.4027499999999997;
-        let t4292 = product(t4288, 2.5);
-        let t4293: f64 = t4292.added_to(t4291);
-        let t4294: f64 = t4280.plus(t4289);
-        let t4295: f64 = t4290 + t4294;
-        let t4296: f64 = t4293 - t4295;
-        let t4297: f64 = t4295 - t4293;
-        let t4298: f64 = t4226 - t4235;
-        let t4299: f64 = t4241 - t4226;
-        let t4300 = product(t450, t4244);
-        let t4301: f64 = t4300.added_to(t4256);
-        let t4302: f64 = t4262 + t4301;
-        let t4303: f64 = t4259 + t4302;
-        let t4304: f64 = t4260 - t4303;
-        let t4305 = product(t450, t4267);
-        let t4306: f64 = t4305.added_to(t4256);
-        let t4307: f64 = t4262 + t4306;
-        let t4308: f64 = t4263 + t4307;
-        let t4309: f64 = t4308 - t4273;
-        let t4310 = product(t450, t4279);
-        let t4311: f64 = t4310.added_to(t4289);
-        let t4312: f64 = t4290 + t4311;
-        let t4313: f64 = t4312 - t4293;
-        let t4314: f64 = t4293 - t4312;
-        let t4315 = product(t73, t142);
-        let t4316: f64 = t86 * t4132;
-        let t4317: f64 = t4315.minus(t4316);
-        let t4318: f64 = t72 * 12.500000000000007;
-        let t4319: f64 = t0 * 2.0875;
-        let t4320 = product(t4317, 2.5);
-        let t4321: f64 = t4201 + t4318;
-        let t4322: f64 = t4202 + t4319;
-        let t4323: f64 = t4320.added_to(t4203);
-        let t4324: f64 = t4321 + t4322;
-        let t4325: f64 = t4323 + t4324;
-        let t4326: f64 = -t4325;
-        let t4327 = product(t97, t138);
-        let t4328: f64 = t55 * t4244;
-        let t4329: f64 = t4327.minus(t4328);
-        let t4330 = product(t4329, 2.5);
-        let t4331: f64 = t4289 + t4318;
-        let t4332: f64 = t4290 + t4319;
-        let t4333: f64 = t4330.plus(5.005000000000001);
-        let t4334: f64 = t4331 + t4332;
-        let t4335: f64 = t4333 + t4334;
-        let t4336: f64 = t4291 - t4335;
-        let t4337 = product(t99, t138);
-        let t4338: f64 = t55 * t4267;
-        let t4339: f64 = t4337.minus(t4338);
-        let t4340 = product(t4339, 2.5);
-        let t4341: f64 = t4340.added_to(t4334);
-        let t4342: f64 = t4291 + 5.005000000000001;
-        let t4343: f64 = t4341 - t4342;
-        let t4344: f64 = t11 * t4124;
-        let t4345 = product(t31, t4126);
-        let t4346: f64 = t47 * t4128;
-        let t4347: f64 = t4345.plus(t4346);
-        let t4348: f64 = t54 + t86;
-        let t4349: f64 = t25 + t40;
-        let t4350 = product(t59, t138);
-        let t4351: f64 = t55 * t4279;
-        let t4352: f64 = t4350.plus(t4351);
-        let t4353 = product(t88, t142);
-        let t4354: f64 = t86 * t4195;
-        let t4355: f64 = t4353.plus(t4354);
-        let t4356: f64 = t4352 + t4355;
-        let t4357 = product(t4344, 2.574625);
-        let t4358: f64 = t299 * 20.875;
-        let t4359 = product(t307, 10.4375);
-        let t4360: f64 = t4347 * 1.4027499999999997;
-        let t4361: f64 = t4348 * 12.500000000000007;
-        let t4362: f64 = t4349 * 2.0875;
-        let t4363: f64 = t4356 * 2.5;
-        let t4364: f64 = t4357.plus(t4358);
-        let t4365: f64 = t4359.plus(t4360);
-        let t4366: f64 = t4362 + 7.005000000000001;
-        let t4367: f64 = t4364 + t4365;
-        let t4368: f64 = t4366 + t4367;
-        let t4369: f64 = t4361 + t4363;
-        let t4370: f64 = t4368 - t4369;
-        let t4371 = product(t90, t142);
-        let t4372: f64 = t86 * t4210;
-        let t4373: f64 = t4371.plus(t4372);
-        let t4374: f64 = t4352 + t4373;
-        let t4375: f64 = t4374 * 2.5;
-        let t4376: f64 = t4361 + t4375;
-        let t4377: f64 = t4376 + 5.005000000000001;
-        let t4378: f64 = t4362 + t4367;
-        let t4379: f64 = t4377 - t4378;
-        let t4380: f64 = t4205 + t4323;
-        let t4381: f64 = t4318 + t4319;
-        let t4382: f64 = t4380 - t4381;
-        let t4383: f64 = t4381 - t4380;
-        let t4384: f64 = t4335 - t4291;
-        let t4385: f64 = t4342 - t4341;
-        let t4386: f64 = t86 - t54;
-        let t4387: f64 = t25 - t40;
-        let t4388: f64 = t4386 * 12.500000000000007;
-        let t4389: f64 = t4387 * 2.0875;
-        let t4390: f64 = t4363 + t4389;
-        let t4391: f64 = t4390 + 5.005000000000001;
-        let t4392: f64 = t4367 + t4388;
-        let t4393: f64 = t4391 - t4392;
-        let t4394: f64 = t4388 + 7.005000000000001;
-        let t4395: f64 = t4367 + t4394;
-        let t4396: f64 = t4375 + t4389;
-        let t4397: f64 = t4395 - t4396;
-        let t4398: f64 = 1.0 - t9;
-        let t4399: f64 = -t197;
-        let t4400: f64 = -t165;
-        let t4401: f64 = -t176;
-        (
-            t4003,
-            t4032,
-            t4044,
-            t4072,
-            t4083,
-            t4091,
-            t4097,
-            t4104,
-            t4109,
-            t4118,
-            t4123,
-            t4156,
-            t4166,
-            t4186,
-            t4187,
-            t4207,
-            t4208,
-            t4218,
-            t4223,
-            t4225,
-            t4228,
-            t4229,
-            t4230,
-            t4236,
-            t4242,
-            t4266,
-            t4277,
-            t4296,
-            t4297,
-            t4298,
-            t4299,
-            t4304,
-            t4309,
-            t4313,
-            t4314,
-            t4325,
-            t4326,
-            t4336,
-            t4343,
-            t4370,
-            t4379,
-            t4382,
-            t4383,
-            t4384,
-            t4385,
-            t4393,
-            t4397,
-            t4398,
-            t4399,
-            t4400,
-            t4401,
+            t3522,
+            t3533,
+            t3536,
+            t3537,
+            t3538,
+            t3539,
+            t3540,
         )
     };
     (
-        [t387, t392, t448, t455, t493, t503],
+        [t354, t360, t420, t428, t467, t478],
         [
-            [t1060, t1261, t1738, t1937, t2403, t2601],
-            [t2607, t2611, t2615, t2619, t2624, t2629],
-            [t2720, t2786, t2874, t2940, t3027, t3094],
-            [t3100, t3105, t3110, t3115, t3120, t3125],
-            [t3188, t3230, t3294, t3336, t3399, t3441],
-            [t3448, t3455, t3462, t3469, t3476, t3483],
+            [t985, t995, t1028, t1033, t1070, t1078],
+            [t1295, t1301, t1327, t1331, t1359, t1364],
+            [t1796, t1805, t1836, t1844, t1872, t1877],
+            [t2084, t2089, t2116, t2121, t2147, t2151],
+            [t2557, t2562, t2594, t2602, t2633, t2641],
+            [t2854, t2858, t2886, t2891, t2919, t2924],
         ],
         [
-            [t3552, t3570, t3638, t3673, t3730, t3748],
-            [t3753, t3755, t3761, t3767, t3771, t3775],
-            [t3813, t3831, t3864, t3871, t3905, t3929],
-            [t3933, t3937, t3941, t3943, t3948, t3953],
-            [t3985, t4003, t4032, t4044, t4072, t4083],
-            [t4091, t4097, t4104, t4109, t4118, t4123],
+            [t2948, t2953, t2980, t2984, t3012, t3016],
+            [t3027, t3030, t3042, t3046, t3056, t3060],
+            [t3083, t3088, t3111, t3115, t3143, t3148],
+            [t3161, t3165, t3176, t3178, t3191, t3194],
+            [t3215, t3219, t3240, t3244, t3265, t3269],
+            [t3282, t3286, t3298, t3303, t3314, t3317],
         ],
         [
-            [t4156, t4166, t4186, t4187, t4208, t4218],
-            [t4223, t4225, t4228, t4229, t4207, t4230],
-            [t4236, t4242, t4266, t4277, t4296, t4297],
-            [t4298, t4299, t4304, t4309, t4313, t4314],
-            [t4326, t4325, t4336, t4343, t4370, t4379],
-            [t4382, t4383, t4384, t4385, t4393, t4397],
+            [t3339, t3340, t3356, t3357, t3370, t3372],
+            [t3382, t3384, t3392, t3393, t3394, t3395],
+            [t3400, t3402, t3424, t3428, t3443, t3444],
+            [t3445, t3446, t3457, t3461, t3469, t3470],
+            [t3478, t3479, t3484, t3487, t3508, t3511],
+            [t3519, t3520, t3521, t3522, t3533, t3536],
         ],
-        [t4398, t4399, t4400, t4401],
+        [t3537, t3538, t3539, t3540],
     )
 }

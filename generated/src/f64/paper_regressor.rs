@@ -2,8 +2,8 @@
 // model: paper; any robot of its kind (geometry and gravity are `params`; base parameters found with the chapter's (Robot::default()))
 //
 // Kernel operation counts (mul, div, add, neg, calls):
-//   regressor                          849    5   618   44  6 sign, 3 sin_cos
-//   base_regressor                     849    5   618   44  6 sign, 3 sin_cos
+//   regressor                          705    6   610   58  6 sign, 3 sin_cos
+//   base_regressor                     705    6   610   58  6 sign, 3 sin_cos
 //
 // Bodies of more than 1000 `let`s are cut into blocks, `let (t7, t9) = { ... };`, each
 // handing on what is read after it: one scope that long overflows rustc's stack in a
@@ -31,7 +31,7 @@
 /// - `y`: row `i` for actuator `i+1`, one column per parameter (N per unit)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 849 mul, 5 div, 618 add, 44 neg, 6 sign, 3 sin_cos (chapter convention: 854m + 618a).
+/// Operations: 705 mul, 6 div, 610 add, 58 neg, 6 sign, 3 sin_cos (chapter convention: 711m + 610a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn regressor(
@@ -48,2231 +48,2002 @@ pub fn regressor(
         t1,
         t2,
         t3,
-        t5,
+        t4,
         t6,
-        t8,
-        t9,
-        t13,
-        t18,
-        t19,
-        t25,
-        t33,
+        t10,
+        t17,
+        t22,
         t34,
-        t49,
         t60,
-        t63,
-        t72,
+        t69,
         t73,
-        t77,
-        t81,
-        t95,
-        t106,
-        t109,
-        t118,
-        t119,
-        t136,
+        t75,
+        t80,
+        t103,
+        t111,
+        t112,
+        t116,
+        t139,
         t147,
-        t148,
-        t150,
-        t161,
-        t167,
-        t174,
-        t180,
+        t152,
+        t158,
+        t163,
+        t170,
+        t175,
+        t176,
         t181,
-        t189,
-        t195,
-        t198,
+        t183,
+        t186,
+        t190,
+        t194,
+        t199,
+        t201,
+        t204,
         t206,
-        t207,
         t210,
-        t215,
-        t216,
-        t224,
-        t225,
+        t211,
+        t217,
+        t218,
+        t219,
+        t221,
+        t223,
+        t227,
         t228,
-        t230,
-        t235,
-        t242,
-        t243,
-        t245,
-        t247,
-        t252,
-        t257,
-        t258,
-        t266,
-        t278,
-        t279,
-        t292,
-        t293,
-        t299,
-        t300,
-        t306,
-        t307,
-        t314,
-        t315,
-        t321,
-        t322,
+        t232,
+        t240,
+        t253,
+        t267,
+        t272,
+        t277,
+        t282,
+        t288,
+        t295,
+        t309,
+        t319,
         t329,
-        t330,
-        t345,
+        t339,
         t346,
-        t357,
-        t358,
-        t369,
-        t370,
-        t382,
-        t384,
-        t390,
-        t393,
-        t394,
+        t351,
+        t360,
+        t368,
+        t378,
+        t388,
+        t398,
         t403,
-        t408,
-        t409,
+        t406,
         t420,
-        t421,
-        t432,
-        t433,
+        t428,
+        t436,
+        t444,
         t445,
-        t446,
-        t449,
-        t453,
-        t454,
-        t466,
-        t467,
-        t476,
-        t477,
-        t486,
-        t487,
-        t497,
-        t499,
-        t507,
+        t451,
+        t456,
+        t465,
+        t471,
+        t481,
+        t491,
+        t501,
+        t502,
+        t506,
         t509,
-        t510,
+        t516,
+        t522,
         t530,
-        t531,
-        t542,
-        t543,
+        t538,
+        t546,
+        t550,
+        t551,
+        t552,
+        t553,
         t554,
         t555,
+        t556,
+        t557,
+        t558,
+        t559,
+        t560,
+        t561,
+        t562,
+        t563,
+        t564,
+        t565,
+        t566,
         t567,
         t568,
+        t569,
+        t570,
+        t571,
+        t572,
         t573,
+        t574,
         t575,
         t576,
+        t577,
+        t578,
+        t579,
+        t580,
+        t581,
         t582,
-        t593,
-        t594,
+        t584,
+        t585,
+        t586,
+        t596,
         t603,
-        t604,
-        t613,
         t614,
-        t624,
-        t628,
-        t629,
-        t630,
+        t621,
         t631,
-        t632,
-        t633,
-        t634,
-        t635,
-        t636,
-        t637,
         t638,
-        t639,
-        t640,
-        t642,
-        t643,
-        t644,
-        t645,
-        t652,
-        t654,
-        t662,
-        t663,
+        t649,
+        t657,
+        t658,
+        t664,
+        t670,
         t671,
-        t673,
-        t681,
-        t682,
-        t690,
-        t693,
-        t701,
-        t702,
+        t677,
+        t683,
+        t684,
+        t688,
+        t697,
+        t699,
+        t705,
         t710,
-        t712,
-        t721,
-        t728,
-        t729,
-        t736,
-        t743,
-        t744,
-        t751,
-        t756,
-        t757,
-        t765,
-        t766,
-        t767,
-        t771,
-        t773,
+        t716,
+        t720,
+        t726,
+        t734,
+        t742,
+        t750,
+        t758,
+        t762,
+        t768,
+        t770,
         t777,
-        t780,
-        t784,
-        t786,
-        t790,
-        t791,
-        t795,
+        t787,
         t797,
-        t804,
-        t806,
+        t807,
+        t809,
         t813,
-        t815,
-        t822,
+        t817,
+        t819,
         t824,
-        t837,
-        t842,
-        t843,
-        t845,
-        t850,
-        t852,
-        t861,
-        t863,
-        t872,
-        t875,
-        t884,
-        t886,
-        t890,
-        t891,
-        t893,
-        t897,
-        t898,
-        t900,
-        t904,
-        t906,
-        t915,
-        t917,
-        t926,
-        t929,
-        t938,
+        t834,
+        t844,
+        t854,
+        t860,
+        t862,
+        t869,
+        t879,
+        t889,
+        t899,
+        t903,
+        t905,
+        t912,
+        t920,
+        t928,
+        t936,
         t940,
-        t945,
+        t941,
+        t944,
         t946,
+        t949,
+        t951,
         t952,
+        t953,
         t954,
+        t956,
+        t957,
         t959,
+        t960,
         t963,
+        t964,
         t965,
+        t966,
+        t969,
         t970,
-        t974,
-        t977,
+        t972,
+        t973,
+        t975,
+        t978,
+        t979,
+        t981,
         t982,
+        t985,
         t986,
         t988,
+        t989,
         t992,
         t993,
+        t995,
+        t996,
         t998,
-        t1000,
+        t999,
         t1001,
         t1002,
     ) = {
         let t0: f64 = ax - gravity_x;
-        let t1: f64 = 1.0 / half_spacing;
-        let (t2, t3): (f64, f64) = sin_cos(beta);
-        let t4: f64 = 1.0 / t3;
-        let (t5, t6): (f64, f64) = sin_cos(gamma);
-        let t7: f64 = 1.0 / t6;
-        let (t8, t9): (f64, f64) = sin_cos(alpha);
-        let t10: f64 = t5 * t9;
-        let t11: f64 = t2 * t8;
-        let t12: f64 = t6 * t11;
-        let t13: f64 = t10 + t12;
-        let t14: f64 = yc * t13;
-        let t15: f64 = t5 * t8;
-        let t16: f64 = t2 * t9;
-        let t17: f64 = t6 * t16;
-        let t18: f64 = t15 - t17;
-        let t19: f64 = zc - half_spacing;
-        let t20: f64 = t18 * t19;
-        let t21: f64 = t14 + t20;
-        let t22: f64 = t4 * t7;
-        let t23: f64 = t21 * t22;
-        let t24: f64 = xc + t23;
-        let t25: f64 = az - gravity_z;
-        let t26: f64 = t1 * t24;
-        let t27: f64 = t25 * t26;
-        let t28: f64 = t0 * t19;
-        let t29: f64 = t23 * t25;
-        let t30: f64 = t28 + t29;
-        let t31: f64 = t1 * t30;
-        let t32: f64 = t27 - t31;
-        let t33: f64 = t32 * 0.5;
-        let t34: f64 = t0 - t33;
-        let t35: f64 = wdy * t18;
-        let t36: f64 = wdz * t13;
-        let t37: f64 = t35 - t36;
-        let t38: f64 = wx * t13;
-        let t39: f64 = wy * t3;
-        let t40: f64 = t6 * t39;
-        let t41: f64 = t38 - t40;
-        let t42: f64 = wy * t41;
-        let t43: f64 = wz * t3;
-        let t44: f64 = t6 * t43;
-        let t45: f64 = wx * t18;
+        let t1: f64 = az - gravity_z;
+        let t2: f64 = zc - half_spacing;
+        let t3: f64 = zc + half_spacing;
+        let t4: f64 = t2 - t3;
+        let t5: f64 = 1.0 / t4;
+        let (t6, t7): (f64, f64) = sin_cos(beta);
+        let (t8, t9): (f64, f64) = sin_cos(gamma);
+        let t10: f64 = t7 * t9;
+        let t11: f64 = 1.0 / t10;
+        let (t12, t13): (f64, f64) = sin_cos(alpha);
+        let t14: f64 = t8 * t13;
+        let t15: f64 = t6 * t12;
+        let t16: f64 = t9 * t15;
+        let t17: f64 = t14 + t16;
+        let t18: f64 = yc * t17;
+        let t19: f64 = t8 * t12;
+        let t20: f64 = t6 * t13;
+        let t21: f64 = t9 * t20;
+        let t22: f64 = t19 - t21;
+        let t23: f64 = t2 * t22;
+        let t24: f64 = t18 + t23;
+        let t25: f64 = t11 * t24;
+        let t26: f64 = xc + t25;
+        let t27: f64 = t1 * t5;
+        let t28: f64 = t26 * t27;
+        let t29: f64 = t0 * t2;
+        let t30: f64 = t1 * t25;
+        let t31: f64 = t29 + t30;
+        let t32: f64 = t5 * t31;
+        let t33: f64 = t28 - t32;
+        let t34: f64 = t0 + t33;
+        let t35: f64 = t0 * t22;
+        let t36: f64 = t1 * t10;
+        let t37: f64 = wdy * t22;
+        let t38: f64 = wdz * t17;
+        let t39: f64 = t37 - t38;
+        let t40: f64 = wx * t17;
+        let t41: f64 = wy * t10;
+        let t42: f64 = t40 - t41;
+        let t43: f64 = wy * t42;
+        let t44: f64 = wz * t10;
+        let t45: f64 = wx * t22;
         let t46: f64 = t44 - t45;
         let t47: f64 = wz * t46;
-        let t48: f64 = t42 - t47;
-        let t49: f64 = t37 + t48;
-        let t50: f64 = wdx * t13;
-        let t51: f64 = wdy * t3;
-        let t52: f64 = t6 * t51;
-        let t53: f64 = t50 - t52;
-        let t54: f64 = wx * t46;
-        let t55: f64 = wy * t18;
-        let t56: f64 = wz * t13;
-        let t57: f64 = t55 - t56;
-        let t58: f64 = wy * t57;
-        let t59: f64 = t54 - t58;
-        let t60: f64 = t53 + t59;
-        let t61: f64 = t26 * t60;
-        let t62: f64 = t0 * t18;
-        let t63: f64 = t3 * t6;
-        let t64: f64 = t25 * t63;
-        let t65: f64 = t19 * t49;
-        let t66: f64 = t23 * t60;
-        let t67: f64 = t65 + t66;
-        let t68: f64 = t62 + t67;
-        let t69: f64 = t68 - t64;
-        let t70: f64 = t1 * t69;
-        let t71: f64 = t61 - t70;
-        let t72: f64 = t71 * 0.5;
-        let t73: f64 = t49 - t72;
-        let t74: f64 = t6 * t8;
-        let t75: f64 = t2 * t5;
-        let t76: f64 = t9 * t75;
-        let t77: f64 = t74 + t76;
-        let t78: f64 = wdy * t77;
-        let t79: f64 = t6 * t9;
-        let t80: f64 = t5 * t11;
-        let t81: f64 = t79 - t80;
-        let t82: f64 = wdz * t81;
-        let t83: f64 = t78 - t82;
-        let t84: f64 = wx * t81;
-        let t85: f64 = wy * t5;
-        let t86: f64 = t3 * t85;
-        let t87: f64 = t84 + t86;
-        let t88: f64 = wy * t87;
-        let t89: f64 = wz * t5;
-        let t90: f64 = t3 * t89;
-        let t91: f64 = wx * t77;
-        let t92: f64 = t90 + t91;
-        let t93: f64 = wz * t92;
-        let t94: f64 = t88 + t93;
-        let t95: f64 = t83 + t94;
-        let t96: f64 = wdx * t81;
-        let t97: f64 = wdy * t5;
-        let t98: f64 = t3 * t97;
-        let t99: f64 = t96 + t98;
-        let t100: f64 = wx * t92;
-        let t101: f64 = wy * t77;
-        let t102: f64 = wz * t81;
+        let t48: f64 = t43 - t47;
+        let t49: f64 = t39 + t48;
+        let t50: f64 = t2 * t49;
+        let t51: f64 = wdx * t17;
+        let t52: f64 = wdy * t10;
+        let t53: f64 = wx * t46;
+        let t54: f64 = wy * t22;
+        let t55: f64 = wz * t17;
+        let t56: f64 = t54 - t55;
+        let t57: f64 = wy * t56;
+        let t58: f64 = t51 + t53;
+        let t59: f64 = t52 + t57;
+        let t60: f64 = t58 - t59;
+        let t61: f64 = t25 * t60;
+        let t62: f64 = t50 + t61;
+        let t63: f64 = t35 + t62;
+        let t64: f64 = t63 - t36;
+        let t65: f64 = t5 * t64;
+        let t66: f64 = t5 * t26;
+        let t67: f64 = t60 * t66;
+        let t68: f64 = t49 + t67;
+        let t69: f64 = t68 - t65;
+        let t70: f64 = t9 * t12;
+        let t71: f64 = t6 * t8;
+        let t72: f64 = t13 * t71;
+        let t73: f64 = t70 + t72;
+        let t74: f64 = t0 * t73;
+        let t75: f64 = t7 * t8;
+        let t76: f64 = t1 * t75;
+        let t77: f64 = wdy * t73;
+        let t78: f64 = t9 * t13;
+        let t79: f64 = t8 * t15;
+        let t80: f64 = t78 - t79;
+        let t81: f64 = wdz * t80;
+        let t82: f64 = t77 - t81;
+        let t83: f64 = wx * t80;
+        let t84: f64 = wy * t75;
+        let t85: f64 = t83 + t84;
+        let t86: f64 = wy * t85;
+        let t87: f64 = wz * t75;
+        let t88: f64 = wx * t73;
+        let t89: f64 = t87 + t88;
+        let t90: f64 = wz * t89;
+        let t91: f64 = t86 + t90;
+        let t92: f64 = t82 + t91;
+        let t93: f64 = t2 * t92;
+        let t94: f64 = wdx * t80;
+        let t95: f64 = wdy * t75;
+        let t96: f64 = wx * t89;
+        let t97: f64 = wy * t73;
+        let t98: f64 = wz * t80;
+        let t99: f64 = t97 - t98;
+        let t100: f64 = wy * t99;
+        let t101: f64 = t94 + t95;
+        let t102: f64 = t96 + t100;
         let t103: f64 = t101 - t102;
-        let t104: f64 = wy * t103;
-        let t105: f64 = t100 + t104;
-        let t106: f64 = t99 - t105;
-        let t107: f64 = t26 * t106;
-        let t108: f64 = t0 * t77;
-        let t109: f64 = t3 * t5;
-        let t110: f64 = t25 * t109;
-        let t111: f64 = t19 * t95;
-        let t112: f64 = t23 * t106;
-        let t113: f64 = t111 + t112;
-        let t114: f64 = t108 + t110;
-        let t115: f64 = t113 + t114;
-        let t116: f64 = t1 * t115;
-        let t117: f64 = t107 - t116;
-        let t118: f64 = t117 * 0.5;
-        let t119: f64 = t95 - t118;
-        let t120: f64 = wdy * t9;
-        let t121: f64 = t3 * t120;
-        let t122: f64 = wdz * t8;
-        let t123: f64 = t3 * t122;
-        let t124: f64 = t121 + t123;
-        let t125: f64 = wx * t8;
-        let t126: f64 = t3 * t125;
-        let t127: f64 = wy * t2;
-        let t128: f64 = t126 + t127;
-        let t129: f64 = wy * t128;
-        let t130: f64 = wz * t2;
-        let t131: f64 = wx * t9;
-        let t132: f64 = t3 * t131;
-        let t133: f64 = t130 - t132;
-        let t134: f64 = wz * t133;
-        let t135: f64 = t129 + t134;
-        let t136: f64 = t124 - t135;
-        let t137: f64 = wx * t133;
-        let t138: f64 = wy * t9;
-        let t139: f64 = wz * t8;
-        let t140: f64 = t138 + t139;
-        let t141: f64 = t39 * t140;
-        let t142: f64 = t137 - t141;
-        let t143: f64 = wdx * t8;
-        let t144: f64 = t3 * t143;
-        let t145: f64 = wdy * t2;
-        let t146: f64 = t144 + t145;
-        let t147: f64 = t142 - t146;
-        let t148: f64 = -t147;
-        let t149: f64 = t26 * t148;
-        let t150: f64 = t3 * t9;
-        let t151: f64 = t0 * t150;
-        let t152: f64 = t2 * t25;
-        let t153: f64 = t19 * t136;
-        let t154: f64 = t23 * t148;
-        let t155: f64 = t153 - t154;
-        let t156: f64 = t151 + t155;
-        let t157: f64 = t156 - t152;
-        let t158: f64 = t1 * t157;
-        let t159: f64 = t149 + t158;
-        let t160: f64 = t159 * 0.5;
-        let t161: f64 = t136 + t160;
-        let t162: f64 = wdz * t18;
-        let t163: f64 = wdx * t3;
-        let t164: f64 = t6 * t163;
-        let t165: f64 = wdy * t13;
-        let t166: f64 = t164 + t165;
-        let t167: f64 = t162 + t166;
-        let t168: f64 = t13 * t167;
-        let t169: f64 = wx * t3;
-        let t170: f64 = t6 * t169;
-        let t171: f64 = wy * t13;
-        let t172: f64 = wz * t18;
-        let t173: f64 = t170 + t171;
-        let t174: f64 = t172 + t173;
-        let t175: f64 = wx * t5;
-        let t176: f64 = t3 * t175;
-        let t177: f64 = wy * t81;
-        let t178: f64 = wz * t77;
-        let t179: f64 = t177 + t178;
-        let t180: f64 = t176 - t179;
-        let t181: f64 = t3 * t8;
-        let t182: f64 = t174 * t181;
-        let t183: f64 = t180 * t182;
-        let t184: f64 = wx * t2;
-        let t185: f64 = wy * t8;
-        let t186: f64 = wz * t9;
-        let t187: f64 = t185 - t186;
-        let t188: f64 = t3 * t187;
-        let t189: f64 = t184 - t188;
-        let t190: f64 = t81 * t174;
-        let t191: f64 = t189 * t190;
-        let t192: f64 = t168 + t191;
-        let t193: f64 = t192 - t183;
-        let t194: f64 = t1 * t193;
-        let t195: f64 = t194 * 0.5;
-        let t196: f64 = t174 * t174;
-        let t197: f64 = t180 * t180;
-        let t198: f64 = t196 - t197;
-        let t199: f64 = t181 * t198;
-        let t200: f64 = t174 * t189;
-        let t201: f64 = wdx * t5;
-        let t202: f64 = t3 * t201;
-        let t203: f64 = wdy * t81;
-        let t204: f64 = t202 - t203;
-        let t205: f64 = wdz * t77;
-        let t206: f64 = t204 - t205;
-        let t207: f64 = t200 + t206;
-        let t208: f64 = t13 * t207;
-        let t209: f64 = t180 * t189;
-        let t210: f64 = t167 - t209;
-        let t211: f64 = t81 * t210;
-        let t212: f64 = t199 + t208;
-        let t213: f64 = t212 - t211;
-        let t214: f64 = t1 * t213;
-        let t215: f64 = t214 * 0.5;
-        let t216: f64 = -t215;
-        let t217: f64 = t174 * t180;
-        let t218: f64 = wdz * t9;
-        let t219: f64 = t3 * t218;
-        let t220: f64 = wdx * t2;
-        let t221: f64 = wdy * t8;
-        let t222: f64 = t3 * t221;
-        let t223: f64 = t220 - t222;
-        let t224: f64 = t219 + t223;
-        let t225: f64 = t224 - t217;
-        let t226: f64 = t13 * t225;
-        let t227: f64 = t189 * t189;
-        let t228: f64 = t196 - t227;
-        let t229: f64 = t81 * t228;
-        let t230: f64 = t167 + t209;
-        let t231: f64 = t181 * t230;
-        let t232: f64 = t229 + t231;
-        let t233: f64 = t226 - t232;
-        let t234: f64 = t1 * t233;
-        let t235: f64 = t234 * 0.5;
-        let t236: f64 = t81 * t206;
-        let t237: f64 = t13 * t180;
-        let t238: f64 = t189 * t237;
-        let t239: f64 = t183 + t238;
-        let t240: f64 = t239 - t236;
-        let t241: f64 = t1 * t240;
-        let t242: f64 = t241 * 0.5;
-        let t243: f64 = t217 + t224;
-        let t244: f64 = t81 * t243;
-        let t245: f64 = t197 - t227;
-        let t246: f64 = t13 * t245;
-        let t247: f64 = t206 - t200;
-        let t248: f64 = t181 * t247;
-        let t249: f64 = t244 + t246;
-        let t250: f64 = t248 + t249;
-        let t251: f64 = t1 * t250;
-        let t252: f64 = t251 * 0.5;
-        let t253: f64 = t181 * t224;
-        let t254: f64 = t191 + t253;
-        let t255: f64 = t238 + t254;
-        let t256: f64 = t1 * t255;
-        let t257: f64 = t256 * 0.5;
-        let t258: f64 = -t257;
-        let t259: f64 = wdy * t19;
-        let t260: f64 = wz * vy;
-        let t261: f64 = wy * vz;
-        let t262: f64 = t260 - t261;
-        let t263: f64 = yc * wdz;
-        let t264: f64 = t0 + t263;
+        let t104: f64 = t25 * t103;
+        let t105: f64 = t93 + t104;
+        let t106: f64 = t74 + t76;
+        let t107: f64 = t105 + t106;
+        let t108: f64 = t5 * t107;
+        let t109: f64 = t66 * t103;
+        let t110: f64 = t92 + t109;
+        let t111: f64 = t110 - t108;
+        let t112: f64 = t7 * t13;
+        let t113: f64 = t0 * t112;
+        let t114: f64 = t1 * t6;
+        let t115: f64 = wdy * t112;
+        let t116: f64 = t7 * t12;
+        let t117: f64 = wdz * t116;
+        let t118: f64 = t115 + t117;
+        let t119: f64 = wx * t116;
+        let t120: f64 = wy * t6;
+        let t121: f64 = t119 + t120;
+        let t122: f64 = wy * t121;
+        let t123: f64 = wz * t6;
+        let t124: f64 = wx * t112;
+        let t125: f64 = t123 - t124;
+        let t126: f64 = wz * t125;
+        let t127: f64 = t122 + t126;
+        let t128: f64 = t118 - t127;
+        let t129: f64 = t2 * t128;
+        let t130: f64 = wdx * t116;
+        let t131: f64 = wdy * t6;
+        let t132: f64 = wx * t125;
+        let t133: f64 = wy * t112;
+        let t134: f64 = wz * t116;
+        let t135: f64 = t133 + t134;
+        let t136: f64 = wy * t135;
+        let t137: f64 = t130 + t131;
+        let t138: f64 = t136 + t137;
+        let t139: f64 = t138 - t132;
+        let t140: f64 = t25 * t139;
+        let t141: f64 = t129 - t140;
+        let t142: f64 = t113 + t141;
+        let t143: f64 = t142 - t114;
+        let t144: f64 = t5 * t143;
+        let t145: f64 = t66 * t139;
+        let t146: f64 = t128 - t145;
+        let t147: f64 = t146 - t144;
+        let t148: f64 = wdx * t10;
+        let t149: f64 = wdy * t17;
+        let t150: f64 = wdz * t22;
+        let t151: f64 = t148 + t149;
+        let t152: f64 = t150 + t151;
+        let t153: f64 = t17 * t152;
+        let t154: f64 = wx * t10;
+        let t155: f64 = wy * t17;
+        let t156: f64 = wz * t22;
+        let t157: f64 = t154 + t155;
+        let t158: f64 = t156 + t157;
+        let t159: f64 = wx * t6;
+        let t160: f64 = wy * t116;
+        let t161: f64 = wz * t112;
+        let t162: f64 = t159 + t161;
+        let t163: f64 = t162 - t160;
+        let t164: f64 = t80 * t158;
+        let t165: f64 = t163 * t164;
+        let t166: f64 = wx * t75;
+        let t167: f64 = wy * t80;
+        let t168: f64 = wz * t73;
+        let t169: f64 = t167 + t168;
+        let t170: f64 = t166 - t169;
+        let t171: f64 = t116 * t158;
+        let t172: f64 = t170 * t171;
+        let t173: f64 = t153 + t165;
+        let t174: f64 = t173 - t172;
+        let t175: f64 = t5 * t174;
+        let t176: f64 = -t175;
+        let t177: f64 = wdx * t75;
+        let t178: f64 = wdy * t80;
+        let t179: f64 = wdz * t73;
+        let t180: f64 = t178 + t179;
+        let t181: f64 = t177 - t180;
+        let t182: f64 = t158 * t163;
+        let t183: f64 = t181 + t182;
+        let t184: f64 = t17 * t183;
+        let t185: f64 = t163 * t170;
+        let t186: f64 = t152 - t185;
+        let t187: f64 = t80 * t186;
+        let t188: f64 = t158 * t158;
+        let t189: f64 = t170 * t170;
+        let t190: f64 = t188 - t189;
+        let t191: f64 = t116 * t190;
+        let t192: f64 = t184 + t191;
+        let t193: f64 = t192 - t187;
+        let t194: f64 = t5 * t193;
+        let t195: f64 = wdx * t6;
+        let t196: f64 = wdy * t116;
+        let t197: f64 = wdz * t112;
+        let t198: f64 = t195 + t197;
+        let t199: f64 = t198 - t196;
+        let t200: f64 = t158 * t170;
+        let t201: f64 = t199 - t200;
+        let t202: f64 = t17 * t201;
+        let t203: f64 = t163 * t163;
+        let t204: f64 = t188 - t203;
+        let t205: f64 = t80 * t204;
+        let t206: f64 = t152 + t185;
+        let t207: f64 = t116 * t206;
+        let t208: f64 = t205 + t207;
+        let t209: f64 = t202 - t208;
+        let t210: f64 = t5 * t209;
+        let t211: f64 = -t210;
+        let t212: f64 = t17 * t163;
+        let t213: f64 = t170 * t212;
+        let t214: f64 = t80 * t181;
+        let t215: f64 = t172 + t213;
+        let t216: f64 = t215 - t214;
+        let t217: f64 = t5 * t216;
+        let t218: f64 = -t217;
+        let t219: f64 = t189 - t203;
+        let t220: f64 = t17 * t219;
+        let t221: f64 = t199 + t200;
+        let t222: f64 = t80 * t221;
+        let t223: f64 = t181 - t182;
+        let t224: f64 = t116 * t223;
+        let t225: f64 = t220 + t222;
+        let t226: f64 = t224 + t225;
+        let t227: f64 = t5 * t226;
+        let t228: f64 = -t227;
+        let t229: f64 = t116 * t199;
+        let t230: f64 = t165 + t213;
+        let t231: f64 = t229 + t230;
+        let t232: f64 = t5 * t231;
+        let t233: f64 = wdy * t2;
+        let t234: f64 = wz * vy;
+        let t235: f64 = wy * vz;
+        let t236: f64 = t234 - t235;
+        let t237: f64 = yc * wdz;
+        let t238: f64 = t0 + t237;
+        let t239: f64 = t236 + t238;
+        let t240: f64 = t239 - t233;
+        let t241: f64 = wx * wz;
+        let t242: f64 = wdy - t241;
+        let t243: f64 = t25 * t242;
+        let t244: f64 = wy * wy;
+        let t245: f64 = wx * wx;
+        let t246: f64 = t244 + t245;
+        let t247: f64 = t2 * t246;
+        let t248: f64 = wy * wz;
+        let t249: f64 = wdx + t248;
+        let t250: f64 = yc * t249;
+        let t251: f64 = t1 - t250;
+        let t252: f64 = t247 + t251;
+        let t253: f64 = t252 - t243;
+        let t254: f64 = t5 * t253;
+        let t255: f64 = t26 * t254;
+        let t256: f64 = wx * wy;
+        let t257: f64 = wdz - t256;
+        let t258: f64 = yc * t257;
+        let t259: f64 = t0 + t258;
+        let t260: f64 = wz * wz;
+        let t261: f64 = t244 + t260;
+        let t262: f64 = t25 * t261;
+        let t263: f64 = wdy + t241;
+        let t264: f64 = t2 * t263;
         let t265: f64 = t262 + t264;
-        let t266: f64 = t265 - t259;
-        let t267: f64 = wy * wy;
-        let t268: f64 = wx * wx;
-        let t269: f64 = t267 + t268;
-        let t270: f64 = t19 * t269;
-        let t271: f64 = wx * wz;
-        let t272: f64 = wdy - t271;
-        let t273: f64 = t23 * t272;
-        let t274: f64 = wy * wz;
-        let t275: f64 = wdx + t274;
-        let t276: f64 = yc * t275;
-        let t277: f64 = t273 + t276;
-        let t278: f64 = t270 - t277;
-        let t279: f64 = t25 + t278;
-        let t280: f64 = t26 * t279;
-        let t281: f64 = wx * wy;
-        let t282: f64 = wdz - t281;
-        let t283: f64 = yc * t282;
-        let t284: f64 = t0 + t283;
-        let t285: f64 = wz * wz;
-        let t286: f64 = t267 + t285;
-        let t287: f64 = t23 * t286;
-        let t288: f64 = wdy + t271;
-        let t289: f64 = t19 * t288;
-        let t290: f64 = t287 + t289;
-        let t291: f64 = t284 - t290;
-        let t292: f64 = t280 * 0.5;
-        let t293: f64 = t291 - t292;
-        let t294: f64 = t18 * t291;
-        let t295: f64 = t63 * t279;
-        let t296: f64 = t294 - t295;
-        let t297: f64 = t1 * t296;
-        let t298: f64 = t61 - t297;
-        let t299: f64 = t298 * 0.5;
-        let t300: f64 = t49 - t299;
-        let t301: f64 = t77 * t291;
-        let t302: f64 = t109 * t279;
-        let t303: f64 = t301 + t302;
-        let t304: f64 = t1 * t303;
-        let t305: f64 = t107 - t304;
-        let t306: f64 = t305 * 0.5;
-        let t307: f64 = t95 - t306;
-        let t308: f64 = t150 * t291;
-        let t309: f64 = t2 * t279;
-        let t310: f64 = t308 - t309;
-        let t311: f64 = t1 * t310;
-        let t312: f64 = t149 + t311;
-        let t313: f64 = t312 * 0.5;
-        let t314: f64 = t136 + t313;
-        let t315: f64 = zc + half_spacing;
-        let t316: f64 = wdy * t315;
-        let t317: f64 = t265 - t316;
-        let t318: f64 = half_spacing * t317;
-        let t319: f64 = t318 * 2.0;
-        let t320: f64 = t1 * t319;
-        let t321: f64 = t320 * 0.5;
-        let t322: f64 = t317 - t321;
-        let t323: f64 = t269 * t315;
-        let t324: f64 = t18 * t315;
-        let t325: f64 = t14 + t324;
-        let t326: f64 = t22 * t325;
-        let t327: f64 = t272 * t326;
-        let t328: f64 = t276 + t327;
-        let t329: f64 = t323 - t328;
-        let t330: f64 = t25 + t329;
-        let t331: f64 = t26 * t330;
-        let t332: f64 = half_spacing * t4;
-        let t333: f64 = t7 * t332;
-        let t334: f64 = t18 * t333;
-        let t335: f64 = t330 * t334;
-        let t336: f64 = t286 * t326;
-        let t337: f64 = t288 * t315;
-        let t338: f64 = t336 + t337;
-        let t339: f64 = t284 - t338;
-        let t340: f64 = half_spacing * t339;
-        let t341: f64 = t335 + t340;
-        let t342: f64 = t341 * 2.0;
-        let t343: f64 = t1 * t342;
-        let t344: f64 = t331 + t343;
-        let t345: f64 = t344 * 0.5;
-        let t346: f64 = t339 - t345;
-        let t347: f64 = t18 * t339;
-        let t348: f64 = t63 * t330;
-        let t349: f64 = t49 * t315;
-        let t350: f64 = t60 * t326;
-        let t351: f64 = t67 + t347;
-        let t352: f64 = t348 + t349;
-        let t353: f64 = t350 + t352;
-        let t354: f64 = t351 - t353;
-        let t355: f64 = t1 * t354;
-        let t356: f64 = t61 - t355;
-        let t357: f64 = t356 * 0.5;
-        let t358: f64 = t49 - t357;
-        let t359: f64 = t77 * t339;
-        let t360: f64 = t109 * t330;
-        let t361: f64 = t95 * t315;
-        let t362: f64 = t106 * t326;
-        let t363: f64 = t359 + t360;
-        let t364: f64 = t113 + t363;
-        let t365: f64 = t361 + t362;
-        let t366: f64 = t364 - t365;
-        let t367: f64 = t1 * t366;
-        let t368: f64 = t107 - t367;
-        let t369: f64 = t368 * 0.5;
-        let t370: f64 = t95 - t369;
-        let t371: f64 = t150 * t339;
-        let t372: f64 = t2 * t330;
-        let t373: f64 = t136 * t315;
-        let t374: f64 = t148 * t326;
-        let t375: f64 = t371 + t374;
-        let t376: f64 = t155 + t375;
-        let t377: f64 = t372 + t373;
-        let t378: f64 = t376 - t377;
-        let t379: f64 = t1 * t378;
-        let t380: f64 = t149 + t379;
-        let t381: f64 = t380 * 0.5;
-        let t382: f64 = t136 + t381;
-        let t383: f64 = zc * t269;
-        let t384: f64 = xc - half_spacing;
-        let t385: f64 = t272 * t384;
-        let t386: f64 = 1.0 / t81;
-        let t387: f64 = t109 * t384;
-        let t388: f64 = zc * t77;
-        let t389: f64 = t387 - t388;
-        let t390: f64 = t386 * t389;
-        let t391: f64 = t275 * t390;
-        let t392: f64 = t385 - t391;
-        let t393: f64 = t383 + t392;
-        let t394: f64 = t25 + t393;
-        let t395: f64 = t26 * t394;
-        let t396: f64 = zc * t288;
-        let t397: f64 = t0 - t396;
-        let t398: f64 = t286 * t384;
-        let t399: f64 = t282 * t390;
-        let t400: f64 = t398 + t399;
-        let t401: f64 = t397 + t400;
-        let t402: f64 = half_spacing * t401;
-        let t403: f64 = t24 - half_spacing;
-        let t404: f64 = t394 * t403;
-        let t405: f64 = t402 - t404;
-        let t406: f64 = t1 * t405;
-        let t407: f64 = t395 + t406;
-        let t408: f64 = t407 * 0.5;
-        let t409: f64 = t401 - t408;
-        let t410: f64 = t18 * t401;
-        let t411: f64 = t63 * t394;
-        let t412: f64 = t60 * t384;
-        let t413: f64 = zc * t49;
-        let t414: f64 = t67 - t413;
-        let t415: f64 = t410 + t412;
-        let t416: f64 = t414 + t415;
-        let t417: f64 = t416 - t411;
-        let t418: f64 = t1 * t417;
-        let t419: f64 = t61 - t418;
-        let t420: f64 = t419 * 0.5;
-        let t421: f64 = t49 - t420;
-        let t422: f64 = t77 * t401;
-        let t423: f64 = t109 * t394;
-        let t424: f64 = t106 * t384;
-        let t425: f64 = zc * t95;
-        let t426: f64 = t113 - t425;
-        let t427: f64 = t422 + t423;
-        let t428: f64 = t424 + t426;
-        let t429: f64 = t427 + t428;
-        let t430: f64 = t1 * t429;
-        let t431: f64 = t107 - t430;
-        let t432: f64 = t431 * 0.5;
-        let t433: f64 = t95 - t432;
-        let t434: f64 = t150 * t401;
-        let t435: f64 = t2 * t394;
-        let t436: f64 = t148 * t384;
-        let t437: f64 = zc * t136;
-        let t438: f64 = t155 - t437;
-        let t439: f64 = t434 + t438;
-        let t440: f64 = t435 + t436;
-        let t441: f64 = t439 - t440;
-        let t442: f64 = t1 * t441;
-        let t443: f64 = t149 + t442;
-        let t444: f64 = t443 * 0.5;
-        let t445: f64 = t136 + t444;
-        let t446: f64 = xc + half_spacing;
-        let t447: f64 = t109 * t446;
-        let t448: f64 = t388 - t447;
-        let t449: f64 = t386 * t448;
-        let t450: f64 = t275 * t449;
-        let t451: f64 = t272 * t446;
-        let t452: f64 = t383 + t451;
-        let t453: f64 = t450 + t452;
-        let t454: f64 = t25 + t453;
-        let t455: f64 = t26 * t454;
-        let t456: f64 = t286 * t446;
-        let t457: f64 = t282 * t449;
-        let t458: f64 = t456 - t457;
-        let t459: f64 = t397 + t458;
-        let t460: f64 = half_spacing * t459;
-        let t461: f64 = half_spacing + t24;
-        let t462: f64 = t454 * t461;
-        let t463: f64 = t460 - t462;
-        let t464: f64 = t1 * t463;
-        let t465: f64 = t455 + t464;
-        let t466: f64 = t465 * 0.5;
-        let t467: f64 = t459 - t466;
-        let t468: f64 = t18 * t459;
-        let t469: f64 = t63 * t454;
-        let t470: f64 = t60 * t446;
-        let t471: f64 = t468 + t470;
-        let t472: f64 = t414 + t471;
-        let t473: f64 = t472 - t469;
-        let t474: f64 = t1 * t473;
-        let t475: f64 = t61 - t474;
-        let t476: f64 = t475 * 0.5;
-        let t477: f64 = t49 - t476;
-        let t478: f64 = t77 * t459;
-        let t479: f64 = t109 * t454;
-        let t480: f64 = t106 * t446;
-        let t481: f64 = t478 + t479;
-        let t482: f64 = t426 + t480;
-        let t483: f64 = t481 + t482;
-        let t484: f64 = t1 * t483;
-        let t485: f64 = t107 - t484;
-        let t486: f64 = t485 * 0.5;
-        let t487: f64 = t95 - t486;
-        let t488: f64 = t150 * t459;
-        let t489: f64 = t2 * t454;
-        let t490: f64 = t148 * t446;
-        let t491: f64 = t438 + t488;
-        let t492: f64 = t489 + t490;
-        let t493: f64 = t491 - t492;
-        let t494: f64 = t1 * t493;
-        let t495: f64 = t149 + t494;
-        let t496: f64 = t495 * 0.5;
-        let t497: f64 = t136 + t496;
-        let t498: f64 = xc * t272;
-        let t499: f64 = yc - half_spacing;
-        let t500: f64 = t275 * t499;
-        let t501: f64 = t498 - t500;
-        let t502: f64 = 1.0 / t9;
-        let t503: f64 = xc * t2;
-        let t504: f64 = t181 * t499;
-        let t505: f64 = t503 - t504;
-        let t506: f64 = t4 * t502;
-        let t507: f64 = t505 * t506;
-        let t508: f64 = t269 * t507;
-        let t509: f64 = t501 - t508;
-        let t510: f64 = t25 + t509;
+        let t266: f64 = t259 - t265;
+        let t267: f64 = t255 + t266;
+        let t268: f64 = t22 * t266;
+        let t269: f64 = t10 * t253;
+        let t270: f64 = t268 - t269;
+        let t271: f64 = t5 * t270;
+        let t272: f64 = t68 - t271;
+        let t273: f64 = t73 * t266;
+        let t274: f64 = t75 * t253;
+        let t275: f64 = t273 + t274;
+        let t276: f64 = t5 * t275;
+        let t277: f64 = t110 - t276;
+        let t278: f64 = t112 * t266;
+        let t279: f64 = t6 * t253;
+        let t280: f64 = t278 - t279;
+        let t281: f64 = t5 * t280;
+        let t282: f64 = t146 - t281;
+        let t283: f64 = wdy * t3;
+        let t284: f64 = t239 - t283;
+        let t285: f64 = t4 * t284;
+        let t286: f64 = -t285;
+        let t287: f64 = t5 * t286;
+        let t288: f64 = t284 + t287;
+        let t289: f64 = t3 * t22;
+        let t290: f64 = t18 + t289;
+        let t291: f64 = t11 * t290;
+        let t292: f64 = t242 * t291;
+        let t293: f64 = t3 * t246;
+        let t294: f64 = t251 + t293;
+        let t295: f64 = t294 - t292;
+        let t296: f64 = t5 * t295;
+        let t297: f64 = t26 * t296;
+        let t298: f64 = t261 * t291;
+        let t299: f64 = t3 * t263;
+        let t300: f64 = t298 + t299;
+        let t301: f64 = t259 - t300;
+        let t302: f64 = t4 * t301;
+        let t303: f64 = t25 - t291;
+        let t304: f64 = t295 * t303;
+        let t305: f64 = t302 + t304;
+        let t306: f64 = -t305;
+        let t307: f64 = t5 * t306;
+        let t308: f64 = t297 + t307;
+        let t309: f64 = t301 + t308;
+        let t310: f64 = t22 * t301;
+        let t311: f64 = t10 * t295;
+        let t312: f64 = t3 * t49;
+        let t313: f64 = t60 * t291;
+        let t314: f64 = t62 + t310;
+        let t315: f64 = t311 + t312;
+        let t316: f64 = t313 + t315;
+        let t317: f64 = t314 - t316;
+        let t318: f64 = t5 * t317;
+        let t319: f64 = t68 - t318;
+        let t320: f64 = t73 * t301;
+        let t321: f64 = t75 * t295;
+        let t322: f64 = t3 * t92;
+        let t323: f64 = t103 * t291;
+        let t324: f64 = t320 + t321;
+        let t325: f64 = t105 + t324;
+        let t326: f64 = t322 + t323;
+        let t327: f64 = t325 - t326;
+        let t328: f64 = t5 * t327;
+        let t329: f64 = t110 - t328;
+        let t330: f64 = t112 * t301;
+        let t331: f64 = t6 * t295;
+        let t332: f64 = t3 * t128;
+        let t333: f64 = t139 * t291;
+        let t334: f64 = t330 + t333;
+        let t335: f64 = t141 + t334;
+        let t336: f64 = t331 + t332;
+        let t337: f64 = t335 - t336;
+        let t338: f64 = t5 * t337;
+        let t339: f64 = t146 - t338;
+        let t340: f64 = xc - half_spacing;
+        let t341: f64 = t242 * t340;
+        let t342: f64 = 1.0 / t80;
+        let t343: f64 = t75 * t340;
+        let t344: f64 = zc * t73;
+        let t345: f64 = t343 - t344;
+        let t346: f64 = t342 * t345;
+        let t347: f64 = t249 * t346;
+        let t348: f64 = zc * t246;
+        let t349: f64 = t1 + t348;
+        let t350: f64 = t341 + t349;
+        let t351: f64 = t350 - t347;
+        let t352: f64 = t5 * t351;
+        let t353: f64 = t26 * t352;
+        let t354: f64 = zc * t263;
+        let t355: f64 = t0 - t354;
+        let t356: f64 = t261 * t340;
+        let t357: f64 = t257 * t346;
+        let t358: f64 = t356 + t357;
+        let t359: f64 = t355 + t358;
+        let t360: f64 = t2 - zc;
+        let t361: f64 = t359 * t360;
+        let t362: f64 = t25 + t340;
+        let t363: f64 = t351 * t362;
+        let t364: f64 = t361 + t363;
+        let t365: f64 = -t364;
+        let t366: f64 = t5 * t365;
+        let t367: f64 = t353 + t366;
+        let t368: f64 = t359 + t367;
+        let t369: f64 = t22 * t359;
+        let t370: f64 = t10 * t351;
+        let t371: f64 = t60 * t340;
+        let t372: f64 = zc * t49;
+        let t373: f64 = t62 - t372;
+        let t374: f64 = t369 + t371;
+        let t375: f64 = t373 + t374;
+        let t376: f64 = t375 - t370;
+        let t377: f64 = t5 * t376;
+        let t378: f64 = t68 - t377;
+        let t379: f64 = t73 * t359;
+        let t380: f64 = t75 * t351;
+        let t381: f64 = t103 * t340;
+        let t382: f64 = zc * t92;
+        let t383: f64 = t105 - t382;
+        let t384: f64 = t379 + t380;
+        let t385: f64 = t381 + t383;
+        let t386: f64 = t384 + t385;
+        let t387: f64 = t5 * t386;
+        let t388: f64 = t110 - t387;
+        let t389: f64 = t112 * t359;
+        let t390: f64 = t6 * t351;
+        let t391: f64 = t139 * t340;
+        let t392: f64 = zc * t128;
+        let t393: f64 = t141 - t392;
+        let t394: f64 = t389 + t393;
+        let t395: f64 = t390 + t391;
+        let t396: f64 = t394 - t395;
+        let t397: f64 = t5 * t396;
+        let t398: f64 = t146 - t397;
+        let t399: f64 = xc + half_spacing;
+        let t400: f64 = t242 * t399;
+        let t401: f64 = t75 * t399;
+        let t402: f64 = t344 - t401;
+        let t403: f64 = t342 * t402;
+        let t404: f64 = t249 * t403;
+        let t405: f64 = t400 + t404;
+        let t406: f64 = t349 + t405;
+        let t407: f64 = t5 * t406;
+        let t408: f64 = t26 * t407;
+        let t409: f64 = t261 * t399;
+        let t410: f64 = t257 * t403;
+        let t411: f64 = t409 - t410;
+        let t412: f64 = t355 + t411;
+        let t413: f64 = t360 * t412;
+        let t414: f64 = t25 + t399;
+        let t415: f64 = t406 * t414;
+        let t416: f64 = t413 + t415;
+        let t417: f64 = -t416;
+        let t418: f64 = t5 * t417;
+        let t419: f64 = t408 + t418;
+        let t420: f64 = t412 + t419;
+        let t421: f64 = t22 * t412;
+        let t422: f64 = t10 * t406;
+        let t423: f64 = t60 * t399;
+        let t424: f64 = t421 + t423;
+        let t425: f64 = t373 + t424;
+        let t426: f64 = t425 - t422;
+        let t427: f64 = t5 * t426;
+        let t428: f64 = t68 - t427;
+        let t429: f64 = t73 * t412;
+        let t430: f64 = t75 * t406;
+        let t431: f64 = t103 * t399;
+        let t432: f64 = t429 + t430;
+        let t433: f64 = t383 + t431;
+        let t434: f64 = t432 + t433;
+        let t435: f64 = t5 * t434;
+        let t436: f64 = t110 - t435;
+        let t437: f64 = t112 * t412;
+        let t438: f64 = t6 * t406;
+        let t439: f64 = t139 * t399;
+        let t440: f64 = t393 + t437;
+        let t441: f64 = t438 + t439;
+        let t442: f64 = t440 - t441;
+        let t443: f64 = t5 * t442;
+        let t444: f64 = t146 - t443;
+        let t445: f64 = yc - half_spacing;
+        let t446: f64 = t249 * t445;
+        let t447: f64 = 1.0 / t112;
+        let t448: f64 = xc * t6;
+        let t449: f64 = t116 * t445;
+        let t450: f64 = t448 - t449;
+        let t451: f64 = t447 * t450;
+        let t452: f64 = t246 * t451;
+        let t453: f64 = xc * t242;
+        let t454: f64 = t1 + t453;
+        let t455: f64 = t446 + t452;
+        let t456: f64 = t454 - t455;
+        let t457: f64 = t5 * t456;
+        let t458: f64 = t26 * t457;
+        let t459: f64 = xc * t261;
+        let t460: f64 = t0 + t459;
+        let t461: f64 = t257 * t445;
+        let t462: f64 = t263 * t451;
+        let t463: f64 = t461 + t462;
+        let t464: f64 = t460 + t463;
+        let t465: f64 = t2 + t451;
+        let t466: f64 = t464 * t465;
+        let t467: f64 = t26 * t456;
+        let t468: f64 = t466 + t467;
+        let t469: f64 = t5 * t468;
+        let t470: f64 = t458 - t469;
+        let t471: f64 = t464 + t470;
+        let t472: f64 = t22 * t464;
+        let t473: f64 = t10 * t456;
+        let t474: f64 = t49 * t451;
+        let t475: f64 = xc * t60;
+        let t476: f64 = t62 + t475;
+        let t477: f64 = t472 + t474;
+        let t478: f64 = t476 + t477;
+        let t479: f64 = t478 - t473;
+        let t480: f64 = t5 * t479;
+        let t481: f64 = t68 - t480;
+        let t482: f64 = t73 * t464;
+        let t483: f64 = t75 * t456;
+        let t484: f64 = t92 * t451;
+        let t485: f64 = xc * t103;
+        let t486: f64 = t105 + t485;
+        let t487: f64 = t482 + t483;
+        let t488: f64 = t484 + t486;
+        let t489: f64 = t487 + t488;
+        let t490: f64 = t5 * t489;
+        let t491: f64 = t110 - t490;
+        let t492: f64 = t112 * t464;
+        let t493: f64 = t6 * t456;
+        let t494: f64 = t128 * t451;
+        let t495: f64 = xc * t139;
+        let t496: f64 = t141 - t495;
+        let t497: f64 = t492 + t494;
+        let t498: f64 = t496 + t497;
+        let t499: f64 = t498 - t493;
+        let t500: f64 = t5 * t499;
+        let t501: f64 = t146 - t500;
+        let t502: f64 = yc + half_spacing;
+        let t503: f64 = t249 * t502;
+        let t504: f64 = t116 * t502;
+        let t505: f64 = t448 - t504;
+        let t506: f64 = t447 * t505;
+        let t507: f64 = t246 * t506;
+        let t508: f64 = t503 + t507;
+        let t509: f64 = t454 - t508;
+        let t510: f64 = t5 * t509;
         let t511: f64 = t26 * t510;
-        let t512: f64 = xc * t510;
-        let t513: f64 = xc * t286;
-        let t514: f64 = t0 + t513;
-        let t515: f64 = t282 * t499;
-        let t516: f64 = t288 * t507;
-        let t517: f64 = t515 + t516;
-        let t518: f64 = t514 + t517;
-        let t519: f64 = t19 * t518;
-        let t520: f64 = t502 * t505;
-        let t521: f64 = t518 * t520;
-        let t522: f64 = t7 * t21;
-        let t523: f64 = t510 * t522;
-        let t524: f64 = t521 + t523;
-        let t525: f64 = t4 * t524;
-        let t526: f64 = t512 + t519;
-        let t527: f64 = t525 + t526;
-        let t528: f64 = t1 * t527;
-        let t529: f64 = t511 - t528;
-        let t530: f64 = t529 * 0.5;
-        let t531: f64 = t518 - t530;
-        let t532: f64 = t18 * t518;
-        let t533: f64 = t63 * t510;
-        let t534: f64 = t49 * t507;
-        let t535: f64 = xc * t60;
-        let t536: f64 = t67 + t535;
-        let t537: f64 = t532 + t534;
-        let t538: f64 = t536 + t537;
-        let t539: f64 = t538 - t533;
-        let t540: f64 = t1 * t539;
-        let t541: f64 = t61 - t540;
-        let t542: f64 = t541 * 0.5;
-        let t543: f64 = t49 - t542;
-        let t544: f64 = t77 * t518;
-        let t545: f64 = t109 * t510;
-        let t546: f64 = t95 * t507;
-        let t547: f64 = xc * t106;
-        let t548: f64 = t113 + t547;
-        let t549: f64 = t544 + t545;
-        let t550: f64 = t546 + t548;
-        let t551: f64 = t549 + t550;
-        let t552: f64 = t1 * t551;
-        let t553: f64 = t107 - t552;
-        let t554: f64 = t553 * 0.5;
-        let t555: f64 = t95 - t554;
-        let t556: f64 = t150 * t518;
-        let t557: f64 = t2 * t510;
-        let t558: f64 = t136 * t507;
-        let t559: f64 = xc * t148;
-        let t560: f64 = t155 - t559;
-        let t561: f64 = t556 + t558;
-        let t562: f64 = t560 + t561;
-        let t563: f64 = t562 - t557;
-        let t564: f64 = t1 * t563;
-        let t565: f64 = t149 + t564;
-        let t566: f64 = t565 * 0.5;
-        let t567: f64 = t136 + t566;
-        let t568: f64 = yc + half_spacing;
-        let t569: f64 = t275 * t568;
-        let t570: f64 = t498 - t569;
-        let t571: f64 = t181 * t568;
-        let t572: f64 = t503 - t571;
-        let t573: f64 = t506 * t572;
-        let t574: f64 = t269 * t573;
-        let t575: f64 = t570 - t574;
-        let t576: f64 = t25 + t575;
-        let t577: f64 = t26 * t576;
-        let t578: f64 = xc * t576;
-        let t579: f64 = t282 * t568;
-        let t580: f64 = t288 * t573;
-        let t581: f64 = t579 + t580;
-        let t582: f64 = t514 + t581;
-        let t583: f64 = t19 * t582;
-        let t584: f64 = t502 * t572;
-        let t585: f64 = t582 * t584;
-        let t586: f64 = t522 * t576;
-        let t587: f64 = t585 + t586;
-        let t588: f64 = t4 * t587;
-        let t589: f64 = t578 + t583;
-        let t590: f64 = t588 + t589;
-        let t591: f64 = t1 * t590;
-        let t592: f64 = t577 - t591;
-        let t593: f64 = t592 * 0.5;
-        let t594: f64 = t582 - t593;
-        let t595: f64 = t18 * t582;
-        let t596: f64 = t63 * t576;
-        let t597: f64 = t49 * t573;
-        let t598: f64 = t595 + t597;
-        let t599: f64 = t536 + t598;
-        let t600: f64 = t599 - t596;
-        let t601: f64 = t1 * t600;
-        let t602: f64 = t61 - t601;
-        let t603: f64 = t602 * 0.5;
-        let t604: f64 = t49 - t603;
-        let t605: f64 = t77 * t582;
-        let t606: f64 = t109 * t576;
-        let t607: f64 = t95 * t573;
-        let t608: f64 = t605 + t606;
-        let t609: f64 = t548 + t607;
-        let t610: f64 = t608 + t609;
-        let t611: f64 = t1 * t610;
-        let t612: f64 = t107 - t611;
-        let t613: f64 = t612 * 0.5;
-        let t614: f64 = t95 - t613;
-        let t615: f64 = t150 * t582;
-        let t616: f64 = t2 * t576;
-        let t617: f64 = t136 * t573;
-        let t618: f64 = t615 + t617;
-        let t619: f64 = t560 + t618;
-        let t620: f64 = t619 - t616;
-        let t621: f64 = t1 * t620;
-        let t622: f64 = t149 + t621;
-        let t623: f64 = t622 * 0.5;
-        let t624: f64 = t136 + t623;
-        let t625: f64 = wy * t19;
-        let t626: f64 = yc * wz;
-        let t627: f64 = vx + t626;
-        let t628: f64 = t627 - t625;
-        let t629: f64 = ((t628 > 0.0) as i8 - (t628 < 0.0) as i8) as f64;
-        let t630: f64 = -t160;
-        let t631: f64 = -t195;
-        let t632: f64 = -t235;
-        let t633: f64 = -t242;
-        let t634: f64 = -t252;
-        let t635: f64 = -t313;
-        let t636: f64 = -t381;
-        let t637: f64 = -t444;
-        let t638: f64 = -t496;
-        let t639: f64 = -t566;
-        let t640: f64 = -t623;
-        let t641: f64 = wy * t315;
-        let t642: f64 = t627 - t641;
-        let t643: f64 = ((t642 > 0.0) as i8 - (t642 < 0.0) as i8) as f64;
-        let t644: f64 = ay - gravity_y;
-        let t645: f64 = t1 * t403;
-        let t646: f64 = t645 * 0.5;
-        let t647: f64 = t646 + 1.0;
-        let t648: f64 = t644 * t647;
-        let t649: f64 = yc * t0;
-        let t650: f64 = t23 * t644;
-        let t651: f64 = t649 + t650;
-        let t652: f64 = t1 * t651;
-        let t653: f64 = t652 * 0.5;
-        let t654: f64 = t648 - t653;
-        let t655: f64 = wdz * t3;
-        let t656: f64 = t6 * t655;
-        let t657: f64 = wdx * t18;
-        let t658: f64 = t656 - t657;
-        let t659: f64 = wz * t57;
-        let t660: f64 = wx * t41;
-        let t661: f64 = t659 - t660;
-        let t662: f64 = t658 + t661;
-        let t663: f64 = t647 * t662;
-        let t664: f64 = t63 * t644;
-        let t665: f64 = t0 * t13;
-        let t666: f64 = yc * t49;
-        let t667: f64 = t23 * t662;
-        let t668: f64 = t666 + t667;
-        let t669: f64 = t665 + t668;
-        let t670: f64 = t664 - t669;
-        let t671: f64 = t1 * t670;
-        let t672: f64 = t671 * 0.5;
-        let t673: f64 = t663 + t672;
-        let t674: f64 = wdz * t5;
-        let t675: f64 = t3 * t674;
-        let t676: f64 = wdx * t77;
-        let t677: f64 = t675 + t676;
-        let t678: f64 = wx * t87;
-        let t679: f64 = wz * t103;
-        let t680: f64 = t678 - t679;
-        let t681: f64 = t677 + t680;
-        let t682: f64 = t647 * t681;
-        let t683: f64 = t109 * t644;
-        let t684: f64 = t0 * t81;
-        let t685: f64 = yc * t95;
-        let t686: f64 = t23 * t681;
-        let t687: f64 = t685 - t686;
-        let t688: f64 = t683 + t684;
-        let t689: f64 = t687 + t688;
-        let t690: f64 = t1 * t689;
-        let t691: f64 = t690 * 0.5;
-        let t692: f64 = t682 + t691;
-        let t693: f64 = -t692;
-        let t694: f64 = wdz * t2;
-        let t695: f64 = wdx * t9;
-        let t696: f64 = t3 * t695;
-        let t697: f64 = t694 - t696;
-        let t698: f64 = wx * t128;
-        let t699: f64 = t43 * t140;
-        let t700: f64 = t698 + t699;
-        let t701: f64 = t697 + t700;
-        let t702: f64 = t647 * t701;
-        let t703: f64 = t2 * t644;
-        let t704: f64 = t0 * t181;
-        let t705: f64 = yc * t136;
-        let t706: f64 = t23 * t701;
-        let t707: f64 = t705 + t706;
-        let t708: f64 = t703 + t704;
-        let t709: f64 = t708 - t707;
-        let t710: f64 = t1 * t709;
-        let t711: f64 = t710 * 0.5;
-        let t712: f64 = t702 + t711;
-        let t713: f64 = t18 * t167;
-        let t714: f64 = t150 * t174;
-        let t715: f64 = t180 * t714;
-        let t716: f64 = t77 * t174;
-        let t717: f64 = t189 * t716;
-        let t718: f64 = t713 + t715;
+        let t512: f64 = t257 * t502;
+        let t513: f64 = t263 * t506;
+        let t514: f64 = t512 + t513;
+        let t515: f64 = t460 + t514;
+        let t516: f64 = t2 + t506;
+        let t517: f64 = t515 * t516;
+        let t518: f64 = t26 * t509;
+        let t519: f64 = t517 + t518;
+        let t520: f64 = t5 * t519;
+        let t521: f64 = t511 - t520;
+        let t522: f64 = t515 + t521;
+        let t523: f64 = t22 * t515;
+        let t524: f64 = t10 * t509;
+        let t525: f64 = t49 * t506;
+        let t526: f64 = t523 + t525;
+        let t527: f64 = t476 + t526;
+        let t528: f64 = t527 - t524;
+        let t529: f64 = t5 * t528;
+        let t530: f64 = t68 - t529;
+        let t531: f64 = t73 * t515;
+        let t532: f64 = t75 * t509;
+        let t533: f64 = t92 * t506;
+        let t534: f64 = t531 + t532;
+        let t535: f64 = t486 + t533;
+        let t536: f64 = t534 + t535;
+        let t537: f64 = t5 * t536;
+        let t538: f64 = t110 - t537;
+        let t539: f64 = t112 * t515;
+        let t540: f64 = t6 * t509;
+        let t541: f64 = t128 * t506;
+        let t542: f64 = t539 + t541;
+        let t543: f64 = t496 + t542;
+        let t544: f64 = t543 - t540;
+        let t545: f64 = t5 * t544;
+        let t546: f64 = t146 - t545;
+        let t547: f64 = wy * t2;
+        let t548: f64 = yc * wz;
+        let t549: f64 = vx + t548;
+        let t550: f64 = t549 - t547;
+        let t551: f64 = ((t550 > 0.0) as i8 - (t550 < 0.0) as i8) as f64;
+        let t552: f64 = -t33;
+        let t553: f64 = t65 - t67;
+        let t554: f64 = t108 - t109;
+        let t555: f64 = t144 + t145;
+        let t556: f64 = -t194;
+        let t557: f64 = -t232;
+        let t558: f64 = -t255;
+        let t559: f64 = t271 - t67;
+        let t560: f64 = t276 - t109;
+        let t561: f64 = t145 + t281;
+        let t562: f64 = -t287;
+        let t563: f64 = -t308;
+        let t564: f64 = t318 - t67;
+        let t565: f64 = t328 - t109;
+        let t566: f64 = t145 + t338;
+        let t567: f64 = -t367;
+        let t568: f64 = t377 - t67;
+        let t569: f64 = t387 - t109;
+        let t570: f64 = t145 + t397;
+        let t571: f64 = -t419;
+        let t572: f64 = t427 - t67;
+        let t573: f64 = t435 - t109;
+        let t574: f64 = t145 + t443;
+        let t575: f64 = -t470;
+        let t576: f64 = t480 - t67;
+        let t577: f64 = t490 - t109;
+        let t578: f64 = t145 + t500;
+        let t579: f64 = -t521;
+        let t580: f64 = t529 - t67;
+        let t581: f64 = t537 - t109;
+        let t582: f64 = t145 + t545;
+        let t583: f64 = wy * t3;
+        let t584: f64 = t549 - t583;
+        let t585: f64 = ((t584 > 0.0) as i8 - (t584 < 0.0) as i8) as f64;
+        let t586: f64 = ay - gravity_y;
+        let t587: f64 = t340 - t399;
+        let t588: f64 = 1.0 / t587;
+        let t589: f64 = t362 * t588;
+        let t590: f64 = t589 - 1.0;
+        let t591: f64 = t586 * t590;
+        let t592: f64 = yc * t0;
+        let t593: f64 = t25 * t586;
+        let t594: f64 = t592 + t593;
+        let t595: f64 = t588 * t594;
+        let t596: f64 = t595 - t591;
+        let t597: f64 = wdz * t10;
+        let t598: f64 = wdx * t22;
+        let t599: f64 = wz * t56;
+        let t600: f64 = wx * t42;
+        let t601: f64 = t597 + t599;
+        let t602: f64 = t598 + t600;
+        let t603: f64 = t601 - t602;
+        let t604: f64 = t590 * t603;
+        let t605: f64 = t10 * t586;
+        let t606: f64 = t0 * t17;
+        let t607: f64 = yc * t49;
+        let t608: f64 = t25 * t603;
+        let t609: f64 = t607 + t608;
+        let t610: f64 = t606 + t609;
+        let t611: f64 = t605 - t610;
+        let t612: f64 = t588 * t611;
+        let t613: f64 = t604 + t612;
+        let t614: f64 = -t613;
+        let t615: f64 = wdz * t75;
+        let t616: f64 = wdx * t73;
+        let t617: f64 = wz * t99;
+        let t618: f64 = wx * t85;
+        let t619: f64 = t615 + t616;
+        let t620: f64 = t618 + t619;
+        let t621: f64 = t620 - t617;
+        let t622: f64 = t590 * t621;
+        let t623: f64 = t75 * t586;
+        let t624: f64 = t0 * t80;
+        let t625: f64 = yc * t92;
+        let t626: f64 = t25 * t621;
+        let t627: f64 = t625 - t626;
+        let t628: f64 = t623 + t624;
+        let t629: f64 = t627 + t628;
+        let t630: f64 = t588 * t629;
+        let t631: f64 = t622 + t630;
+        let t632: f64 = wdz * t6;
+        let t633: f64 = wdx * t112;
+        let t634: f64 = wz * t135;
+        let t635: f64 = wx * t121;
+        let t636: f64 = t632 + t634;
+        let t637: f64 = t635 + t636;
+        let t638: f64 = t637 - t633;
+        let t639: f64 = t590 * t638;
+        let t640: f64 = t6 * t586;
+        let t641: f64 = t0 * t116;
+        let t642: f64 = yc * t128;
+        let t643: f64 = t25 * t638;
+        let t644: f64 = t642 + t643;
+        let t645: f64 = t640 + t641;
+        let t646: f64 = t645 - t644;
+        let t647: f64 = t588 * t646;
+        let t648: f64 = t639 + t647;
+        let t649: f64 = -t648;
+        let t650: f64 = t22 * t152;
+        let t651: f64 = t73 * t158;
+        let t652: f64 = t163 * t651;
+        let t653: f64 = t112 * t158;
+        let t654: f64 = t170 * t653;
+        let t655: f64 = t650 + t652;
+        let t656: f64 = t654 + t655;
+        let t657: f64 = t588 * t656;
+        let t658: f64 = -t657;
+        let t659: f64 = t22 * t183;
+        let t660: f64 = t73 * t186;
+        let t661: f64 = t112 * t190;
+        let t662: f64 = t660 + t661;
+        let t663: f64 = t659 - t662;
+        let t664: f64 = t588 * t663;
+        let t665: f64 = t22 * t201;
+        let t666: f64 = t73 * t204;
+        let t667: f64 = t112 * t206;
+        let t668: f64 = t665 + t667;
+        let t669: f64 = t668 - t666;
+        let t670: f64 = t588 * t669;
+        let t671: f64 = -t670;
+        let t672: f64 = t22 * t163;
+        let t673: f64 = t170 * t672;
+        let t674: f64 = t73 * t181;
+        let t675: f64 = t654 + t674;
+        let t676: f64 = t675 - t673;
+        let t677: f64 = t588 * t676;
+        let t678: f64 = t22 * t219;
+        let t679: f64 = t73 * t221;
+        let t680: f64 = t112 * t223;
+        let t681: f64 = t678 + t679;
+        let t682: f64 = t681 - t680;
+        let t683: f64 = t588 * t682;
+        let t684: f64 = -t683;
+        let t685: f64 = t112 * t199;
+        let t686: f64 = t652 + t673;
+        let t687: f64 = t686 - t685;
+        let t688: f64 = t588 * t687;
+        let t689: f64 = wdz + t256;
+        let t690: f64 = t25 * t689;
+        let t691: f64 = wdx - t248;
+        let t692: f64 = t2 * t691;
+        let t693: f64 = t245 + t260;
+        let t694: f64 = yc * t693;
+        let t695: f64 = t586 + t694;
+        let t696: f64 = t690 + t692;
+        let t697: f64 = t695 + t696;
+        let t698: f64 = t590 * t697;
+        let t699: f64 = -t698;
+        let t700: f64 = t10 * t697;
+        let t701: f64 = t17 * t266;
+        let t702: f64 = t700 - t701;
+        let t703: f64 = t588 * t702;
+        let t704: f64 = t604 + t703;
+        let t705: f64 = -t704;
+        let t706: f64 = t75 * t697;
+        let t707: f64 = t80 * t266;
+        let t708: f64 = t706 + t707;
+        let t709: f64 = t588 * t708;
+        let t710: f64 = t622 + t709;
+        let t711: f64 = t6 * t697;
+        let t712: f64 = t116 * t266;
+        let t713: f64 = t711 + t712;
+        let t714: f64 = t588 * t713;
+        let t715: f64 = t639 + t714;
+        let t716: f64 = -t715;
+        let t717: f64 = t291 * t689;
+        let t718: f64 = t3 * t691;
         let t719: f64 = t717 + t718;
-        let t720: f64 = t1 * t719;
-        let t721: f64 = t720 * 0.5;
-        let t722: f64 = t150 * t198;
-        let t723: f64 = t18 * t207;
-        let t724: f64 = t77 * t210;
-        let t725: f64 = t722 + t724;
-        let t726: f64 = t723 - t725;
-        let t727: f64 = t1 * t726;
-        let t728: f64 = t727 * 0.5;
-        let t729: f64 = -t728;
-        let t730: f64 = t18 * t225;
-        let t731: f64 = t77 * t228;
-        let t732: f64 = t150 * t230;
-        let t733: f64 = t730 + t732;
-        let t734: f64 = t733 - t731;
-        let t735: f64 = t1 * t734;
-        let t736: f64 = t735 * 0.5;
-        let t737: f64 = t77 * t206;
-        let t738: f64 = t18 * t180;
-        let t739: f64 = t189 * t738;
-        let t740: f64 = t715 + t737;
-        let t741: f64 = t740 - t739;
-        let t742: f64 = t1 * t741;
-        let t743: f64 = t742 * 0.5;
-        let t744: f64 = -t743;
-        let t745: f64 = t77 * t243;
-        let t746: f64 = t18 * t245;
-        let t747: f64 = t150 * t247;
-        let t748: f64 = t745 + t746;
-        let t749: f64 = t748 - t747;
-        let t750: f64 = t1 * t749;
-        let t751: f64 = t750 * 0.5;
-        let t752: f64 = t150 * t224;
-        let t753: f64 = t717 + t739;
-        let t754: f64 = t753 - t752;
-        let t755: f64 = t1 * t754;
-        let t756: f64 = t755 * 0.5;
-        let t757: f64 = -t756;
-        let t758: f64 = wdx - t274;
-        let t759: f64 = t19 * t758;
-        let t760: f64 = wdz + t281;
-        let t761: f64 = t23 * t760;
-        let t762: f64 = t268 + t285;
-        let t763: f64 = yc * t762;
-        let t764: f64 = t761 + t763;
-        let t765: f64 = t759 + t764;
-        let t766: f64 = t644 + t765;
-        let t767: f64 = t647 * t766;
-        let t768: f64 = t63 * t766;
-        let t769: f64 = t13 * t291;
-        let t770: f64 = t768 - t769;
-        let t771: f64 = t1 * t770;
-        let t772: f64 = t771 * 0.5;
-        let t773: f64 = t663 + t772;
-        let t774: f64 = t109 * t766;
-        let t775: f64 = t81 * t291;
-        let t776: f64 = t774 + t775;
-        let t777: f64 = t1 * t776;
-        let t778: f64 = t777 * 0.5;
-        let t779: f64 = t682 + t778;
-        let t780: f64 = -t779;
-        let t781: f64 = t2 * t766;
-        let t782: f64 = t181 * t291;
-        let t783: f64 = t781 + t782;
-        let t784: f64 = t1 * t783;
-        let t785: f64 = t784 * 0.5;
-        let t786: f64 = t702 + t785;
-        let t787: f64 = t315 * t758;
-        let t788: f64 = t326 * t760;
-        let t789: f64 = t763 + t788;
-        let t790: f64 = t787 + t789;
-        let t791: f64 = t644 + t790;
-        let t792: f64 = t647 * t791;
-        let t793: f64 = t334 * t791;
-        let t794: f64 = t793 * 2.0;
-        let t795: f64 = t1 * t794;
-        let t796: f64 = t795 * 0.5;
-        let t797: f64 = t792 + t796;
-        let t798: f64 = t63 * t791;
-        let t799: f64 = t13 * t339;
-        let t800: f64 = t326 * t662;
-        let t801: f64 = t667 + t799;
-        let t802: f64 = t798 + t800;
-        let t803: f64 = t801 - t802;
-        let t804: f64 = t1 * t803;
-        let t805: f64 = t804 * 0.5;
-        let t806: f64 = t663 - t805;
-        let t807: f64 = t109 * t791;
-        let t808: f64 = t81 * t339;
-        let t809: f64 = t326 * t681;
-        let t810: f64 = t807 + t808;
-        let t811: f64 = t809 + t810;
-        let t812: f64 = t686 - t811;
-        let t813: f64 = t1 * t812;
-        let t814: f64 = t813 * 0.5;
-        let t815: f64 = t814 - t682;
-        let t816: f64 = t2 * t791;
-        let t817: f64 = t181 * t339;
-        let t818: f64 = t326 * t701;
-        let t819: f64 = t816 + t817;
-        let t820: f64 = t818 + t819;
-        let t821: f64 = t706 - t820;
-        let t822: f64 = t1 * t821;
-        let t823: f64 = t822 * 0.5;
-        let t824: f64 = t702 - t823;
-        let t825: f64 = wdz * t384;
-        let t826: f64 = wx * vz;
-        let t827: f64 = wz * vx;
-        let t828: f64 = t826 - t827;
-        let t829: f64 = zc * wdx;
-        let t830: f64 = t644 + t829;
-        let t831: f64 = t828 + t830;
+        let t720: f64 = t695 + t719;
+        let t721: f64 = t590 * t720;
+        let t722: f64 = t303 * t720;
+        let t723: f64 = -t722;
+        let t724: f64 = t588 * t723;
+        let t725: f64 = t721 + t724;
+        let t726: f64 = -t725;
+        let t727: f64 = t10 * t720;
+        let t728: f64 = t17 * t301;
+        let t729: f64 = t291 * t603;
+        let t730: f64 = t608 + t728;
+        let t731: f64 = t727 + t729;
+        let t732: f64 = t730 - t731;
+        let t733: f64 = t588 * t732;
+        let t734: f64 = t733 - t604;
+        let t735: f64 = t75 * t720;
+        let t736: f64 = t80 * t301;
+        let t737: f64 = t291 * t621;
+        let t738: f64 = t735 + t736;
+        let t739: f64 = t737 + t738;
+        let t740: f64 = t626 - t739;
+        let t741: f64 = t588 * t740;
+        let t742: f64 = t622 - t741;
+        let t743: f64 = t6 * t720;
+        let t744: f64 = t116 * t301;
+        let t745: f64 = t291 * t638;
+        let t746: f64 = t743 + t744;
+        let t747: f64 = t745 + t746;
+        let t748: f64 = t643 - t747;
+        let t749: f64 = t588 * t748;
+        let t750: f64 = t749 - t639;
+        let t751: f64 = wdz * t340;
+        let t752: f64 = wx * vz;
+        let t753: f64 = wz * vx;
+        let t754: f64 = t752 - t753;
+        let t755: f64 = zc * wdx;
+        let t756: f64 = t586 + t755;
+        let t757: f64 = t754 + t756;
+        let t758: f64 = t757 - t751;
+        let t759: f64 = t590 * t758;
+        let t760: f64 = t588 * t758;
+        let t761: f64 = t362 * t760;
+        let t762: f64 = t761 - t759;
+        let t763: f64 = t340 * t689;
+        let t764: f64 = t346 * t693;
+        let t765: f64 = zc * t691;
+        let t766: f64 = t586 + t765;
+        let t767: f64 = t764 + t766;
+        let t768: f64 = t767 - t763;
+        let t769: f64 = t590 * t768;
+        let t770: f64 = yc - t346;
+        let t771: f64 = t359 * t770;
+        let t772: f64 = t362 * t768;
+        let t773: f64 = t771 + t772;
+        let t774: f64 = -t773;
+        let t775: f64 = t588 * t774;
+        let t776: f64 = t769 + t775;
+        let t777: f64 = -t776;
+        let t778: f64 = t10 * t768;
+        let t779: f64 = t17 * t359;
+        let t780: f64 = t49 * t346;
+        let t781: f64 = t340 * t603;
+        let t782: f64 = t779 + t781;
+        let t783: f64 = t609 + t782;
+        let t784: f64 = t778 + t780;
+        let t785: f64 = t783 - t784;
+        let t786: f64 = t588 * t785;
+        let t787: f64 = t786 - t604;
+        let t788: f64 = t75 * t768;
+        let t789: f64 = t80 * t359;
+        let t790: f64 = t92 * t346;
+        let t791: f64 = t340 * t621;
+        let t792: f64 = t788 + t789;
+        let t793: f64 = t627 + t792;
+        let t794: f64 = t790 + t791;
+        let t795: f64 = t793 - t794;
+        let t796: f64 = t588 * t795;
+        let t797: f64 = t622 + t796;
+        let t798: f64 = t6 * t768;
+        let t799: f64 = t116 * t359;
+        let t800: f64 = t128 * t346;
+        let t801: f64 = t340 * t638;
+        let t802: f64 = t644 + t801;
+        let t803: f64 = t798 + t799;
+        let t804: f64 = t800 + t803;
+        let t805: f64 = t802 - t804;
+        let t806: f64 = t588 * t805;
+        let t807: f64 = t806 - t639;
+        let t808: f64 = wdz * t399;
+        let t809: f64 = t757 - t808;
+        let t810: f64 = t590 * t809;
+        let t811: f64 = t588 * t809;
+        let t812: f64 = t414 * t811;
+        let t813: f64 = t812 - t810;
+        let t814: f64 = t399 * t689;
+        let t815: f64 = t403 * t693;
+        let t816: f64 = t814 + t815;
+        let t817: f64 = t766 - t816;
+        let t818: f64 = t590 * t817;
+        let t819: f64 = yc + t403;
+        let t820: f64 = t412 * t819;
+        let t821: f64 = t414 * t817;
+        let t822: f64 = t820 + t821;
+        let t823: f64 = t588 * t822;
+        let t824: f64 = t823 - t818;
+        let t825: f64 = t10 * t817;
+        let t826: f64 = t17 * t412;
+        let t827: f64 = t49 * t403;
+        let t828: f64 = t399 * t603;
+        let t829: f64 = t826 + t827;
+        let t830: f64 = t609 + t828;
+        let t831: f64 = t829 + t830;
         let t832: f64 = t831 - t825;
-        let t833: f64 = t647 * t832;
-        let t834: f64 = t1 * t832;
-        let t835: f64 = t403 * t834;
-        let t836: f64 = t835 * 0.5;
-        let t837: f64 = t833 - t836;
-        let t838: f64 = zc * t758;
-        let t839: f64 = t390 * t762;
-        let t840: f64 = t384 * t760;
-        let t841: f64 = t839 - t840;
-        let t842: f64 = t838 + t841;
-        let t843: f64 = t644 + t842;
-        let t844: f64 = t647 * t843;
-        let t845: f64 = yc - t390;
-        let t846: f64 = t401 * t845;
-        let t847: f64 = t403 * t843;
-        let t848: f64 = t846 + t847;
-        let t849: f64 = -t848;
-        let t850: f64 = t1 * t849;
-        let t851: f64 = t850 * 0.5;
-        let t852: f64 = t844 + t851;
-        let t853: f64 = t63 * t843;
-        let t854: f64 = t13 * t401;
-        let t855: f64 = t49 * t390;
-        let t856: f64 = t384 * t662;
-        let t857: f64 = t854 + t856;
-        let t858: f64 = t668 + t857;
-        let t859: f64 = t853 + t855;
-        let t860: f64 = t858 - t859;
-        let t861: f64 = t1 * t860;
-        let t862: f64 = t861 * 0.5;
-        let t863: f64 = t663 - t862;
-        let t864: f64 = t109 * t843;
-        let t865: f64 = t81 * t401;
-        let t866: f64 = t95 * t390;
-        let t867: f64 = t384 * t681;
-        let t868: f64 = t864 + t865;
-        let t869: f64 = t687 + t868;
-        let t870: f64 = t866 + t867;
-        let t871: f64 = t869 - t870;
-        let t872: f64 = t1 * t871;
-        let t873: f64 = t872 * 0.5;
-        let t874: f64 = t682 + t873;
-        let t875: f64 = -t874;
-        let t876: f64 = t2 * t843;
-        let t877: f64 = t181 * t401;
-        let t878: f64 = t136 * t390;
-        let t879: f64 = t384 * t701;
-        let t880: f64 = t707 + t879;
-        let t881: f64 = t876 + t877;
-        let t882: f64 = t878 + t881;
-        let t883: f64 = t880 - t882;
-        let t884: f64 = t1 * t883;
-        let t885: f64 = t884 * 0.5;
-        let t886: f64 = t702 - t885;
-        let t887: f64 = wdz * t446;
-        let t888: f64 = t831 - t887;
-        let t889: f64 = t647 * t888;
-        let t890: f64 = t1 * t888;
-        let t891: f64 = t461 * t890;
-        let t892: f64 = t891 * 0.5;
-        let t893: f64 = t889 - t892;
-        let t894: f64 = t446 * t760;
-        let t895: f64 = t838 - t894;
-        let t896: f64 = t449 * t762;
-        let t897: f64 = t895 - t896;
-        let t898: f64 = t644 + t897;
-        let t899: f64 = t647 * t898;
-        let t900: f64 = yc + t449;
-        let t901: f64 = t459 * t900;
-        let t902: f64 = t461 * t898;
-        let t903: f64 = t901 + t902;
-        let t904: f64 = t1 * t903;
-        let t905: f64 = t904 * 0.5;
-        let t906: f64 = t899 - t905;
-        let t907: f64 = t63 * t898;
-        let t908: f64 = t13 * t459;
-        let t909: f64 = t49 * t449;
-        let t910: f64 = t446 * t662;
-        let t911: f64 = t908 + t909;
-        let t912: f64 = t668 + t910;
-        let t913: f64 = t911 + t912;
-        let t914: f64 = t913 - t907;
-        let t915: f64 = t1 * t914;
-        let t916: f64 = t915 * 0.5;
-        let t917: f64 = t663 - t916;
-        let t918: f64 = t109 * t898;
-        let t919: f64 = t81 * t459;
-        let t920: f64 = t95 * t449;
-        let t921: f64 = t446 * t681;
-        let t922: f64 = t918 + t919;
-        let t923: f64 = t687 + t920;
-        let t924: f64 = t922 + t923;
-        let t925: f64 = t924 - t921;
-        let t926: f64 = t1 * t925;
-        let t927: f64 = t926 * 0.5;
-        let t928: f64 = t682 + t927;
-        let t929: f64 = -t928;
-        let t930: f64 = t2 * t898;
-        let t931: f64 = t181 * t459;
-        let t932: f64 = t136 * t449;
-        let t933: f64 = t446 * t701;
-        let t934: f64 = t932 + t933;
-        let t935: f64 = t707 + t934;
-        let t936: f64 = t930 + t931;
-        let t937: f64 = t935 - t936;
-        let t938: f64 = t1 * t937;
-        let t939: f64 = t938 * 0.5;
-        let t940: f64 = t702 - t939;
-        let t941: f64 = t499 * t762;
-        let t942: f64 = xc * t760;
-        let t943: f64 = t941 - t942;
-        let t944: f64 = t507 * t758;
-        let t945: f64 = t943 - t944;
-        let t946: f64 = t644 + t945;
-        let t947: f64 = t647 * t946;
-        let t948: f64 = half_spacing * t518;
-        let t949: f64 = t24 * t946;
-        let t950: f64 = t948 + t949;
-        let t951: f64 = -t950;
-        let t952: f64 = t1 * t951;
-        let t953: f64 = t952 * 0.5;
-        let t954: f64 = t947 + t953;
-        let t955: f64 = t63 * t946;
-        let t956: f64 = t13 * t518;
-        let t957: f64 = t49 * t499;
-        let t958: f64 = xc * t662;
-        let t959: f64 = t668 + t958;
-        let t960: f64 = t956 + t959;
-        let t961: f64 = t955 + t957;
-        let t962: f64 = t960 - t961;
-        let t963: f64 = t1 * t962;
-        let t964: f64 = t963 * 0.5;
-        let t965: f64 = t663 - t964;
-        let t966: f64 = t109 * t946;
-        let t967: f64 = t81 * t518;
-        let t968: f64 = t95 * t499;
-        let t969: f64 = xc * t681;
-        let t970: f64 = t687 - t969;
-        let t971: f64 = t966 + t967;
-        let t972: f64 = t970 + t971;
-        let t973: f64 = t972 - t968;
-        let t974: f64 = t1 * t973;
-        let t975: f64 = t974 * 0.5;
-        let t976: f64 = t682 + t975;
-        let t977: f64 = -t976;
-        let t978: f64 = t2 * t946;
-        let t979: f64 = t181 * t518;
-        let t980: f64 = t136 * t499;
-        let t981: f64 = xc * t701;
-        let t982: f64 = t707 + t981;
-        let t983: f64 = t978 + t979;
-        let t984: f64 = t980 + t983;
-        let t985: f64 = t982 - t984;
-        let t986: f64 = t1 * t985;
-        let t987: f64 = t986 * 0.5;
-        let t988: f64 = t702 - t987;
-        let t989: f64 = t568 * t762;
-        let t990: f64 = t989 - t942;
-        let t991: f64 = t573 * t758;
-        let t992: f64 = t990 - t991;
-        let t993: f64 = t644 + t992;
-        let t994: f64 = t647 * t993;
-        let t995: f64 = half_spacing * t582;
-        let t996: f64 = t24 * t993;
-        let t997: f64 = t995 - t996;
-        let t998: f64 = t1 * t997;
-        let t999: f64 = t998 * 0.5;
-        let t1000: f64 = t994 + t999;
-        let t1001: f64 = t63 * t993;
-        let t1002: f64 = t13 * t582;
+        let t833: f64 = t588 * t832;
+        let t834: f64 = t833 - t604;
+        let t835: f64 = t75 * t817;
+        let t836: f64 = t80 * t412;
+        let t837: f64 = t92 * t403;
+        let t838: f64 = t399 * t621;
+        let t839: f64 = t835 + t836;
+        let t840: f64 = t627 + t837;
+        let t841: f64 = t839 + t840;
+        let t842: f64 = t841 - t838;
+        let t843: f64 = t588 * t842;
+        let t844: f64 = t622 + t843;
+        let t845: f64 = t6 * t817;
+        let t846: f64 = t116 * t412;
+        let t847: f64 = t128 * t403;
+        let t848: f64 = t399 * t638;
+        let t849: f64 = t847 + t848;
+        let t850: f64 = t644 + t849;
+        let t851: f64 = t845 + t846;
+        let t852: f64 = t850 - t851;
+        let t853: f64 = t588 * t852;
+        let t854: f64 = t853 - t639;
+        let t855: f64 = t445 * t693;
+        let t856: f64 = t451 * t691;
+        let t857: f64 = xc * t689;
+        let t858: f64 = t586 - t857;
+        let t859: f64 = t855 + t858;
+        let t860: f64 = t859 - t856;
+        let t861: f64 = t590 * t860;
+        let t862: f64 = yc - t445;
+        let t863: f64 = t464 * t862;
+        let t864: f64 = t26 * t860;
+        let t865: f64 = t863 + t864;
+        let t866: f64 = -t865;
+        let t867: f64 = t588 * t866;
+        let t868: f64 = t861 + t867;
+        let t869: f64 = -t868;
+        let t870: f64 = t10 * t860;
+        let t871: f64 = t17 * t464;
+        let t872: f64 = t49 * t445;
+        let t873: f64 = xc * t603;
+        let t874: f64 = t609 + t873;
+        let t875: f64 = t871 + t874;
+        let t876: f64 = t870 + t872;
+        let t877: f64 = t875 - t876;
+        let t878: f64 = t588 * t877;
+        let t879: f64 = t878 - t604;
+        let t880: f64 = t75 * t860;
+        let t881: f64 = t80 * t464;
+        let t882: f64 = t92 * t445;
+        let t883: f64 = xc * t621;
+        let t884: f64 = t627 - t883;
+        let t885: f64 = t880 + t881;
+        let t886: f64 = t884 + t885;
+        let t887: f64 = t886 - t882;
+        let t888: f64 = t588 * t887;
+        let t889: f64 = t622 + t888;
+        let t890: f64 = t6 * t860;
+        let t891: f64 = t116 * t464;
+        let t892: f64 = t128 * t445;
+        let t893: f64 = xc * t638;
+        let t894: f64 = t644 + t893;
+        let t895: f64 = t890 + t891;
+        let t896: f64 = t892 + t895;
+        let t897: f64 = t894 - t896;
+        let t898: f64 = t588 * t897;
+        let t899: f64 = t898 - t639;
+        let t900: f64 = t502 * t693;
+        let t901: f64 = t506 * t691;
+        let t902: f64 = t858 + t900;
+        let t903: f64 = t902 - t901;
+        let t904: f64 = t590 * t903;
+        let t905: f64 = yc - t502;
+        let t906: f64 = t515 * t905;
+        let t907: f64 = t26 * t903;
+        let t908: f64 = t906 + t907;
+        let t909: f64 = -t908;
+        let t910: f64 = t588 * t909;
+        let t911: f64 = t904 + t910;
+        let t912: f64 = -t911;
+        let t913: f64 = t10 * t903;
+        let t914: f64 = t17 * t515;
+        let t915: f64 = t49 * t502;
+        let t916: f64 = t874 + t914;
+        let t917: f64 = t913 + t915;
+        let t918: f64 = t916 - t917;
+        let t919: f64 = t588 * t918;
+        let t920: f64 = t919 - t604;
+        let t921: f64 = t75 * t903;
+        let t922: f64 = t80 * t515;
+        let t923: f64 = t92 * t502;
+        let t924: f64 = t921 + t922;
+        let t925: f64 = t884 + t924;
+        let t926: f64 = t925 - t923;
+        let t927: f64 = t588 * t926;
+        let t928: f64 = t622 + t927;
+        let t929: f64 = t6 * t903;
+        let t930: f64 = t116 * t515;
+        let t931: f64 = t128 * t502;
+        let t932: f64 = t929 + t930;
+        let t933: f64 = t931 + t932;
+        let t934: f64 = t894 - t933;
+        let t935: f64 = t588 * t934;
+        let t936: f64 = t935 - t639;
+        let t937: f64 = wz * t340;
+        let t938: f64 = zc * wx;
+        let t939: f64 = vy + t938;
+        let t940: f64 = t939 - t937;
+        let t941: f64 = ((t940 > 0.0) as i8 - (t940 < 0.0) as i8) as f64;
+        let t942: f64 = t586 * t588;
+        let t943: f64 = t362 * t942;
+        let t944: f64 = t943 - t595;
+        let t945: f64 = t589 * t603;
+        let t946: f64 = t612 + t945;
+        let t947: f64 = t589 * t621;
+        let t948: f64 = t630 + t947;
+        let t949: f64 = -t948;
+        let t950: f64 = t589 * t638;
+        let t951: f64 = t647 + t950;
+        let t952: f64 = -t664;
+        let t953: f64 = -t677;
+        let t954: f64 = -t688;
+        let t955: f64 = t588 * t697;
+        let t956: f64 = t362 * t955;
+        let t957: f64 = t703 + t945;
+        let t958: f64 = t709 + t947;
+        let t959: f64 = -t958;
+        let t960: f64 = t714 + t950;
+        let t961: f64 = t588 * t720;
+        let t962: f64 = t362 * t961;
+        let t963: f64 = t724 + t962;
+        let t964: f64 = t945 - t733;
+        let t965: f64 = t741 - t947;
+        let t966: f64 = t950 - t749;
+        let t967: f64 = t588 * t768;
+        let t968: f64 = t362 * t967;
+        let t969: f64 = t775 + t968;
+        let t970: f64 = t945 - t786;
+        let t971: f64 = t796 + t947;
+        let t972: f64 = -t971;
+        let t973: f64 = t950 - t806;
+        let t974: f64 = t362 * t811;
+        let t975: f64 = t974 - t812;
+        let t976: f64 = t588 * t817;
+        let t977: f64 = t362 * t976;
+        let t978: f64 = t977 - t823;
+        let t979: f64 = t945 - t833;
+        let t980: f64 = t843 + t947;
+        let t981: f64 = -t980;
+        let t982: f64 = t950 - t853;
+        let t983: f64 = t588 * t860;
+        let t984: f64 = t362 * t983;
+        let t985: f64 = t867 + t984;
+        let t986: f64 = t945 - t878;
+        let t987: f64 = t888 + t947;
+        let t988: f64 = -t987;
+        let t989: f64 = t950 - t898;
+        let t990: f64 = t588 * t903;
+        let t991: f64 = t362 * t990;
+        let t992: f64 = t910 + t991;
+        let t993: f64 = t945 - t919;
+        let t994: f64 = t927 + t947;
+        let t995: f64 = -t994;
+        let t996: f64 = t950 - t935;
+        let t997: f64 = wz * t399;
+        let t998: f64 = t939 - t997;
+        let t999: f64 = ((t998 > 0.0) as i8 - (t998 < 0.0) as i8) as f64;
+        let t1000: f64 = t445 - t502;
+        let t1001: f64 = 1.0 / t1000;
+        let t1002: f64 = t862 * t1001;
         (
             t1,
             t2,
             t3,
-            t5,
+            t4,
             t6,
-            t8,
-            t9,
-            t13,
-            t18,
-            t19,
-            t25,
-            t33,
+            t10,
+            t17,
+            t22,
             t34,
-            t49,
             t60,
-            t63,
-            t72,
+            t69,
             t73,
-            t77,
-            t81,
-            t95,
-            t106,
-            t109,
-            t118,
-            t119,
-            t136,
+            t75,
+            t80,
+            t103,
+            t111,
+            t112,
+            t116,
+            t139,
             t147,
-            t148,
-            t150,
-            t161,
-            t167,
-            t174,
-            t180,
+            t152,
+            t158,
+            t163,
+            t170,
+            t175,
+            t176,
             t181,
-            t189,
-            t195,
-            t198,
+            t183,
+            t186,
+            t190,
+            t194,
+            t199,
+            t201,
+            t204,
             t206,
-            t207,
             t210,
-            t215,
-            t216,
-            t224,
-            t225,
+            t211,
+            t217,
+            t218,
+            t219,
+            t221,
+            t223,
+            t227,
             t228,
-            t230,
-            t235,
-            t242,
-            t243,
-            t245,
-            t247,
-            t252,
-            t257,
-            t258,
-            t266,
-            t278,
-            t279,
-            t292,
-            t293,
-            t299,
-            t300,
-            t306,
-            t307,
-            t314,
-            t315,
-            t321,
-            t322,
+            t232,
+            t240,
+            t253,
+            t267,
+            t272,
+            t277,
+            t282,
+            t288,
+            t295,
+            t309,
+            t319,
             t329,
-            t330,
-            t345,
+            t339,
             t346,
-            t357,
-            t358,
-            t369,
-            t370,
-            t382,
-            t384,
-            t390,
-            t393,
-            t394,
+            t351,
+            t360,
+            t368,
+            t378,
+            t388,
+            t398,
             t403,
-            t408,
-            t409,
+            t406,
             t420,
-            t421,
-            t432,
-            t433,
+            t428,
+            t436,
+            t444,
             t445,
-            t446,
-            t449,
-            t453,
-            t454,
-            t466,
-            t467,
-            t476,
-            t477,
-            t486,
-            t487,
-            t497,
-            t499,
-            t507,
+            t451,
+            t456,
+            t465,
+            t471,
+            t481,
+            t491,
+            t501,
+            t502,
+            t506,
             t509,
-            t510,
+            t516,
+            t522,
             t530,
-            t531,
-            t542,
-            t543,
+            t538,
+            t546,
+            t550,
+            t551,
+            t552,
+            t553,
             t554,
             t555,
+            t556,
+            t557,
+            t558,
+            t559,
+            t560,
+            t561,
+            t562,
+            t563,
+            t564,
+            t565,
+            t566,
             t567,
             t568,
+            t569,
+            t570,
+            t571,
+            t572,
             t573,
+            t574,
             t575,
             t576,
+            t577,
+            t578,
+            t579,
+            t580,
+            t581,
             t582,
-            t593,
-            t594,
+            t584,
+            t585,
+            t586,
+            t596,
             t603,
-            t604,
-            t613,
             t614,
-            t624,
-            t628,
-            t629,
-            t630,
+            t621,
             t631,
-            t632,
-            t633,
-            t634,
-            t635,
-            t636,
-            t637,
             t638,
-            t639,
-            t640,
-            t642,
-            t643,
-            t644,
-            t645,
-            t652,
-            t654,
-            t662,
-            t663,
+            t649,
+            t657,
+            t658,
+            t664,
+            t670,
             t671,
-            t673,
-            t681,
-            t682,
-            t690,
-            t693,
-            t701,
-            t702,
+            t677,
+            t683,
+            t684,
+            t688,
+            t697,
+            t699,
+            t705,
             t710,
-            t712,
-            t721,
-            t728,
-            t729,
-            t736,
-            t743,
-            t744,
-            t751,
-            t756,
-            t757,
-            t765,
-            t766,
-            t767,
-            t771,
-            t773,
+            t716,
+            t720,
+            t726,
+            t734,
+            t742,
+            t750,
+            t758,
+            t762,
+            t768,
+            t770,
             t777,
-            t780,
-            t784,
-            t786,
-            t790,
-            t791,
-            t795,
+            t787,
             t797,
-            t804,
-            t806,
+            t807,
+            t809,
             t813,
-            t815,
-            t822,
+            t817,
+            t819,
             t824,
-            t837,
-            t842,
-            t843,
-            t845,
-            t850,
-            t852,
-            t861,
-            t863,
-            t872,
-            t875,
-            t884,
-            t886,
-            t890,
-            t891,
-            t893,
-            t897,
-            t898,
-            t900,
-            t904,
-            t906,
-            t915,
-            t917,
-            t926,
-            t929,
-            t938,
+            t834,
+            t844,
+            t854,
+            t860,
+            t862,
+            t869,
+            t879,
+            t889,
+            t899,
+            t903,
+            t905,
+            t912,
+            t920,
+            t928,
+            t936,
             t940,
-            t945,
+            t941,
+            t944,
             t946,
+            t949,
+            t951,
             t952,
+            t953,
             t954,
+            t956,
+            t957,
             t959,
+            t960,
             t963,
+            t964,
             t965,
+            t966,
+            t969,
             t970,
-            t974,
-            t977,
+            t972,
+            t973,
+            t975,
+            t978,
+            t979,
+            t981,
             t982,
+            t985,
             t986,
             t988,
+            t989,
             t992,
             t993,
+            t995,
+            t996,
             t998,
-            t1000,
+            t999,
             t1001,
             t1002,
         )
     };
     let (
-        t1009,
-        t1019,
-        t1028,
-        t1032,
-        t1033,
+        t1012,
+        t1025,
         t1037,
-        t1041,
-        t1044,
-        t1048,
         t1049,
-        t1050,
-        t1051,
-        t1055,
+        t1057,
         t1058,
-        t1060,
-        t1063,
-        t1068,
+        t1064,
         t1070,
-        t1072,
-        t1074,
-        t1079,
-        t1081,
+        t1071,
+        t1077,
         t1083,
-        t1085,
+        t1084,
         t1088,
-        t1092,
-        t1094,
-        t1096,
+        t1089,
+        t1093,
         t1098,
         t1103,
-        t1105,
-        t1107,
-        t1109,
-        t1114,
+        t1108,
         t1116,
-        t1118,
-        t1120,
-        t1122,
-        t1123,
-        t1130,
-        t1141,
-        t1152,
-        t1164,
-        t1173,
-        t1181,
-        t1182,
-        t1190,
-        t1197,
-        t1198,
-        t1206,
-        t1211,
-        t1214,
-        t1220,
+        t1124,
+        t1132,
+        t1140,
+        t1146,
+        t1147,
+        t1156,
+        t1166,
+        t1176,
+        t1186,
+        t1192,
+        t1193,
+        t1202,
+        t1210,
+        t1218,
         t1226,
-        t1233,
-        t1240,
-        t1249,
+        t1239,
+        t1248,
         t1258,
         t1268,
-        t1276,
-        t1287,
-        t1298,
-        t1310,
-        t1318,
-        t1327,
-        t1336,
+        t1278,
+        t1285,
+        t1294,
+        t1304,
+        t1314,
+        t1324,
+        t1328,
+        t1329,
+        t1332,
+        t1335,
+        t1338,
+        t1341,
+        t1342,
+        t1343,
         t1346,
+        t1347,
+        t1348,
+        t1349,
+        t1352,
+        t1353,
+        t1354,
+        t1355,
+        t1358,
         t1359,
-        t1368,
-        t1379,
+        t1360,
+        t1361,
+        t1364,
+        t1365,
+        t1366,
+        t1367,
+        t1371,
+        t1374,
+        t1375,
+        t1376,
+        t1377,
+        t1381,
+        t1384,
+        t1385,
+        t1386,
+        t1387,
+        t1389,
         t1390,
-        t1402,
-        t1411,
-        t1422,
-        t1433,
-        t1445,
-        t1449,
-        t1450,
-        t1453,
-        t1456,
-        t1459,
-        t1462,
-        t1463,
-        t1464,
-        t1465,
-        t1466,
-        t1469,
-        t1471,
-        t1473,
-        t1475,
-        t1478,
-        t1480,
-        t1482,
-        t1484,
-        t1487,
-        t1489,
-        t1491,
-        t1493,
-        t1496,
-        t1498,
-        t1500,
-        t1502,
-        t1504,
-        t1507,
-        t1509,
-        t1511,
-        t1513,
-        t1515,
-        t1518,
-        t1520,
-        t1522,
-        t1524,
-        t1526,
-        t1527,
     ) = {
-        let t1003: f64 = t49 * t568;
-        let t1004: f64 = t959 + t1002;
-        let t1005: f64 = t1001 + t1003;
-        let t1006: f64 = t1004 - t1005;
-        let t1007: f64 = t1 * t1006;
-        let t1008: f64 = t1007 * 0.5;
-        let t1009: f64 = t663 - t1008;
-        let t1010: f64 = t109 * t993;
-        let t1011: f64 = t81 * t582;
-        let t1012: f64 = t95 * t568;
-        let t1013: f64 = t1010 + t1011;
-        let t1014: f64 = t970 + t1013;
-        let t1015: f64 = t1014 - t1012;
-        let t1016: f64 = t1 * t1015;
-        let t1017: f64 = t1016 * 0.5;
-        let t1018: f64 = t682 + t1017;
-        let t1019: f64 = -t1018;
-        let t1020: f64 = t2 * t993;
-        let t1021: f64 = t181 * t582;
-        let t1022: f64 = t136 * t568;
-        let t1023: f64 = t1020 + t1021;
-        let t1024: f64 = t1022 + t1023;
-        let t1025: f64 = t982 - t1024;
-        let t1026: f64 = t1 * t1025;
-        let t1027: f64 = t1026 * 0.5;
-        let t1028: f64 = t702 - t1027;
-        let t1029: f64 = wz * t384;
-        let t1030: f64 = zc * wx;
-        let t1031: f64 = vy + t1030;
-        let t1032: f64 = t1031 - t1029;
-        let t1033: f64 = ((t1032 > 0.0) as i8 - (t1032 < 0.0) as i8) as f64;
-        let t1034: f64 = t1 * t644;
-        let t1035: f64 = t403 * t1034;
-        let t1036: f64 = t652 - t1035;
-        let t1037: f64 = t1036 * 0.5;
-        let t1038: f64 = t645 * t662;
-        let t1039: f64 = t671 + t1038;
-        let t1040: f64 = t1039 * 0.5;
-        let t1041: f64 = -t1040;
-        let t1042: f64 = t645 * t681;
-        let t1043: f64 = t690 + t1042;
-        let t1044: f64 = t1043 * 0.5;
-        let t1045: f64 = t645 * t701;
-        let t1046: f64 = t710 + t1045;
-        let t1047: f64 = t1046 * 0.5;
-        let t1048: f64 = -t1047;
-        let t1049: f64 = -t721;
-        let t1050: f64 = -t736;
-        let t1051: f64 = -t751;
-        let t1052: f64 = t1 * t766;
-        let t1053: f64 = t403 * t1052;
-        let t1054: f64 = t1053 * 0.5;
-        let t1055: f64 = -t1054;
-        let t1056: f64 = t771 + t1038;
-        let t1057: f64 = t1056 * 0.5;
+        let t1003: f64 = t1002 + 1.0;
+        let t1004: f64 = t1 * t1003;
+        let t1005: f64 = t586 * t1001;
+        let t1006: f64 = t360 * t1005;
+        let t1007: f64 = t2 * t586;
+        let t1008: f64 = yc * t1;
+        let t1009: f64 = t1007 - t1008;
+        let t1010: f64 = t1001 * t1009;
+        let t1011: f64 = t1006 - t1010;
+        let t1012: f64 = t1004 - t1011;
+        let t1013: f64 = t1 * t17;
+        let t1014: f64 = t22 * t586;
+        let t1015: f64 = t2 * t603;
+        let t1016: f64 = yc * t60;
+        let t1017: f64 = t1015 - t1016;
+        let t1018: f64 = t1014 + t1017;
+        let t1019: f64 = t1013 - t1018;
+        let t1020: f64 = t1001 * t1019;
+        let t1021: f64 = t60 * t1003;
+        let t1022: f64 = t360 * t1001;
+        let t1023: f64 = t603 * t1022;
+        let t1024: f64 = t1021 - t1023;
+        let t1025: f64 = t1024 - t1020;
+        let t1026: f64 = t1 * t80;
+        let t1027: f64 = t73 * t586;
+        let t1028: f64 = t2 * t621;
+        let t1029: f64 = yc * t103;
+        let t1030: f64 = t1028 + t1029;
+        let t1031: f64 = t1026 + t1030;
+        let t1032: f64 = t1031 - t1027;
+        let t1033: f64 = t1001 * t1032;
+        let t1034: f64 = t103 * t1003;
+        let t1035: f64 = t621 * t1022;
+        let t1036: f64 = t1034 + t1035;
+        let t1037: f64 = t1036 - t1033;
+        let t1038: f64 = t1 * t116;
+        let t1039: f64 = t112 * t586;
+        let t1040: f64 = t2 * t638;
+        let t1041: f64 = yc * t139;
+        let t1042: f64 = t1040 + t1041;
+        let t1043: f64 = t1038 + t1039;
+        let t1044: f64 = t1042 + t1043;
+        let t1045: f64 = t1001 * t1044;
+        let t1046: f64 = t139 * t1003;
+        let t1047: f64 = t638 * t1022;
+        let t1048: f64 = t1046 + t1047;
+        let t1049: f64 = t1045 - t1048;
+        let t1050: f64 = t10 * t152;
+        let t1051: f64 = t75 * t158;
+        let t1052: f64 = t163 * t1051;
+        let t1053: f64 = t6 * t158;
+        let t1054: f64 = t170 * t1053;
+        let t1055: f64 = t1050 + t1054;
+        let t1056: f64 = t1055 - t1052;
+        let t1057: f64 = t1001 * t1056;
         let t1058: f64 = -t1057;
-        let t1059: f64 = t777 + t1042;
-        let t1060: f64 = t1059 * 0.5;
-        let t1061: f64 = t784 + t1045;
-        let t1062: f64 = t1061 * 0.5;
-        let t1063: f64 = -t1062;
-        let t1064: f64 = t1 * t791;
-        let t1065: f64 = t403 * t1064;
-        let t1066: f64 = t795 + t1065;
-        let t1067: f64 = t1066 * 0.5;
-        let t1068: f64 = -t1067;
-        let t1069: f64 = t804 - t1038;
-        let t1070: f64 = t1069 * 0.5;
-        let t1071: f64 = t1042 - t813;
-        let t1072: f64 = t1071 * 0.5;
-        let t1073: f64 = t822 - t1045;
-        let t1074: f64 = t1073 * 0.5;
-        let t1075: f64 = t1 * t843;
-        let t1076: f64 = t403 * t1075;
-        let t1077: f64 = t850 + t1076;
-        let t1078: f64 = t1077 * 0.5;
-        let t1079: f64 = -t1078;
-        let t1080: f64 = t861 - t1038;
-        let t1081: f64 = t1080 * 0.5;
-        let t1082: f64 = t872 + t1042;
-        let t1083: f64 = t1082 * 0.5;
-        let t1084: f64 = t884 - t1045;
-        let t1085: f64 = t1084 * 0.5;
-        let t1086: f64 = t403 * t890;
-        let t1087: f64 = t891 - t1086;
-        let t1088: f64 = t1087 * 0.5;
-        let t1089: f64 = t1 * t898;
-        let t1090: f64 = t403 * t1089;
-        let t1091: f64 = t904 - t1090;
-        let t1092: f64 = t1091 * 0.5;
-        let t1093: f64 = t915 - t1038;
-        let t1094: f64 = t1093 * 0.5;
-        let t1095: f64 = t926 + t1042;
-        let t1096: f64 = t1095 * 0.5;
-        let t1097: f64 = t938 - t1045;
-        let t1098: f64 = t1097 * 0.5;
-        let t1099: f64 = t1 * t946;
-        let t1100: f64 = t403 * t1099;
-        let t1101: f64 = t952 + t1100;
-        let t1102: f64 = t1101 * 0.5;
-        let t1103: f64 = -t1102;
-        let t1104: f64 = t963 - t1038;
-        let t1105: f64 = t1104 * 0.5;
-        let t1106: f64 = t974 + t1042;
-        let t1107: f64 = t1106 * 0.5;
-        let t1108: f64 = t986 - t1045;
-        let t1109: f64 = t1108 * 0.5;
-        let t1110: f64 = t1 * t993;
-        let t1111: f64 = t403 * t1110;
-        let t1112: f64 = t998 + t1111;
-        let t1113: f64 = t1112 * 0.5;
-        let t1114: f64 = -t1113;
-        let t1115: f64 = t1007 - t1038;
-        let t1116: f64 = t1115 * 0.5;
-        let t1117: f64 = t1016 + t1042;
-        let t1118: f64 = t1117 * 0.5;
-        let t1119: f64 = t1026 - t1045;
-        let t1120: f64 = t1119 * 0.5;
-        let t1121: f64 = wz * t446;
-        let t1122: f64 = t1031 - t1121;
-        let t1123: f64 = ((t1122 > 0.0) as i8 - (t1122 < 0.0) as i8) as f64;
-        let t1124: f64 = t19 * t644;
-        let t1125: f64 = yc * t25;
-        let t1126: f64 = t1124 - t1125;
-        let t1127: f64 = t1 * t1126;
-        let t1128: f64 = t25 - t644;
-        let t1129: f64 = t1128 - t1127;
-        let t1130: f64 = t1129 * 0.5;
-        let t1131: f64 = t13 * t25;
-        let t1132: f64 = t18 * t644;
-        let t1133: f64 = t19 * t662;
-        let t1134: f64 = yc * t60;
-        let t1135: f64 = t1133 - t1134;
-        let t1136: f64 = t1132 + t1135;
-        let t1137: f64 = t1131 - t1136;
-        let t1138: f64 = t1 * t1137;
-        let t1139: f64 = t60 - t662;
-        let t1140: f64 = t1138 + t1139;
-        let t1141: f64 = t1140 * 0.5;
-        let t1142: f64 = t25 * t81;
-        let t1143: f64 = t77 * t644;
-        let t1144: f64 = t19 * t681;
-        let t1145: f64 = yc * t106;
-        let t1146: f64 = t1144 + t1145;
-        let t1147: f64 = t1142 + t1146;
-        let t1148: f64 = t1147 - t1143;
-        let t1149: f64 = t1 * t1148;
-        let t1150: f64 = t106 + t681;
-        let t1151: f64 = t1149 + t1150;
-        let t1152: f64 = t1151 * 0.5;
-        let t1153: f64 = t8 * t25;
-        let t1154: f64 = t9 * t644;
-        let t1155: f64 = t1153 + t1154;
-        let t1156: f64 = t3 * t1155;
-        let t1157: f64 = t19 * t701;
-        let t1158: f64 = yc * t148;
-        let t1159: f64 = t1157 + t1158;
-        let t1160: f64 = t1156 + t1159;
-        let t1161: f64 = t1 * t1160;
-        let t1162: f64 = t147 - t701;
-        let t1163: f64 = t1162 - t1161;
-        let t1164: f64 = t1163 * 0.5;
-        let t1165: f64 = t63 * t167;
-        let t1166: f64 = t2 * t174;
-        let t1167: f64 = t180 * t1166;
-        let t1168: f64 = t109 * t174;
-        let t1169: f64 = t189 * t1168;
-        let t1170: f64 = t1165 + t1167;
-        let t1171: f64 = t1170 - t1169;
-        let t1172: f64 = t1 * t1171;
-        let t1173: f64 = t1172 * 0.5;
-        let t1174: f64 = t2 * t198;
-        let t1175: f64 = t6 * t207;
-        let t1176: f64 = t5 * t210;
-        let t1177: f64 = t1175 + t1176;
-        let t1178: f64 = t3 * t1177;
-        let t1179: f64 = t1178 - t1174;
-        let t1180: f64 = t1 * t1179;
-        let t1181: f64 = t1180 * 0.5;
-        let t1182: f64 = -t1181;
-        let t1183: f64 = t2 * t230;
-        let t1184: f64 = t6 * t225;
-        let t1185: f64 = t5 * t228;
-        let t1186: f64 = t1184 + t1185;
-        let t1187: f64 = t3 * t1186;
-        let t1188: f64 = t1183 + t1187;
-        let t1189: f64 = t1 * t1188;
-        let t1190: f64 = t1189 * 0.5;
-        let t1191: f64 = t109 * t206;
-        let t1192: f64 = t63 * t180;
-        let t1193: f64 = t189 * t1192;
-        let t1194: f64 = t1191 + t1193;
-        let t1195: f64 = t1167 - t1194;
-        let t1196: f64 = t1 * t1195;
-        let t1197: f64 = t1196 * 0.5;
-        let t1198: f64 = -t1197;
-        let t1199: f64 = t2 * t247;
-        let t1200: f64 = t6 * t245;
-        let t1201: f64 = t5 * t243;
-        let t1202: f64 = t1200 - t1201;
-        let t1203: f64 = t3 * t1202;
-        let t1204: f64 = t1203 - t1199;
-        let t1205: f64 = t1 * t1204;
-        let t1206: f64 = t1205 * 0.5;
-        let t1207: f64 = t2 * t224;
-        let t1208: f64 = t1169 + t1207;
-        let t1209: f64 = t1208 - t1193;
-        let t1210: f64 = t1 * t1209;
-        let t1211: f64 = t1210 * 0.5;
-        let t1212: f64 = t278 + t1128;
-        let t1213: f64 = t1212 - t765;
-        let t1214: f64 = t1213 * 0.5;
-        let t1215: f64 = t13 * t279;
-        let t1216: f64 = t18 * t766;
-        let t1217: f64 = t1215 - t1216;
-        let t1218: f64 = t1 * t1217;
-        let t1219: f64 = t1139 + t1218;
-        let t1220: f64 = t1219 * 0.5;
-        let t1221: f64 = t81 * t279;
-        let t1222: f64 = t77 * t766;
-        let t1223: f64 = t1221 - t1222;
-        let t1224: f64 = t1 * t1223;
-        let t1225: f64 = t1150 + t1224;
-        let t1226: f64 = t1225 * 0.5;
-        let t1227: f64 = t8 * t279;
-        let t1228: f64 = t9 * t766;
-        let t1229: f64 = t1227 + t1228;
-        let t1230: f64 = t1 * t3;
-        let t1231: f64 = t1229 * t1230;
-        let t1232: f64 = t1162 - t1231;
-        let t1233: f64 = t1232 * 0.5;
-        let t1234: f64 = half_spacing * t791;
-        let t1235: f64 = t1234 * 2.0;
-        let t1236: f64 = t1 * t1235;
-        let t1237: f64 = t1236 - t790;
-        let t1238: f64 = t329 + t1128;
-        let t1239: f64 = t1237 + t1238;
-        let t1240: f64 = t1239 * 0.5;
-        let t1241: f64 = t13 * t330;
-        let t1242: f64 = t18 * t791;
-        let t1243: f64 = t315 * t662;
-        let t1244: f64 = t1133 + t1242;
-        let t1245: f64 = t1241 + t1243;
-        let t1246: f64 = t1244 - t1245;
-        let t1247: f64 = t1 * t1246;
-        let t1248: f64 = t1139 - t1247;
-        let t1249: f64 = t1248 * 0.5;
-        let t1250: f64 = t81 * t330;
-        let t1251: f64 = t77 * t791;
-        let t1252: f64 = t315 * t681;
-        let t1253: f64 = t1144 + t1250;
-        let t1254: f64 = t1251 + t1252;
-        let t1255: f64 = t1253 - t1254;
-        let t1256: f64 = t1 * t1255;
-        let t1257: f64 = t1150 + t1256;
-        let t1258: f64 = t1257 * 0.5;
-        let t1259: f64 = t315 * t701;
-        let t1260: f64 = t8 * t330;
-        let t1261: f64 = t9 * t791;
-        let t1262: f64 = t1260 + t1261;
-        let t1263: f64 = t3 * t1262;
-        let t1264: f64 = t1157 + t1263;
-        let t1265: f64 = t1264 - t1259;
-        let t1266: f64 = t1 * t1265;
-        let t1267: f64 = t1162 - t1266;
-        let t1268: f64 = t1267 * 0.5;
-        let t1269: f64 = half_spacing * t843;
-        let t1270: f64 = t394 * t845;
-        let t1271: f64 = t1269 + t1270;
-        let t1272: f64 = t1 * t1271;
-        let t1273: f64 = t1272 - t842;
-        let t1274: f64 = t393 + t1128;
+        let t1059: f64 = t10 * t183;
+        let t1060: f64 = t75 * t186;
+        let t1061: f64 = t6 * t190;
+        let t1062: f64 = t1059 + t1060;
+        let t1063: f64 = t1062 - t1061;
+        let t1064: f64 = t1001 * t1063;
+        let t1065: f64 = t10 * t201;
+        let t1066: f64 = t75 * t204;
+        let t1067: f64 = t6 * t206;
+        let t1068: f64 = t1065 + t1066;
+        let t1069: f64 = t1067 + t1068;
+        let t1070: f64 = t1001 * t1069;
+        let t1071: f64 = -t1070;
+        let t1072: f64 = t10 * t163;
+        let t1073: f64 = t170 * t1072;
+        let t1074: f64 = t75 * t181;
+        let t1075: f64 = t1073 + t1074;
+        let t1076: f64 = t1054 - t1075;
+        let t1077: f64 = t1001 * t1076;
+        let t1078: f64 = t10 * t219;
+        let t1079: f64 = t75 * t221;
+        let t1080: f64 = t6 * t223;
+        let t1081: f64 = t1079 + t1080;
+        let t1082: f64 = t1078 - t1081;
+        let t1083: f64 = t1001 * t1082;
+        let t1084: f64 = -t1083;
+        let t1085: f64 = t6 * t199;
+        let t1086: f64 = t1052 + t1085;
+        let t1087: f64 = t1086 - t1073;
+        let t1088: f64 = t1001 * t1087;
+        let t1089: f64 = -t1088;
+        let t1090: f64 = t253 * t1003;
+        let t1091: f64 = t697 * t1001;
+        let t1092: f64 = t360 * t1091;
+        let t1093: f64 = t1090 - t1092;
+        let t1094: f64 = t17 * t253;
+        let t1095: f64 = t22 * t697;
+        let t1096: f64 = t1094 - t1095;
+        let t1097: f64 = t1001 * t1096;
+        let t1098: f64 = t1024 - t1097;
+        let t1099: f64 = t80 * t253;
+        let t1100: f64 = t73 * t697;
+        let t1101: f64 = t1099 - t1100;
+        let t1102: f64 = t1001 * t1101;
+        let t1103: f64 = t1036 - t1102;
+        let t1104: f64 = t116 * t253;
+        let t1105: f64 = t112 * t697;
+        let t1106: f64 = t1104 + t1105;
+        let t1107: f64 = t1001 * t1106;
+        let t1108: f64 = t1107 - t1048;
+        let t1109: f64 = t295 * t1003;
+        let t1110: f64 = t720 * t1001;
+        let t1111: f64 = t360 * t1110;
+        let t1112: f64 = t4 * t720;
+        let t1113: f64 = -t1112;
+        let t1114: f64 = t1001 * t1113;
+        let t1115: f64 = t1111 + t1114;
+        let t1116: f64 = t1109 - t1115;
+        let t1117: f64 = t17 * t295;
+        let t1118: f64 = t22 * t720;
+        let t1119: f64 = t3 * t603;
+        let t1120: f64 = t1015 + t1118;
+        let t1121: f64 = t1117 + t1119;
+        let t1122: f64 = t1120 - t1121;
+        let t1123: f64 = t1001 * t1122;
+        let t1124: f64 = t1024 + t1123;
+        let t1125: f64 = t80 * t295;
+        let t1126: f64 = t73 * t720;
+        let t1127: f64 = t3 * t621;
+        let t1128: f64 = t1028 + t1125;
+        let t1129: f64 = t1126 + t1127;
+        let t1130: f64 = t1128 - t1129;
+        let t1131: f64 = t1001 * t1130;
+        let t1132: f64 = t1036 - t1131;
+        let t1133: f64 = t116 * t295;
+        let t1134: f64 = t112 * t720;
+        let t1135: f64 = t3 * t638;
+        let t1136: f64 = t1040 + t1133;
+        let t1137: f64 = t1134 + t1136;
+        let t1138: f64 = t1137 - t1135;
+        let t1139: f64 = t1001 * t1138;
+        let t1140: f64 = t1139 - t1048;
+        let t1141: f64 = t758 * t1001;
+        let t1142: f64 = t360 * t1141;
+        let t1143: f64 = t360 * t758;
+        let t1144: f64 = -t1143;
+        let t1145: f64 = t1001 * t1144;
+        let t1146: f64 = t1142 + t1145;
+        let t1147: f64 = -t1146;
+        let t1148: f64 = t351 * t1003;
+        let t1149: f64 = t768 * t1001;
+        let t1150: f64 = t360 * t1149;
+        let t1151: f64 = t360 * t768;
+        let t1152: f64 = t351 * t770;
+        let t1153: f64 = t1152 - t1151;
+        let t1154: f64 = t1001 * t1153;
+        let t1155: f64 = t1150 + t1154;
+        let t1156: f64 = t1148 - t1155;
+        let t1157: f64 = t17 * t351;
+        let t1158: f64 = t22 * t768;
+        let t1159: f64 = t60 * t346;
+        let t1160: f64 = zc * t603;
+        let t1161: f64 = t1017 - t1160;
+        let t1162: f64 = t1158 + t1159;
+        let t1163: f64 = t1161 + t1162;
+        let t1164: f64 = t1163 - t1157;
+        let t1165: f64 = t1001 * t1164;
+        let t1166: f64 = t1024 + t1165;
+        let t1167: f64 = t80 * t351;
+        let t1168: f64 = t73 * t768;
+        let t1169: f64 = t103 * t346;
+        let t1170: f64 = zc * t621;
+        let t1171: f64 = t1030 - t1170;
+        let t1172: f64 = t1167 + t1171;
+        let t1173: f64 = t1168 + t1169;
+        let t1174: f64 = t1172 - t1173;
+        let t1175: f64 = t1001 * t1174;
+        let t1176: f64 = t1036 - t1175;
+        let t1177: f64 = t116 * t351;
+        let t1178: f64 = t112 * t768;
+        let t1179: f64 = t139 * t346;
+        let t1180: f64 = zc * t638;
+        let t1181: f64 = t1042 - t1180;
+        let t1182: f64 = t1177 + t1178;
+        let t1183: f64 = t1181 + t1182;
+        let t1184: f64 = t1183 - t1179;
+        let t1185: f64 = t1001 * t1184;
+        let t1186: f64 = t1185 - t1048;
+        let t1187: f64 = t809 * t1001;
+        let t1188: f64 = t360 * t1187;
+        let t1189: f64 = t360 * t809;
+        let t1190: f64 = -t1189;
+        let t1191: f64 = t1001 * t1190;
+        let t1192: f64 = t1188 + t1191;
+        let t1193: f64 = -t1192;
+        let t1194: f64 = t406 * t1003;
+        let t1195: f64 = t817 * t1001;
+        let t1196: f64 = t360 * t1195;
+        let t1197: f64 = t360 * t817;
+        let t1198: f64 = t406 * t819;
+        let t1199: f64 = t1198 - t1197;
+        let t1200: f64 = t1001 * t1199;
+        let t1201: f64 = t1196 + t1200;
+        let t1202: f64 = t1194 - t1201;
+        let t1203: f64 = t17 * t406;
+        let t1204: f64 = t22 * t817;
+        let t1205: f64 = t60 * t403;
+        let t1206: f64 = t1161 + t1204;
+        let t1207: f64 = t1203 + t1205;
+        let t1208: f64 = t1206 - t1207;
+        let t1209: f64 = t1001 * t1208;
+        let t1210: f64 = t1024 + t1209;
+        let t1211: f64 = t80 * t406;
+        let t1212: f64 = t73 * t817;
+        let t1213: f64 = t103 * t403;
+        let t1214: f64 = t1211 + t1213;
+        let t1215: f64 = t1171 + t1214;
+        let t1216: f64 = t1215 - t1212;
+        let t1217: f64 = t1001 * t1216;
+        let t1218: f64 = t1036 - t1217;
+        let t1219: f64 = t116 * t406;
+        let t1220: f64 = t112 * t817;
+        let t1221: f64 = t139 * t403;
+        let t1222: f64 = t1219 + t1220;
+        let t1223: f64 = t1181 + t1221;
+        let t1224: f64 = t1222 + t1223;
+        let t1225: f64 = t1001 * t1224;
+        let t1226: f64 = t1225 - t1048;
+        let t1227: f64 = wdx * t445;
+        let t1228: f64 = wy * vx;
+        let t1229: f64 = wx * vy;
+        let t1230: f64 = t1228 - t1229;
+        let t1231: f64 = xc * wdy;
+        let t1232: f64 = t1 + t1231;
+        let t1233: f64 = t1230 + t1232;
+        let t1234: f64 = t1233 - t1227;
+        let t1235: f64 = t1003 * t1234;
+        let t1236: f64 = t862 * t1234;
+        let t1237: f64 = -t1236;
+        let t1238: f64 = t1001 * t1237;
+        let t1239: f64 = t1235 + t1238;
+        let t1240: f64 = t456 * t1003;
+        let t1241: f64 = t860 * t1001;
+        let t1242: f64 = t360 * t1241;
+        let t1243: f64 = t465 * t860;
+        let t1244: f64 = t456 * t862;
+        let t1245: f64 = t1243 - t1244;
+        let t1246: f64 = t1001 * t1245;
+        let t1247: f64 = t1242 - t1246;
+        let t1248: f64 = t1240 - t1247;
+        let t1249: f64 = t17 * t456;
+        let t1250: f64 = t22 * t860;
+        let t1251: f64 = t451 * t603;
+        let t1252: f64 = t60 * t445;
+        let t1253: f64 = t1250 + t1251;
+        let t1254: f64 = t1017 + t1252;
+        let t1255: f64 = t1253 + t1254;
+        let t1256: f64 = t1255 - t1249;
+        let t1257: f64 = t1001 * t1256;
+        let t1258: f64 = t1024 + t1257;
+        let t1259: f64 = t80 * t456;
+        let t1260: f64 = t73 * t860;
+        let t1261: f64 = t451 * t621;
+        let t1262: f64 = t103 * t445;
+        let t1263: f64 = t1259 + t1261;
+        let t1264: f64 = t1030 + t1263;
+        let t1265: f64 = t1260 + t1262;
+        let t1266: f64 = t1264 - t1265;
+        let t1267: f64 = t1001 * t1266;
+        let t1268: f64 = t1036 - t1267;
+        let t1269: f64 = t116 * t456;
+        let t1270: f64 = t112 * t860;
+        let t1271: f64 = t451 * t638;
+        let t1272: f64 = t139 * t445;
+        let t1273: f64 = t1269 + t1270;
+        let t1274: f64 = t1042 + t1271;
         let t1275: f64 = t1273 + t1274;
-        let t1276: f64 = t1275 * 0.5;
-        let t1277: f64 = t13 * t394;
-        let t1278: f64 = t18 * t843;
-        let t1279: f64 = t60 * t390;
-        let t1280: f64 = zc * t662;
-        let t1281: f64 = t1135 - t1280;
-        let t1282: f64 = t1278 + t1279;
-        let t1283: f64 = t1281 + t1282;
-        let t1284: f64 = t1283 - t1277;
-        let t1285: f64 = t1 * t1284;
-        let t1286: f64 = t1139 - t1285;
-        let t1287: f64 = t1286 * 0.5;
-        let t1288: f64 = t81 * t394;
-        let t1289: f64 = t77 * t843;
-        let t1290: f64 = t106 * t390;
-        let t1291: f64 = zc * t681;
-        let t1292: f64 = t1146 - t1291;
-        let t1293: f64 = t1288 + t1292;
-        let t1294: f64 = t1289 + t1290;
-        let t1295: f64 = t1293 - t1294;
-        let t1296: f64 = t1 * t1295;
-        let t1297: f64 = t1150 + t1296;
-        let t1298: f64 = t1297 * 0.5;
-        let t1299: f64 = t148 * t390;
-        let t1300: f64 = t8 * t394;
-        let t1301: f64 = t9 * t843;
-        let t1302: f64 = t1300 + t1301;
-        let t1303: f64 = t3 * t1302;
-        let t1304: f64 = zc * t701;
-        let t1305: f64 = t1159 - t1304;
-        let t1306: f64 = t1303 + t1305;
-        let t1307: f64 = t1306 - t1299;
-        let t1308: f64 = t1 * t1307;
-        let t1309: f64 = t1162 - t1308;
-        let t1310: f64 = t1309 * 0.5;
-        let t1311: f64 = half_spacing * t898;
-        let t1312: f64 = t454 * t900;
-        let t1313: f64 = t1311 + t1312;
-        let t1314: f64 = t1 * t1313;
-        let t1315: f64 = t1314 - t897;
-        let t1316: f64 = t453 + t1128;
-        let t1317: f64 = t1315 + t1316;
-        let t1318: f64 = t1317 * 0.5;
-        let t1319: f64 = t13 * t454;
-        let t1320: f64 = t18 * t898;
-        let t1321: f64 = t60 * t449;
-        let t1322: f64 = t1281 + t1320;
-        let t1323: f64 = t1319 + t1321;
-        let t1324: f64 = t1322 - t1323;
-        let t1325: f64 = t1 * t1324;
-        let t1326: f64 = t1139 - t1325;
-        let t1327: f64 = t1326 * 0.5;
-        let t1328: f64 = t81 * t454;
-        let t1329: f64 = t77 * t898;
-        let t1330: f64 = t106 * t449;
-        let t1331: f64 = t1328 + t1330;
-        let t1332: f64 = t1292 + t1331;
-        let t1333: f64 = t1332 - t1329;
-        let t1334: f64 = t1 * t1333;
-        let t1335: f64 = t1150 + t1334;
-        let t1336: f64 = t1335 * 0.5;
-        let t1337: f64 = t148 * t449;
-        let t1338: f64 = t8 * t454;
-        let t1339: f64 = t9 * t898;
-        let t1340: f64 = t1338 + t1339;
-        let t1341: f64 = t3 * t1340;
-        let t1342: f64 = t1337 + t1341;
-        let t1343: f64 = t1305 + t1342;
-        let t1344: f64 = t1 * t1343;
-        let t1345: f64 = t1162 - t1344;
-        let t1346: f64 = t1345 * 0.5;
-        let t1347: f64 = wy * vx;
-        let t1348: f64 = wx * vy;
-        let t1349: f64 = t1347 - t1348;
-        let t1350: f64 = xc * wdy;
-        let t1351: f64 = t25 + t1350;
-        let t1352: f64 = t1349 + t1351;
-        let t1353: f64 = wdx * t499;
-        let t1354: f64 = t1352 - t1353;
-        let t1355: f64 = half_spacing * t1354;
-        let t1356: f64 = -t1355;
-        let t1357: f64 = t1 * t1356;
-        let t1358: f64 = t1354 - t1357;
-        let t1359: f64 = t1358 * 0.5;
-        let t1360: f64 = t19 + t507;
-        let t1361: f64 = t946 * t1360;
-        let t1362: f64 = half_spacing * t510;
-        let t1363: f64 = t1361 - t1362;
-        let t1364: f64 = t1 * t1363;
-        let t1365: f64 = t945 + t1364;
-        let t1366: f64 = t509 + t1128;
-        let t1367: f64 = t1366 - t1365;
-        let t1368: f64 = t1367 * 0.5;
-        let t1369: f64 = t13 * t510;
-        let t1370: f64 = t18 * t946;
-        let t1371: f64 = t507 * t662;
-        let t1372: f64 = t60 * t499;
-        let t1373: f64 = t1370 + t1371;
-        let t1374: f64 = t1135 + t1372;
-        let t1375: f64 = t1373 + t1374;
-        let t1376: f64 = t1375 - t1369;
-        let t1377: f64 = t1 * t1376;
-        let t1378: f64 = t1139 - t1377;
-        let t1379: f64 = t1378 * 0.5;
-        let t1380: f64 = t81 * t510;
-        let t1381: f64 = t77 * t946;
-        let t1382: f64 = t507 * t681;
-        let t1383: f64 = t106 * t499;
-        let t1384: f64 = t1380 + t1382;
-        let t1385: f64 = t1146 + t1384;
-        let t1386: f64 = t1381 + t1383;
-        let t1387: f64 = t1385 - t1386;
-        let t1388: f64 = t1 * t1387;
-        let t1389: f64 = t1150 + t1388;
-        let t1390: f64 = t1389 * 0.5;
-        let t1391: f64 = t507 * t701;
-        let t1392: f64 = t148 * t499;
-        let t1393: f64 = t8 * t510;
-        let t1394: f64 = t9 * t946;
-        let t1395: f64 = t1393 + t1394;
-        let t1396: f64 = t3 * t1395;
-        let t1397: f64 = t1391 + t1396;
-        let t1398: f64 = t1159 + t1397;
-        let t1399: f64 = t1398 - t1392;
-        let t1400: f64 = t1 * t1399;
-        let t1401: f64 = t1162 - t1400;
-        let t1402: f64 = t1401 * 0.5;
-        let t1403: f64 = t19 + t573;
-        let t1404: f64 = t993 * t1403;
-        let t1405: f64 = half_spacing * t576;
-        let t1406: f64 = t1404 + t1405;
-        let t1407: f64 = t1 * t1406;
-        let t1408: f64 = t992 + t1407;
-        let t1409: f64 = t575 + t1128;
-        let t1410: f64 = t1409 - t1408;
-        let t1411: f64 = t1410 * 0.5;
-        let t1412: f64 = t13 * t576;
-        let t1413: f64 = t18 * t993;
-        let t1414: f64 = t573 * t662;
-        let t1415: f64 = t60 * t568;
-        let t1416: f64 = t1413 + t1414;
-        let t1417: f64 = t1135 + t1415;
-        let t1418: f64 = t1416 + t1417;
-        let t1419: f64 = t1418 - t1412;
-        let t1420: f64 = t1 * t1419;
-        let t1421: f64 = t1139 - t1420;
-        let t1422: f64 = t1421 * 0.5;
-        let t1423: f64 = t81 * t576;
-        let t1424: f64 = t77 * t993;
-        let t1425: f64 = t573 * t681;
-        let t1426: f64 = t106 * t568;
-        let t1427: f64 = t1423 + t1425;
-        let t1428: f64 = t1146 + t1427;
-        let t1429: f64 = t1424 + t1426;
-        let t1430: f64 = t1428 - t1429;
-        let t1431: f64 = t1 * t1430;
-        let t1432: f64 = t1150 + t1431;
-        let t1433: f64 = t1432 * 0.5;
-        let t1434: f64 = t573 * t701;
-        let t1435: f64 = t148 * t568;
-        let t1436: f64 = t8 * t576;
-        let t1437: f64 = t9 * t993;
-        let t1438: f64 = t1436 + t1437;
-        let t1439: f64 = t3 * t1438;
-        let t1440: f64 = t1434 + t1439;
-        let t1441: f64 = t1159 + t1440;
-        let t1442: f64 = t1441 - t1435;
-        let t1443: f64 = t1 * t1442;
-        let t1444: f64 = t1162 - t1443;
-        let t1445: f64 = t1444 * 0.5;
-        let t1446: f64 = wx * t499;
-        let t1447: f64 = xc * wy;
-        let t1448: f64 = vz + t1447;
-        let t1449: f64 = t1448 - t1446;
-        let t1450: f64 = ((t1449 > 0.0) as i8 - (t1449 < 0.0) as i8) as f64;
-        let t1451: f64 = t25 + t644;
-        let t1452: f64 = t1127 + t1451;
-        let t1453: f64 = t1452 * 0.5;
-        let t1454: f64 = t60 + t662;
-        let t1455: f64 = t1454 - t1138;
-        let t1456: f64 = t1455 * 0.5;
-        let t1457: f64 = t106 - t681;
-        let t1458: f64 = t1457 - t1149;
-        let t1459: f64 = t1458 * 0.5;
-        let t1460: f64 = t147 + t701;
-        let t1461: f64 = t1161 + t1460;
-        let t1462: f64 = t1461 * 0.5;
-        let t1463: f64 = -t1173;
-        let t1464: f64 = -t1190;
-        let t1465: f64 = -t1206;
-        let t1466: f64 = -t1211;
-        let t1467: f64 = t765 + t1451;
-        let t1468: f64 = t278 + t1467;
-        let t1469: f64 = t1468 * 0.5;
-        let t1470: f64 = t1454 - t1218;
-        let t1471: f64 = t1470 * 0.5;
-        let t1472: f64 = t1457 - t1224;
-        let t1473: f64 = t1472 * 0.5;
-        let t1474: f64 = t1231 + t1460;
-        let t1475: f64 = t1474 * 0.5;
-        let t1476: f64 = t329 + t1451;
-        let t1477: f64 = t1476 - t1237;
-        let t1478: f64 = t1477 * 0.5;
-        let t1479: f64 = t1247 + t1454;
-        let t1480: f64 = t1479 * 0.5;
-        let t1481: f64 = t1457 - t1256;
-        let t1482: f64 = t1481 * 0.5;
-        let t1483: f64 = t1266 + t1460;
-        let t1484: f64 = t1483 * 0.5;
-        let t1485: f64 = t393 + t1451;
-        let t1486: f64 = t1485 - t1273;
-        let t1487: f64 = t1486 * 0.5;
-        let t1488: f64 = t1285 + t1454;
-        let t1489: f64 = t1488 * 0.5;
-        let t1490: f64 = t1457 - t1296;
-        let t1491: f64 = t1490 * 0.5;
-        let t1492: f64 = t1308 + t1460;
-        let t1493: f64 = t1492 * 0.5;
-        let t1494: f64 = t453 + t1451;
-        let t1495: f64 = t1494 - t1315;
-        let t1496: f64 = t1495 * 0.5;
-        let t1497: f64 = t1325 + t1454;
-        let t1498: f64 = t1497 * 0.5;
-        let t1499: f64 = t1457 - t1334;
-        let t1500: f64 = t1499 * 0.5;
-        let t1501: f64 = t1344 + t1460;
-        let t1502: f64 = t1501 * 0.5;
-        let t1503: f64 = t1354 + t1357;
-        let t1504: f64 = t1503 * 0.5;
-        let t1505: f64 = t509 + t1451;
-        let t1506: f64 = t1365 + t1505;
-        let t1507: f64 = t1506 * 0.5;
-        let t1508: f64 = t1377 + t1454;
-        let t1509: f64 = t1508 * 0.5;
-        let t1510: f64 = t1457 - t1388;
-        let t1511: f64 = t1510 * 0.5;
-        let t1512: f64 = t1400 + t1460;
-        let t1513: f64 = t1512 * 0.5;
-        let t1514: f64 = wdx * t568;
-        let t1515: f64 = t1352 - t1514;
-        let t1516: f64 = t575 + t1451;
-        let t1517: f64 = t1408 + t1516;
-        let t1518: f64 = t1517 * 0.5;
-        let t1519: f64 = t1420 + t1454;
-        let t1520: f64 = t1519 * 0.5;
-        let t1521: f64 = t1457 - t1431;
-        let t1522: f64 = t1521 * 0.5;
-        let t1523: f64 = t1443 + t1460;
-        let t1524: f64 = t1523 * 0.5;
-        let t1525: f64 = wx * t568;
-        let t1526: f64 = t1448 - t1525;
-        let t1527: f64 = ((t1526 > 0.0) as i8 - (t1526 < 0.0) as i8) as f64;
+        let t1276: f64 = t1275 - t1272;
+        let t1277: f64 = t1001 * t1276;
+        let t1278: f64 = t1277 - t1048;
+        let t1279: f64 = wdx * t502;
+        let t1280: f64 = t1233 - t1279;
+        let t1281: f64 = t1003 * t1280;
+        let t1282: f64 = t905 * t1280;
+        let t1283: f64 = -t1282;
+        let t1284: f64 = t1001 * t1283;
+        let t1285: f64 = t1281 + t1284;
+        let t1286: f64 = t509 * t1003;
+        let t1287: f64 = t903 * t1001;
+        let t1288: f64 = t360 * t1287;
+        let t1289: f64 = t516 * t903;
+        let t1290: f64 = t509 * t905;
+        let t1291: f64 = t1289 - t1290;
+        let t1292: f64 = t1001 * t1291;
+        let t1293: f64 = t1288 - t1292;
+        let t1294: f64 = t1286 - t1293;
+        let t1295: f64 = t17 * t509;
+        let t1296: f64 = t22 * t903;
+        let t1297: f64 = t506 * t603;
+        let t1298: f64 = t60 * t502;
+        let t1299: f64 = t1296 + t1297;
+        let t1300: f64 = t1017 + t1298;
+        let t1301: f64 = t1299 + t1300;
+        let t1302: f64 = t1301 - t1295;
+        let t1303: f64 = t1001 * t1302;
+        let t1304: f64 = t1024 + t1303;
+        let t1305: f64 = t80 * t509;
+        let t1306: f64 = t73 * t903;
+        let t1307: f64 = t506 * t621;
+        let t1308: f64 = t103 * t502;
+        let t1309: f64 = t1305 + t1307;
+        let t1310: f64 = t1030 + t1309;
+        let t1311: f64 = t1306 + t1308;
+        let t1312: f64 = t1310 - t1311;
+        let t1313: f64 = t1001 * t1312;
+        let t1314: f64 = t1036 - t1313;
+        let t1315: f64 = t116 * t509;
+        let t1316: f64 = t112 * t903;
+        let t1317: f64 = t506 * t638;
+        let t1318: f64 = t139 * t502;
+        let t1319: f64 = t1315 + t1316;
+        let t1320: f64 = t1042 + t1317;
+        let t1321: f64 = t1319 + t1320;
+        let t1322: f64 = t1321 - t1318;
+        let t1323: f64 = t1001 * t1322;
+        let t1324: f64 = t1323 - t1048;
+        let t1325: f64 = wx * t445;
+        let t1326: f64 = xc * wy;
+        let t1327: f64 = vz + t1326;
+        let t1328: f64 = t1327 - t1325;
+        let t1329: f64 = ((t1328 > 0.0) as i8 - (t1328 < 0.0) as i8) as f64;
+        let t1330: f64 = t1 * t1001;
+        let t1331: f64 = t862 * t1330;
+        let t1332: f64 = t1011 - t1331;
+        let t1333: f64 = t60 * t1002;
+        let t1334: f64 = t1023 - t1333;
+        let t1335: f64 = t1020 + t1334;
+        let t1336: f64 = t103 * t1002;
+        let t1337: f64 = t1035 + t1336;
+        let t1338: f64 = t1033 - t1337;
+        let t1339: f64 = t139 * t1002;
+        let t1340: f64 = t1047 + t1339;
+        let t1341: f64 = t1340 - t1045;
+        let t1342: f64 = -t1064;
+        let t1343: f64 = -t1077;
+        let t1344: f64 = t253 * t1001;
+        let t1345: f64 = t862 * t1344;
+        let t1346: f64 = t1092 - t1345;
+        let t1347: f64 = t1097 + t1334;
+        let t1348: f64 = t1102 - t1337;
+        let t1349: f64 = t1340 - t1107;
+        let t1350: f64 = t295 * t1001;
+        let t1351: f64 = t862 * t1350;
+        let t1352: f64 = t1115 - t1351;
+        let t1353: f64 = t1334 - t1123;
+        let t1354: f64 = t1131 - t1337;
+        let t1355: f64 = t1340 - t1139;
+        let t1356: f64 = t351 * t1001;
+        let t1357: f64 = t862 * t1356;
+        let t1358: f64 = t1155 - t1357;
+        let t1359: f64 = t1334 - t1165;
+        let t1360: f64 = t1175 - t1337;
+        let t1361: f64 = t1340 - t1185;
+        let t1362: f64 = t406 * t1001;
+        let t1363: f64 = t862 * t1362;
+        let t1364: f64 = t1201 - t1363;
+        let t1365: f64 = t1334 - t1209;
+        let t1366: f64 = t1217 - t1337;
+        let t1367: f64 = t1340 - t1225;
+        let t1368: f64 = t1001 * t1234;
+        let t1369: f64 = t862 * t1368;
+        let t1370: f64 = t1238 + t1369;
+        let t1371: f64 = -t1370;
+        let t1372: f64 = t456 * t1001;
+        let t1373: f64 = t862 * t1372;
+        let t1374: f64 = t1247 - t1373;
+        let t1375: f64 = t1334 - t1257;
+        let t1376: f64 = t1267 - t1337;
+        let t1377: f64 = t1340 - t1277;
+        let t1378: f64 = t1001 * t1280;
+        let t1379: f64 = t862 * t1378;
+        let t1380: f64 = t1284 + t1379;
+        let t1381: f64 = -t1380;
+        let t1382: f64 = t509 * t1001;
+        let t1383: f64 = t862 * t1382;
+        let t1384: f64 = t1293 - t1383;
+        let t1385: f64 = t1334 - t1303;
+        let t1386: f64 = t1313 - t1337;
+        let t1387: f64 = t1340 - t1323;
+        let t1388: f64 = wx * t502;
+        let t1389: f64 = t1327 - t1388;
+        let t1390: f64 = ((t1389 > 0.0) as i8 - (t1389 < 0.0) as i8) as f64;
         (
-            t1009,
-            t1019,
-            t1028,
-            t1032,
-            t1033,
+            t1012,
+            t1025,
             t1037,
-            t1041,
-            t1044,
-            t1048,
             t1049,
-            t1050,
-            t1051,
-            t1055,
+            t1057,
             t1058,
-            t1060,
-            t1063,
-            t1068,
+            t1064,
             t1070,
-            t1072,
-            t1074,
-            t1079,
-            t1081,
+            t1071,
+            t1077,
             t1083,
-            t1085,
+            t1084,
             t1088,
-            t1092,
-            t1094,
-            t1096,
+            t1089,
+            t1093,
             t1098,
             t1103,
-            t1105,
-            t1107,
-            t1109,
-            t1114,
+            t1108,
             t1116,
-            t1118,
-            t1120,
-            t1122,
-            t1123,
-            t1130,
-            t1141,
-            t1152,
-            t1164,
-            t1173,
-            t1181,
-            t1182,
-            t1190,
-            t1197,
-            t1198,
-            t1206,
-            t1211,
-            t1214,
-            t1220,
+            t1124,
+            t1132,
+            t1140,
+            t1146,
+            t1147,
+            t1156,
+            t1166,
+            t1176,
+            t1186,
+            t1192,
+            t1193,
+            t1202,
+            t1210,
+            t1218,
             t1226,
-            t1233,
-            t1240,
-            t1249,
+            t1239,
+            t1248,
             t1258,
             t1268,
-            t1276,
-            t1287,
-            t1298,
-            t1310,
-            t1318,
-            t1327,
-            t1336,
+            t1278,
+            t1285,
+            t1294,
+            t1304,
+            t1314,
+            t1324,
+            t1328,
+            t1329,
+            t1332,
+            t1335,
+            t1338,
+            t1341,
+            t1342,
+            t1343,
             t1346,
+            t1347,
+            t1348,
+            t1349,
+            t1352,
+            t1353,
+            t1354,
+            t1355,
+            t1358,
             t1359,
-            t1368,
-            t1379,
+            t1360,
+            t1361,
+            t1364,
+            t1365,
+            t1366,
+            t1367,
+            t1371,
+            t1374,
+            t1375,
+            t1376,
+            t1377,
+            t1381,
+            t1384,
+            t1385,
+            t1386,
+            t1387,
+            t1389,
             t1390,
-            t1402,
-            t1411,
-            t1422,
-            t1433,
-            t1445,
-            t1449,
-            t1450,
-            t1453,
-            t1456,
-            t1459,
-            t1462,
-            t1463,
-            t1464,
-            t1465,
-            t1466,
-            t1469,
-            t1471,
-            t1473,
-            t1475,
-            t1478,
-            t1480,
-            t1482,
-            t1484,
-            t1487,
-            t1489,
-            t1491,
-            t1493,
-            t1496,
-            t1498,
-            t1500,
-            t1502,
-            t1504,
-            t1507,
-            t1509,
-            t1511,
-            t1513,
-            t1515,
-            t1518,
-            t1520,
-            t1522,
-            t1524,
-            t1526,
-            t1527,
         )
     };
     (
         [
             [
                 t34,
-                t73,
-                t119,
-                t161,
-                t195,
-                t216,
-                t235,
-                t242,
-                t252,
-                t258,
-                t266,
+                t69,
+                t111,
+                t147,
+                t176,
+                t194,
+                t211,
+                t218,
+                t228,
+                t232,
+                t240,
                 0.0,
                 0.0,
                 0.0,
@@ -2282,17 +2053,17 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t293,
-                t300,
-                t307,
-                t314,
-                t195,
-                t216,
-                t235,
-                t242,
-                t252,
-                t258,
-                t322,
+                t267,
+                t272,
+                t277,
+                t282,
+                t176,
+                t194,
+                t211,
+                t218,
+                t228,
+                t232,
+                t288,
                 0.0,
                 0.0,
                 0.0,
@@ -2302,16 +2073,16 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t346,
-                t358,
-                t370,
-                t382,
-                t195,
-                t216,
-                t235,
-                t242,
-                t252,
-                t258,
+                t309,
+                t319,
+                t329,
+                t339,
+                t176,
+                t194,
+                t211,
+                t218,
+                t228,
+                t232,
                 0.0,
                 0.0,
                 0.0,
@@ -2322,16 +2093,16 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t409,
-                t421,
-                t433,
-                t445,
-                t195,
-                t216,
-                t235,
-                t242,
-                t252,
-                t258,
+                t368,
+                t378,
+                t388,
+                t398,
+                t176,
+                t194,
+                t211,
+                t218,
+                t228,
+                t232,
                 0.0,
                 0.0,
                 0.0,
@@ -2342,140 +2113,16 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t467,
-                t477,
-                t487,
-                t497,
-                t195,
-                t216,
-                t235,
-                t242,
-                t252,
-                t258,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t531,
-                t543,
-                t555,
-                t567,
-                t195,
-                t216,
-                t235,
-                t242,
-                t252,
-                t258,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t594,
-                t604,
-                t614,
-                t624,
-                t195,
-                t216,
-                t235,
-                t242,
-                t252,
-                t258,
-                t628,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t629,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                t33,
-                t72,
-                t118,
-                t630,
-                t631,
-                t215,
-                t632,
-                t633,
-                t634,
-                t257,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t292,
-                t299,
-                t306,
-                t635,
-                t631,
-                t215,
-                t632,
-                t633,
-                t634,
-                t257,
-                t321,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t345,
-                t357,
-                t369,
-                t636,
-                t631,
-                t215,
-                t632,
-                t633,
-                t634,
-                t257,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t408,
                 t420,
-                t432,
-                t637,
-                t631,
-                t215,
-                t632,
-                t633,
-                t634,
-                t257,
+                t428,
+                t436,
+                t444,
+                t176,
+                t194,
+                t211,
+                t218,
+                t228,
+                t232,
                 0.0,
                 0.0,
                 0.0,
@@ -2486,16 +2133,16 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t466,
-                t476,
-                t486,
-                t638,
-                t631,
-                t215,
-                t632,
-                t633,
-                t634,
-                t257,
+                t471,
+                t481,
+                t491,
+                t501,
+                t176,
+                t194,
+                t211,
+                t218,
+                t228,
+                t232,
                 0.0,
                 0.0,
                 0.0,
@@ -2506,16 +2153,40 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
+                t522,
                 t530,
-                t542,
+                t538,
+                t546,
+                t176,
+                t194,
+                t211,
+                t218,
+                t228,
+                t232,
+                t550,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t551,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                t552,
+                t553,
                 t554,
-                t639,
-                t631,
-                t215,
-                t632,
-                t633,
-                t634,
-                t257,
+                t555,
+                t175,
+                t556,
+                t210,
+                t217,
+                t227,
+                t557,
                 0.0,
                 0.0,
                 0.0,
@@ -2526,40 +2197,140 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t593,
-                t603,
-                t613,
-                t640,
-                t631,
-                t215,
-                t632,
-                t633,
-                t634,
-                t257,
-                0.0,
-                t642,
-                0.0,
+                t558,
+                t559,
+                t560,
+                t561,
+                t175,
+                t556,
+                t210,
+                t217,
+                t227,
+                t557,
+                t562,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t643,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t563,
+                t564,
+                t565,
+                t566,
+                t175,
+                t556,
+                t210,
+                t217,
+                t227,
+                t557,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t567,
+                t568,
+                t569,
+                t570,
+                t175,
+                t556,
+                t210,
+                t217,
+                t227,
+                t557,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t571,
+                t572,
+                t573,
+                t574,
+                t175,
+                t556,
+                t210,
+                t217,
+                t227,
+                t557,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t575,
+                t576,
+                t577,
+                t578,
+                t175,
+                t556,
+                t210,
+                t217,
+                t227,
+                t557,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t579,
+                t580,
+                t581,
+                t582,
+                t175,
+                t556,
+                t210,
+                t217,
+                t227,
+                t557,
+                0.0,
+                t584,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t585,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
             ],
             [
-                t654,
-                t673,
-                t693,
-                t712,
-                t721,
-                t729,
-                t736,
-                t744,
-                t751,
-                t757,
+                t596,
+                t614,
+                t631,
+                t649,
+                t658,
+                t664,
+                t671,
+                t677,
+                t684,
+                t688,
                 0.0,
                 0.0,
                 0.0,
@@ -2570,16 +2341,16 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t767,
-                t773,
-                t780,
-                t786,
-                t721,
-                t729,
-                t736,
-                t744,
-                t751,
-                t757,
+                t699,
+                t705,
+                t710,
+                t716,
+                t658,
+                t664,
+                t671,
+                t677,
+                t684,
+                t688,
                 0.0,
                 0.0,
                 0.0,
@@ -2590,17 +2361,56 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
+                t726,
+                t734,
+                t742,
+                t750,
+                t658,
+                t664,
+                t671,
+                t677,
+                t684,
+                t688,
+                t762,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t777,
+                t787,
                 t797,
-                t806,
-                t815,
+                t807,
+                t658,
+                t664,
+                t671,
+                t677,
+                t684,
+                t688,
+                t813,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
                 t824,
-                t721,
-                t729,
-                t736,
-                t744,
-                t751,
-                t757,
-                t837,
+                t834,
+                t844,
+                t854,
+                t658,
+                t664,
+                t671,
+                t677,
+                t684,
+                t688,
                 0.0,
                 0.0,
                 0.0,
@@ -2610,17 +2420,17 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t852,
-                t863,
-                t875,
-                t886,
-                t721,
-                t729,
-                t736,
-                t744,
-                t751,
-                t757,
-                t893,
+                0.0,
+                t869,
+                t879,
+                t889,
+                t899,
+                t658,
+                t664,
+                t671,
+                t677,
+                t684,
+                t688,
                 0.0,
                 0.0,
                 0.0,
@@ -2630,100 +2440,185 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t906,
-                t917,
-                t929,
+                0.0,
+                t912,
+                t920,
+                t928,
+                t936,
+                t658,
+                t664,
+                t671,
+                t677,
+                t684,
+                t688,
+                0.0,
+                0.0,
                 t940,
-                t721,
-                t729,
-                t736,
-                t744,
-                t751,
-                t757,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t954,
-                t965,
-                t977,
-                t988,
-                t721,
-                t729,
-                t736,
-                t744,
-                t751,
-                t757,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1000,
-                t1009,
-                t1019,
-                t1028,
-                t721,
-                t729,
-                t736,
-                t744,
-                t751,
-                t757,
-                0.0,
-                0.0,
-                t1032,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1033,
+                t941,
                 0.0,
                 0.0,
                 0.0,
             ],
             [
+                t944,
+                t946,
+                t949,
+                t951,
+                t657,
+                t952,
+                t670,
+                t953,
+                t683,
+                t954,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t956,
+                t957,
+                t959,
+                t960,
+                t657,
+                t952,
+                t670,
+                t953,
+                t683,
+                t954,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t963,
+                t964,
+                t965,
+                t966,
+                t657,
+                t952,
+                t670,
+                t953,
+                t683,
+                t954,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t969,
+                t970,
+                t972,
+                t973,
+                t657,
+                t952,
+                t670,
+                t953,
+                t683,
+                t954,
+                t975,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t978,
+                t979,
+                t981,
+                t982,
+                t657,
+                t952,
+                t670,
+                t953,
+                t683,
+                t954,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t985,
+                t986,
+                t988,
+                t989,
+                t657,
+                t952,
+                t670,
+                t953,
+                t683,
+                t954,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t992,
+                t993,
+                t995,
+                t996,
+                t657,
+                t952,
+                t670,
+                t953,
+                t683,
+                t954,
+                0.0,
+                0.0,
+                0.0,
+                t998,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t999,
+                0.0,
+                0.0,
+            ],
+            [
+                t1012,
+                t1025,
                 t1037,
-                t1041,
-                t1044,
-                t1048,
                 t1049,
-                t728,
-                t1050,
-                t743,
-                t1051,
-                t756,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1055,
                 t1058,
-                t1060,
-                t1063,
-                t1049,
-                t728,
-                t1050,
-                t743,
-                t1051,
-                t756,
+                t1064,
+                t1071,
+                t1077,
+                t1084,
+                t1089,
                 0.0,
                 0.0,
                 0.0,
@@ -2734,36 +2629,139 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t1068,
+                t1093,
+                t1098,
+                t1103,
+                t1108,
+                t1058,
+                t1064,
+                t1071,
+                t1077,
+                t1084,
+                t1089,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1116,
+                t1124,
+                t1132,
+                t1140,
+                t1058,
+                t1064,
+                t1071,
+                t1077,
+                t1084,
+                t1089,
+                t1147,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1156,
+                t1166,
+                t1176,
+                t1186,
+                t1058,
+                t1064,
+                t1071,
+                t1077,
+                t1084,
+                t1089,
+                t1193,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1202,
+                t1210,
+                t1218,
+                t1226,
+                t1058,
+                t1064,
+                t1071,
+                t1077,
+                t1084,
+                t1089,
+                t1239,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1248,
+                t1258,
+                t1268,
+                t1278,
+                t1058,
+                t1064,
+                t1071,
+                t1077,
+                t1084,
+                t1089,
+                t1285,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1294,
+                t1304,
+                t1314,
+                t1324,
+                t1058,
+                t1064,
+                t1071,
+                t1077,
+                t1084,
+                t1089,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1328,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1329,
+                0.0,
+            ],
+            [
+                t1332,
+                t1335,
+                t1338,
+                t1341,
+                t1057,
+                t1342,
                 t1070,
-                t1072,
-                t1074,
-                t1049,
-                t728,
-                t1050,
-                t743,
-                t1051,
-                t756,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1079,
-                t1081,
+                t1343,
                 t1083,
-                t1085,
-                t1049,
-                t728,
-                t1050,
-                t743,
-                t1051,
-                t756,
                 t1088,
                 0.0,
                 0.0,
@@ -2774,161 +2772,58 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t1092,
-                t1094,
-                t1096,
-                t1098,
-                t1049,
-                t728,
-                t1050,
-                t743,
-                t1051,
-                t756,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1103,
-                t1105,
-                t1107,
-                t1109,
-                t1049,
-                t728,
-                t1050,
-                t743,
-                t1051,
-                t756,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1114,
-                t1116,
-                t1118,
-                t1120,
-                t1049,
-                t728,
-                t1050,
-                t743,
-                t1051,
-                t756,
-                0.0,
-                0.0,
-                0.0,
-                t1122,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1123,
-                0.0,
-                0.0,
-            ],
-            [
-                t1130,
-                t1141,
-                t1152,
-                t1164,
-                t1173,
-                t1182,
-                t1190,
-                t1198,
-                t1206,
-                t1211,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1214,
-                t1220,
-                t1226,
-                t1233,
-                t1173,
-                t1182,
-                t1190,
-                t1198,
-                t1206,
-                t1211,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1240,
-                t1249,
-                t1258,
-                t1268,
-                t1173,
-                t1182,
-                t1190,
-                t1198,
-                t1206,
-                t1211,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1276,
-                t1287,
-                t1298,
-                t1310,
-                t1173,
-                t1182,
-                t1190,
-                t1198,
-                t1206,
-                t1211,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1318,
-                t1327,
-                t1336,
                 t1346,
-                t1173,
-                t1182,
-                t1190,
-                t1198,
-                t1206,
-                t1211,
+                t1347,
+                t1348,
+                t1349,
+                t1057,
+                t1342,
+                t1070,
+                t1343,
+                t1083,
+                t1088,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1352,
+                t1353,
+                t1354,
+                t1355,
+                t1057,
+                t1342,
+                t1070,
+                t1343,
+                t1083,
+                t1088,
+                t1146,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1358,
                 t1359,
+                t1360,
+                t1361,
+                t1057,
+                t1342,
+                t1070,
+                t1343,
+                t1083,
+                t1088,
+                t1192,
                 0.0,
                 0.0,
                 0.0,
@@ -2938,195 +2833,71 @@ pub fn regressor(
                 0.0,
                 0.0,
                 0.0,
-                t1368,
-                t1379,
+                t1364,
+                t1365,
+                t1366,
+                t1367,
+                t1057,
+                t1342,
+                t1070,
+                t1343,
+                t1083,
+                t1088,
+                t1371,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1374,
+                t1375,
+                t1376,
+                t1377,
+                t1057,
+                t1342,
+                t1070,
+                t1343,
+                t1083,
+                t1088,
+                t1381,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1384,
+                t1385,
+                t1386,
+                t1387,
+                t1057,
+                t1342,
+                t1070,
+                t1343,
+                t1083,
+                t1088,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1389,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
                 t1390,
-                t1402,
-                t1173,
-                t1182,
-                t1190,
-                t1198,
-                t1206,
-                t1211,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1411,
-                t1422,
-                t1433,
-                t1445,
-                t1173,
-                t1182,
-                t1190,
-                t1198,
-                t1206,
-                t1211,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1449,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1450,
-                0.0,
-            ],
-            [
-                t1453,
-                t1456,
-                t1459,
-                t1462,
-                t1463,
-                t1181,
-                t1464,
-                t1197,
-                t1465,
-                t1466,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1469,
-                t1471,
-                t1473,
-                t1475,
-                t1463,
-                t1181,
-                t1464,
-                t1197,
-                t1465,
-                t1466,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1478,
-                t1480,
-                t1482,
-                t1484,
-                t1463,
-                t1181,
-                t1464,
-                t1197,
-                t1465,
-                t1466,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1487,
-                t1489,
-                t1491,
-                t1493,
-                t1463,
-                t1181,
-                t1464,
-                t1197,
-                t1465,
-                t1466,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1496,
-                t1498,
-                t1500,
-                t1502,
-                t1463,
-                t1181,
-                t1464,
-                t1197,
-                t1465,
-                t1466,
-                t1504,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1507,
-                t1509,
-                t1511,
-                t1513,
-                t1463,
-                t1181,
-                t1464,
-                t1197,
-                t1465,
-                t1466,
-                t1515,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1518,
-                t1520,
-                t1522,
-                t1524,
-                t1463,
-                t1181,
-                t1464,
-                t1197,
-                t1465,
-                t1466,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1526,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1527,
             ],
         ],
-        [t63, t81, t150],
+        [t10, t80, t112],
     )
 }
 /// The regressor `Y_b` of the base parameters: `Γ = Y_b β`.
@@ -3151,7 +2922,7 @@ pub fn regressor(
 /// - `y`: row `i` for actuator `i+1`, one column per parameter (N per unit)
 /// - `r`: `[r11 r22 r33]`, the divisors of eq 16: the other results are meaningless where one is near zero
 ///
-/// Operations: 849 mul, 5 div, 618 add, 44 neg, 6 sign, 3 sin_cos (chapter convention: 854m + 618a).
+/// Operations: 705 mul, 6 div, 610 add, 58 neg, 6 sign, 3 sin_cos (chapter convention: 711m + 610a).
 ///
 /// Its body is not `#[inline]`: a kernel that costs more than 1500 (its operations, a division 1.9, a call 20) is compiled once, in the crate that holds it, not again in each crate that calls it.
 pub fn base_regressor(
@@ -3168,2545 +2939,2316 @@ pub fn base_regressor(
         t1,
         t2,
         t3,
-        t5,
+        t4,
         t6,
-        t8,
-        t9,
-        t13,
-        t18,
-        t19,
-        t25,
-        t33,
+        t10,
+        t17,
+        t22,
         t34,
-        t49,
         t60,
-        t63,
-        t72,
+        t69,
         t73,
-        t77,
-        t81,
-        t95,
-        t106,
-        t109,
-        t118,
-        t119,
-        t136,
+        t75,
+        t80,
+        t103,
+        t111,
+        t112,
+        t116,
+        t139,
         t147,
-        t148,
-        t150,
-        t161,
-        t167,
-        t174,
-        t180,
+        t152,
+        t158,
+        t163,
+        t170,
+        t175,
+        t176,
         t181,
-        t189,
-        t195,
-        t198,
+        t183,
+        t186,
+        t190,
+        t194,
+        t199,
+        t201,
+        t204,
         t206,
-        t207,
         t210,
-        t215,
-        t216,
-        t224,
-        t225,
+        t211,
+        t217,
+        t218,
+        t219,
+        t221,
+        t223,
+        t227,
         t228,
-        t230,
-        t235,
-        t242,
-        t243,
-        t245,
-        t247,
-        t252,
-        t257,
-        t258,
-        t266,
-        t278,
-        t279,
-        t292,
-        t293,
-        t299,
-        t300,
-        t306,
-        t307,
-        t314,
-        t315,
-        t321,
-        t322,
+        t232,
+        t240,
+        t253,
+        t267,
+        t272,
+        t277,
+        t282,
+        t288,
+        t295,
+        t309,
+        t319,
         t329,
-        t330,
-        t345,
+        t339,
         t346,
-        t357,
-        t358,
-        t369,
-        t370,
-        t382,
-        t384,
-        t390,
-        t393,
-        t394,
+        t351,
+        t360,
+        t368,
+        t378,
+        t388,
+        t398,
         t403,
-        t408,
-        t409,
+        t406,
         t420,
-        t421,
-        t432,
-        t433,
+        t428,
+        t436,
+        t444,
         t445,
-        t446,
-        t449,
-        t453,
-        t454,
-        t466,
-        t467,
-        t476,
-        t477,
-        t486,
-        t487,
-        t497,
-        t499,
-        t507,
+        t451,
+        t456,
+        t465,
+        t471,
+        t481,
+        t491,
+        t501,
+        t502,
+        t506,
         t509,
-        t510,
+        t516,
+        t522,
         t530,
-        t531,
-        t542,
-        t543,
+        t538,
+        t546,
+        t550,
+        t551,
+        t552,
+        t553,
         t554,
         t555,
+        t556,
+        t557,
+        t558,
+        t559,
+        t560,
+        t561,
+        t562,
+        t563,
+        t564,
+        t565,
+        t566,
         t567,
         t568,
+        t569,
+        t570,
+        t571,
+        t572,
         t573,
+        t574,
         t575,
         t576,
+        t577,
+        t578,
+        t579,
+        t580,
+        t581,
         t582,
-        t593,
-        t594,
+        t584,
+        t585,
+        t586,
+        t596,
         t603,
-        t604,
-        t613,
         t614,
-        t624,
-        t628,
-        t629,
-        t630,
+        t621,
         t631,
-        t632,
-        t633,
-        t634,
-        t635,
-        t636,
-        t637,
         t638,
-        t639,
-        t640,
-        t642,
-        t643,
-        t644,
-        t645,
-        t652,
-        t654,
-        t662,
-        t663,
+        t649,
+        t657,
+        t658,
+        t664,
+        t670,
         t671,
-        t673,
-        t681,
-        t682,
-        t690,
-        t693,
-        t701,
-        t702,
+        t677,
+        t683,
+        t684,
+        t688,
+        t697,
+        t699,
+        t705,
         t710,
-        t712,
-        t721,
-        t728,
-        t729,
-        t736,
-        t743,
-        t744,
-        t751,
-        t756,
-        t757,
-        t765,
-        t766,
-        t767,
-        t771,
-        t773,
+        t716,
+        t720,
+        t726,
+        t734,
+        t742,
+        t750,
+        t758,
+        t762,
+        t768,
+        t770,
         t777,
-        t780,
-        t784,
-        t786,
-        t790,
-        t791,
-        t795,
+        t787,
         t797,
-        t804,
-        t806,
+        t807,
+        t809,
         t813,
-        t815,
-        t822,
+        t817,
+        t819,
         t824,
-        t837,
-        t842,
-        t843,
-        t845,
-        t850,
-        t852,
-        t861,
-        t863,
-        t872,
-        t875,
-        t884,
-        t886,
-        t890,
-        t891,
-        t893,
-        t897,
-        t898,
-        t900,
-        t904,
-        t906,
-        t915,
-        t917,
-        t926,
-        t929,
-        t938,
+        t834,
+        t844,
+        t854,
+        t860,
+        t862,
+        t869,
+        t879,
+        t889,
+        t899,
+        t903,
+        t905,
+        t912,
+        t920,
+        t928,
+        t936,
         t940,
-        t945,
+        t941,
+        t944,
         t946,
+        t949,
+        t951,
         t952,
+        t953,
         t954,
+        t956,
+        t957,
         t959,
+        t960,
         t963,
+        t964,
         t965,
+        t966,
+        t969,
         t970,
-        t974,
-        t977,
+        t972,
+        t973,
+        t975,
+        t978,
+        t979,
+        t981,
         t982,
+        t985,
         t986,
         t988,
+        t989,
         t992,
         t993,
+        t995,
+        t996,
         t998,
-        t1000,
+        t999,
         t1001,
         t1002,
     ) = {
         let t0: f64 = ax - gravity_x;
-        let t1: f64 = 1.0 / half_spacing;
-        let (t2, t3): (f64, f64) = sin_cos(beta);
-        let t4: f64 = 1.0 / t3;
-        let (t5, t6): (f64, f64) = sin_cos(gamma);
-        let t7: f64 = 1.0 / t6;
-        let (t8, t9): (f64, f64) = sin_cos(alpha);
-        let t10: f64 = t5 * t9;
-        let t11: f64 = t2 * t8;
-        let t12: f64 = t6 * t11;
-        let t13: f64 = t10 + t12;
-        let t14: f64 = yc * t13;
-        let t15: f64 = t5 * t8;
-        let t16: f64 = t2 * t9;
-        let t17: f64 = t6 * t16;
-        let t18: f64 = t15 - t17;
-        let t19: f64 = zc - half_spacing;
-        let t20: f64 = t18 * t19;
-        let t21: f64 = t14 + t20;
-        let t22: f64 = t4 * t7;
-        let t23: f64 = t21 * t22;
-        let t24: f64 = xc + t23;
-        let t25: f64 = az - gravity_z;
-        let t26: f64 = t1 * t24;
-        let t27: f64 = t25 * t26;
-        let t28: f64 = t0 * t19;
-        let t29: f64 = t23 * t25;
-        let t30: f64 = t28 + t29;
-        let t31: f64 = t1 * t30;
-        let t32: f64 = t27 - t31;
-        let t33: f64 = t32 * 0.5;
-        let t34: f64 = t0 - t33;
-        let t35: f64 = wdy * t18;
-        let t36: f64 = wdz * t13;
-        let t37: f64 = t35 - t36;
-        let t38: f64 = wx * t13;
-        let t39: f64 = wy * t3;
-        let t40: f64 = t6 * t39;
-        let t41: f64 = t38 - t40;
-        let t42: f64 = wy * t41;
-        let t43: f64 = wz * t3;
-        let t44: f64 = t6 * t43;
-        let t45: f64 = wx * t18;
+        let t1: f64 = az - gravity_z;
+        let t2: f64 = zc - half_spacing;
+        let t3: f64 = zc + half_spacing;
+        let t4: f64 = t2 - t3;
+        let t5: f64 = 1.0 / t4;
+        let (t6, t7): (f64, f64) = sin_cos(beta);
+        let (t8, t9): (f64, f64) = sin_cos(gamma);
+        let t10: f64 = t7 * t9;
+        let t11: f64 = 1.0 / t10;
+        let (t12, t13): (f64, f64) = sin_cos(alpha);
+        let t14: f64 = t8 * t13;
+        let t15: f64 = t6 * t12;
+        let t16: f64 = t9 * t15;
+        let t17: f64 = t14 + t16;
+        let t18: f64 = yc * t17;
+        let t19: f64 = t8 * t12;
+        let t20: f64 = t6 * t13;
+        let t21: f64 = t9 * t20;
+        let t22: f64 = t19 - t21;
+        let t23: f64 = t2 * t22;
+        let t24: f64 = t18 + t23;
+        let t25: f64 = t11 * t24;
+        let t26: f64 = xc + t25;
+        let t27: f64 = t1 * t5;
+        let t28: f64 = t26 * t27;
+        let t29: f64 = t0 * t2;
+        let t30: f64 = t1 * t25;
+        let t31: f64 = t29 + t30;
+        let t32: f64 = t5 * t31;
+        let t33: f64 = t28 - t32;
+        let t34: f64 = t0 + t33;
+        let t35: f64 = t0 * t22;
+        let t36: f64 = t1 * t10;
+        let t37: f64 = wdy * t22;
+        let t38: f64 = wdz * t17;
+        let t39: f64 = t37 - t38;
+        let t40: f64 = wx * t17;
+        let t41: f64 = wy * t10;
+        let t42: f64 = t40 - t41;
+        let t43: f64 = wy * t42;
+        let t44: f64 = wz * t10;
+        let t45: f64 = wx * t22;
         let t46: f64 = t44 - t45;
         let t47: f64 = wz * t46;
-        let t48: f64 = t42 - t47;
-        let t49: f64 = t37 + t48;
-        let t50: f64 = wdx * t13;
-        let t51: f64 = wdy * t3;
-        let t52: f64 = t6 * t51;
-        let t53: f64 = t50 - t52;
-        let t54: f64 = wx * t46;
-        let t55: f64 = wy * t18;
-        let t56: f64 = wz * t13;
-        let t57: f64 = t55 - t56;
-        let t58: f64 = wy * t57;
-        let t59: f64 = t54 - t58;
-        let t60: f64 = t53 + t59;
-        let t61: f64 = t26 * t60;
-        let t62: f64 = t0 * t18;
-        let t63: f64 = t3 * t6;
-        let t64: f64 = t25 * t63;
-        let t65: f64 = t19 * t49;
-        let t66: f64 = t23 * t60;
-        let t67: f64 = t65 + t66;
-        let t68: f64 = t62 + t67;
-        let t69: f64 = t68 - t64;
-        let t70: f64 = t1 * t69;
-        let t71: f64 = t61 - t70;
-        let t72: f64 = t71 * 0.5;
-        let t73: f64 = t49 - t72;
-        let t74: f64 = t6 * t8;
-        let t75: f64 = t2 * t5;
-        let t76: f64 = t9 * t75;
-        let t77: f64 = t74 + t76;
-        let t78: f64 = wdy * t77;
-        let t79: f64 = t6 * t9;
-        let t80: f64 = t5 * t11;
-        let t81: f64 = t79 - t80;
-        let t82: f64 = wdz * t81;
-        let t83: f64 = t78 - t82;
-        let t84: f64 = wx * t81;
-        let t85: f64 = wy * t5;
-        let t86: f64 = t3 * t85;
-        let t87: f64 = t84 + t86;
-        let t88: f64 = wy * t87;
-        let t89: f64 = wz * t5;
-        let t90: f64 = t3 * t89;
-        let t91: f64 = wx * t77;
-        let t92: f64 = t90 + t91;
-        let t93: f64 = wz * t92;
-        let t94: f64 = t88 + t93;
-        let t95: f64 = t83 + t94;
-        let t96: f64 = wdx * t81;
-        let t97: f64 = wdy * t5;
-        let t98: f64 = t3 * t97;
-        let t99: f64 = t96 + t98;
-        let t100: f64 = wx * t92;
-        let t101: f64 = wy * t77;
-        let t102: f64 = wz * t81;
+        let t48: f64 = t43 - t47;
+        let t49: f64 = t39 + t48;
+        let t50: f64 = t2 * t49;
+        let t51: f64 = wdx * t17;
+        let t52: f64 = wdy * t10;
+        let t53: f64 = wx * t46;
+        let t54: f64 = wy * t22;
+        let t55: f64 = wz * t17;
+        let t56: f64 = t54 - t55;
+        let t57: f64 = wy * t56;
+        let t58: f64 = t51 + t53;
+        let t59: f64 = t52 + t57;
+        let t60: f64 = t58 - t59;
+        let t61: f64 = t25 * t60;
+        let t62: f64 = t50 + t61;
+        let t63: f64 = t35 + t62;
+        let t64: f64 = t63 - t36;
+        let t65: f64 = t5 * t64;
+        let t66: f64 = t5 * t26;
+        let t67: f64 = t60 * t66;
+        let t68: f64 = t49 + t67;
+        let t69: f64 = t68 - t65;
+        let t70: f64 = t9 * t12;
+        let t71: f64 = t6 * t8;
+        let t72: f64 = t13 * t71;
+        let t73: f64 = t70 + t72;
+        let t74: f64 = t0 * t73;
+        let t75: f64 = t7 * t8;
+        let t76: f64 = t1 * t75;
+        let t77: f64 = wdy * t73;
+        let t78: f64 = t9 * t13;
+        let t79: f64 = t8 * t15;
+        let t80: f64 = t78 - t79;
+        let t81: f64 = wdz * t80;
+        let t82: f64 = t77 - t81;
+        let t83: f64 = wx * t80;
+        let t84: f64 = wy * t75;
+        let t85: f64 = t83 + t84;
+        let t86: f64 = wy * t85;
+        let t87: f64 = wz * t75;
+        let t88: f64 = wx * t73;
+        let t89: f64 = t87 + t88;
+        let t90: f64 = wz * t89;
+        let t91: f64 = t86 + t90;
+        let t92: f64 = t82 + t91;
+        let t93: f64 = t2 * t92;
+        let t94: f64 = wdx * t80;
+        let t95: f64 = wdy * t75;
+        let t96: f64 = wx * t89;
+        let t97: f64 = wy * t73;
+        let t98: f64 = wz * t80;
+        let t99: f64 = t97 - t98;
+        let t100: f64 = wy * t99;
+        let t101: f64 = t94 + t95;
+        let t102: f64 = t96 + t100;
         let t103: f64 = t101 - t102;
-        let t104: f64 = wy * t103;
-        let t105: f64 = t100 + t104;
-        let t106: f64 = t99 - t105;
-        let t107: f64 = t26 * t106;
-        let t108: f64 = t0 * t77;
-        let t109: f64 = t3 * t5;
-        let t110: f64 = t25 * t109;
-        let t111: f64 = t19 * t95;
-        let t112: f64 = t23 * t106;
-        let t113: f64 = t111 + t112;
-        let t114: f64 = t108 + t110;
-        let t115: f64 = t113 + t114;
-        let t116: f64 = t1 * t115;
-        let t117: f64 = t107 - t116;
-        let t118: f64 = t117 * 0.5;
-        let t119: f64 = t95 - t118;
-        let t120: f64 = wdy * t9;
-        let t121: f64 = t3 * t120;
-        let t122: f64 = wdz * t8;
-        let t123: f64 = t3 * t122;
-        let t124: f64 = t121 + t123;
-        let t125: f64 = wx * t8;
-        let t126: f64 = t3 * t125;
-        let t127: f64 = wy * t2;
-        let t128: f64 = t126 + t127;
-        let t129: f64 = wy * t128;
-        let t130: f64 = wz * t2;
-        let t131: f64 = wx * t9;
-        let t132: f64 = t3 * t131;
-        let t133: f64 = t130 - t132;
-        let t134: f64 = wz * t133;
-        let t135: f64 = t129 + t134;
-        let t136: f64 = t124 - t135;
-        let t137: f64 = wx * t133;
-        let t138: f64 = wy * t9;
-        let t139: f64 = wz * t8;
-        let t140: f64 = t138 + t139;
-        let t141: f64 = t39 * t140;
-        let t142: f64 = t137 - t141;
-        let t143: f64 = wdx * t8;
-        let t144: f64 = t3 * t143;
-        let t145: f64 = wdy * t2;
-        let t146: f64 = t144 + t145;
-        let t147: f64 = t142 - t146;
-        let t148: f64 = -t147;
-        let t149: f64 = t26 * t148;
-        let t150: f64 = t3 * t9;
-        let t151: f64 = t0 * t150;
-        let t152: f64 = t2 * t25;
-        let t153: f64 = t19 * t136;
-        let t154: f64 = t23 * t148;
-        let t155: f64 = t153 - t154;
-        let t156: f64 = t151 + t155;
-        let t157: f64 = t156 - t152;
-        let t158: f64 = t1 * t157;
-        let t159: f64 = t149 + t158;
-        let t160: f64 = t159 * 0.5;
-        let t161: f64 = t136 + t160;
-        let t162: f64 = wdz * t18;
-        let t163: f64 = wdx * t3;
-        let t164: f64 = t6 * t163;
-        let t165: f64 = wdy * t13;
-        let t166: f64 = t164 + t165;
-        let t167: f64 = t162 + t166;
-        let t168: f64 = t13 * t167;
-        let t169: f64 = wx * t3;
-        let t170: f64 = t6 * t169;
-        let t171: f64 = wy * t13;
-        let t172: f64 = wz * t18;
-        let t173: f64 = t170 + t171;
-        let t174: f64 = t172 + t173;
-        let t175: f64 = wx * t5;
-        let t176: f64 = t3 * t175;
-        let t177: f64 = wy * t81;
-        let t178: f64 = wz * t77;
-        let t179: f64 = t177 + t178;
-        let t180: f64 = t176 - t179;
-        let t181: f64 = t3 * t8;
-        let t182: f64 = t174 * t181;
-        let t183: f64 = t180 * t182;
-        let t184: f64 = wx * t2;
-        let t185: f64 = wy * t8;
-        let t186: f64 = wz * t9;
-        let t187: f64 = t185 - t186;
-        let t188: f64 = t3 * t187;
-        let t189: f64 = t184 - t188;
-        let t190: f64 = t81 * t174;
-        let t191: f64 = t189 * t190;
-        let t192: f64 = t168 + t191;
-        let t193: f64 = t192 - t183;
-        let t194: f64 = t1 * t193;
-        let t195: f64 = t194 * 0.5;
-        let t196: f64 = t174 * t174;
-        let t197: f64 = t180 * t180;
-        let t198: f64 = t196 - t197;
-        let t199: f64 = t181 * t198;
-        let t200: f64 = t174 * t189;
-        let t201: f64 = wdx * t5;
-        let t202: f64 = t3 * t201;
-        let t203: f64 = wdy * t81;
-        let t204: f64 = t202 - t203;
-        let t205: f64 = wdz * t77;
-        let t206: f64 = t204 - t205;
-        let t207: f64 = t200 + t206;
-        let t208: f64 = t13 * t207;
-        let t209: f64 = t180 * t189;
-        let t210: f64 = t167 - t209;
-        let t211: f64 = t81 * t210;
-        let t212: f64 = t199 + t208;
-        let t213: f64 = t212 - t211;
-        let t214: f64 = t1 * t213;
-        let t215: f64 = t214 * 0.5;
-        let t216: f64 = -t215;
-        let t217: f64 = t174 * t180;
-        let t218: f64 = wdz * t9;
-        let t219: f64 = t3 * t218;
-        let t220: f64 = wdx * t2;
-        let t221: f64 = wdy * t8;
-        let t222: f64 = t3 * t221;
-        let t223: f64 = t220 - t222;
-        let t224: f64 = t219 + t223;
-        let t225: f64 = t224 - t217;
-        let t226: f64 = t13 * t225;
-        let t227: f64 = t189 * t189;
-        let t228: f64 = t196 - t227;
-        let t229: f64 = t81 * t228;
-        let t230: f64 = t167 + t209;
-        let t231: f64 = t181 * t230;
-        let t232: f64 = t229 + t231;
-        let t233: f64 = t226 - t232;
-        let t234: f64 = t1 * t233;
-        let t235: f64 = t234 * 0.5;
-        let t236: f64 = t81 * t206;
-        let t237: f64 = t13 * t180;
-        let t238: f64 = t189 * t237;
-        let t239: f64 = t183 + t238;
-        let t240: f64 = t239 - t236;
-        let t241: f64 = t1 * t240;
-        let t242: f64 = t241 * 0.5;
-        let t243: f64 = t217 + t224;
-        let t244: f64 = t81 * t243;
-        let t245: f64 = t197 - t227;
-        let t246: f64 = t13 * t245;
-        let t247: f64 = t206 - t200;
-        let t248: f64 = t181 * t247;
-        let t249: f64 = t244 + t246;
-        let t250: f64 = t248 + t249;
-        let t251: f64 = t1 * t250;
-        let t252: f64 = t251 * 0.5;
-        let t253: f64 = t181 * t224;
-        let t254: f64 = t191 + t253;
-        let t255: f64 = t238 + t254;
-        let t256: f64 = t1 * t255;
-        let t257: f64 = t256 * 0.5;
-        let t258: f64 = -t257;
-        let t259: f64 = wdy * t19;
-        let t260: f64 = wz * vy;
-        let t261: f64 = wy * vz;
-        let t262: f64 = t260 - t261;
-        let t263: f64 = yc * wdz;
-        let t264: f64 = t0 + t263;
+        let t104: f64 = t25 * t103;
+        let t105: f64 = t93 + t104;
+        let t106: f64 = t74 + t76;
+        let t107: f64 = t105 + t106;
+        let t108: f64 = t5 * t107;
+        let t109: f64 = t66 * t103;
+        let t110: f64 = t92 + t109;
+        let t111: f64 = t110 - t108;
+        let t112: f64 = t7 * t13;
+        let t113: f64 = t0 * t112;
+        let t114: f64 = t1 * t6;
+        let t115: f64 = wdy * t112;
+        let t116: f64 = t7 * t12;
+        let t117: f64 = wdz * t116;
+        let t118: f64 = t115 + t117;
+        let t119: f64 = wx * t116;
+        let t120: f64 = wy * t6;
+        let t121: f64 = t119 + t120;
+        let t122: f64 = wy * t121;
+        let t123: f64 = wz * t6;
+        let t124: f64 = wx * t112;
+        let t125: f64 = t123 - t124;
+        let t126: f64 = wz * t125;
+        let t127: f64 = t122 + t126;
+        let t128: f64 = t118 - t127;
+        let t129: f64 = t2 * t128;
+        let t130: f64 = wdx * t116;
+        let t131: f64 = wdy * t6;
+        let t132: f64 = wx * t125;
+        let t133: f64 = wy * t112;
+        let t134: f64 = wz * t116;
+        let t135: f64 = t133 + t134;
+        let t136: f64 = wy * t135;
+        let t137: f64 = t130 + t131;
+        let t138: f64 = t136 + t137;
+        let t139: f64 = t138 - t132;
+        let t140: f64 = t25 * t139;
+        let t141: f64 = t129 - t140;
+        let t142: f64 = t113 + t141;
+        let t143: f64 = t142 - t114;
+        let t144: f64 = t5 * t143;
+        let t145: f64 = t66 * t139;
+        let t146: f64 = t128 - t145;
+        let t147: f64 = t146 - t144;
+        let t148: f64 = wdx * t10;
+        let t149: f64 = wdy * t17;
+        let t150: f64 = wdz * t22;
+        let t151: f64 = t148 + t149;
+        let t152: f64 = t150 + t151;
+        let t153: f64 = t17 * t152;
+        let t154: f64 = wx * t10;
+        let t155: f64 = wy * t17;
+        let t156: f64 = wz * t22;
+        let t157: f64 = t154 + t155;
+        let t158: f64 = t156 + t157;
+        let t159: f64 = wx * t6;
+        let t160: f64 = wy * t116;
+        let t161: f64 = wz * t112;
+        let t162: f64 = t159 + t161;
+        let t163: f64 = t162 - t160;
+        let t164: f64 = t80 * t158;
+        let t165: f64 = t163 * t164;
+        let t166: f64 = wx * t75;
+        let t167: f64 = wy * t80;
+        let t168: f64 = wz * t73;
+        let t169: f64 = t167 + t168;
+        let t170: f64 = t166 - t169;
+        let t171: f64 = t116 * t158;
+        let t172: f64 = t170 * t171;
+        let t173: f64 = t153 + t165;
+        let t174: f64 = t173 - t172;
+        let t175: f64 = t5 * t174;
+        let t176: f64 = -t175;
+        let t177: f64 = wdx * t75;
+        let t178: f64 = wdy * t80;
+        let t179: f64 = wdz * t73;
+        let t180: f64 = t178 + t179;
+        let t181: f64 = t177 - t180;
+        let t182: f64 = t158 * t163;
+        let t183: f64 = t181 + t182;
+        let t184: f64 = t17 * t183;
+        let t185: f64 = t163 * t170;
+        let t186: f64 = t152 - t185;
+        let t187: f64 = t80 * t186;
+        let t188: f64 = t158 * t158;
+        let t189: f64 = t170 * t170;
+        let t190: f64 = t188 - t189;
+        let t191: f64 = t116 * t190;
+        let t192: f64 = t184 + t191;
+        let t193: f64 = t192 - t187;
+        let t194: f64 = t5 * t193;
+        let t195: f64 = wdx * t6;
+        let t196: f64 = wdy * t116;
+        let t197: f64 = wdz * t112;
+        let t198: f64 = t195 + t197;
+        let t199: f64 = t198 - t196;
+        let t200: f64 = t158 * t170;
+        let t201: f64 = t199 - t200;
+        let t202: f64 = t17 * t201;
+        let t203: f64 = t163 * t163;
+        let t204: f64 = t188 - t203;
+        let t205: f64 = t80 * t204;
+        let t206: f64 = t152 + t185;
+        let t207: f64 = t116 * t206;
+        let t208: f64 = t205 + t207;
+        let t209: f64 = t202 - t208;
+        let t210: f64 = t5 * t209;
+        let t211: f64 = -t210;
+        let t212: f64 = t17 * t163;
+        let t213: f64 = t170 * t212;
+        let t214: f64 = t80 * t181;
+        let t215: f64 = t172 + t213;
+        let t216: f64 = t215 - t214;
+        let t217: f64 = t5 * t216;
+        let t218: f64 = -t217;
+        let t219: f64 = t189 - t203;
+        let t220: f64 = t17 * t219;
+        let t221: f64 = t199 + t200;
+        let t222: f64 = t80 * t221;
+        let t223: f64 = t181 - t182;
+        let t224: f64 = t116 * t223;
+        let t225: f64 = t220 + t222;
+        let t226: f64 = t224 + t225;
+        let t227: f64 = t5 * t226;
+        let t228: f64 = -t227;
+        let t229: f64 = t116 * t199;
+        let t230: f64 = t165 + t213;
+        let t231: f64 = t229 + t230;
+        let t232: f64 = t5 * t231;
+        let t233: f64 = wdy * t2;
+        let t234: f64 = wz * vy;
+        let t235: f64 = wy * vz;
+        let t236: f64 = t234 - t235;
+        let t237: f64 = yc * wdz;
+        let t238: f64 = t0 + t237;
+        let t239: f64 = t236 + t238;
+        let t240: f64 = t239 - t233;
+        let t241: f64 = wx * wz;
+        let t242: f64 = wdy - t241;
+        let t243: f64 = t25 * t242;
+        let t244: f64 = wy * wy;
+        let t245: f64 = wx * wx;
+        let t246: f64 = t244 + t245;
+        let t247: f64 = t2 * t246;
+        let t248: f64 = wy * wz;
+        let t249: f64 = wdx + t248;
+        let t250: f64 = yc * t249;
+        let t251: f64 = t1 - t250;
+        let t252: f64 = t247 + t251;
+        let t253: f64 = t252 - t243;
+        let t254: f64 = t5 * t253;
+        let t255: f64 = t26 * t254;
+        let t256: f64 = wx * wy;
+        let t257: f64 = wdz - t256;
+        let t258: f64 = yc * t257;
+        let t259: f64 = t0 + t258;
+        let t260: f64 = wz * wz;
+        let t261: f64 = t244 + t260;
+        let t262: f64 = t25 * t261;
+        let t263: f64 = wdy + t241;
+        let t264: f64 = t2 * t263;
         let t265: f64 = t262 + t264;
-        let t266: f64 = t265 - t259;
-        let t267: f64 = wy * wy;
-        let t268: f64 = wx * wx;
-        let t269: f64 = t267 + t268;
-        let t270: f64 = t19 * t269;
-        let t271: f64 = wx * wz;
-        let t272: f64 = wdy - t271;
-        let t273: f64 = t23 * t272;
-        let t274: f64 = wy * wz;
-        let t275: f64 = wdx + t274;
-        let t276: f64 = yc * t275;
-        let t277: f64 = t273 + t276;
-        let t278: f64 = t270 - t277;
-        let t279: f64 = t25 + t278;
-        let t280: f64 = t26 * t279;
-        let t281: f64 = wx * wy;
-        let t282: f64 = wdz - t281;
-        let t283: f64 = yc * t282;
-        let t284: f64 = t0 + t283;
-        let t285: f64 = wz * wz;
-        let t286: f64 = t267 + t285;
-        let t287: f64 = t23 * t286;
-        let t288: f64 = wdy + t271;
-        let t289: f64 = t19 * t288;
-        let t290: f64 = t287 + t289;
-        let t291: f64 = t284 - t290;
-        let t292: f64 = t280 * 0.5;
-        let t293: f64 = t291 - t292;
-        let t294: f64 = t18 * t291;
-        let t295: f64 = t63 * t279;
-        let t296: f64 = t294 - t295;
-        let t297: f64 = t1 * t296;
-        let t298: f64 = t61 - t297;
-        let t299: f64 = t298 * 0.5;
-        let t300: f64 = t49 - t299;
-        let t301: f64 = t77 * t291;
-        let t302: f64 = t109 * t279;
-        let t303: f64 = t301 + t302;
-        let t304: f64 = t1 * t303;
-        let t305: f64 = t107 - t304;
-        let t306: f64 = t305 * 0.5;
-        let t307: f64 = t95 - t306;
-        let t308: f64 = t150 * t291;
-        let t309: f64 = t2 * t279;
-        let t310: f64 = t308 - t309;
-        let t311: f64 = t1 * t310;
-        let t312: f64 = t149 + t311;
-        let t313: f64 = t312 * 0.5;
-        let t314: f64 = t136 + t313;
-        let t315: f64 = zc + half_spacing;
-        let t316: f64 = wdy * t315;
-        let t317: f64 = t265 - t316;
-        let t318: f64 = half_spacing * t317;
-        let t319: f64 = t318 * 2.0;
-        let t320: f64 = t1 * t319;
-        let t321: f64 = t320 * 0.5;
-        let t322: f64 = t317 - t321;
-        let t323: f64 = t269 * t315;
-        let t324: f64 = t18 * t315;
-        let t325: f64 = t14 + t324;
-        let t326: f64 = t22 * t325;
-        let t327: f64 = t272 * t326;
-        let t328: f64 = t276 + t327;
-        let t329: f64 = t323 - t328;
-        let t330: f64 = t25 + t329;
-        let t331: f64 = t26 * t330;
-        let t332: f64 = half_spacing * t4;
-        let t333: f64 = t7 * t332;
-        let t334: f64 = t18 * t333;
-        let t335: f64 = t330 * t334;
-        let t336: f64 = t286 * t326;
-        let t337: f64 = t288 * t315;
-        let t338: f64 = t336 + t337;
-        let t339: f64 = t284 - t338;
-        let t340: f64 = half_spacing * t339;
-        let t341: f64 = t335 + t340;
-        let t342: f64 = t341 * 2.0;
-        let t343: f64 = t1 * t342;
-        let t344: f64 = t331 + t343;
-        let t345: f64 = t344 * 0.5;
-        let t346: f64 = t339 - t345;
-        let t347: f64 = t18 * t339;
-        let t348: f64 = t63 * t330;
-        let t349: f64 = t49 * t315;
-        let t350: f64 = t60 * t326;
-        let t351: f64 = t67 + t347;
-        let t352: f64 = t348 + t349;
-        let t353: f64 = t350 + t352;
-        let t354: f64 = t351 - t353;
-        let t355: f64 = t1 * t354;
-        let t356: f64 = t61 - t355;
-        let t357: f64 = t356 * 0.5;
-        let t358: f64 = t49 - t357;
-        let t359: f64 = t77 * t339;
-        let t360: f64 = t109 * t330;
-        let t361: f64 = t95 * t315;
-        let t362: f64 = t106 * t326;
-        let t363: f64 = t359 + t360;
-        let t364: f64 = t113 + t363;
-        let t365: f64 = t361 + t362;
-        let t366: f64 = t364 - t365;
-        let t367: f64 = t1 * t366;
-        let t368: f64 = t107 - t367;
-        let t369: f64 = t368 * 0.5;
-        let t370: f64 = t95 - t369;
-        let t371: f64 = t150 * t339;
-        let t372: f64 = t2 * t330;
-        let t373: f64 = t136 * t315;
-        let t374: f64 = t148 * t326;
-        let t375: f64 = t371 + t374;
-        let t376: f64 = t155 + t375;
-        let t377: f64 = t372 + t373;
-        let t378: f64 = t376 - t377;
-        let t379: f64 = t1 * t378;
-        let t380: f64 = t149 + t379;
-        let t381: f64 = t380 * 0.5;
-        let t382: f64 = t136 + t381;
-        let t383: f64 = zc * t269;
-        let t384: f64 = xc - half_spacing;
-        let t385: f64 = t272 * t384;
-        let t386: f64 = 1.0 / t81;
-        let t387: f64 = t109 * t384;
-        let t388: f64 = zc * t77;
-        let t389: f64 = t387 - t388;
-        let t390: f64 = t386 * t389;
-        let t391: f64 = t275 * t390;
-        let t392: f64 = t385 - t391;
-        let t393: f64 = t383 + t392;
-        let t394: f64 = t25 + t393;
-        let t395: f64 = t26 * t394;
-        let t396: f64 = zc * t288;
-        let t397: f64 = t0 - t396;
-        let t398: f64 = t286 * t384;
-        let t399: f64 = t282 * t390;
-        let t400: f64 = t398 + t399;
-        let t401: f64 = t397 + t400;
-        let t402: f64 = half_spacing * t401;
-        let t403: f64 = t24 - half_spacing;
-        let t404: f64 = t394 * t403;
-        let t405: f64 = t402 - t404;
-        let t406: f64 = t1 * t405;
-        let t407: f64 = t395 + t406;
-        let t408: f64 = t407 * 0.5;
-        let t409: f64 = t401 - t408;
-        let t410: f64 = t18 * t401;
-        let t411: f64 = t63 * t394;
-        let t412: f64 = t60 * t384;
-        let t413: f64 = zc * t49;
-        let t414: f64 = t67 - t413;
-        let t415: f64 = t410 + t412;
-        let t416: f64 = t414 + t415;
-        let t417: f64 = t416 - t411;
-        let t418: f64 = t1 * t417;
-        let t419: f64 = t61 - t418;
-        let t420: f64 = t419 * 0.5;
-        let t421: f64 = t49 - t420;
-        let t422: f64 = t77 * t401;
-        let t423: f64 = t109 * t394;
-        let t424: f64 = t106 * t384;
-        let t425: f64 = zc * t95;
-        let t426: f64 = t113 - t425;
-        let t427: f64 = t422 + t423;
-        let t428: f64 = t424 + t426;
-        let t429: f64 = t427 + t428;
-        let t430: f64 = t1 * t429;
-        let t431: f64 = t107 - t430;
-        let t432: f64 = t431 * 0.5;
-        let t433: f64 = t95 - t432;
-        let t434: f64 = t150 * t401;
-        let t435: f64 = t2 * t394;
-        let t436: f64 = t148 * t384;
-        let t437: f64 = zc * t136;
-        let t438: f64 = t155 - t437;
-        let t439: f64 = t434 + t438;
-        let t440: f64 = t435 + t436;
-        let t441: f64 = t439 - t440;
-        let t442: f64 = t1 * t441;
-        let t443: f64 = t149 + t442;
-        let t444: f64 = t443 * 0.5;
-        let t445: f64 = t136 + t444;
-        let t446: f64 = xc + half_spacing;
-        let t447: f64 = t109 * t446;
-        let t448: f64 = t388 - t447;
-        let t449: f64 = t386 * t448;
-        let t450: f64 = t275 * t449;
-        let t451: f64 = t272 * t446;
-        let t452: f64 = t383 + t451;
-        let t453: f64 = t450 + t452;
-        let t454: f64 = t25 + t453;
-        let t455: f64 = t26 * t454;
-        let t456: f64 = t286 * t446;
-        let t457: f64 = t282 * t449;
-        let t458: f64 = t456 - t457;
-        let t459: f64 = t397 + t458;
-        let t460: f64 = half_spacing * t459;
-        let t461: f64 = half_spacing + t24;
-        let t462: f64 = t454 * t461;
-        let t463: f64 = t460 - t462;
-        let t464: f64 = t1 * t463;
-        let t465: f64 = t455 + t464;
-        let t466: f64 = t465 * 0.5;
-        let t467: f64 = t459 - t466;
-        let t468: f64 = t18 * t459;
-        let t469: f64 = t63 * t454;
-        let t470: f64 = t60 * t446;
-        let t471: f64 = t468 + t470;
-        let t472: f64 = t414 + t471;
-        let t473: f64 = t472 - t469;
-        let t474: f64 = t1 * t473;
-        let t475: f64 = t61 - t474;
-        let t476: f64 = t475 * 0.5;
-        let t477: f64 = t49 - t476;
-        let t478: f64 = t77 * t459;
-        let t479: f64 = t109 * t454;
-        let t480: f64 = t106 * t446;
-        let t481: f64 = t478 + t479;
-        let t482: f64 = t426 + t480;
-        let t483: f64 = t481 + t482;
-        let t484: f64 = t1 * t483;
-        let t485: f64 = t107 - t484;
-        let t486: f64 = t485 * 0.5;
-        let t487: f64 = t95 - t486;
-        let t488: f64 = t150 * t459;
-        let t489: f64 = t2 * t454;
-        let t490: f64 = t148 * t446;
-        let t491: f64 = t438 + t488;
-        let t492: f64 = t489 + t490;
-        let t493: f64 = t491 - t492;
-        let t494: f64 = t1 * t493;
-        let t495: f64 = t149 + t494;
-        let t496: f64 = t495 * 0.5;
-        let t497: f64 = t136 + t496;
-        let t498: f64 = xc * t272;
-        let t499: f64 = yc - half_spacing;
-        let t500: f64 = t275 * t499;
-        let t501: f64 = t498 - t500;
-        let t502: f64 = 1.0 / t9;
-        let t503: f64 = xc * t2;
-        let t504: f64 = t181 * t499;
-        let t505: f64 = t503 - t504;
-        let t506: f64 = t4 * t502;
-        let t507: f64 = t505 * t506;
-        let t508: f64 = t269 * t507;
-        let t509: f64 = t501 - t508;
-        let t510: f64 = t25 + t509;
+        let t266: f64 = t259 - t265;
+        let t267: f64 = t255 + t266;
+        let t268: f64 = t22 * t266;
+        let t269: f64 = t10 * t253;
+        let t270: f64 = t268 - t269;
+        let t271: f64 = t5 * t270;
+        let t272: f64 = t68 - t271;
+        let t273: f64 = t73 * t266;
+        let t274: f64 = t75 * t253;
+        let t275: f64 = t273 + t274;
+        let t276: f64 = t5 * t275;
+        let t277: f64 = t110 - t276;
+        let t278: f64 = t112 * t266;
+        let t279: f64 = t6 * t253;
+        let t280: f64 = t278 - t279;
+        let t281: f64 = t5 * t280;
+        let t282: f64 = t146 - t281;
+        let t283: f64 = wdy * t3;
+        let t284: f64 = t239 - t283;
+        let t285: f64 = t4 * t284;
+        let t286: f64 = -t285;
+        let t287: f64 = t5 * t286;
+        let t288: f64 = t284 + t287;
+        let t289: f64 = t3 * t22;
+        let t290: f64 = t18 + t289;
+        let t291: f64 = t11 * t290;
+        let t292: f64 = t242 * t291;
+        let t293: f64 = t3 * t246;
+        let t294: f64 = t251 + t293;
+        let t295: f64 = t294 - t292;
+        let t296: f64 = t5 * t295;
+        let t297: f64 = t26 * t296;
+        let t298: f64 = t261 * t291;
+        let t299: f64 = t3 * t263;
+        let t300: f64 = t298 + t299;
+        let t301: f64 = t259 - t300;
+        let t302: f64 = t4 * t301;
+        let t303: f64 = t25 - t291;
+        let t304: f64 = t295 * t303;
+        let t305: f64 = t302 + t304;
+        let t306: f64 = -t305;
+        let t307: f64 = t5 * t306;
+        let t308: f64 = t297 + t307;
+        let t309: f64 = t301 + t308;
+        let t310: f64 = t22 * t301;
+        let t311: f64 = t10 * t295;
+        let t312: f64 = t3 * t49;
+        let t313: f64 = t60 * t291;
+        let t314: f64 = t62 + t310;
+        let t315: f64 = t311 + t312;
+        let t316: f64 = t313 + t315;
+        let t317: f64 = t314 - t316;
+        let t318: f64 = t5 * t317;
+        let t319: f64 = t68 - t318;
+        let t320: f64 = t73 * t301;
+        let t321: f64 = t75 * t295;
+        let t322: f64 = t3 * t92;
+        let t323: f64 = t103 * t291;
+        let t324: f64 = t320 + t321;
+        let t325: f64 = t105 + t324;
+        let t326: f64 = t322 + t323;
+        let t327: f64 = t325 - t326;
+        let t328: f64 = t5 * t327;
+        let t329: f64 = t110 - t328;
+        let t330: f64 = t112 * t301;
+        let t331: f64 = t6 * t295;
+        let t332: f64 = t3 * t128;
+        let t333: f64 = t139 * t291;
+        let t334: f64 = t330 + t333;
+        let t335: f64 = t141 + t334;
+        let t336: f64 = t331 + t332;
+        let t337: f64 = t335 - t336;
+        let t338: f64 = t5 * t337;
+        let t339: f64 = t146 - t338;
+        let t340: f64 = xc - half_spacing;
+        let t341: f64 = t242 * t340;
+        let t342: f64 = 1.0 / t80;
+        let t343: f64 = t75 * t340;
+        let t344: f64 = zc * t73;
+        let t345: f64 = t343 - t344;
+        let t346: f64 = t342 * t345;
+        let t347: f64 = t249 * t346;
+        let t348: f64 = zc * t246;
+        let t349: f64 = t1 + t348;
+        let t350: f64 = t341 + t349;
+        let t351: f64 = t350 - t347;
+        let t352: f64 = t5 * t351;
+        let t353: f64 = t26 * t352;
+        let t354: f64 = zc * t263;
+        let t355: f64 = t0 - t354;
+        let t356: f64 = t261 * t340;
+        let t357: f64 = t257 * t346;
+        let t358: f64 = t356 + t357;
+        let t359: f64 = t355 + t358;
+        let t360: f64 = t2 - zc;
+        let t361: f64 = t359 * t360;
+        let t362: f64 = t25 + t340;
+        let t363: f64 = t351 * t362;
+        let t364: f64 = t361 + t363;
+        let t365: f64 = -t364;
+        let t366: f64 = t5 * t365;
+        let t367: f64 = t353 + t366;
+        let t368: f64 = t359 + t367;
+        let t369: f64 = t22 * t359;
+        let t370: f64 = t10 * t351;
+        let t371: f64 = t60 * t340;
+        let t372: f64 = zc * t49;
+        let t373: f64 = t62 - t372;
+        let t374: f64 = t369 + t371;
+        let t375: f64 = t373 + t374;
+        let t376: f64 = t375 - t370;
+        let t377: f64 = t5 * t376;
+        let t378: f64 = t68 - t377;
+        let t379: f64 = t73 * t359;
+        let t380: f64 = t75 * t351;
+        let t381: f64 = t103 * t340;
+        let t382: f64 = zc * t92;
+        let t383: f64 = t105 - t382;
+        let t384: f64 = t379 + t380;
+        let t385: f64 = t381 + t383;
+        let t386: f64 = t384 + t385;
+        let t387: f64 = t5 * t386;
+        let t388: f64 = t110 - t387;
+        let t389: f64 = t112 * t359;
+        let t390: f64 = t6 * t351;
+        let t391: f64 = t139 * t340;
+        let t392: f64 = zc * t128;
+        let t393: f64 = t141 - t392;
+        let t394: f64 = t389 + t393;
+        let t395: f64 = t390 + t391;
+        let t396: f64 = t394 - t395;
+        let t397: f64 = t5 * t396;
+        let t398: f64 = t146 - t397;
+        let t399: f64 = xc + half_spacing;
+        let t400: f64 = t242 * t399;
+        let t401: f64 = t75 * t399;
+        let t402: f64 = t344 - t401;
+        let t403: f64 = t342 * t402;
+        let t404: f64 = t249 * t403;
+        let t405: f64 = t400 + t404;
+        let t406: f64 = t349 + t405;
+        let t407: f64 = t5 * t406;
+        let t408: f64 = t26 * t407;
+        let t409: f64 = t261 * t399;
+        let t410: f64 = t257 * t403;
+        let t411: f64 = t409 - t410;
+        let t412: f64 = t355 + t411;
+        let t413: f64 = t360 * t412;
+        let t414: f64 = t25 + t399;
+        let t415: f64 = t406 * t414;
+        let t416: f64 = t413 + t415;
+        let t417: f64 = -t416;
+        let t418: f64 = t5 * t417;
+        let t419: f64 = t408 + t418;
+        let t420: f64 = t412 + t419;
+        let t421: f64 = t22 * t412;
+        let t422: f64 = t10 * t406;
+        let t423: f64 = t60 * t399;
+        let t424: f64 = t421 + t423;
+        let t425: f64 = t373 + t424;
+        let t426: f64 = t425 - t422;
+        let t427: f64 = t5 * t426;
+        let t428: f64 = t68 - t427;
+        let t429: f64 = t73 * t412;
+        let t430: f64 = t75 * t406;
+        let t431: f64 = t103 * t399;
+        let t432: f64 = t429 + t430;
+        let t433: f64 = t383 + t431;
+        let t434: f64 = t432 + t433;
+        let t435: f64 = t5 * t434;
+        let t436: f64 = t110 - t435;
+        let t437: f64 = t112 * t412;
+        let t438: f64 = t6 * t406;
+        let t439: f64 = t139 * t399;
+        let t440: f64 = t393 + t437;
+        let t441: f64 = t438 + t439;
+        let t442: f64 = t440 - t441;
+        let t443: f64 = t5 * t442;
+        let t444: f64 = t146 - t443;
+        let t445: f64 = yc - half_spacing;
+        let t446: f64 = t249 * t445;
+        let t447: f64 = 1.0 / t112;
+        let t448: f64 = xc * t6;
+        let t449: f64 = t116 * t445;
+        let t450: f64 = t448 - t449;
+        let t451: f64 = t447 * t450;
+        let t452: f64 = t246 * t451;
+        let t453: f64 = xc * t242;
+        let t454: f64 = t1 + t453;
+        let t455: f64 = t446 + t452;
+        let t456: f64 = t454 - t455;
+        let t457: f64 = t5 * t456;
+        let t458: f64 = t26 * t457;
+        let t459: f64 = xc * t261;
+        let t460: f64 = t0 + t459;
+        let t461: f64 = t257 * t445;
+        let t462: f64 = t263 * t451;
+        let t463: f64 = t461 + t462;
+        let t464: f64 = t460 + t463;
+        let t465: f64 = t2 + t451;
+        let t466: f64 = t464 * t465;
+        let t467: f64 = t26 * t456;
+        let t468: f64 = t466 + t467;
+        let t469: f64 = t5 * t468;
+        let t470: f64 = t458 - t469;
+        let t471: f64 = t464 + t470;
+        let t472: f64 = t22 * t464;
+        let t473: f64 = t10 * t456;
+        let t474: f64 = t49 * t451;
+        let t475: f64 = xc * t60;
+        let t476: f64 = t62 + t475;
+        let t477: f64 = t472 + t474;
+        let t478: f64 = t476 + t477;
+        let t479: f64 = t478 - t473;
+        let t480: f64 = t5 * t479;
+        let t481: f64 = t68 - t480;
+        let t482: f64 = t73 * t464;
+        let t483: f64 = t75 * t456;
+        let t484: f64 = t92 * t451;
+        let t485: f64 = xc * t103;
+        let t486: f64 = t105 + t485;
+        let t487: f64 = t482 + t483;
+        let t488: f64 = t484 + t486;
+        let t489: f64 = t487 + t488;
+        let t490: f64 = t5 * t489;
+        let t491: f64 = t110 - t490;
+        let t492: f64 = t112 * t464;
+        let t493: f64 = t6 * t456;
+        let t494: f64 = t128 * t451;
+        let t495: f64 = xc * t139;
+        let t496: f64 = t141 - t495;
+        let t497: f64 = t492 + t494;
+        let t498: f64 = t496 + t497;
+        let t499: f64 = t498 - t493;
+        let t500: f64 = t5 * t499;
+        let t501: f64 = t146 - t500;
+        let t502: f64 = yc + half_spacing;
+        let t503: f64 = t249 * t502;
+        let t504: f64 = t116 * t502;
+        let t505: f64 = t448 - t504;
+        let t506: f64 = t447 * t505;
+        let t507: f64 = t246 * t506;
+        let t508: f64 = t503 + t507;
+        let t509: f64 = t454 - t508;
+        let t510: f64 = t5 * t509;
         let t511: f64 = t26 * t510;
-        let t512: f64 = xc * t510;
-        let t513: f64 = xc * t286;
-        let t514: f64 = t0 + t513;
-        let t515: f64 = t282 * t499;
-        let t516: f64 = t288 * t507;
-        let t517: f64 = t515 + t516;
-        let t518: f64 = t514 + t517;
-        let t519: f64 = t19 * t518;
-        let t520: f64 = t502 * t505;
-        let t521: f64 = t518 * t520;
-        let t522: f64 = t7 * t21;
-        let t523: f64 = t510 * t522;
-        let t524: f64 = t521 + t523;
-        let t525: f64 = t4 * t524;
-        let t526: f64 = t512 + t519;
-        let t527: f64 = t525 + t526;
-        let t528: f64 = t1 * t527;
-        let t529: f64 = t511 - t528;
-        let t530: f64 = t529 * 0.5;
-        let t531: f64 = t518 - t530;
-        let t532: f64 = t18 * t518;
-        let t533: f64 = t63 * t510;
-        let t534: f64 = t49 * t507;
-        let t535: f64 = xc * t60;
-        let t536: f64 = t67 + t535;
-        let t537: f64 = t532 + t534;
-        let t538: f64 = t536 + t537;
-        let t539: f64 = t538 - t533;
-        let t540: f64 = t1 * t539;
-        let t541: f64 = t61 - t540;
-        let t542: f64 = t541 * 0.5;
-        let t543: f64 = t49 - t542;
-        let t544: f64 = t77 * t518;
-        let t545: f64 = t109 * t510;
-        let t546: f64 = t95 * t507;
-        let t547: f64 = xc * t106;
-        let t548: f64 = t113 + t547;
-        let t549: f64 = t544 + t545;
-        let t550: f64 = t546 + t548;
-        let t551: f64 = t549 + t550;
-        let t552: f64 = t1 * t551;
-        let t553: f64 = t107 - t552;
-        let t554: f64 = t553 * 0.5;
-        let t555: f64 = t95 - t554;
-        let t556: f64 = t150 * t518;
-        let t557: f64 = t2 * t510;
-        let t558: f64 = t136 * t507;
-        let t559: f64 = xc * t148;
-        let t560: f64 = t155 - t559;
-        let t561: f64 = t556 + t558;
-        let t562: f64 = t560 + t561;
-        let t563: f64 = t562 - t557;
-        let t564: f64 = t1 * t563;
-        let t565: f64 = t149 + t564;
-        let t566: f64 = t565 * 0.5;
-        let t567: f64 = t136 + t566;
-        let t568: f64 = yc + half_spacing;
-        let t569: f64 = t275 * t568;
-        let t570: f64 = t498 - t569;
-        let t571: f64 = t181 * t568;
-        let t572: f64 = t503 - t571;
-        let t573: f64 = t506 * t572;
-        let t574: f64 = t269 * t573;
-        let t575: f64 = t570 - t574;
-        let t576: f64 = t25 + t575;
-        let t577: f64 = t26 * t576;
-        let t578: f64 = xc * t576;
-        let t579: f64 = t282 * t568;
-        let t580: f64 = t288 * t573;
-        let t581: f64 = t579 + t580;
-        let t582: f64 = t514 + t581;
-        let t583: f64 = t19 * t582;
-        let t584: f64 = t502 * t572;
-        let t585: f64 = t582 * t584;
-        let t586: f64 = t522 * t576;
-        let t587: f64 = t585 + t586;
-        let t588: f64 = t4 * t587;
-        let t589: f64 = t578 + t583;
-        let t590: f64 = t588 + t589;
-        let t591: f64 = t1 * t590;
-        let t592: f64 = t577 - t591;
-        let t593: f64 = t592 * 0.5;
-        let t594: f64 = t582 - t593;
-        let t595: f64 = t18 * t582;
-        let t596: f64 = t63 * t576;
-        let t597: f64 = t49 * t573;
-        let t598: f64 = t595 + t597;
-        let t599: f64 = t536 + t598;
-        let t600: f64 = t599 - t596;
-        let t601: f64 = t1 * t600;
-        let t602: f64 = t61 - t601;
-        let t603: f64 = t602 * 0.5;
-        let t604: f64 = t49 - t603;
-        let t605: f64 = t77 * t582;
-        let t606: f64 = t109 * t576;
-        let t607: f64 = t95 * t573;
-        let t608: f64 = t605 + t606;
-        let t609: f64 = t548 + t607;
-        let t610: f64 = t608 + t609;
-        let t611: f64 = t1 * t610;
-        let t612: f64 = t107 - t611;
-        let t613: f64 = t612 * 0.5;
-        let t614: f64 = t95 - t613;
-        let t615: f64 = t150 * t582;
-        let t616: f64 = t2 * t576;
-        let t617: f64 = t136 * t573;
-        let t618: f64 = t615 + t617;
-        let t619: f64 = t560 + t618;
-        let t620: f64 = t619 - t616;
-        let t621: f64 = t1 * t620;
-        let t622: f64 = t149 + t621;
-        let t623: f64 = t622 * 0.5;
-        let t624: f64 = t136 + t623;
-        let t625: f64 = wy * t19;
-        let t626: f64 = yc * wz;
-        let t627: f64 = vx + t626;
-        let t628: f64 = t627 - t625;
-        let t629: f64 = ((t628 > 0.0) as i8 - (t628 < 0.0) as i8) as f64;
-        let t630: f64 = -t160;
-        let t631: f64 = -t195;
-        let t632: f64 = -t235;
-        let t633: f64 = -t242;
-        let t634: f64 = -t252;
-        let t635: f64 = -t313;
-        let t636: f64 = -t381;
-        let t637: f64 = -t444;
-        let t638: f64 = -t496;
-        let t639: f64 = -t566;
-        let t640: f64 = -t623;
-        let t641: f64 = wy * t315;
-        let t642: f64 = t627 - t641;
-        let t643: f64 = ((t642 > 0.0) as i8 - (t642 < 0.0) as i8) as f64;
-        let t644: f64 = ay - gravity_y;
-        let t645: f64 = t1 * t403;
-        let t646: f64 = t645 * 0.5;
-        let t647: f64 = t646 + 1.0;
-        let t648: f64 = t644 * t647;
-        let t649: f64 = yc * t0;
-        let t650: f64 = t23 * t644;
-        let t651: f64 = t649 + t650;
-        let t652: f64 = t1 * t651;
-        let t653: f64 = t652 * 0.5;
-        let t654: f64 = t648 - t653;
-        let t655: f64 = wdz * t3;
-        let t656: f64 = t6 * t655;
-        let t657: f64 = wdx * t18;
-        let t658: f64 = t656 - t657;
-        let t659: f64 = wz * t57;
-        let t660: f64 = wx * t41;
-        let t661: f64 = t659 - t660;
-        let t662: f64 = t658 + t661;
-        let t663: f64 = t647 * t662;
-        let t664: f64 = t63 * t644;
-        let t665: f64 = t0 * t13;
-        let t666: f64 = yc * t49;
-        let t667: f64 = t23 * t662;
-        let t668: f64 = t666 + t667;
-        let t669: f64 = t665 + t668;
-        let t670: f64 = t664 - t669;
-        let t671: f64 = t1 * t670;
-        let t672: f64 = t671 * 0.5;
-        let t673: f64 = t663 + t672;
-        let t674: f64 = wdz * t5;
-        let t675: f64 = t3 * t674;
-        let t676: f64 = wdx * t77;
-        let t677: f64 = t675 + t676;
-        let t678: f64 = wx * t87;
-        let t679: f64 = wz * t103;
-        let t680: f64 = t678 - t679;
-        let t681: f64 = t677 + t680;
-        let t682: f64 = t647 * t681;
-        let t683: f64 = t109 * t644;
-        let t684: f64 = t0 * t81;
-        let t685: f64 = yc * t95;
-        let t686: f64 = t23 * t681;
-        let t687: f64 = t685 - t686;
-        let t688: f64 = t683 + t684;
-        let t689: f64 = t687 + t688;
-        let t690: f64 = t1 * t689;
-        let t691: f64 = t690 * 0.5;
-        let t692: f64 = t682 + t691;
-        let t693: f64 = -t692;
-        let t694: f64 = wdz * t2;
-        let t695: f64 = wdx * t9;
-        let t696: f64 = t3 * t695;
-        let t697: f64 = t694 - t696;
-        let t698: f64 = wx * t128;
-        let t699: f64 = t43 * t140;
-        let t700: f64 = t698 + t699;
-        let t701: f64 = t697 + t700;
-        let t702: f64 = t647 * t701;
-        let t703: f64 = t2 * t644;
-        let t704: f64 = t0 * t181;
-        let t705: f64 = yc * t136;
-        let t706: f64 = t23 * t701;
-        let t707: f64 = t705 + t706;
-        let t708: f64 = t703 + t704;
-        let t709: f64 = t708 - t707;
-        let t710: f64 = t1 * t709;
-        let t711: f64 = t710 * 0.5;
-        let t712: f64 = t702 + t711;
-        let t713: f64 = t18 * t167;
-        let t714: f64 = t150 * t174;
-        let t715: f64 = t180 * t714;
-        let t716: f64 = t77 * t174;
-        let t717: f64 = t189 * t716;
-        let t718: f64 = t713 + t715;
+        let t512: f64 = t257 * t502;
+        let t513: f64 = t263 * t506;
+        let t514: f64 = t512 + t513;
+        let t515: f64 = t460 + t514;
+        let t516: f64 = t2 + t506;
+        let t517: f64 = t515 * t516;
+        let t518: f64 = t26 * t509;
+        let t519: f64 = t517 + t518;
+        let t520: f64 = t5 * t519;
+        let t521: f64 = t511 - t520;
+        let t522: f64 = t515 + t521;
+        let t523: f64 = t22 * t515;
+        let t524: f64 = t10 * t509;
+        let t525: f64 = t49 * t506;
+        let t526: f64 = t523 + t525;
+        let t527: f64 = t476 + t526;
+        let t528: f64 = t527 - t524;
+        let t529: f64 = t5 * t528;
+        let t530: f64 = t68 - t529;
+        let t531: f64 = t73 * t515;
+        let t532: f64 = t75 * t509;
+        let t533: f64 = t92 * t506;
+        let t534: f64 = t531 + t532;
+        let t535: f64 = t486 + t533;
+        let t536: f64 = t534 + t535;
+        let t537: f64 = t5 * t536;
+        let t538: f64 = t110 - t537;
+        let t539: f64 = t112 * t515;
+        let t540: f64 = t6 * t509;
+        let t541: f64 = t128 * t506;
+        let t542: f64 = t539 + t541;
+        let t543: f64 = t496 + t542;
+        let t544: f64 = t543 - t540;
+        let t545: f64 = t5 * t544;
+        let t546: f64 = t146 - t545;
+        let t547: f64 = wy * t2;
+        let t548: f64 = yc * wz;
+        let t549: f64 = vx + t548;
+        let t550: f64 = t549 - t547;
+        let t551: f64 = ((t550 > 0.0) as i8 - (t550 < 0.0) as i8) as f64;
+        let t552: f64 = -t33;
+        let t553: f64 = t65 - t67;
+        let t554: f64 = t108 - t109;
+        let t555: f64 = t144 + t145;
+        let t556: f64 = -t194;
+        let t557: f64 = -t232;
+        let t558: f64 = -t255;
+        let t559: f64 = t271 - t67;
+        let t560: f64 = t276 - t109;
+        let t561: f64 = t145 + t281;
+        let t562: f64 = -t287;
+        let t563: f64 = -t308;
+        let t564: f64 = t318 - t67;
+        let t565: f64 = t328 - t109;
+        let t566: f64 = t145 + t338;
+        let t567: f64 = -t367;
+        let t568: f64 = t377 - t67;
+        let t569: f64 = t387 - t109;
+        let t570: f64 = t145 + t397;
+        let t571: f64 = -t419;
+        let t572: f64 = t427 - t67;
+        let t573: f64 = t435 - t109;
+        let t574: f64 = t145 + t443;
+        let t575: f64 = -t470;
+        let t576: f64 = t480 - t67;
+        let t577: f64 = t490 - t109;
+        let t578: f64 = t145 + t500;
+        let t579: f64 = -t521;
+        let t580: f64 = t529 - t67;
+        let t581: f64 = t537 - t109;
+        let t582: f64 = t145 + t545;
+        let t583: f64 = wy * t3;
+        let t584: f64 = t549 - t583;
+        let t585: f64 = ((t584 > 0.0) as i8 - (t584 < 0.0) as i8) as f64;
+        let t586: f64 = ay - gravity_y;
+        let t587: f64 = t340 - t399;
+        let t588: f64 = 1.0 / t587;
+        let t589: f64 = t362 * t588;
+        let t590: f64 = t589 - 1.0;
+        let t591: f64 = t586 * t590;
+        let t592: f64 = yc * t0;
+        let t593: f64 = t25 * t586;
+        let t594: f64 = t592 + t593;
+        let t595: f64 = t588 * t594;
+        let t596: f64 = t595 - t591;
+        let t597: f64 = wdz * t10;
+        let t598: f64 = wdx * t22;
+        let t599: f64 = wz * t56;
+        let t600: f64 = wx * t42;
+        let t601: f64 = t597 + t599;
+        let t602: f64 = t598 + t600;
+        let t603: f64 = t601 - t602;
+        let t604: f64 = t590 * t603;
+        let t605: f64 = t10 * t586;
+        let t606: f64 = t0 * t17;
+        let t607: f64 = yc * t49;
+        let t608: f64 = t25 * t603;
+        let t609: f64 = t607 + t608;
+        let t610: f64 = t606 + t609;
+        let t611: f64 = t605 - t610;
+        let t612: f64 = t588 * t611;
+        let t613: f64 = t604 + t612;
+        let t614: f64 = -t613;
+        let t615: f64 = wdz * t75;
+        let t616: f64 = wdx * t73;
+        let t617: f64 = wz * t99;
+        let t618: f64 = wx * t85;
+        let t619: f64 = t615 + t616;
+        let t620: f64 = t618 + t619;
+        let t621: f64 = t620 - t617;
+        let t622: f64 = t590 * t621;
+        let t623: f64 = t75 * t586;
+        let t624: f64 = t0 * t80;
+        let t625: f64 = yc * t92;
+        let t626: f64 = t25 * t621;
+        let t627: f64 = t625 - t626;
+        let t628: f64 = t623 + t624;
+        let t629: f64 = t627 + t628;
+        let t630: f64 = t588 * t629;
+        let t631: f64 = t622 + t630;
+        let t632: f64 = wdz * t6;
+        let t633: f64 = wdx * t112;
+        let t634: f64 = wz * t135;
+        let t635: f64 = wx * t121;
+        let t636: f64 = t632 + t634;
+        let t637: f64 = t635 + t636;
+        let t638: f64 = t637 - t633;
+        let t639: f64 = t590 * t638;
+        let t640: f64 = t6 * t586;
+        let t641: f64 = t0 * t116;
+        let t642: f64 = yc * t128;
+        let t643: f64 = t25 * t638;
+        let t644: f64 = t642 + t643;
+        let t645: f64 = t640 + t641;
+        let t646: f64 = t645 - t644;
+        let t647: f64 = t588 * t646;
+        let t648: f64 = t639 + t647;
+        let t649: f64 = -t648;
+        let t650: f64 = t22 * t152;
+        let t651: f64 = t73 * t158;
+        let t652: f64 = t163 * t651;
+        let t653: f64 = t112 * t158;
+        let t654: f64 = t170 * t653;
+        let t655: f64 = t650 + t652;
+        let t656: f64 = t654 + t655;
+        let t657: f64 = t588 * t656;
+        let t658: f64 = -t657;
+        let t659: f64 = t22 * t183;
+        let t660: f64 = t73 * t186;
+        let t661: f64 = t112 * t190;
+        let t662: f64 = t660 + t661;
+        let t663: f64 = t659 - t662;
+        let t664: f64 = t588 * t663;
+        let t665: f64 = t22 * t201;
+        let t666: f64 = t73 * t204;
+        let t667: f64 = t112 * t206;
+        let t668: f64 = t665 + t667;
+        let t669: f64 = t668 - t666;
+        let t670: f64 = t588 * t669;
+        let t671: f64 = -t670;
+        let t672: f64 = t22 * t163;
+        let t673: f64 = t170 * t672;
+        let t674: f64 = t73 * t181;
+        let t675: f64 = t654 + t674;
+        let t676: f64 = t675 - t673;
+        let t677: f64 = t588 * t676;
+        let t678: f64 = t22 * t219;
+        let t679: f64 = t73 * t221;
+        let t680: f64 = t112 * t223;
+        let t681: f64 = t678 + t679;
+        let t682: f64 = t681 - t680;
+        let t683: f64 = t588 * t682;
+        let t684: f64 = -t683;
+        let t685: f64 = t112 * t199;
+        let t686: f64 = t652 + t673;
+        let t687: f64 = t686 - t685;
+        let t688: f64 = t588 * t687;
+        let t689: f64 = wdz + t256;
+        let t690: f64 = t25 * t689;
+        let t691: f64 = wdx - t248;
+        let t692: f64 = t2 * t691;
+        let t693: f64 = t245 + t260;
+        let t694: f64 = yc * t693;
+        let t695: f64 = t586 + t694;
+        let t696: f64 = t690 + t692;
+        let t697: f64 = t695 + t696;
+        let t698: f64 = t590 * t697;
+        let t699: f64 = -t698;
+        let t700: f64 = t10 * t697;
+        let t701: f64 = t17 * t266;
+        let t702: f64 = t700 - t701;
+        let t703: f64 = t588 * t702;
+        let t704: f64 = t604 + t703;
+        let t705: f64 = -t704;
+        let t706: f64 = t75 * t697;
+        let t707: f64 = t80 * t266;
+        let t708: f64 = t706 + t707;
+        let t709: f64 = t588 * t708;
+        let t710: f64 = t622 + t709;
+        let t711: f64 = t6 * t697;
+        let t712: f64 = t116 * t266;
+        let t713: f64 = t711 + t712;
+        let t714: f64 = t588 * t713;
+        let t715: f64 = t639 + t714;
+        let t716: f64 = -t715;
+        let t717: f64 = t291 * t689;
+        let t718: f64 = t3 * t691;
         let t719: f64 = t717 + t718;
-        let t720: f64 = t1 * t719;
-        let t721: f64 = t720 * 0.5;
-        let t722: f64 = t150 * t198;
-        let t723: f64 = t18 * t207;
-        let t724: f64 = t77 * t210;
-        let t725: f64 = t722 + t724;
-        let t726: f64 = t723 - t725;
-        let t727: f64 = t1 * t726;
-        let t728: f64 = t727 * 0.5;
-        let t729: f64 = -t728;
-        let t730: f64 = t18 * t225;
-        let t731: f64 = t77 * t228;
-        let t732: f64 = t150 * t230;
-        let t733: f64 = t730 + t732;
-        let t734: f64 = t733 - t731;
-        let t735: f64 = t1 * t734;
-        let t736: f64 = t735 * 0.5;
-        let t737: f64 = t77 * t206;
-        let t738: f64 = t18 * t180;
-        let t739: f64 = t189 * t738;
-        let t740: f64 = t715 + t737;
-        let t741: f64 = t740 - t739;
-        let t742: f64 = t1 * t741;
-        let t743: f64 = t742 * 0.5;
-        let t744: f64 = -t743;
-        let t745: f64 = t77 * t243;
-        let t746: f64 = t18 * t245;
-        let t747: f64 = t150 * t247;
-        let t748: f64 = t745 + t746;
-        let t749: f64 = t748 - t747;
-        let t750: f64 = t1 * t749;
-        let t751: f64 = t750 * 0.5;
-        let t752: f64 = t150 * t224;
-        let t753: f64 = t717 + t739;
-        let t754: f64 = t753 - t752;
-        let t755: f64 = t1 * t754;
-        let t756: f64 = t755 * 0.5;
-        let t757: f64 = -t756;
-        let t758: f64 = wdx - t274;
-        let t759: f64 = t19 * t758;
-        let t760: f64 = wdz + t281;
-        let t761: f64 = t23 * t760;
-        let t762: f64 = t268 + t285;
-        let t763: f64 = yc * t762;
-        let t764: f64 = t761 + t763;
-        let t765: f64 = t759 + t764;
-        let t766: f64 = t644 + t765;
-        let t767: f64 = t647 * t766;
-        let t768: f64 = t63 * t766;
-        let t769: f64 = t13 * t291;
-        let t770: f64 = t768 - t769;
-        let t771: f64 = t1 * t770;
-        let t772: f64 = t771 * 0.5;
-        let t773: f64 = t663 + t772;
-        let t774: f64 = t109 * t766;
-        let t775: f64 = t81 * t291;
-        let t776: f64 = t774 + t775;
-        let t777: f64 = t1 * t776;
-        let t778: f64 = t777 * 0.5;
-        let t779: f64 = t682 + t778;
-        let t780: f64 = -t779;
-        let t781: f64 = t2 * t766;
-        let t782: f64 = t181 * t291;
-        let t783: f64 = t781 + t782;
-        let t784: f64 = t1 * t783;
-        let t785: f64 = t784 * 0.5;
-        let t786: f64 = t702 + t785;
-        let t787: f64 = t315 * t758;
-        let t788: f64 = t326 * t760;
-        let t789: f64 = t763 + t788;
-        let t790: f64 = t787 + t789;
-        let t791: f64 = t644 + t790;
-        let t792: f64 = t647 * t791;
-        let t793: f64 = t334 * t791;
-        let t794: f64 = t793 * 2.0;
-        let t795: f64 = t1 * t794;
-        let t796: f64 = t795 * 0.5;
-        let t797: f64 = t792 + t796;
-        let t798: f64 = t63 * t791;
-        let t799: f64 = t13 * t339;
-        let t800: f64 = t326 * t662;
-        let t801: f64 = t667 + t799;
-        let t802: f64 = t798 + t800;
-        let t803: f64 = t801 - t802;
-        let t804: f64 = t1 * t803;
-        let t805: f64 = t804 * 0.5;
-        let t806: f64 = t663 - t805;
-        let t807: f64 = t109 * t791;
-        let t808: f64 = t81 * t339;
-        let t809: f64 = t326 * t681;
-        let t810: f64 = t807 + t808;
-        let t811: f64 = t809 + t810;
-        let t812: f64 = t686 - t811;
-        let t813: f64 = t1 * t812;
-        let t814: f64 = t813 * 0.5;
-        let t815: f64 = t814 - t682;
-        let t816: f64 = t2 * t791;
-        let t817: f64 = t181 * t339;
-        let t818: f64 = t326 * t701;
-        let t819: f64 = t816 + t817;
-        let t820: f64 = t818 + t819;
-        let t821: f64 = t706 - t820;
-        let t822: f64 = t1 * t821;
-        let t823: f64 = t822 * 0.5;
-        let t824: f64 = t702 - t823;
-        let t825: f64 = wdz * t384;
-        let t826: f64 = wx * vz;
-        let t827: f64 = wz * vx;
-        let t828: f64 = t826 - t827;
-        let t829: f64 = zc * wdx;
-        let t830: f64 = t644 + t829;
-        let t831: f64 = t828 + t830;
+        let t720: f64 = t695 + t719;
+        let t721: f64 = t590 * t720;
+        let t722: f64 = t303 * t720;
+        let t723: f64 = -t722;
+        let t724: f64 = t588 * t723;
+        let t725: f64 = t721 + t724;
+        let t726: f64 = -t725;
+        let t727: f64 = t10 * t720;
+        let t728: f64 = t17 * t301;
+        let t729: f64 = t291 * t603;
+        let t730: f64 = t608 + t728;
+        let t731: f64 = t727 + t729;
+        let t732: f64 = t730 - t731;
+        let t733: f64 = t588 * t732;
+        let t734: f64 = t733 - t604;
+        let t735: f64 = t75 * t720;
+        let t736: f64 = t80 * t301;
+        let t737: f64 = t291 * t621;
+        let t738: f64 = t735 + t736;
+        let t739: f64 = t737 + t738;
+        let t740: f64 = t626 - t739;
+        let t741: f64 = t588 * t740;
+        let t742: f64 = t622 - t741;
+        let t743: f64 = t6 * t720;
+        let t744: f64 = t116 * t301;
+        let t745: f64 = t291 * t638;
+        let t746: f64 = t743 + t744;
+        let t747: f64 = t745 + t746;
+        let t748: f64 = t643 - t747;
+        let t749: f64 = t588 * t748;
+        let t750: f64 = t749 - t639;
+        let t751: f64 = wdz * t340;
+        let t752: f64 = wx * vz;
+        let t753: f64 = wz * vx;
+        let t754: f64 = t752 - t753;
+        let t755: f64 = zc * wdx;
+        let t756: f64 = t586 + t755;
+        let t757: f64 = t754 + t756;
+        let t758: f64 = t757 - t751;
+        let t759: f64 = t590 * t758;
+        let t760: f64 = t588 * t758;
+        let t761: f64 = t362 * t760;
+        let t762: f64 = t761 - t759;
+        let t763: f64 = t340 * t689;
+        let t764: f64 = t346 * t693;
+        let t765: f64 = zc * t691;
+        let t766: f64 = t586 + t765;
+        let t767: f64 = t764 + t766;
+        let t768: f64 = t767 - t763;
+        let t769: f64 = t590 * t768;
+        let t770: f64 = yc - t346;
+        let t771: f64 = t359 * t770;
+        let t772: f64 = t362 * t768;
+        let t773: f64 = t771 + t772;
+        let t774: f64 = -t773;
+        let t775: f64 = t588 * t774;
+        let t776: f64 = t769 + t775;
+        let t777: f64 = -t776;
+        let t778: f64 = t10 * t768;
+        let t779: f64 = t17 * t359;
+        let t780: f64 = t49 * t346;
+        let t781: f64 = t340 * t603;
+        let t782: f64 = t779 + t781;
+        let t783: f64 = t609 + t782;
+        let t784: f64 = t778 + t780;
+        let t785: f64 = t783 - t784;
+        let t786: f64 = t588 * t785;
+        let t787: f64 = t786 - t604;
+        let t788: f64 = t75 * t768;
+        let t789: f64 = t80 * t359;
+        let t790: f64 = t92 * t346;
+        let t791: f64 = t340 * t621;
+        let t792: f64 = t788 + t789;
+        let t793: f64 = t627 + t792;
+        let t794: f64 = t790 + t791;
+        let t795: f64 = t793 - t794;
+        let t796: f64 = t588 * t795;
+        let t797: f64 = t622 + t796;
+        let t798: f64 = t6 * t768;
+        let t799: f64 = t116 * t359;
+        let t800: f64 = t128 * t346;
+        let t801: f64 = t340 * t638;
+        let t802: f64 = t644 + t801;
+        let t803: f64 = t798 + t799;
+        let t804: f64 = t800 + t803;
+        let t805: f64 = t802 - t804;
+        let t806: f64 = t588 * t805;
+        let t807: f64 = t806 - t639;
+        let t808: f64 = wdz * t399;
+        let t809: f64 = t757 - t808;
+        let t810: f64 = t590 * t809;
+        let t811: f64 = t588 * t809;
+        let t812: f64 = t414 * t811;
+        let t813: f64 = t812 - t810;
+        let t814: f64 = t399 * t689;
+        let t815: f64 = t403 * t693;
+        let t816: f64 = t814 + t815;
+        let t817: f64 = t766 - t816;
+        let t818: f64 = t590 * t817;
+        let t819: f64 = yc + t403;
+        let t820: f64 = t412 * t819;
+        let t821: f64 = t414 * t817;
+        let t822: f64 = t820 + t821;
+        let t823: f64 = t588 * t822;
+        let t824: f64 = t823 - t818;
+        let t825: f64 = t10 * t817;
+        let t826: f64 = t17 * t412;
+        let t827: f64 = t49 * t403;
+        let t828: f64 = t399 * t603;
+        let t829: f64 = t826 + t827;
+        let t830: f64 = t609 + t828;
+        let t831: f64 = t829 + t830;
         let t832: f64 = t831 - t825;
-        let t833: f64 = t647 * t832;
-        let t834: f64 = t1 * t832;
-        let t835: f64 = t403 * t834;
-        let t836: f64 = t835 * 0.5;
-        let t837: f64 = t833 - t836;
-        let t838: f64 = zc * t758;
-        let t839: f64 = t390 * t762;
-        let t840: f64 = t384 * t760;
-        let t841: f64 = t839 - t840;
-        let t842: f64 = t838 + t841;
-        let t843: f64 = t644 + t842;
-        let t844: f64 = t647 * t843;
-        let t845: f64 = yc - t390;
-        let t846: f64 = t401 * t845;
-        let t847: f64 = t403 * t843;
-        let t848: f64 = t846 + t847;
-        let t849: f64 = -t848;
-        let t850: f64 = t1 * t849;
-        let t851: f64 = t850 * 0.5;
-        let t852: f64 = t844 + t851;
-        let t853: f64 = t63 * t843;
-        let t854: f64 = t13 * t401;
-        let t855: f64 = t49 * t390;
-        let t856: f64 = t384 * t662;
-        let t857: f64 = t854 + t856;
-        let t858: f64 = t668 + t857;
-        let t859: f64 = t853 + t855;
-        let t860: f64 = t858 - t859;
-        let t861: f64 = t1 * t860;
-        let t862: f64 = t861 * 0.5;
-        let t863: f64 = t663 - t862;
-        let t864: f64 = t109 * t843;
-        let t865: f64 = t81 * t401;
-        let t866: f64 = t95 * t390;
-        let t867: f64 = t384 * t681;
-        let t868: f64 = t864 + t865;
-        let t869: f64 = t687 + t868;
-        let t870: f64 = t866 + t867;
-        let t871: f64 = t869 - t870;
-        let t872: f64 = t1 * t871;
-        let t873: f64 = t872 * 0.5;
-        let t874: f64 = t682 + t873;
-        let t875: f64 = -t874;
-        let t876: f64 = t2 * t843;
-        let t877: f64 = t181 * t401;
-        let t878: f64 = t136 * t390;
-        let t879: f64 = t384 * t701;
-        let t880: f64 = t707 + t879;
-        let t881: f64 = t876 + t877;
-        let t882: f64 = t878 + t881;
-        let t883: f64 = t880 - t882;
-        let t884: f64 = t1 * t883;
-        let t885: f64 = t884 * 0.5;
-        let t886: f64 = t702 - t885;
-        let t887: f64 = wdz * t446;
-        let t888: f64 = t831 - t887;
-        let t889: f64 = t647 * t888;
-        let t890: f64 = t1 * t888;
-        let t891: f64 = t461 * t890;
-        let t892: f64 = t891 * 0.5;
-        let t893: f64 = t889 - t892;
-        let t894: f64 = t446 * t760;
-        let t895: f64 = t838 - t894;
-        let t896: f64 = t449 * t762;
-        let t897: f64 = t895 - t896;
-        let t898: f64 = t644 + t897;
-        let t899: f64 = t647 * t898;
-        let t900: f64 = yc + t449;
-        let t901: f64 = t459 * t900;
-        let t902: f64 = t461 * t898;
-        let t903: f64 = t901 + t902;
-        let t904: f64 = t1 * t903;
-        let t905: f64 = t904 * 0.5;
-        let t906: f64 = t899 - t905;
-        let t907: f64 = t63 * t898;
-        let t908: f64 = t13 * t459;
-        let t909: f64 = t49 * t449;
-        let t910: f64 = t446 * t662;
-        let t911: f64 = t908 + t909;
-        let t912: f64 = t668 + t910;
-        let t913: f64 = t911 + t912;
-        let t914: f64 = t913 - t907;
-        let t915: f64 = t1 * t914;
-        let t916: f64 = t915 * 0.5;
-        let t917: f64 = t663 - t916;
-        let t918: f64 = t109 * t898;
-        let t919: f64 = t81 * t459;
-        let t920: f64 = t95 * t449;
-        let t921: f64 = t446 * t681;
-        let t922: f64 = t918 + t919;
-        let t923: f64 = t687 + t920;
-        let t924: f64 = t922 + t923;
-        let t925: f64 = t924 - t921;
-        let t926: f64 = t1 * t925;
-        let t927: f64 = t926 * 0.5;
-        let t928: f64 = t682 + t927;
-        let t929: f64 = -t928;
-        let t930: f64 = t2 * t898;
-        let t931: f64 = t181 * t459;
-        let t932: f64 = t136 * t449;
-        let t933: f64 = t446 * t701;
-        let t934: f64 = t932 + t933;
-        let t935: f64 = t707 + t934;
-        let t936: f64 = t930 + t931;
-        let t937: f64 = t935 - t936;
-        let t938: f64 = t1 * t937;
-        let t939: f64 = t938 * 0.5;
-        let t940: f64 = t702 - t939;
-        let t941: f64 = t499 * t762;
-        let t942: f64 = xc * t760;
-        let t943: f64 = t941 - t942;
-        let t944: f64 = t507 * t758;
-        let t945: f64 = t943 - t944;
-        let t946: f64 = t644 + t945;
-        let t947: f64 = t647 * t946;
-        let t948: f64 = half_spacing * t518;
-        let t949: f64 = t24 * t946;
-        let t950: f64 = t948 + t949;
-        let t951: f64 = -t950;
-        let t952: f64 = t1 * t951;
-        let t953: f64 = t952 * 0.5;
-        let t954: f64 = t947 + t953;
-        let t955: f64 = t63 * t946;
-        let t956: f64 = t13 * t518;
-        let t957: f64 = t49 * t499;
-        let t958: f64 = xc * t662;
-        let t959: f64 = t668 + t958;
-        let t960: f64 = t956 + t959;
-        let t961: f64 = t955 + t957;
-        let t962: f64 = t960 - t961;
-        let t963: f64 = t1 * t962;
-        let t964: f64 = t963 * 0.5;
-        let t965: f64 = t663 - t964;
-        let t966: f64 = t109 * t946;
-        let t967: f64 = t81 * t518;
-        let t968: f64 = t95 * t499;
-        let t969: f64 = xc * t681;
-        let t970: f64 = t687 - t969;
-        let t971: f64 = t966 + t967;
-        let t972: f64 = t970 + t971;
-        let t973: f64 = t972 - t968;
-        let t974: f64 = t1 * t973;
-        let t975: f64 = t974 * 0.5;
-        let t976: f64 = t682 + t975;
-        let t977: f64 = -t976;
-        let t978: f64 = t2 * t946;
-        let t979: f64 = t181 * t518;
-        let t980: f64 = t136 * t499;
-        let t981: f64 = xc * t701;
-        let t982: f64 = t707 + t981;
-        let t983: f64 = t978 + t979;
-        let t984: f64 = t980 + t983;
-        let t985: f64 = t982 - t984;
-        let t986: f64 = t1 * t985;
-        let t987: f64 = t986 * 0.5;
-        let t988: f64 = t702 - t987;
-        let t989: f64 = t568 * t762;
-        let t990: f64 = t989 - t942;
-        let t991: f64 = t573 * t758;
-        let t992: f64 = t990 - t991;
-        let t993: f64 = t644 + t992;
-        let t994: f64 = t647 * t993;
-        let t995: f64 = half_spacing * t582;
-        let t996: f64 = t24 * t993;
-        let t997: f64 = t995 - t996;
-        let t998: f64 = t1 * t997;
-        let t999: f64 = t998 * 0.5;
-        let t1000: f64 = t994 + t999;
-        let t1001: f64 = t63 * t993;
-        let t1002: f64 = t13 * t582;
+        let t833: f64 = t588 * t832;
+        let t834: f64 = t833 - t604;
+        let t835: f64 = t75 * t817;
+        let t836: f64 = t80 * t412;
+        let t837: f64 = t92 * t403;
+        let t838: f64 = t399 * t621;
+        let t839: f64 = t835 + t836;
+        let t840: f64 = t627 + t837;
+        let t841: f64 = t839 + t840;
+        let t842: f64 = t841 - t838;
+        let t843: f64 = t588 * t842;
+        let t844: f64 = t622 + t843;
+        let t845: f64 = t6 * t817;
+        let t846: f64 = t116 * t412;
+        let t847: f64 = t128 * t403;
+        let t848: f64 = t399 * t638;
+        let t849: f64 = t847 + t848;
+        let t850: f64 = t644 + t849;
+        let t851: f64 = t845 + t846;
+        let t852: f64 = t850 - t851;
+        let t853: f64 = t588 * t852;
+        let t854: f64 = t853 - t639;
+        let t855: f64 = t445 * t693;
+        let t856: f64 = t451 * t691;
+        let t857: f64 = xc * t689;
+        let t858: f64 = t586 - t857;
+        let t859: f64 = t855 + t858;
+        let t860: f64 = t859 - t856;
+        let t861: f64 = t590 * t860;
+        let t862: f64 = yc - t445;
+        let t863: f64 = t464 * t862;
+        let t864: f64 = t26 * t860;
+        let t865: f64 = t863 + t864;
+        let t866: f64 = -t865;
+        let t867: f64 = t588 * t866;
+        let t868: f64 = t861 + t867;
+        let t869: f64 = -t868;
+        let t870: f64 = t10 * t860;
+        let t871: f64 = t17 * t464;
+        let t872: f64 = t49 * t445;
+        let t873: f64 = xc * t603;
+        let t874: f64 = t609 + t873;
+        let t875: f64 = t871 + t874;
+        let t876: f64 = t870 + t872;
+        let t877: f64 = t875 - t876;
+        let t878: f64 = t588 * t877;
+        let t879: f64 = t878 - t604;
+        let t880: f64 = t75 * t860;
+        let t881: f64 = t80 * t464;
+        let t882: f64 = t92 * t445;
+        let t883: f64 = xc * t621;
+        let t884: f64 = t627 - t883;
+        let t885: f64 = t880 + t881;
+        let t886: f64 = t884 + t885;
+        let t887: f64 = t886 - t882;
+        let t888: f64 = t588 * t887;
+        let t889: f64 = t622 + t888;
+        let t890: f64 = t6 * t860;
+        let t891: f64 = t116 * t464;
+        let t892: f64 = t128 * t445;
+        let t893: f64 = xc * t638;
+        let t894: f64 = t644 + t893;
+        let t895: f64 = t890 + t891;
+        let t896: f64 = t892 + t895;
+        let t897: f64 = t894 - t896;
+        let t898: f64 = t588 * t897;
+        let t899: f64 = t898 - t639;
+        let t900: f64 = t502 * t693;
+        let t901: f64 = t506 * t691;
+        let t902: f64 = t858 + t900;
+        let t903: f64 = t902 - t901;
+        let t904: f64 = t590 * t903;
+        let t905: f64 = yc - t502;
+        let t906: f64 = t515 * t905;
+        let t907: f64 = t26 * t903;
+        let t908: f64 = t906 + t907;
+        let t909: f64 = -t908;
+        let t910: f64 = t588 * t909;
+        let t911: f64 = t904 + t910;
+        let t912: f64 = -t911;
+        let t913: f64 = t10 * t903;
+        let t914: f64 = t17 * t515;
+        let t915: f64 = t49 * t502;
+        let t916: f64 = t874 + t914;
+        let t917: f64 = t913 + t915;
+        let t918: f64 = t916 - t917;
+        let t919: f64 = t588 * t918;
+        let t920: f64 = t919 - t604;
+        let t921: f64 = t75 * t903;
+        let t922: f64 = t80 * t515;
+        let t923: f64 = t92 * t502;
+        let t924: f64 = t921 + t922;
+        let t925: f64 = t884 + t924;
+        let t926: f64 = t925 - t923;
+        let t927: f64 = t588 * t926;
+        let t928: f64 = t622 + t927;
+        let t929: f64 = t6 * t903;
+        let t930: f64 = t116 * t515;
+        let t931: f64 = t128 * t502;
+        let t932: f64 = t929 + t930;
+        let t933: f64 = t931 + t932;
+        let t934: f64 = t894 - t933;
+        let t935: f64 = t588 * t934;
+        let t936: f64 = t935 - t639;
+        let t937: f64 = wz * t340;
+        let t938: f64 = zc * wx;
+        let t939: f64 = vy + t938;
+        let t940: f64 = t939 - t937;
+        let t941: f64 = ((t940 > 0.0) as i8 - (t940 < 0.0) as i8) as f64;
+        let t942: f64 = t586 * t588;
+        let t943: f64 = t362 * t942;
+        let t944: f64 = t943 - t595;
+        let t945: f64 = t589 * t603;
+        let t946: f64 = t612 + t945;
+        let t947: f64 = t589 * t621;
+        let t948: f64 = t630 + t947;
+        let t949: f64 = -t948;
+        let t950: f64 = t589 * t638;
+        let t951: f64 = t647 + t950;
+        let t952: f64 = -t664;
+        let t953: f64 = -t677;
+        let t954: f64 = -t688;
+        let t955: f64 = t588 * t697;
+        let t956: f64 = t362 * t955;
+        let t957: f64 = t703 + t945;
+        let t958: f64 = t709 + t947;
+        let t959: f64 = -t958;
+        let t960: f64 = t714 + t950;
+        let t961: f64 = t588 * t720;
+        let t962: f64 = t362 * t961;
+        let t963: f64 = t724 + t962;
+        let t964: f64 = t945 - t733;
+        let t965: f64 = t741 - t947;
+        let t966: f64 = t950 - t749;
+        let t967: f64 = t588 * t768;
+        let t968: f64 = t362 * t967;
+        let t969: f64 = t775 + t968;
+        let t970: f64 = t945 - t786;
+        let t971: f64 = t796 + t947;
+        let t972: f64 = -t971;
+        let t973: f64 = t950 - t806;
+        let t974: f64 = t362 * t811;
+        let t975: f64 = t974 - t812;
+        let t976: f64 = t588 * t817;
+        let t977: f64 = t362 * t976;
+        let t978: f64 = t977 - t823;
+        let t979: f64 = t945 - t833;
+        let t980: f64 = t843 + t947;
+        let t981: f64 = -t980;
+        let t982: f64 = t950 - t853;
+        let t983: f64 = t588 * t860;
+        let t984: f64 = t362 * t983;
+        let t985: f64 = t867 + t984;
+        let t986: f64 = t945 - t878;
+        let t987: f64 = t888 + t947;
+        let t988: f64 = -t987;
+        let t989: f64 = t950 - t898;
+        let t990: f64 = t588 * t903;
+        let t991: f64 = t362 * t990;
+        let t992: f64 = t910 + t991;
+        let t993: f64 = t945 - t919;
+        let t994: f64 = t927 + t947;
+        let t995: f64 = -t994;
+        let t996: f64 = t950 - t935;
+        let t997: f64 = wz * t399;
+        let t998: f64 = t939 - t997;
+        let t999: f64 = ((t998 > 0.0) as i8 - (t998 < 0.0) as i8) as f64;
+        let t1000: f64 = t445 - t502;
+        let t1001: f64 = 1.0 / t1000;
+        let t1002: f64 = t862 * t1001;
         (
             t1,
             t2,
             t3,
-            t5,
+            t4,
             t6,
-            t8,
-            t9,
-            t13,
-            t18,
-            t19,
-            t25,
-            t33,
+            t10,
+            t17,
+            t22,
             t34,
-            t49,
             t60,
-            t63,
-            t72,
+            t69,
             t73,
-            t77,
-            t81,
-            t95,
-            t106,
-            t109,
-            t118,
-            t119,
-            t136,
+            t75,
+            t80,
+            t103,
+            t111,
+            t112,
+            t116,
+            t139,
             t147,
-            t148,
-            t150,
-            t161,
-            t167,
-            t174,
-            t180,
+            t152,
+            t158,
+            t163,
+            t170,
+            t175,
+            t176,
             t181,
-            t189,
-            t195,
-            t198,
+            t183,
+            t186,
+            t190,
+            t194,
+            t199,
+            t201,
+            t204,
             t206,
-            t207,
             t210,
-            t215,
-            t216,
-            t224,
-            t225,
+            t211,
+            t217,
+            t218,
+            t219,
+            t221,
+            t223,
+            t227,
             t228,
-            t230,
-            t235,
-            t242,
-            t243,
-            t245,
-            t247,
-            t252,
-            t257,
-            t258,
-            t266,
-            t278,
-            t279,
-            t292,
-            t293,
-            t299,
-            t300,
-            t306,
-            t307,
-            t314,
-            t315,
-            t321,
-            t322,
+            t232,
+            t240,
+            t253,
+            t267,
+            t272,
+            t277,
+            t282,
+            t288,
+            t295,
+            t309,
+            t319,
             t329,
-            t330,
-            t345,
+            t339,
             t346,
-            t357,
-            t358,
-            t369,
-            t370,
-            t382,
-            t384,
-            t390,
-            t393,
-            t394,
+            t351,
+            t360,
+            t368,
+            t378,
+            t388,
+            t398,
             t403,
-            t408,
-            t409,
+            t406,
             t420,
-            t421,
-            t432,
-            t433,
+            t428,
+            t436,
+            t444,
             t445,
-            t446,
-            t449,
-            t453,
-            t454,
-            t466,
-            t467,
-            t476,
-            t477,
-            t486,
-            t487,
-            t497,
-            t499,
-            t507,
+            t451,
+            t456,
+            t465,
+            t471,
+            t481,
+            t491,
+            t501,
+            t502,
+            t506,
             t509,
-            t510,
+            t516,
+            t522,
             t530,
-            t531,
-            t542,
-            t543,
+            t538,
+            t546,
+            t550,
+            t551,
+            t552,
+            t553,
             t554,
             t555,
+            t556,
+            t557,
+            t558,
+            t559,
+            t560,
+            t561,
+            t562,
+            t563,
+            t564,
+            t565,
+            t566,
             t567,
             t568,
+            t569,
+            t570,
+            t571,
+            t572,
             t573,
+            t574,
             t575,
             t576,
+            t577,
+            t578,
+            t579,
+            t580,
+            t581,
             t582,
-            t593,
-            t594,
+            t584,
+            t585,
+            t586,
+            t596,
             t603,
-            t604,
-            t613,
             t614,
-            t624,
-            t628,
-            t629,
-            t630,
+            t621,
             t631,
-            t632,
-            t633,
-            t634,
-            t635,
-            t636,
-            t637,
             t638,
-            t639,
-            t640,
-            t642,
-            t643,
-            t644,
-            t645,
-            t652,
-            t654,
-            t662,
-            t663,
+            t649,
+            t657,
+            t658,
+            t664,
+            t670,
             t671,
-            t673,
-            t681,
-            t682,
-            t690,
-            t693,
-            t701,
-            t702,
+            t677,
+            t683,
+            t684,
+            t688,
+            t697,
+            t699,
+            t705,
             t710,
-            t712,
-            t721,
-            t728,
-            t729,
-            t736,
-            t743,
-            t744,
-            t751,
-            t756,
-            t757,
-            t765,
-            t766,
-            t767,
-            t771,
-            t773,
+            t716,
+            t720,
+            t726,
+            t734,
+            t742,
+            t750,
+            t758,
+            t762,
+            t768,
+            t770,
             t777,
-            t780,
-            t784,
-            t786,
-            t790,
-            t791,
-            t795,
+            t787,
             t797,
-            t804,
-            t806,
+            t807,
+            t809,
             t813,
-            t815,
-            t822,
+            t817,
+            t819,
             t824,
-            t837,
-            t842,
-            t843,
-            t845,
-            t850,
-            t852,
-            t861,
-            t863,
-            t872,
-            t875,
-            t884,
-            t886,
-            t890,
-            t891,
-            t893,
-            t897,
-            t898,
-            t900,
-            t904,
-            t906,
-            t915,
-            t917,
-            t926,
-            t929,
-            t938,
+            t834,
+            t844,
+            t854,
+            t860,
+            t862,
+            t869,
+            t879,
+            t889,
+            t899,
+            t903,
+            t905,
+            t912,
+            t920,
+            t928,
+            t936,
             t940,
-            t945,
+            t941,
+            t944,
             t946,
+            t949,
+            t951,
             t952,
+            t953,
             t954,
+            t956,
+            t957,
             t959,
+            t960,
             t963,
+            t964,
             t965,
+            t966,
+            t969,
             t970,
-            t974,
-            t977,
+            t972,
+            t973,
+            t975,
+            t978,
+            t979,
+            t981,
             t982,
+            t985,
             t986,
             t988,
+            t989,
             t992,
             t993,
+            t995,
+            t996,
             t998,
-            t1000,
+            t999,
             t1001,
             t1002,
         )
     };
     let (
-        t1009,
-        t1019,
-        t1028,
-        t1032,
-        t1033,
+        t1012,
+        t1025,
         t1037,
-        t1041,
-        t1044,
-        t1048,
         t1049,
-        t1050,
-        t1051,
-        t1055,
+        t1057,
         t1058,
-        t1060,
-        t1063,
-        t1068,
+        t1064,
         t1070,
-        t1072,
-        t1074,
-        t1079,
-        t1081,
+        t1071,
+        t1077,
         t1083,
-        t1085,
+        t1084,
         t1088,
-        t1092,
-        t1094,
-        t1096,
+        t1089,
+        t1093,
         t1098,
         t1103,
-        t1105,
-        t1107,
-        t1109,
-        t1114,
+        t1108,
         t1116,
-        t1118,
-        t1120,
-        t1122,
-        t1123,
-        t1130,
-        t1141,
-        t1152,
-        t1164,
-        t1173,
-        t1181,
-        t1182,
-        t1190,
-        t1197,
-        t1198,
-        t1206,
-        t1211,
-        t1214,
-        t1220,
+        t1124,
+        t1132,
+        t1140,
+        t1146,
+        t1147,
+        t1156,
+        t1166,
+        t1176,
+        t1186,
+        t1192,
+        t1193,
+        t1202,
+        t1210,
+        t1218,
         t1226,
-        t1233,
-        t1240,
-        t1249,
+        t1239,
+        t1248,
         t1258,
         t1268,
-        t1276,
-        t1287,
-        t1298,
-        t1310,
-        t1318,
-        t1327,
-        t1336,
+        t1278,
+        t1285,
+        t1294,
+        t1304,
+        t1314,
+        t1324,
+        t1328,
+        t1329,
+        t1332,
+        t1335,
+        t1338,
+        t1341,
+        t1342,
+        t1343,
         t1346,
+        t1347,
+        t1348,
+        t1349,
+        t1352,
+        t1353,
+        t1354,
+        t1355,
+        t1358,
         t1359,
-        t1368,
-        t1379,
+        t1360,
+        t1361,
+        t1364,
+        t1365,
+        t1366,
+        t1367,
+        t1371,
+        t1374,
+        t1375,
+        t1376,
+        t1377,
+        t1381,
+        t1384,
+        t1385,
+        t1386,
+        t1387,
+        t1389,
         t1390,
-        t1402,
-        t1411,
-        t1422,
-        t1433,
-        t1445,
-        t1449,
-        t1450,
-        t1453,
-        t1456,
-        t1459,
-        t1462,
-        t1463,
-        t1464,
-        t1465,
-        t1466,
-        t1469,
-        t1471,
-        t1473,
-        t1475,
-        t1478,
-        t1480,
-        t1482,
-        t1484,
-        t1487,
-        t1489,
-        t1491,
-        t1493,
-        t1496,
-        t1498,
-        t1500,
-        t1502,
-        t1504,
-        t1507,
-        t1509,
-        t1511,
-        t1513,
-        t1515,
-        t1518,
-        t1520,
-        t1522,
-        t1524,
-        t1526,
-        t1527,
     ) = {
-        let t1003: f64 = t49 * t568;
-        let t1004: f64 = t959 + t1002;
-        let t1005: f64 = t1001 + t1003;
-        let t1006: f64 = t1004 - t1005;
-        let t1007: f64 = t1 * t1006;
-        let t1008: f64 = t1007 * 0.5;
-        let t1009: f64 = t663 - t1008;
-        let t1010: f64 = t109 * t993;
-        let t1011: f64 = t81 * t582;
-        let t1012: f64 = t95 * t568;
-        let t1013: f64 = t1010 + t1011;
-        let t1014: f64 = t970 + t1013;
-        let t1015: f64 = t1014 - t1012;
-        let t1016: f64 = t1 * t1015;
-        let t1017: f64 = t1016 * 0.5;
-        let t1018: f64 = t682 + t1017;
-        let t1019: f64 = -t1018;
-        let t1020: f64 = t2 * t993;
-        let t1021: f64 = t181 * t582;
-        let t1022: f64 = t136 * t568;
-        let t1023: f64 = t1020 + t1021;
-        let t1024: f64 = t1022 + t1023;
-        let t1025: f64 = t982 - t1024;
-        let t1026: f64 = t1 * t1025;
-        let t1027: f64 = t1026 * 0.5;
-        let t1028: f64 = t702 - t1027;
-        let t1029: f64 = wz * t384;
-        let t1030: f64 = zc * wx;
-        let t1031: f64 = vy + t1030;
-        let t1032: f64 = t1031 - t1029;
-        let t1033: f64 = ((t1032 > 0.0) as i8 - (t1032 < 0.0) as i8) as f64;
-        let t1034: f64 = t1 * t644;
-        let t1035: f64 = t403 * t1034;
-        let t1036: f64 = t652 - t1035;
-        let t1037: f64 = t1036 * 0.5;
-        let t1038: f64 = t645 * t662;
-        let t1039: f64 = t671 + t1038;
-        let t1040: f64 = t1039 * 0.5;
-        let t1041: f64 = -t1040;
-        let t1042: f64 = t645 * t681;
-        let t1043: f64 = t690 + t1042;
-        let t1044: f64 = t1043 * 0.5;
-        let t1045: f64 = t645 * t701;
-        let t1046: f64 = t710 + t1045;
-        let t1047: f64 = t1046 * 0.5;
-        let t1048: f64 = -t1047;
-        let t1049: f64 = -t721;
-        let t1050: f64 = -t736;
-        let t1051: f64 = -t751;
-        let t1052: f64 = t1 * t766;
-        let t1053: f64 = t403 * t1052;
-        let t1054: f64 = t1053 * 0.5;
-        let t1055: f64 = -t1054;
-        let t1056: f64 = t771 + t1038;
-        let t1057: f64 = t1056 * 0.5;
+        let t1003: f64 = t1002 + 1.0;
+        let t1004: f64 = t1 * t1003;
+        let t1005: f64 = t586 * t1001;
+        let t1006: f64 = t360 * t1005;
+        let t1007: f64 = t2 * t586;
+        let t1008: f64 = yc * t1;
+        let t1009: f64 = t1007 - t1008;
+        let t1010: f64 = t1001 * t1009;
+        let t1011: f64 = t1006 - t1010;
+        let t1012: f64 = t1004 - t1011;
+        let t1013: f64 = t1 * t17;
+        let t1014: f64 = t22 * t586;
+        let t1015: f64 = t2 * t603;
+        let t1016: f64 = yc * t60;
+        let t1017: f64 = t1015 - t1016;
+        let t1018: f64 = t1014 + t1017;
+        let t1019: f64 = t1013 - t1018;
+        let t1020: f64 = t1001 * t1019;
+        let t1021: f64 = t60 * t1003;
+        let t1022: f64 = t360 * t1001;
+        let t1023: f64 = t603 * t1022;
+        let t1024: f64 = t1021 - t1023;
+        let t1025: f64 = t1024 - t1020;
+        let t1026: f64 = t1 * t80;
+        let t1027: f64 = t73 * t586;
+        let t1028: f64 = t2 * t621;
+        let t1029: f64 = yc * t103;
+        let t1030: f64 = t1028 + t1029;
+        let t1031: f64 = t1026 + t1030;
+        let t1032: f64 = t1031 - t1027;
+        let t1033: f64 = t1001 * t1032;
+        let t1034: f64 = t103 * t1003;
+        let t1035: f64 = t621 * t1022;
+        let t1036: f64 = t1034 + t1035;
+        let t1037: f64 = t1036 - t1033;
+        let t1038: f64 = t1 * t116;
+        let t1039: f64 = t112 * t586;
+        let t1040: f64 = t2 * t638;
+        let t1041: f64 = yc * t139;
+        let t1042: f64 = t1040 + t1041;
+        let t1043: f64 = t1038 + t1039;
+        let t1044: f64 = t1042 + t1043;
+        let t1045: f64 = t1001 * t1044;
+        let t1046: f64 = t139 * t1003;
+        let t1047: f64 = t638 * t1022;
+        let t1048: f64 = t1046 + t1047;
+        let t1049: f64 = t1045 - t1048;
+        let t1050: f64 = t10 * t152;
+        let t1051: f64 = t75 * t158;
+        let t1052: f64 = t163 * t1051;
+        let t1053: f64 = t6 * t158;
+        let t1054: f64 = t170 * t1053;
+        let t1055: f64 = t1050 + t1054;
+        let t1056: f64 = t1055 - t1052;
+        let t1057: f64 = t1001 * t1056;
         let t1058: f64 = -t1057;
-        let t1059: f64 = t777 + t1042;
-        let t1060: f64 = t1059 * 0.5;
-        let t1061: f64 = t784 + t1045;
-        let t1062: f64 = t1061 * 0.5;
-        let t1063: f64 = -t1062;
-        let t1064: f64 = t1 * t791;
-        let t1065: f64 = t403 * t1064;
-        let t1066: f64 = t795 + t1065;
-        let t1067: f64 = t1066 * 0.5;
-        let t1068: f64 = -t1067;
-        let t1069: f64 = t804 - t1038;
-        let t1070: f64 = t1069 * 0.5;
-        let t1071: f64 = t1042 - t813;
-        let t1072: f64 = t1071 * 0.5;
-        let t1073: f64 = t822 - t1045;
-        let t1074: f64 = t1073 * 0.5;
-        let t1075: f64 = t1 * t843;
-        let t1076: f64 = t403 * t1075;
-        let t1077: f64 = t850 + t1076;
-        let t1078: f64 = t1077 * 0.5;
-        let t1079: f64 = -t1078;
-        let t1080: f64 = t861 - t1038;
-        let t1081: f64 = t1080 * 0.5;
-        let t1082: f64 = t872 + t1042;
-        let t1083: f64 = t1082 * 0.5;
-        let t1084: f64 = t884 - t1045;
-        let t1085: f64 = t1084 * 0.5;
-        let t1086: f64 = t403 * t890;
-        let t1087: f64 = t891 - t1086;
-        let t1088: f64 = t1087 * 0.5;
-        let t1089: f64 = t1 * t898;
-        let t1090: f64 = t403 * t1089;
-        let t1091: f64 = t904 - t1090;
-        let t1092: f64 = t1091 * 0.5;
-        let t1093: f64 = t915 - t1038;
-        let t1094: f64 = t1093 * 0.5;
-        let t1095: f64 = t926 + t1042;
-        let t1096: f64 = t1095 * 0.5;
-        let t1097: f64 = t938 - t1045;
-        let t1098: f64 = t1097 * 0.5;
-        let t1099: f64 = t1 * t946;
-        let t1100: f64 = t403 * t1099;
-        let t1101: f64 = t952 + t1100;
-        let t1102: f64 = t1101 * 0.5;
-        let t1103: f64 = -t1102;
-        let t1104: f64 = t963 - t1038;
-        let t1105: f64 = t1104 * 0.5;
-        let t1106: f64 = t974 + t1042;
-        let t1107: f64 = t1106 * 0.5;
-        let t1108: f64 = t986 - t1045;
-        let t1109: f64 = t1108 * 0.5;
-        let t1110: f64 = t1 * t993;
-        let t1111: f64 = t403 * t1110;
-        let t1112: f64 = t998 + t1111;
-        let t1113: f64 = t1112 * 0.5;
-        let t1114: f64 = -t1113;
-        let t1115: f64 = t1007 - t1038;
-        let t1116: f64 = t1115 * 0.5;
-        let t1117: f64 = t1016 + t1042;
-        let t1118: f64 = t1117 * 0.5;
-        let t1119: f64 = t1026 - t1045;
-        let t1120: f64 = t1119 * 0.5;
-        let t1121: f64 = wz * t446;
-        let t1122: f64 = t1031 - t1121;
-        let t1123: f64 = ((t1122 > 0.0) as i8 - (t1122 < 0.0) as i8) as f64;
-        let t1124: f64 = t19 * t644;
-        let t1125: f64 = yc * t25;
-        let t1126: f64 = t1124 - t1125;
-        let t1127: f64 = t1 * t1126;
-        let t1128: f64 = t25 - t644;
-        let t1129: f64 = t1128 - t1127;
-        let t1130: f64 = t1129 * 0.5;
-        let t1131: f64 = t13 * t25;
-        let t1132: f64 = t18 * t644;
-        let t1133: f64 = t19 * t662;
-        let t1134: f64 = yc * t60;
-        let t1135: f64 = t1133 - t1134;
-        let t1136: f64 = t1132 + t1135;
-        let t1137: f64 = t1131 - t1136;
-        let t1138: f64 = t1 * t1137;
-        let t1139: f64 = t60 - t662;
-        let t1140: f64 = t1138 + t1139;
-        let t1141: f64 = t1140 * 0.5;
-        let t1142: f64 = t25 * t81;
-        let t1143: f64 = t77 * t644;
-        let t1144: f64 = t19 * t681;
-        let t1145: f64 = yc * t106;
-        let t1146: f64 = t1144 + t1145;
-        let t1147: f64 = t1142 + t1146;
-        let t1148: f64 = t1147 - t1143;
-        let t1149: f64 = t1 * t1148;
-        let t1150: f64 = t106 + t681;
-        let t1151: f64 = t1149 + t1150;
-        let t1152: f64 = t1151 * 0.5;
-        let t1153: f64 = t8 * t25;
-        let t1154: f64 = t9 * t644;
-        let t1155: f64 = t1153 + t1154;
-        let t1156: f64 = t3 * t1155;
-        let t1157: f64 = t19 * t701;
-        let t1158: f64 = yc * t148;
-        let t1159: f64 = t1157 + t1158;
-        let t1160: f64 = t1156 + t1159;
-        let t1161: f64 = t1 * t1160;
-        let t1162: f64 = t147 - t701;
-        let t1163: f64 = t1162 - t1161;
-        let t1164: f64 = t1163 * 0.5;
-        let t1165: f64 = t63 * t167;
-        let t1166: f64 = t2 * t174;
-        let t1167: f64 = t180 * t1166;
-        let t1168: f64 = t109 * t174;
-        let t1169: f64 = t189 * t1168;
-        let t1170: f64 = t1165 + t1167;
-        let t1171: f64 = t1170 - t1169;
-        let t1172: f64 = t1 * t1171;
-        let t1173: f64 = t1172 * 0.5;
-        let t1174: f64 = t2 * t198;
-        let t1175: f64 = t6 * t207;
-        let t1176: f64 = t5 * t210;
-        let t1177: f64 = t1175 + t1176;
-        let t1178: f64 = t3 * t1177;
-        let t1179: f64 = t1178 - t1174;
-        let t1180: f64 = t1 * t1179;
-        let t1181: f64 = t1180 * 0.5;
-        let t1182: f64 = -t1181;
-        let t1183: f64 = t2 * t230;
-        let t1184: f64 = t6 * t225;
-        let t1185: f64 = t5 * t228;
-        let t1186: f64 = t1184 + t1185;
-        let t1187: f64 = t3 * t1186;
-        let t1188: f64 = t1183 + t1187;
-        let t1189: f64 = t1 * t1188;
-        let t1190: f64 = t1189 * 0.5;
-        let t1191: f64 = t109 * t206;
-        let t1192: f64 = t63 * t180;
-        let t1193: f64 = t189 * t1192;
-        let t1194: f64 = t1191 + t1193;
-        let t1195: f64 = t1167 - t1194;
-        let t1196: f64 = t1 * t1195;
-        let t1197: f64 = t1196 * 0.5;
-        let t1198: f64 = -t1197;
-        let t1199: f64 = t2 * t247;
-        let t1200: f64 = t6 * t245;
-        let t1201: f64 = t5 * t243;
-        let t1202: f64 = t1200 - t1201;
-        let t1203: f64 = t3 * t1202;
-        let t1204: f64 = t1203 - t1199;
-        let t1205: f64 = t1 * t1204;
-        let t1206: f64 = t1205 * 0.5;
-        let t1207: f64 = t2 * t224;
-        let t1208: f64 = t1169 + t1207;
-        let t1209: f64 = t1208 - t1193;
-        let t1210: f64 = t1 * t1209;
-        let t1211: f64 = t1210 * 0.5;
-        let t1212: f64 = t278 + t1128;
-        let t1213: f64 = t1212 - t765;
-        let t1214: f64 = t1213 * 0.5;
-        let t1215: f64 = t13 * t279;
-        let t1216: f64 = t18 * t766;
-        let t1217: f64 = t1215 - t1216;
-        let t1218: f64 = t1 * t1217;
-        let t1219: f64 = t1139 + t1218;
-        let t1220: f64 = t1219 * 0.5;
-        let t1221: f64 = t81 * t279;
-        let t1222: f64 = t77 * t766;
-        let t1223: f64 = t1221 - t1222;
-        let t1224: f64 = t1 * t1223;
-        let t1225: f64 = t1150 + t1224;
-        let t1226: f64 = t1225 * 0.5;
-        let t1227: f64 = t8 * t279;
-        let t1228: f64 = t9 * t766;
-        let t1229: f64 = t1227 + t1228;
-        let t1230: f64 = t1 * t3;
-        let t1231: f64 = t1229 * t1230;
-        let t1232: f64 = t1162 - t1231;
-        let t1233: f64 = t1232 * 0.5;
-        let t1234: f64 = half_spacing * t791;
-        let t1235: f64 = t1234 * 2.0;
-        let t1236: f64 = t1 * t1235;
-        let t1237: f64 = t1236 - t790;
-        let t1238: f64 = t329 + t1128;
-        let t1239: f64 = t1237 + t1238;
-        let t1240: f64 = t1239 * 0.5;
-        let t1241: f64 = t13 * t330;
-        let t1242: f64 = t18 * t791;
-        let t1243: f64 = t315 * t662;
-        let t1244: f64 = t1133 + t1242;
-        let t1245: f64 = t1241 + t1243;
-        let t1246: f64 = t1244 - t1245;
-        let t1247: f64 = t1 * t1246;
-        let t1248: f64 = t1139 - t1247;
-        let t1249: f64 = t1248 * 0.5;
-        let t1250: f64 = t81 * t330;
-        let t1251: f64 = t77 * t791;
-        let t1252: f64 = t315 * t681;
-        let t1253: f64 = t1144 + t1250;
-        let t1254: f64 = t1251 + t1252;
-        let t1255: f64 = t1253 - t1254;
-        let t1256: f64 = t1 * t1255;
-        let t1257: f64 = t1150 + t1256;
-        let t1258: f64 = t1257 * 0.5;
-        let t1259: f64 = t315 * t701;
-        let t1260: f64 = t8 * t330;
-        let t1261: f64 = t9 * t791;
-        let t1262: f64 = t1260 + t1261;
-        let t1263: f64 = t3 * t1262;
-        let t1264: f64 = t1157 + t1263;
-        let t1265: f64 = t1264 - t1259;
-        let t1266: f64 = t1 * t1265;
-        let t1267: f64 = t1162 - t1266;
-        let t1268: f64 = t1267 * 0.5;
-        let t1269: f64 = half_spacing * t843;
-        let t1270: f64 = t394 * t845;
-        let t1271: f64 = t1269 + t1270;
-        let t1272: f64 = t1 * t1271;
-        let t1273: f64 = t1272 - t842;
-        let t1274: f64 = t393 + t1128;
+        let t1059: f64 = t10 * t183;
+        let t1060: f64 = t75 * t186;
+        let t1061: f64 = t6 * t190;
+        let t1062: f64 = t1059 + t1060;
+        let t1063: f64 = t1062 - t1061;
+        let t1064: f64 = t1001 * t1063;
+        let t1065: f64 = t10 * t201;
+        let t1066: f64 = t75 * t204;
+        let t1067: f64 = t6 * t206;
+        let t1068: f64 = t1065 + t1066;
+        let t1069: f64 = t1067 + t1068;
+        let t1070: f64 = t1001 * t1069;
+        let t1071: f64 = -t1070;
+        let t1072: f64 = t10 * t163;
+        let t1073: f64 = t170 * t1072;
+        let t1074: f64 = t75 * t181;
+        let t1075: f64 = t1073 + t1074;
+        let t1076: f64 = t1054 - t1075;
+        let t1077: f64 = t1001 * t1076;
+        let t1078: f64 = t10 * t219;
+        let t1079: f64 = t75 * t221;
+        let t1080: f64 = t6 * t223;
+        let t1081: f64 = t1079 + t1080;
+        let t1082: f64 = t1078 - t1081;
+        let t1083: f64 = t1001 * t1082;
+        let t1084: f64 = -t1083;
+        let t1085: f64 = t6 * t199;
+        let t1086: f64 = t1052 + t1085;
+        let t1087: f64 = t1086 - t1073;
+        let t1088: f64 = t1001 * t1087;
+        let t1089: f64 = -t1088;
+        let t1090: f64 = t253 * t1003;
+        let t1091: f64 = t697 * t1001;
+        let t1092: f64 = t360 * t1091;
+        let t1093: f64 = t1090 - t1092;
+        let t1094: f64 = t17 * t253;
+        let t1095: f64 = t22 * t697;
+        let t1096: f64 = t1094 - t1095;
+        let t1097: f64 = t1001 * t1096;
+        let t1098: f64 = t1024 - t1097;
+        let t1099: f64 = t80 * t253;
+        let t1100: f64 = t73 * t697;
+        let t1101: f64 = t1099 - t1100;
+        let t1102: f64 = t1001 * t1101;
+        let t1103: f64 = t1036 - t1102;
+        let t1104: f64 = t116 * t253;
+        let t1105: f64 = t112 * t697;
+        let t1106: f64 = t1104 + t1105;
+        let t1107: f64 = t1001 * t1106;
+        let t1108: f64 = t1107 - t1048;
+        let t1109: f64 = t295 * t1003;
+        let t1110: f64 = t720 * t1001;
+        let t1111: f64 = t360 * t1110;
+        let t1112: f64 = t4 * t720;
+        let t1113: f64 = -t1112;
+        let t1114: f64 = t1001 * t1113;
+        let t1115: f64 = t1111 + t1114;
+        let t1116: f64 = t1109 - t1115;
+        let t1117: f64 = t17 * t295;
+        let t1118: f64 = t22 * t720;
+        let t1119: f64 = t3 * t603;
+        let t1120: f64 = t1015 + t1118;
+        let t1121: f64 = t1117 + t1119;
+        let t1122: f64 = t1120 - t1121;
+        let t1123: f64 = t1001 * t1122;
+        let t1124: f64 = t1024 + t1123;
+        let t1125: f64 = t80 * t295;
+        let t1126: f64 = t73 * t720;
+        let t1127: f64 = t3 * t621;
+        let t1128: f64 = t1028 + t1125;
+        let t1129: f64 = t1126 + t1127;
+        let t1130: f64 = t1128 - t1129;
+        let t1131: f64 = t1001 * t1130;
+        let t1132: f64 = t1036 - t1131;
+        let t1133: f64 = t116 * t295;
+        let t1134: f64 = t112 * t720;
+        let t1135: f64 = t3 * t638;
+        let t1136: f64 = t1040 + t1133;
+        let t1137: f64 = t1134 + t1136;
+        let t1138: f64 = t1137 - t1135;
+        let t1139: f64 = t1001 * t1138;
+        let t1140: f64 = t1139 - t1048;
+        let t1141: f64 = t758 * t1001;
+        let t1142: f64 = t360 * t1141;
+        let t1143: f64 = t360 * t758;
+        let t1144: f64 = -t1143;
+        let t1145: f64 = t1001 * t1144;
+        let t1146: f64 = t1142 + t1145;
+        let t1147: f64 = -t1146;
+        let t1148: f64 = t351 * t1003;
+        let t1149: f64 = t768 * t1001;
+        let t1150: f64 = t360 * t1149;
+        let t1151: f64 = t360 * t768;
+        let t1152: f64 = t351 * t770;
+        let t1153: f64 = t1152 - t1151;
+        let t1154: f64 = t1001 * t1153;
+        let t1155: f64 = t1150 + t1154;
+        let t1156: f64 = t1148 - t1155;
+        let t1157: f64 = t17 * t351;
+        let t1158: f64 = t22 * t768;
+        let t1159: f64 = t60 * t346;
+        let t1160: f64 = zc * t603;
+        let t1161: f64 = t1017 - t1160;
+        let t1162: f64 = t1158 + t1159;
+        let t1163: f64 = t1161 + t1162;
+        let t1164: f64 = t1163 - t1157;
+        let t1165: f64 = t1001 * t1164;
+        let t1166: f64 = t1024 + t1165;
+        let t1167: f64 = t80 * t351;
+        let t1168: f64 = t73 * t768;
+        let t1169: f64 = t103 * t346;
+        let t1170: f64 = zc * t621;
+        let t1171: f64 = t1030 - t1170;
+        let t1172: f64 = t1167 + t1171;
+        let t1173: f64 = t1168 + t1169;
+        let t1174: f64 = t1172 - t1173;
+        let t1175: f64 = t1001 * t1174;
+        let t1176: f64 = t1036 - t1175;
+        let t1177: f64 = t116 * t351;
+        let t1178: f64 = t112 * t768;
+        let t1179: f64 = t139 * t346;
+        let t1180: f64 = zc * t638;
+        let t1181: f64 = t1042 - t1180;
+        let t1182: f64 = t1177 + t1178;
+        let t1183: f64 = t1181 + t1182;
+        let t1184: f64 = t1183 - t1179;
+        let t1185: f64 = t1001 * t1184;
+        let t1186: f64 = t1185 - t1048;
+        let t1187: f64 = t809 * t1001;
+        let t1188: f64 = t360 * t1187;
+        let t1189: f64 = t360 * t809;
+        let t1190: f64 = -t1189;
+        let t1191: f64 = t1001 * t1190;
+        let t1192: f64 = t1188 + t1191;
+        let t1193: f64 = -t1192;
+        let t1194: f64 = t406 * t1003;
+        let t1195: f64 = t817 * t1001;
+        let t1196: f64 = t360 * t1195;
+        let t1197: f64 = t360 * t817;
+        let t1198: f64 = t406 * t819;
+        let t1199: f64 = t1198 - t1197;
+        let t1200: f64 = t1001 * t1199;
+        let t1201: f64 = t1196 + t1200;
+        let t1202: f64 = t1194 - t1201;
+        let t1203: f64 = t17 * t406;
+        let t1204: f64 = t22 * t817;
+        let t1205: f64 = t60 * t403;
+        let t1206: f64 = t1161 + t1204;
+        let t1207: f64 = t1203 + t1205;
+        let t1208: f64 = t1206 - t1207;
+        let t1209: f64 = t1001 * t1208;
+        let t1210: f64 = t1024 + t1209;
+        let t1211: f64 = t80 * t406;
+        let t1212: f64 = t73 * t817;
+        let t1213: f64 = t103 * t403;
+        let t1214: f64 = t1211 + t1213;
+        let t1215: f64 = t1171 + t1214;
+        let t1216: f64 = t1215 - t1212;
+        let t1217: f64 = t1001 * t1216;
+        let t1218: f64 = t1036 - t1217;
+        let t1219: f64 = t116 * t406;
+        let t1220: f64 = t112 * t817;
+        let t1221: f64 = t139 * t403;
+        let t1222: f64 = t1219 + t1220;
+        let t1223: f64 = t1181 + t1221;
+        let t1224: f64 = t1222 + t1223;
+        let t1225: f64 = t1001 * t1224;
+        let t1226: f64 = t1225 - t1048;
+        let t1227: f64 = wdx * t445;
+        let t1228: f64 = wy * vx;
+        let t1229: f64 = wx * vy;
+        let t1230: f64 = t1228 - t1229;
+        let t1231: f64 = xc * wdy;
+        let t1232: f64 = t1 + t1231;
+        let t1233: f64 = t1230 + t1232;
+        let t1234: f64 = t1233 - t1227;
+        let t1235: f64 = t1003 * t1234;
+        let t1236: f64 = t862 * t1234;
+        let t1237: f64 = -t1236;
+        let t1238: f64 = t1001 * t1237;
+        let t1239: f64 = t1235 + t1238;
+        let t1240: f64 = t456 * t1003;
+        let t1241: f64 = t860 * t1001;
+        let t1242: f64 = t360 * t1241;
+        let t1243: f64 = t465 * t860;
+        let t1244: f64 = t456 * t862;
+        let t1245: f64 = t1243 - t1244;
+        let t1246: f64 = t1001 * t1245;
+        let t1247: f64 = t1242 - t1246;
+        let t1248: f64 = t1240 - t1247;
+        let t1249: f64 = t17 * t456;
+        let t1250: f64 = t22 * t860;
+        let t1251: f64 = t451 * t603;
+        let t1252: f64 = t60 * t445;
+        let t1253: f64 = t1250 + t1251;
+        let t1254: f64 = t1017 + t1252;
+        let t1255: f64 = t1253 + t1254;
+        let t1256: f64 = t1255 - t1249;
+        let t1257: f64 = t1001 * t1256;
+        let t1258: f64 = t1024 + t1257;
+        let t1259: f64 = t80 * t456;
+        let t1260: f64 = t73 * t860;
+        let t1261: f64 = t451 * t621;
+        let t1262: f64 = t103 * t445;
+        let t1263: f64 = t1259 + t1261;
+        let t1264: f64 = t1030 + t1263;
+        let t1265: f64 = t1260 + t1262;
+        let t1266: f64 = t1264 - t1265;
+        let t1267: f64 = t1001 * t1266;
+        let t1268: f64 = t1036 - t1267;
+        let t1269: f64 = t116 * t456;
+        let t1270: f64 = t112 * t860;
+        let t1271: f64 = t451 * t638;
+        let t1272: f64 = t139 * t445;
+        let t1273: f64 = t1269 + t1270;
+        let t1274: f64 = t1042 + t1271;
         let t1275: f64 = t1273 + t1274;
-        let t1276: f64 = t1275 * 0.5;
-        let t1277: f64 = t13 * t394;
-        let t1278: f64 = t18 * t843;
-        let t1279: f64 = t60 * t390;
-        let t1280: f64 = zc * t662;
-        let t1281: f64 = t1135 - t1280;
-        let t1282: f64 = t1278 + t1279;
-        let t1283: f64 = t1281 + t1282;
-        let t1284: f64 = t1283 - t1277;
-        let t1285: f64 = t1 * t1284;
-        let t1286: f64 = t1139 - t1285;
-        let t1287: f64 = t1286 * 0.5;
-        let t1288: f64 = t81 * t394;
-        let t1289: f64 = t77 * t843;
-        let t1290: f64 = t106 * t390;
-        let t1291: f64 = zc * t681;
-        let t1292: f64 = t1146 - t1291;
-        let t1293: f64 = t1288 + t1292;
-        let t1294: f64 = t1289 + t1290;
-        let t1295: f64 = t1293 - t1294;
-        let t1296: f64 = t1 * t1295;
-        let t1297: f64 = t1150 + t1296;
-        let t1298: f64 = t1297 * 0.5;
-        let t1299: f64 = t148 * t390;
-        let t1300: f64 = t8 * t394;
-        let t1301: f64 = t9 * t843;
-        let t1302: f64 = t1300 + t1301;
-        let t1303: f64 = t3 * t1302;
-        let t1304: f64 = zc * t701;
-        let t1305: f64 = t1159 - t1304;
-        let t1306: f64 = t1303 + t1305;
-        let t1307: f64 = t1306 - t1299;
-        let t1308: f64 = t1 * t1307;
-        let t1309: f64 = t1162 - t1308;
-        let t1310: f64 = t1309 * 0.5;
-        let t1311: f64 = half_spacing * t898;
-        let t1312: f64 = t454 * t900;
-        let t1313: f64 = t1311 + t1312;
-        let t1314: f64 = t1 * t1313;
-        let t1315: f64 = t1314 - t897;
-        let t1316: f64 = t453 + t1128;
-        let t1317: f64 = t1315 + t1316;
-        let t1318: f64 = t1317 * 0.5;
-        let t1319: f64 = t13 * t454;
-        let t1320: f64 = t18 * t898;
-        let t1321: f64 = t60 * t449;
-        let t1322: f64 = t1281 + t1320;
-        let t1323: f64 = t1319 + t1321;
-        let t1324: f64 = t1322 - t1323;
-        let t1325: f64 = t1 * t1324;
-        let t1326: f64 = t1139 - t1325;
-        let t1327: f64 = t1326 * 0.5;
-        let t1328: f64 = t81 * t454;
-        let t1329: f64 = t77 * t898;
-        let t1330: f64 = t106 * t449;
-        let t1331: f64 = t1328 + t1330;
-        let t1332: f64 = t1292 + t1331;
-        let t1333: f64 = t1332 - t1329;
-        let t1334: f64 = t1 * t1333;
-        let t1335: f64 = t1150 + t1334;
-        let t1336: f64 = t1335 * 0.5;
-        let t1337: f64 = t148 * t449;
-        let t1338: f64 = t8 * t454;
-        let t1339: f64 = t9 * t898;
-        let t1340: f64 = t1338 + t1339;
-        let t1341: f64 = t3 * t1340;
-        let t1342: f64 = t1337 + t1341;
-        let t1343: f64 = t1305 + t1342;
-        let t1344: f64 = t1 * t1343;
-        let t1345: f64 = t1162 - t1344;
-        let t1346: f64 = t1345 * 0.5;
-        let t1347: f64 = wy * vx;
-        let t1348: f64 = wx * vy;
-        let t1349: f64 = t1347 - t1348;
-        let t1350: f64 = xc * wdy;
-        let t1351: f64 = t25 + t1350;
-        let t1352: f64 = t1349 + t1351;
-        let t1353: f64 = wdx * t499;
-        let t1354: f64 = t1352 - t1353;
-        let t1355: f64 = half_spacing * t1354;
-        let t1356: f64 = -t1355;
-        let t1357: f64 = t1 * t1356;
-        let t1358: f64 = t1354 - t1357;
-        let t1359: f64 = t1358 * 0.5;
-        let t1360: f64 = t19 + t507;
-        let t1361: f64 = t946 * t1360;
-        let t1362: f64 = half_spacing * t510;
-        let t1363: f64 = t1361 - t1362;
-        let t1364: f64 = t1 * t1363;
-        let t1365: f64 = t945 + t1364;
-        let t1366: f64 = t509 + t1128;
-        let t1367: f64 = t1366 - t1365;
-        let t1368: f64 = t1367 * 0.5;
-        let t1369: f64 = t13 * t510;
-        let t1370: f64 = t18 * t946;
-        let t1371: f64 = t507 * t662;
-        let t1372: f64 = t60 * t499;
-        let t1373: f64 = t1370 + t1371;
-        let t1374: f64 = t1135 + t1372;
-        let t1375: f64 = t1373 + t1374;
-        let t1376: f64 = t1375 - t1369;
-        let t1377: f64 = t1 * t1376;
-        let t1378: f64 = t1139 - t1377;
-        let t1379: f64 = t1378 * 0.5;
-        let t1380: f64 = t81 * t510;
-        let t1381: f64 = t77 * t946;
-        let t1382: f64 = t507 * t681;
-        let t1383: f64 = t106 * t499;
-        let t1384: f64 = t1380 + t1382;
-        let t1385: f64 = t1146 + t1384;
-        let t1386: f64 = t1381 + t1383;
-        let t1387: f64 = t1385 - t1386;
-        let t1388: f64 = t1 * t1387;
-        let t1389: f64 = t1150 + t1388;
-        let t1390: f64 = t1389 * 0.5;
-        let t1391: f64 = t507 * t701;
-        let t1392: f64 = t148 * t499;
-        let t1393: f64 = t8 * t510;
-        let t1394: f64 = t9 * t946;
-        let t1395: f64 = t1393 + t1394;
-        let t1396: f64 = t3 * t1395;
-        let t1397: f64 = t1391 + t1396;
-        let t1398: f64 = t1159 + t1397;
-        let t1399: f64 = t1398 - t1392;
-        let t1400: f64 = t1 * t1399;
-        let t1401: f64 = t1162 - t1400;
-        let t1402: f64 = t1401 * 0.5;
-        let t1403: f64 = t19 + t573;
-        let t1404: f64 = t993 * t1403;
-        let t1405: f64 = half_spacing * t576;
-        let t1406: f64 = t1404 + t1405;
-        let t1407: f64 = t1 * t1406;
-        let t1408: f64 = t992 + t1407;
-        let t1409: f64 = t575 + t1128;
-        let t1410: f64 = t1409 - t1408;
-        let t1411: f64 = t1410 * 0.5;
-        let t1412: f64 = t13 * t576;
-        let t1413: f64 = t18 * t993;
-        let t1414: f64 = t573 * t662;
-        let t1415: f64 = t60 * t568;
-        let t1416: f64 = t1413 + t1414;
-        let t1417: f64 = t1135 + t1415;
-        let t1418: f64 = t1416 + t1417;
-        let t1419: f64 = t1418 - t1412;
-        let t1420: f64 = t1 * t1419;
-        let t1421: f64 = t1139 - t1420;
-        let t1422: f64 = t1421 * 0.5;
-        let t1423: f64 = t81 * t576;
-        let t1424: f64 = t77 * t993;
-        let t1425: f64 = t573 * t681;
-        let t1426: f64 = t106 * t568;
-        let t1427: f64 = t1423 + t1425;
-        let t1428: f64 = t1146 + t1427;
-        let t1429: f64 = t1424 + t1426;
-        let t1430: f64 = t1428 - t1429;
-        let t1431: f64 = t1 * t1430;
-        let t1432: f64 = t1150 + t1431;
-        let t1433: f64 = t1432 * 0.5;
-        let t1434: f64 = t573 * t701;
-        let t1435: f64 = t148 * t568;
-        let t1436: f64 = t8 * t576;
-        let t1437: f64 = t9 * t993;
-        let t1438: f64 = t1436 + t1437;
-        let t1439: f64 = t3 * t1438;
-        let t1440: f64 = t1434 + t1439;
-        let t1441: f64 = t1159 + t1440;
-        let t1442: f64 = t1441 - t1435;
-        let t1443: f64 = t1 * t1442;
-        let t1444: f64 = t1162 - t1443;
-        let t1445: f64 = t1444 * 0.5;
-        let t1446: f64 = wx * t499;
-        let t1447: f64 = xc * wy;
-        let t1448: f64 = vz + t1447;
-        let t1449: f64 = t1448 - t1446;
-        let t1450: f64 = ((t1449 > 0.0) as i8 - (t1449 < 0.0) as i8) as f64;
-        let t1451: f64 = t25 + t644;
-        let t1452: f64 = t1127 + t1451;
-        let t1453: f64 = t1452 * 0.5;
-        let t1454: f64 = t60 + t662;
-        let t1455: f64 = t1454 - t1138;
-        let t1456: f64 = t1455 * 0.5;
-        let t1457: f64 = t106 - t681;
-        let t1458: f64 = t1457 - t1149;
-        let t1459: f64 = t1458 * 0.5;
-        let t1460: f64 = t147 + t701;
-        let t1461: f64 = t1161 + t1460;
-        let t1462: f64 = t1461 * 0.5;
-        let t1463: f64 = -t1173;
-        let t1464: f64 = -t1190;
-        let t1465: f64 = -t1206;
-        let t1466: f64 = -t1211;
-        let t1467: f64 = t765 + t1451;
-        let t1468: f64 = t278 + t1467;
-        let t1469: f64 = t1468 * 0.5;
-        let t1470: f64 = t1454 - t1218;
-        let t1471: f64 = t1470 * 0.5;
-        let t1472: f64 = t1457 - t1224;
-        let t1473: f64 = t1472 * 0.5;
-        let t1474: f64 = t1231 + t1460;
-        let t1475: f64 = t1474 * 0.5;
-        let t1476: f64 = t329 + t1451;
-        let t1477: f64 = t1476 - t1237;
-        let t1478: f64 = t1477 * 0.5;
-        let t1479: f64 = t1247 + t1454;
-        let t1480: f64 = t1479 * 0.5;
-        let t1481: f64 = t1457 - t1256;
-        let t1482: f64 = t1481 * 0.5;
-        let t1483: f64 = t1266 + t1460;
-        let t1484: f64 = t1483 * 0.5;
-        let t1485: f64 = t393 + t1451;
-        let t1486: f64 = t1485 - t1273;
-        let t1487: f64 = t1486 * 0.5;
-        let t1488: f64 = t1285 + t1454;
-        let t1489: f64 = t1488 * 0.5;
-        let t1490: f64 = t1457 - t1296;
-        let t1491: f64 = t1490 * 0.5;
-        let t1492: f64 = t1308 + t1460;
-        let t1493: f64 = t1492 * 0.5;
-        let t1494: f64 = t453 + t1451;
-        let t1495: f64 = t1494 - t1315;
-        let t1496: f64 = t1495 * 0.5;
-        let t1497: f64 = t1325 + t1454;
-        let t1498: f64 = t1497 * 0.5;
-        let t1499: f64 = t1457 - t1334;
-        let t1500: f64 = t1499 * 0.5;
-        let t1501: f64 = t1344 + t1460;
-        let t1502: f64 = t1501 * 0.5;
-        let t1503: f64 = t1354 + t1357;
-        let t1504: f64 = t1503 * 0.5;
-        let t1505: f64 = t509 + t1451;
-        let t1506: f64 = t1365 + t1505;
-        let t1507: f64 = t1506 * 0.5;
-        let t1508: f64 = t1377 + t1454;
-        let t1509: f64 = t1508 * 0.5;
-        let t1510: f64 = t1457 - t1388;
-        let t1511: f64 = t1510 * 0.5;
-        let t1512: f64 = t1400 + t1460;
-        let t1513: f64 = t1512 * 0.5;
-        let t1514: f64 = wdx * t568;
-        let t1515: f64 = t1352 - t1514;
-        let t1516: f64 = t575 + t1451;
-        let t1517: f64 = t1408 + t1516;
-        let t1518: f64 = t1517 * 0.5;
-        let t1519: f64 = t1420 + t1454;
-        let t1520: f64 = t1519 * 0.5;
-        let t1521: f64 = t1457 - t1431;
-        let t1522: f64 = t1521 * 0.5;
-        let t1523: f64 = t1443 + t1460;
-        let t1524: f64 = t1523 * 0.5;
-        let t1525: f64 = wx * t568;
-        let t1526: f64 = t1448 - t1525;
-        let t1527: f64 = ((t1526 > 0.0) as i8 - (t1526 < 0.0) as i8) as f64;
+        let t1276: f64 = t1275 - t1272;
+        let t1277: f64 = t1001 * t1276;
+        let t1278: f64 = t1277 - t1048;
+        let t1279: f64 = wdx * t502;
+        let t1280: f64 = t1233 - t1279;
+        let t1281: f64 = t1003 * t1280;
+        let t1282: f64 = t905 * t1280;
+        let t1283: f64 = -t1282;
+        let t1284: f64 = t1001 * t1283;
+        let t1285: f64 = t1281 + t1284;
+        let t1286: f64 = t509 * t1003;
+        let t1287: f64 = t903 * t1001;
+        let t1288: f64 = t360 * t1287;
+        let t1289: f64 = t516 * t903;
+        let t1290: f64 = t509 * t905;
+        let t1291: f64 = t1289 - t1290;
+        let t1292: f64 = t1001 * t1291;
+        let t1293: f64 = t1288 - t1292;
+        let t1294: f64 = t1286 - t1293;
+        let t1295: f64 = t17 * t509;
+        let t1296: f64 = t22 * t903;
+        let t1297: f64 = t506 * t603;
+        let t1298: f64 = t60 * t502;
+        let t1299: f64 = t1296 + t1297;
+        let t1300: f64 = t1017 + t1298;
+        let t1301: f64 = t1299 + t1300;
+        let t1302: f64 = t1301 - t1295;
+        let t1303: f64 = t1001 * t1302;
+        let t1304: f64 = t1024 + t1303;
+        let t1305: f64 = t80 * t509;
+        let t1306: f64 = t73 * t903;
+        let t1307: f64 = t506 * t621;
+        let t1308: f64 = t103 * t502;
+        let t1309: f64 = t1305 + t1307;
+        let t1310: f64 = t1030 + t1309;
+        let t1311: f64 = t1306 + t1308;
+        let t1312: f64 = t1310 - t1311;
+        let t1313: f64 = t1001 * t1312;
+        let t1314: f64 = t1036 - t1313;
+        let t1315: f64 = t116 * t509;
+        let t1316: f64 = t112 * t903;
+        let t1317: f64 = t506 * t638;
+        let t1318: f64 = t139 * t502;
+        let t1319: f64 = t1315 + t1316;
+        let t1320: f64 = t1042 + t1317;
+        let t1321: f64 = t1319 + t1320;
+        let t1322: f64 = t1321 - t1318;
+        let t1323: f64 = t1001 * t1322;
+        let t1324: f64 = t1323 - t1048;
+        let t1325: f64 = wx * t445;
+        let t1326: f64 = xc * wy;
+        let t1327: f64 = vz + t1326;
+        let t1328: f64 = t1327 - t1325;
+        let t1329: f64 = ((t1328 > 0.0) as i8 - (t1328 < 0.0) as i8) as f64;
+        let t1330: f64 = t1 * t1001;
+        let t1331: f64 = t862 * t1330;
+        let t1332: f64 = t1011 - t1331;
+        let t1333: f64 = t60 * t1002;
+        let t1334: f64 = t1023 - t1333;
+        let t1335: f64 = t1020 + t1334;
+        let t1336: f64 = t103 * t1002;
+        let t1337: f64 = t1035 + t1336;
+        let t1338: f64 = t1033 - t1337;
+        let t1339: f64 = t139 * t1002;
+        let t1340: f64 = t1047 + t1339;
+        let t1341: f64 = t1340 - t1045;
+        let t1342: f64 = -t1064;
+        let t1343: f64 = -t1077;
+        let t1344: f64 = t253 * t1001;
+        let t1345: f64 = t862 * t1344;
+        let t1346: f64 = t1092 - t1345;
+        let t1347: f64 = t1097 + t1334;
+        let t1348: f64 = t1102 - t1337;
+        let t1349: f64 = t1340 - t1107;
+        let t1350: f64 = t295 * t1001;
+        let t1351: f64 = t862 * t1350;
+        let t1352: f64 = t1115 - t1351;
+        let t1353: f64 = t1334 - t1123;
+        let t1354: f64 = t1131 - t1337;
+        let t1355: f64 = t1340 - t1139;
+        let t1356: f64 = t351 * t1001;
+        let t1357: f64 = t862 * t1356;
+        let t1358: f64 = t1155 - t1357;
+        let t1359: f64 = t1334 - t1165;
+        let t1360: f64 = t1175 - t1337;
+        let t1361: f64 = t1340 - t1185;
+        let t1362: f64 = t406 * t1001;
+        let t1363: f64 = t862 * t1362;
+        let t1364: f64 = t1201 - t1363;
+        let t1365: f64 = t1334 - t1209;
+        let t1366: f64 = t1217 - t1337;
+        let t1367: f64 = t1340 - t1225;
+        let t1368: f64 = t1001 * t1234;
+        let t1369: f64 = t862 * t1368;
+        let t1370: f64 = t1238 + t1369;
+        let t1371: f64 = -t1370;
+        let t1372: f64 = t456 * t1001;
+        let t1373: f64 = t862 * t1372;
+        let t1374: f64 = t1247 - t1373;
+        let t1375: f64 = t1334 - t1257;
+        let t1376: f64 = t1267 - t1337;
+        let t1377: f64 = t1340 - t1277;
+        let t1378: f64 = t1001 * t1280;
+        let t1379: f64 = t862 * t1378;
+        let t1380: f64 = t1284 + t1379;
+        let t1381: f64 = -t1380;
+        let t1382: f64 = t509 * t1001;
+        let t1383: f64 = t862 * t1382;
+        let t1384: f64 = t1293 - t1383;
+        let t1385: f64 = t1334 - t1303;
+        let t1386: f64 = t1313 - t1337;
+        let t1387: f64 = t1340 - t1323;
+        let t1388: f64 = wx * t502;
+        let t1389: f64 = t1327 - t1388;
+        let t1390: f64 = ((t1389 > 0.0) as i8 - (t1389 < 0.0) as i8) as f64;
         (
-            t1009,
-            t1019,
-            t1028,
-            t1032,
-            t1033,
+            t1012,
+            t1025,
             t1037,
-            t1041,
-            t1044,
-            t1048,
             t1049,
-            t1050,
-            t1051,
-            t1055,
+            t1057,
             t1058,
-            t1060,
-            t1063,
-            t1068,
+            t1064,
             t1070,
-            t1072,
-            t1074,
-            t1079,
-            t1081,
+            t1071,
+            t1077,
             t1083,
-            t1085,
+            t1084,
             t1088,
-            t1092,
-            t1094,
-            t1096,
+            t1089,
+            t1093,
             t1098,
             t1103,
-            t1105,
-            t1107,
-            t1109,
-            t1114,
+            t1108,
             t1116,
-            t1118,
-            t1120,
-            t1122,
-            t1123,
-            t1130,
-            t1141,
-            t1152,
-            t1164,
-            t1173,
-            t1181,
-            t1182,
-            t1190,
-            t1197,
-            t1198,
-            t1206,
-            t1211,
-            t1214,
-            t1220,
+            t1124,
+            t1132,
+            t1140,
+            t1146,
+            t1147,
+            t1156,
+            t1166,
+            t1176,
+            t1186,
+            t1192,
+            t1193,
+            t1202,
+            t1210,
+            t1218,
             t1226,
-            t1233,
-            t1240,
-            t1249,
+            t1239,
+            t1248,
             t1258,
             t1268,
-            t1276,
-            t1287,
-            t1298,
-            t1310,
-            t1318,
-            t1327,
-            t1336,
+            t1278,
+            t1285,
+            t1294,
+            t1304,
+            t1314,
+            t1324,
+            t1328,
+            t1329,
+            t1332,
+            t1335,
+            t1338,
+            t1341,
+            t1342,
+            t1343,
             t1346,
+            t1347,
+            t1348,
+            t1349,
+            t1352,
+            t1353,
+            t1354,
+            t1355,
+            t1358,
             t1359,
-            t1368,
-            t1379,
+            t1360,
+            t1361,
+            t1364,
+            t1365,
+            t1366,
+            t1367,
+            t1371,
+            t1374,
+            t1375,
+            t1376,
+            t1377,
+            t1381,
+            t1384,
+            t1385,
+            t1386,
+            t1387,
+            t1389,
             t1390,
-            t1402,
-            t1411,
-            t1422,
-            t1433,
-            t1445,
-            t1449,
-            t1450,
-            t1453,
-            t1456,
-            t1459,
-            t1462,
-            t1463,
-            t1464,
-            t1465,
-            t1466,
-            t1469,
-            t1471,
-            t1473,
-            t1475,
-            t1478,
-            t1480,
-            t1482,
-            t1484,
-            t1487,
-            t1489,
-            t1491,
-            t1493,
-            t1496,
-            t1498,
-            t1500,
-            t1502,
-            t1504,
-            t1507,
-            t1509,
-            t1511,
-            t1513,
-            t1515,
-            t1518,
-            t1520,
-            t1522,
-            t1524,
-            t1526,
-            t1527,
         )
     };
     (
         [
             [
                 t34,
-                t73,
-                t119,
-                t161,
-                t195,
-                t216,
-                t235,
-                t242,
-                t252,
-                t258,
-                t266,
-                t293,
-                t300,
-                t307,
-                t314,
-                t322,
-                t346,
-                t358,
-                t370,
-                t382,
+                t69,
+                t111,
+                t147,
+                t176,
+                t194,
+                t211,
+                t218,
+                t228,
+                t232,
+                t240,
+                t267,
+                t272,
+                t277,
+                t282,
+                t288,
+                t309,
+                t319,
+                t329,
+                t339,
                 0.0,
-                t409,
-                t421,
-                t433,
-                t445,
+                t368,
+                t378,
+                t388,
+                t398,
                 0.0,
-                t467,
-                t477,
-                t487,
-                t497,
-                0.0,
-                t531,
-                t543,
-                t555,
-                t567,
-                0.0,
-                t594,
-                t604,
-                t614,
-                t624,
-                t628,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t629,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-            ],
-            [
-                t33,
-                t72,
-                t118,
-                t630,
-                t631,
-                t215,
-                t632,
-                t633,
-                t634,
-                t257,
-                0.0,
-                t292,
-                t299,
-                t306,
-                t635,
-                t321,
-                t345,
-                t357,
-                t369,
-                t636,
-                0.0,
-                t408,
                 t420,
-                t432,
-                t637,
+                t428,
+                t436,
+                t444,
                 0.0,
-                t466,
-                t476,
-                t486,
-                t638,
+                t471,
+                t481,
+                t491,
+                t501,
                 0.0,
+                t522,
                 t530,
-                t542,
-                t554,
-                t639,
-                0.0,
-                t593,
-                t603,
-                t613,
-                t640,
-                0.0,
-                t642,
+                t538,
+                t546,
+                t550,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t643,
+                t551,
+                0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
             ],
             [
-                t654,
-                t673,
-                t693,
-                t712,
-                t721,
-                t729,
-                t736,
-                t744,
-                t751,
-                t757,
+                t552,
+                t553,
+                t554,
+                t555,
+                t175,
+                t556,
+                t210,
+                t217,
+                t227,
+                t557,
                 0.0,
-                t767,
-                t773,
-                t780,
-                t786,
+                t558,
+                t559,
+                t560,
+                t561,
+                t562,
+                t563,
+                t564,
+                t565,
+                t566,
                 0.0,
+                t567,
+                t568,
+                t569,
+                t570,
+                0.0,
+                t571,
+                t572,
+                t573,
+                t574,
+                0.0,
+                t575,
+                t576,
+                t577,
+                t578,
+                0.0,
+                t579,
+                t580,
+                t581,
+                t582,
+                0.0,
+                t584,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t585,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                t596,
+                t614,
+                t631,
+                t649,
+                t658,
+                t664,
+                t671,
+                t677,
+                t684,
+                t688,
+                0.0,
+                t699,
+                t705,
+                t710,
+                t716,
+                0.0,
+                t726,
+                t734,
+                t742,
+                t750,
+                t762,
+                t777,
+                t787,
                 t797,
-                t806,
-                t815,
+                t807,
+                t813,
                 t824,
-                t837,
-                t852,
-                t863,
-                t875,
-                t886,
-                t893,
-                t906,
-                t917,
-                t929,
+                t834,
+                t844,
+                t854,
+                0.0,
+                t869,
+                t879,
+                t889,
+                t899,
+                0.0,
+                t912,
+                t920,
+                t928,
+                t936,
+                0.0,
+                0.0,
                 t940,
                 0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t941,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            [
+                t944,
+                t946,
+                t949,
+                t951,
+                t657,
+                t952,
+                t670,
+                t953,
+                t683,
                 t954,
+                0.0,
+                t956,
+                t957,
+                t959,
+                t960,
+                0.0,
+                t963,
+                t964,
                 t965,
-                t977,
+                t966,
+                0.0,
+                t969,
+                t970,
+                t972,
+                t973,
+                t975,
+                t978,
+                t979,
+                t981,
+                t982,
+                0.0,
+                t985,
+                t986,
                 t988,
+                t989,
                 0.0,
-                t1000,
-                t1009,
-                t1019,
-                t1028,
-                0.0,
-                0.0,
-                t1032,
+                t992,
+                t993,
+                t995,
+                t996,
                 0.0,
                 0.0,
                 0.0,
+                t998,
                 0.0,
                 0.0,
-                t1033,
                 0.0,
+                0.0,
+                0.0,
+                t999,
                 0.0,
                 0.0,
             ],
             [
+                t1012,
+                t1025,
                 t1037,
-                t1041,
-                t1044,
-                t1048,
                 t1049,
-                t728,
-                t1050,
-                t743,
-                t1051,
-                t756,
-                0.0,
-                t1055,
                 t1058,
-                t1060,
-                t1063,
+                t1064,
+                t1071,
+                t1077,
+                t1084,
+                t1089,
                 0.0,
-                t1068,
-                t1070,
-                t1072,
-                t1074,
-                0.0,
-                t1079,
-                t1081,
-                t1083,
-                t1085,
-                t1088,
-                t1092,
-                t1094,
-                t1096,
+                t1093,
                 t1098,
-                0.0,
                 t1103,
-                t1105,
-                t1107,
-                t1109,
+                t1108,
                 0.0,
-                t1114,
                 t1116,
-                t1118,
-                t1120,
-                0.0,
-                0.0,
-                0.0,
-                t1122,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1123,
-                0.0,
-                0.0,
-            ],
-            [
-                t1130,
-                t1141,
-                t1152,
-                t1164,
-                t1173,
-                t1182,
-                t1190,
-                t1198,
-                t1206,
-                t1211,
-                0.0,
-                t1214,
-                t1220,
+                t1124,
+                t1132,
+                t1140,
+                t1147,
+                t1156,
+                t1166,
+                t1176,
+                t1186,
+                t1193,
+                t1202,
+                t1210,
+                t1218,
                 t1226,
-                t1233,
-                0.0,
-                t1240,
-                t1249,
+                t1239,
+                t1248,
                 t1258,
                 t1268,
-                0.0,
-                t1276,
-                t1287,
-                t1298,
-                t1310,
-                0.0,
-                t1318,
-                t1327,
-                t1336,
-                t1346,
-                t1359,
-                t1368,
-                t1379,
-                t1390,
-                t1402,
-                0.0,
-                t1411,
-                t1422,
-                t1433,
-                t1445,
+                t1278,
+                t1285,
+                t1294,
+                t1304,
+                t1314,
+                t1324,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t1449,
+                t1328,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t1450,
+                t1329,
                 0.0,
             ],
             [
-                t1453,
-                t1456,
-                t1459,
-                t1462,
-                t1463,
-                t1181,
-                t1464,
-                t1197,
-                t1465,
-                t1466,
+                t1332,
+                t1335,
+                t1338,
+                t1341,
+                t1057,
+                t1342,
+                t1070,
+                t1343,
+                t1083,
+                t1088,
                 0.0,
-                t1469,
-                t1471,
-                t1473,
-                t1475,
+                t1346,
+                t1347,
+                t1348,
+                t1349,
                 0.0,
-                t1478,
-                t1480,
-                t1482,
-                t1484,
-                0.0,
-                t1487,
-                t1489,
-                t1491,
-                t1493,
-                0.0,
-                t1496,
-                t1498,
-                t1500,
-                t1502,
-                t1504,
-                t1507,
-                t1509,
-                t1511,
-                t1513,
-                t1515,
-                t1518,
-                t1520,
-                t1522,
-                t1524,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                t1526,
+                t1352,
+                t1353,
+                t1354,
+                t1355,
+                t1146,
+                t1358,
+                t1359,
+                t1360,
+                t1361,
+                t1192,
+                t1364,
+                t1365,
+                t1366,
+                t1367,
+                t1371,
+                t1374,
+                t1375,
+                t1376,
+                t1377,
+                t1381,
+                t1384,
+                t1385,
+                t1386,
+                t1387,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
                 0.0,
-                t1527,
+                t1389,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                t1390,
             ],
         ],
-        [t63, t81, t150],
+        [t10, t80, t112],
     )
 }
 /// The standard parameters, the columns of [`regressor`]: ten per body (mass, first moment `m c`, inertia about the reference point; the platform about `C` in its frame, each rod about `B_i` in the base frame, each body 2 about `B_i` in the platform frame), then viscous and Coulomb friction per actuator.

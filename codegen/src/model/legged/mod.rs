@@ -769,12 +769,7 @@ macro_rules! legged_mechanics {
                     Some(inertia.column(k).to_vec())
                 },
                 wrt,
-                self.differentiation(),
             )
-        }
-
-        fn differentiation(&self) -> $crate::model::derivatives::Differentiation {
-            $crate::model::derivatives::Differentiation::Reverse
         }
     };
 }
