@@ -12,7 +12,8 @@
 //! near an inverse singularity: its rounding errors, on either path, grow as `1/s³` (measured:
 //! 3e-11 relative at `s = 0.02`, 2e-4 at `1e-4`, 10 at `1e-6`), so `p = 3` for it. Both paths
 //! are then equally inaccurate; the difference between them only shows it. The paper model's
-//! forward dynamics does not square the conditioning and keeps `p = 1`.
+//! forward dynamics does not square the conditioning and keeps `p = 1`. The consistent model's
+//! `joint_bias` and `inverse_dynamics_joint` take `p = 2` (see [`amplification`]).
 
 mod support;
 
@@ -29,6 +30,11 @@ const TOLERANCE: f64 = 1e-14;
 fn amplification(model: &str, kernel: &str) -> i32 {
     match (model, kernel) {
         ("consistent", "forward_dynamics") => 3,
+        // The platform's motion from the actuators kept whole (`Expr::keep_where_cheaper`),
+        // which the optimizer chose for fewer operations, divides by `s` twice on some paths:
+        // with `p = 1` they differed by up to 3.3e-13 at `s = 1.1e-6` (8 of 16 000 poses past
+        // 1e-14), well inside `p = 2`.
+        ("consistent", "joint_bias" | "inverse_dynamics_joint") => 2,
         _ => 1,
     }
 }
