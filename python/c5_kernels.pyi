@@ -59,6 +59,7 @@ class Plan(TypedDict, total=False):
     costs: list[list[float]]
     goal_error: float
     force_excess: float
+    least_clearance: float
 
 class Unobservable(TypedDict):
     leg: int
@@ -369,17 +370,21 @@ class Robot:
         steps: int,
         *,
         force_limit: Optional[float] = None,
+        least_clearance: float = 0.01,
         goal_tolerance: float = 1e-8,
         force_tolerance: float = 1e-6,
+        clearance_tolerance: float = 1e-6,
         max_iterations: int = 500,
     ) -> Plan:
         """A minimum-effort rest-to-rest move from ``start`` to ``goal`` (the platform's
         coordinates) in ``duration`` s over ``steps`` held forces, ``|gamma| <= force_limit``
-        if given: iLQR on the forward dynamics' exact Jacobians (docs/derivatives.md). A dict:
+        if given, every pose's singularity clearance at least ``least_clearance``: iLQR on the
+        forward dynamics' exact Jacobians (docs/derivatives.md). A dict:
         ``times`` ``(steps + 1,)``, ``pose`` ``(steps + 1, n)``, the twist's and acceleration's
         parts (``omega``, ``velocity``, ``omega_dot``, ``acceleration``; ``(steps + 1, 3)``
         each, the angular ones absent for a platform that translates), ``gamma``
-        ``(steps, n)``, ``iterations``, ``costs``, ``goal_error``, ``force_excess``. Raises
+        ``(steps, n)``, ``iterations``, ``costs``, ``goal_error``, ``force_excess``,
+        ``least_clearance``. Raises
         ``ValueError`` for a problem that cannot be planned, a robot without derivative
         kernels, or no convergence."""
 

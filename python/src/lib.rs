@@ -1408,16 +1408,18 @@ impl C5 {
 
     /// A minimum-effort rest-to-rest move from the pose `start` to `goal` (`(n,)` each, the
     /// platform's coordinates) in `duration` seconds, its forces held over each of `steps`
-    /// steps and within `force_limit` (N, or N·m where the motors turn) if given: iLQR on the
-    /// forward dynamics and its exact Jacobians (docs/derivatives.md). Returns a dict: `times`
-    /// (`(steps + 1,)`), `pose` (`(steps + 1, n)`), the twist's and the acceleration's parts as
+    /// steps and within `force_limit` (N, or N·m where the motors turn) if given, every pose
+    /// keeping a singularity clearance of `least_clearance`: iLQR on the forward dynamics and
+    /// its exact Jacobians (docs/derivatives.md). Returns a dict: `times` (`(steps + 1,)`),
+    /// `pose` (`(steps + 1, n)`), the twist's and the acceleration's parts as
     /// `forward_dynamics` names them (`(steps + 1, 3)` each), `gamma` (`(steps, n)`),
     /// `iterations`, `costs` (per augmented-Lagrangian round, the objective after each
-    /// iteration), `goal_error` and `force_excess`. Raises `ValueError` for a problem that
-    /// cannot be planned, a robot without derivative kernels, or no convergence in
-    /// `max_iterations`.
+    /// iteration), `goal_error`, `force_excess` and `least_clearance`. Raises `ValueError` for
+    /// a problem that cannot be planned, a robot without derivative kernels, or no convergence
+    /// in `max_iterations`.
     #[pyo3(signature = (start, goal, duration, steps, *, force_limit = None,
-        goal_tolerance = 1e-8, force_tolerance = 1e-6, max_iterations = 500))]
+        least_clearance = plan::LEAST_CLEARANCE, goal_tolerance = 1e-8, force_tolerance = 1e-6,
+        clearance_tolerance = 1e-6, max_iterations = 500))]
     #[allow(clippy::too_many_arguments)]
     fn plan<'py>(
         &self,
@@ -1427,8 +1429,10 @@ impl C5 {
         duration: f64,
         steps: usize,
         force_limit: Option<f64>,
+        least_clearance: f64,
         goal_tolerance: f64,
         force_tolerance: f64,
+        clearance_tolerance: f64,
         max_iterations: usize,
     ) -> PyResult<Bound<'py, PyDict>> {
         let problem = plan::Problem {
@@ -1437,10 +1441,12 @@ impl C5 {
             duration,
             steps,
             force_limit,
+            least_clearance,
         };
         let settings = plan::Settings {
             goal_tolerance,
             force_tolerance,
+            clearance_tolerance,
             max_iterations,
         };
         let robot = self.inner.as_ref();
@@ -1482,6 +1488,7 @@ impl C5 {
         d.set_item("costs", planned.costs.clone())?;
         d.set_item("goal_error", planned.goal_error)?;
         d.set_item("force_excess", planned.force_excess)?;
+        d.set_item("least_clearance", planned.least_clearance)?;
         Ok(d)
     }
 

@@ -19,14 +19,20 @@ def axes(leg):
     return r, h, np.cross(r, h)
 
 
-def crank_angle(leg, ball):
-    """`θ = atan2(e2, e1) + branch·acos(K/ρ)`, wrapped into `(−π, π]`."""
+def reach(leg, ball):
+    """`atan2(e2, e1)` and `K/ρ`: the ball's direction about the motor's axis, and the cosine
+    of the crank's angle from it."""
     r, h, k = axes(leg)
     d = np.asarray(ball, float) - leg["base"]
     e1, e2 = d @ h, d @ k
     c, length = leg["crank"]["length"], leg["rod"]["length"]
-    ratio = (d @ d + c * c - length * length) / (2 * c * np.hypot(e1, e2))
-    theta = np.arctan2(e2, e1) + leg["branch"] * np.arccos(ratio)
+    return np.arctan2(e2, e1), (d @ d + c * c - length * length) / (2 * c * np.hypot(e1, e2))
+
+
+def crank_angle(leg, ball):
+    """`θ = atan2(e2, e1) + branch·acos(K/ρ)`, wrapped into `(−π, π]`."""
+    direction, ratio = reach(leg, ball)
+    theta = direction + leg["branch"] * np.arccos(ratio)
     return (theta + np.pi) % (2 * np.pi) - np.pi
 
 
@@ -47,6 +53,11 @@ class RusRobot:
     def balls(self, pose):
         rot, centre = self.placement(pose)
         return [centre + rot @ np.array(leg["platform"], float) for leg in self.legs]
+
+    def reach_terms(self, pose):
+        """`1 − (K/ρ)²` of each leg: the squared sine of the angle between its crank and its
+        rod, zero where they align."""
+        return np.array([1 - reach(leg, b)[1] ** 2 for leg, b in zip(self.legs, self.balls(pose))])
 
     def angles(self, pose):
         return np.array([crank_angle(leg, b) for leg, b in zip(self.legs, self.balls(pose))])

@@ -333,3 +333,25 @@ def test_a_plan_is_the_motion_pinocchios_delta_makes_under_its_forces(delta):
     assert worst <= BOUND, worst
     with pytest.raises(ValueError, match="coordinates"):
         robot.plan(np.zeros(6), np.zeros(6), 0.3, 60)
+
+
+def test_a_slow_plan_keeps_the_clearance_asked_and_is_still_pinocchios_motion(delta):
+    """Section 9's move in a second: the least effort lies where a crank and its rods align,
+    so the plan runs along the clearance asked, not below it, and Pinocchio's constraint
+    dynamics under its forces still gives its accelerations."""
+    c5_kernels = pytest.importorskip("c5_kernels")
+    file, geometry, engine, home = delta
+    robot = c5_kernels.Robot(robot=str(file))
+    goal = home + np.array([0.04, 0.03, 0.05])
+    plan = robot.plan(home, goal, 1.0, 200, least_clearance=0.02)
+    assert plan["goal_error"] <= 1e-8
+    assert plan["least_clearance"] >= 0.02 - 1e-6
+    # The reach, one of the clearance's terms, from the file's geometry (not the Rust code's).
+    least_reach = min(geometry.reach_terms(pose).min() for pose in plan["pose"])
+    assert least_reach >= 0.02 - 1e-6, least_reach
+    worst = max(relative(plan["acceleration"][k],
+                         engine.forward(plan["pose"][k], plan["velocity"][k], plan["gamma"][k]))
+                for k in range(0, 200, 20))
+    assert worst <= BOUND, worst
+    with pytest.raises(ValueError, match="least clearance"):
+        robot.plan(home, goal, 1.0, 200, least_clearance=10.0)

@@ -1,9 +1,9 @@
 //! Minimum-effort motion planning (feature `plan`): a rest-to-rest move between two poses in a
 //! given time, actuator forces within a limit, by iLQR on the forward dynamics and its exact
 //! Jacobians ([`SlicedDerivatives::forward_dynamics_derivatives`]), with an augmented
-//! Lagrangian for the goal and the force limits. It plans for every robot whose mechanism has
-//! its derivatives generated (the C5, the Gough-Stewart platform and the Delta), in its
-//! platform's own coordinates ([`Mechanism::freedom`]).
+//! Lagrangian for the goal, the force limits and the clearance from singular poses. It plans
+//! for every robot whose mechanism has its derivatives generated (the C5, the Gough-Stewart
+//! platform and the Delta), in its platform's own coordinates ([`Mechanism::freedom`]).
 //!
 //! The state is `s = (X, V)`: the pose (`[α β γ xc yc zc]`, or `[xc yc zc]` for a platform
 //! that only translates) and the twist (`(ω; v_C)`, or `v_C`); the control the forces `Γ`.
@@ -11,9 +11,15 @@
 //! turns (`E` the map from RPY rates to `ω`, `ω = α̇ x + β̇ Rx(α) y + γ̇ Rx(α) Ry(β) z`) and
 //! `Ẋ = v_C` where it translates, is integrated by explicit Euler at the plan's step. The cost
 //! is the effort `½ Σ_k dt |Γ_k|² / σ²` (`σ` = [`EFFORT_SCALE`]); the goal `s_N = (X_goal, 0)`
-//! and the limits `|Γ_i| ≤ Γ_max` are constraints, held by an augmented Lagrangian
+//! the limits `|Γ_i| ≤ Γ_max` and the workspace `c(X_k) ≥ c_min` at every step (`c` the
+//! [`Mechanism::singularity_clearance`]) are constraints, held by an augmented Lagrangian
 //! (multipliers updated between iLQR solves, penalties raised while a constraint is not met),
 //! so the plan ends at the goal to the tolerance asked for, not merely near it.
+//!
+//! The workspace constraint is there because a minimum-effort path seeks singular poses: where
+//! a Delta's crank and rods align, the arm holds the platform's weight with no torque, so an
+//! unconstrained plan sags towards that edge of the reach, where the dynamics' Jacobians grow
+//! without bound and no step makes progress.
 
 use crate::derivatives::{sliced_derivatives_of, SlicedDerivatives};
 use crate::platform::{Freedom, Mechanism};
@@ -32,6 +38,12 @@ pub const EFFORT_SCALE: f64 = 100.0;
 const FIRST_TOLERANCE: f64 = 1e-4;
 const FINEST_TOLERANCE: f64 = 1e-13;
 
+/// The default of [`Problem::least_clearance`]: about a sixth of a radian from a crank and
+/// its rods aligned (the reach term is the squared sine of their angle), a hundredth of the
+/// C5's `|r_ii|` at home. The C5's and the hexapod's plans of Section 9's move keep above it
+/// unconstrained (their least clearance is 0.025 and 0.097); the example Delta's does not.
+pub const LEAST_CLEARANCE: f64 = 0.01;
+
 /// A rest-to-rest move to plan, its poses in the platform's coordinates
 /// ([`Freedom::pose_names`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -44,6 +56,10 @@ pub struct Problem {
     pub steps: usize,
     /// `|Γ_i| ≤ force_limit` (N) for every actuator at every step, if given.
     pub force_limit: Option<f64>,
+    /// The [`Mechanism::singularity_clearance`] every pose of the plan keeps, at least (its
+    /// terms are about 1 far from a singular pose and 0 at it): the workspace the plan stays
+    /// in. [`LEAST_CLEARANCE`] by default; 0 keeps the plan within reach only.
+    pub least_clearance: f64,
 }
 
 /// When the planner stops.
@@ -53,6 +69,8 @@ pub struct Settings {
     pub goal_tolerance: f64,
     /// The largest excess over the force limit accepted (N).
     pub force_tolerance: f64,
+    /// The largest shortfall of a pose's clearance below [`Problem::least_clearance`].
+    pub clearance_tolerance: f64,
     /// iLQR iterations at most, all augmented-Lagrangian rounds together.
     pub max_iterations: usize,
 }
@@ -62,6 +80,7 @@ impl Default for Settings {
         Settings {
             goal_tolerance: 1e-8,
             force_tolerance: 1e-6,
+            clearance_tolerance: 1e-6,
             max_iterations: 500,
         }
     }
@@ -86,6 +105,8 @@ pub struct Plan {
     pub goal_error: f64,
     /// The largest `|Γ_i| - Γ_max` over the plan (≤ 0 inside the limit).
     pub force_excess: f64,
+    /// The least [`Mechanism::singularity_clearance`] over the plan's poses.
+    pub least_clearance: f64,
 }
 
 /// Why a plan failed.
@@ -96,7 +117,12 @@ pub enum PlanError {
     /// The dynamics refused a state on the way (a singular pose).
     Dynamics(Error),
     /// The iterations ran out before the goal and the limits were met.
-    NotConverged { goal_error: f64, force_excess: f64 },
+    NotConverged {
+        goal_error: f64,
+        force_excess: f64,
+        /// The least clearance the last plan reached.
+        least_clearance: f64,
+    },
 }
 
 impl core::fmt::Display for PlanError {
@@ -110,11 +136,18 @@ impl core::fmt::Display for PlanError {
             PlanError::NotConverged {
                 goal_error,
                 force_excess,
-            } => write!(
-                f,
-                "no plan met the goal and the limits in the iterations allowed (goal error \
-                 {goal_error:e}, force excess {force_excess:e} N)"
-            ),
+                least_clearance,
+            } => {
+                write!(
+                    f,
+                    "no plan met the goal and the limits in the iterations allowed (goal \
+                     error {goal_error:e}, "
+                )?;
+                if force_excess.is_finite() {
+                    write!(f, "force excess {force_excess:e} N, ")?;
+                }
+                write!(f, "least clearance {least_clearance:e})")
+            }
         }
     }
 }
@@ -171,11 +204,16 @@ fn pose_rates<const N: usize>(
 }
 
 /// The plan's model of the robot: its forward dynamics with their Jacobians, in the
-/// platform's `N` coordinates; the state has `M = 2N`.
+/// platform's `N` coordinates, and its clearance from singular poses; the state has `M = 2N`.
 struct Model<'a> {
+    robot: &'a dyn Mechanism,
     freedom: Freedom,
     derivatives: &'a dyn SlicedDerivatives,
 }
+
+/// The step of the clearance's central differences (rad, m): its terms are smooth at the
+/// scale of the robot's links, so their error is about `h²/L²`.
+const CLEARANCE_STEP: f64 = 1e-6;
 
 /// One linearised Euler step: `s' = s + dt f(s, u)`, `A = ∂s'/∂s`, `B = ∂s'/∂u`, and the
 /// acceleration the forces give.
@@ -187,6 +225,27 @@ struct Step<const N: usize, const M: usize> {
 }
 
 impl Model<'_> {
+    /// The clearance of the pose of `s` (`+∞` for a pose it cannot judge, a non-finite one,
+    /// which the dynamics refuse before).
+    fn clearance<const M: usize>(&self, s: &SVector<f64, M>) -> f64 {
+        self.robot
+            .singularity_clearance(&s.as_slice()[..M / 2])
+            .unwrap_or(f64::INFINITY)
+    }
+
+    /// `∂c/∂s` of [`Model::clearance`] by central differences (zero in the twist's part).
+    fn clearance_gradient<const M: usize>(&self, s: &SVector<f64, M>) -> SVector<f64, M> {
+        SVector::from_fn(|j, _| {
+            if j >= M / 2 {
+                return 0.0;
+            }
+            let (mut up, mut down) = (*s, *s);
+            up[j] += CLEARANCE_STEP;
+            down[j] -= CLEARANCE_STEP;
+            (self.clearance(&up) - self.clearance(&down)) / (2.0 * CLEARANCE_STEP)
+        })
+    }
+
     /// The Euler step `s + dt f(s, u)` with its Jacobians.
     fn step<const N: usize, const M: usize>(
         &self,
@@ -244,7 +303,14 @@ struct Lagrangian<const N: usize, const M: usize> {
     /// of them.
     limit_multipliers: Vec<SVector<f64, M>>,
     limit_penalty: f64,
+    /// `c_min - c(X_k) ≤ 0` at every state: the bound, a multiplier a state, the penalty.
+    least_clearance: f64,
+    clearance_multipliers: Vec<f64>,
+    clearance_penalty: f64,
 }
+
+/// A state's term in the objective, `∂ℓ/∂s` and (Gauss-Newton) `∂²ℓ/∂s²`.
+type StateTerm<const M: usize> = (SVector<f64, M>, SMatrix<f64, M, M>);
 
 impl<const N: usize, const M: usize> Lagrangian<N, M> {
     /// The multipliers the limits' penalty acts with at `u`, `max(0, λ + ρ c)` of the
@@ -293,18 +359,68 @@ impl<const N: usize, const M: usize> Lagrangian<N, M> {
         (lu, luu)
     }
 
+    /// The multiplier the clearance's penalty acts with at state `k` of clearance `c`,
+    /// `max(0, λ + ρ (c_min - c))`.
+    fn active_clearance(&self, k: usize, clearance: f64) -> f64 {
+        let violation = self.least_clearance - clearance;
+        (self.clearance_multipliers[k] + self.clearance_penalty * violation).max(0.0)
+    }
+
+    /// The clearance's augmented term at state `k`.
+    fn clearance_term(&self, k: usize, clearance: f64) -> f64 {
+        let (active, lambda) = (
+            self.active_clearance(k, clearance),
+            self.clearance_multipliers[k],
+        );
+        (active * active - lambda * lambda) / (2.0 * self.clearance_penalty)
+    }
+
+    /// Each state's clearance term's derivatives, `None` where the term is flat (the state
+    /// clear of the bound and its multiplier zero): the gradient only where it acts.
+    fn state_terms(&self, model: &Model, states: &[SVector<f64, M>]) -> Vec<Option<StateTerm<M>>> {
+        states
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let active = self.active_clearance(k, model.clearance(s));
+                (active > 0.0).then(|| {
+                    let g = -model.clearance_gradient(s);
+                    (g * active, g * g.transpose() * self.clearance_penalty)
+                })
+            })
+            .collect()
+    }
+
     fn terminal(&self, s: &SVector<f64, M>) -> f64 {
         let e = s - self.goal;
         self.goal_multiplier.dot(&e) + 0.5 * self.goal_penalty * e.norm_squared()
     }
 
-    fn total(&self, states: &[SVector<f64, M>], controls: &[SVector<f64, N>]) -> f64 {
+    fn total(
+        &self,
+        model: &Model,
+        states: &[SVector<f64, M>],
+        controls: &[SVector<f64, N>],
+    ) -> f64 {
         let effort: f64 = controls
             .iter()
             .enumerate()
             .map(|(k, u)| self.stage(k, u))
             .sum();
-        effort + self.terminal(&states[states.len() - 1])
+        let clearance: f64 = states
+            .iter()
+            .enumerate()
+            .map(|(k, s)| self.clearance_term(k, model.clearance(s)))
+            .sum();
+        effort + clearance + self.terminal(&states[states.len() - 1])
+    }
+
+    /// The least clearance over the states.
+    fn least_clearance_of(&self, model: &Model, states: &[SVector<f64, M>]) -> f64 {
+        states
+            .iter()
+            .map(|s| model.clearance(s))
+            .fold(f64::INFINITY, f64::min)
     }
 
     fn force_excess(&self, controls: &[SVector<f64, N>]) -> f64 {
@@ -349,22 +465,28 @@ fn backward<const N: usize, const M: usize>(
     states: &[SVector<f64, M>],
     controls: &[SVector<f64, N>],
     linear: &[(SMatrix<f64, M, M>, SMatrix<f64, M, N>)],
+    state_terms: &[Option<StateTerm<M>>],
     shift: f64,
 ) -> Option<Policy<N, M>> {
     let n = controls.len();
     let e = states[n] - al.goal;
     let mut vx = al.goal_multiplier + e * al.goal_penalty;
     let mut vxx = SMatrix::<f64, M, M>::identity() * al.goal_penalty;
+    let with_state_term =
+        |k: usize, (lx, lxx): (SVector<f64, M>, SMatrix<f64, M, M>)| match &state_terms[k] {
+            Some((sx, sxx)) => (lx + sx, lxx + sxx),
+            None => (lx, lxx),
+        };
+    (vx, vxx) = with_state_term(n, (vx, vxx));
     let mut gains = vec![SMatrix::<f64, N, M>::zeros(); n];
     let mut feedforward = vec![SVector::<f64, N>::zeros(); n];
     let mut expected = 0.0;
     for k in (0..n).rev() {
         let (a, b) = &linear[k];
         let (lu, luu) = al.stage_derivatives(k, &controls[k]);
-        let qx = a.transpose() * vx;
+        let (qx, qxx) = with_state_term(k, (a.transpose() * vx, a.transpose() * vxx * a));
         let qu = lu + b.transpose() * vx;
         let vxx_b = vxx * b;
-        let qxx = a.transpose() * vxx * a;
         let quu = luu + b.transpose() * vxx_b + SMatrix::<f64, N, N>::identity() * shift;
         let qux = vxx_b.transpose() * a;
         let chol = quu.cholesky()?;
@@ -423,7 +545,7 @@ fn ilqr<const N: usize, const M: usize>(
     costs: &mut Vec<f64>,
 ) -> Result<usize, Error> {
     let dt = al.dt;
-    let mut cost = al.total(states, controls);
+    let mut cost = al.total(model, states, controls);
     let mut shift = 1e-9;
     let mut iterations = 0;
     while iterations < budget {
@@ -433,8 +555,9 @@ fn ilqr<const N: usize, const M: usize>(
             .zip(controls.iter())
             .map(|(s, u)| model.step(s, u, dt).map(|step| (step.a, step.b)))
             .collect::<Result<Vec<_>, _>>()?;
+        let state_terms = al.state_terms(model, states);
         let policy = loop {
-            if let Some(policy) = backward(al, states, controls, &linear, shift) {
+            if let Some(policy) = backward(al, states, controls, &linear, &state_terms, shift) {
                 break policy;
             }
             shift = (shift * 10.0).max(1e-6);
@@ -449,7 +572,7 @@ fn ilqr<const N: usize, const M: usize>(
             if let Some((new_states, new_controls)) =
                 forward(model, &policy, states, controls, step_size, dt)
             {
-                let new_cost = al.total(&new_states, &new_controls);
+                let new_cost = al.total(model, &new_states, &new_controls);
                 if new_cost < cost {
                     let gain = cost - new_cost;
                     *states = new_states;
@@ -496,6 +619,11 @@ fn check(problem: &Problem, freedom: Freedom) -> Result<(), PlanError> {
             "`force_limit` must be positive and finite",
         ));
     }
+    if !(problem.least_clearance >= 0.0 && problem.least_clearance.is_finite()) {
+        return Err(PlanError::Invalid(
+            "`least_clearance` must be finite and not negative",
+        ));
+    }
     let n = freedom.dimension();
     if problem.start.len() != n || problem.goal.len() != n {
         return Err(PlanError::Invalid(
@@ -520,7 +648,8 @@ fn check(problem: &Problem, freedom: Freedom) -> Result<(), PlanError> {
 ///
 /// # Errors
 /// [`PlanError::Invalid`] for a problem that cannot be planned (non-positive duration or
-/// steps, a limit below zero, poses not of the platform's coordinates or not finite),
+/// steps, a limit below zero, poses not of the platform's coordinates or not finite, a start
+/// or goal closer to a singular pose than [`Problem::least_clearance`]),
 /// [`PlanError::Dynamics`] for a singular start or goal, or a robot whose mechanism has no
 /// derivatives generated ([`Error::Unsupported`]), [`PlanError::NotConverged`] when the
 /// iterations run out.
@@ -530,9 +659,22 @@ pub fn plan(
     settings: &Settings,
 ) -> Result<Plan, PlanError> {
     check(problem, robot.freedom())?;
+    let derivatives = sliced_derivatives_of(robot).map_err(PlanError::Dynamics)?;
+    for pose in [&problem.start, &problem.goal] {
+        if robot
+            .singularity_clearance(pose)
+            .map_err(PlanError::Dynamics)?
+            < problem.least_clearance
+        {
+            return Err(PlanError::Invalid(
+                "the start and goal poses must keep the least clearance asked of the plan",
+            ));
+        }
+    }
     let model = Model {
+        robot,
         freedom: robot.freedom(),
-        derivatives: sliced_derivatives_of(robot).map_err(PlanError::Dynamics)?,
+        derivatives,
     };
     // The iterations' matrices are sized at compile time, by the platform's dimension: a
     // tenth of the C5's planning time went to allocating them.
@@ -573,6 +715,9 @@ fn solve<const N: usize, const M: usize>(
         limit: problem.force_limit,
         limit_multipliers: vec![SVector::zeros(); n],
         limit_penalty: 1e-3,
+        least_clearance: problem.least_clearance,
+        clearance_multipliers: vec![0.0; n + 1],
+        clearance_penalty: 1.0,
     };
     let mut costs = Vec::new();
     let mut iterations = 0;
@@ -592,7 +737,12 @@ fn solve<const N: usize, const M: usize>(
         costs.push(round);
         let goal_error = (states[n] - al.goal).amax();
         let force_excess = al.force_excess(&controls);
-        if goal_error <= settings.goal_tolerance && force_excess <= settings.force_tolerance {
+        let least_clearance = al.least_clearance_of(model, &states);
+        let shortfall = problem.least_clearance - least_clearance;
+        if goal_error <= settings.goal_tolerance
+            && force_excess <= settings.force_tolerance
+            && shortfall <= settings.clearance_tolerance
+        {
             let done = Plan {
                 times: (0..states.len()).map(|k| k as f64 * dt).collect(),
                 states: Vec::new(),
@@ -601,6 +751,7 @@ fn solve<const N: usize, const M: usize>(
                 costs,
                 goal_error,
                 force_excess,
+                least_clearance,
             };
             return samples::<N, M>(robot, model, &states, dt, done);
         }
@@ -608,6 +759,7 @@ fn solve<const N: usize, const M: usize>(
             return Err(PlanError::NotConverged {
                 goal_error,
                 force_excess,
+                least_clearance,
             });
         }
         // The multipliers' update, and a stiffer penalty where the last round did not shrink
@@ -625,6 +777,12 @@ fn solve<const N: usize, const M: usize>(
         }
         if force_excess > settings.force_tolerance {
             al.limit_penalty = (al.limit_penalty * 10.0).min(1e8);
+        }
+        for (k, s) in states.iter().enumerate() {
+            al.clearance_multipliers[k] = al.active_clearance(k, model.clearance(s));
+        }
+        if shortfall > settings.clearance_tolerance {
+            al.clearance_penalty = (al.clearance_penalty * 10.0).min(1e8);
         }
     }
 }

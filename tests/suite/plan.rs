@@ -4,10 +4,11 @@
 //! (mechanics, not the planner's model of itself), and it spends less effort than the quintic
 //! move of the same duration, which is one of the moves it chooses among. Each holds for every
 //! mechanism with derivative kernels, in its platform's coordinates: the C5, the Gough-Stewart
-//! platform and the Delta.
+//! platform and the Delta. A longer move, where the minimum effort lies at a singular pose,
+//! stays in the workspace asked for.
 
 use c5_robot::Description;
-use c5_runtime::plan::{plan, quintic_forces, PlanError, Problem, Settings};
+use c5_runtime::plan::{plan, quintic_forces, PlanError, Problem, Settings, LEAST_CLEARANCE};
 use c5_runtime::platform::load;
 use c5_runtime::{Error, Mechanism, Model, Robot};
 
@@ -39,6 +40,7 @@ fn problem(robot: &dyn Mechanism, force_limit: Option<f64>) -> Problem {
         duration: 0.3,
         steps: 60,
         force_limit,
+        least_clearance: LEAST_CLEARANCE,
     }
 }
 
@@ -148,6 +150,65 @@ fn the_plan_spends_less_effort_than_the_quintic() {
     }
 }
 
+/// Section 9's move of the centre (4, 3, 5 cm) from the example Delta's home in a second: the
+/// effort is least where a crank and its rods align and the arm holds the platform's weight
+/// with no torque, so the plan, free, sags towards that edge of the reach.
+fn delta_sagging_move(least_clearance: f64) -> (Box<dyn Mechanism>, Problem) {
+    let delta = load(
+        Description::Delta(c5_robot::Delta::example()),
+        Model::Consistent,
+    )
+    .unwrap();
+    let home = delta.home();
+    let goal = home
+        .iter()
+        .zip([0.04, 0.03, 0.05])
+        .map(|(h, d)| h + d)
+        .collect();
+    let problem = Problem {
+        start: home,
+        goal,
+        duration: 1.0,
+        steps: 200,
+        force_limit: None,
+        least_clearance,
+    };
+    (delta, problem)
+}
+
+#[test]
+fn the_plan_keeps_the_clearance_asked_where_the_least_effort_is_singular() {
+    let (delta, problem) = delta_sagging_move(LEAST_CLEARANCE);
+    let delta = delta.as_ref();
+    let kept = plan(delta, &problem, &Settings::default()).unwrap();
+    assert!(kept.goal_error <= 1e-8, "goal error {:e}", kept.goal_error);
+    // The constraint binds: the plan runs along the bound, and not below it.
+    assert!(
+        (kept.least_clearance - LEAST_CLEARANCE).abs() <= 1e-4,
+        "least clearance {:e}",
+        kept.least_clearance
+    );
+    let least = kept
+        .states
+        .iter()
+        .map(|s| {
+            let [pose, ..] = delta.coordinates_of(s).unwrap();
+            delta.singularity_clearance(&pose).unwrap()
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(least >= LEAST_CLEARANCE - 1e-6, "a state at {least:e}");
+    // Free of it, the plan goes nearer the singular pose than the bound allows.
+    let (_, free) = delta_sagging_move(0.0);
+    let nearer = match plan(delta, &free, &Settings::default()) {
+        Ok(p) => p.least_clearance,
+        Err(PlanError::NotConverged {
+            least_clearance, ..
+        }) => least_clearance,
+        Err(e) => panic!("{e}"),
+    };
+    assert!(nearer < 0.1 * LEAST_CLEARANCE, "free: {nearer:e}");
+}
+
 #[test]
 fn bad_problems_are_refused_by_name() {
     let robots = robots();
@@ -165,6 +226,20 @@ fn bad_problems_are_refused_by_name() {
     let e = plan(delta, &problem(robot, None), &Settings::default()).unwrap_err();
     assert!(
         matches!(e, PlanError::Invalid(why) if why.contains("coordinates")),
+        "{e}"
+    );
+    // A negative clearance, and a start closer to a singular pose than the clearance asked.
+    let mut p = problem(robot, None);
+    p.least_clearance = -0.1;
+    let e = plan(robot, &p, &Settings::default()).unwrap_err();
+    assert!(matches!(e, PlanError::Invalid(why) if why.contains("least_clearance")));
+    let home_clearance = robot.singularity_clearance(&robot.home()).unwrap();
+    let mut p = problem(robot, None);
+    p.start = robot.home();
+    p.least_clearance = 1.01 * home_clearance;
+    let e = plan(robot, &p, &Settings::default()).unwrap_err();
+    assert!(
+        matches!(e, PlanError::Invalid(why) if why.contains("least clearance")),
         "{e}"
     );
 }

@@ -40,6 +40,11 @@ pub struct PlanArgs {
     /// unlimited].
     #[arg(long)]
     force_limit: Option<f64>,
+    /// The least singularity clearance every pose of the plan keeps (its terms about 1 far
+    /// from a singular pose, 0 at it: a crank and its rods aligned, a U joint at its
+    /// singularity, legs unable to hold the platform); 0 keeps the plan within reach only.
+    #[arg(long, default_value_t = c5_runtime::plan::LEAST_CLEARANCE)]
+    clearance: f64,
     /// Output directory.
     #[arg(long, default_value = "out")]
     out: PathBuf,
@@ -100,6 +105,7 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
         duration: args.duration,
         steps: options::sample_times(args.duration, args.rate, "steps")?.len() - 1,
         force_limit: args.force_limit,
+        least_clearance: args.clearance,
     };
     let started = Instant::now();
     let planned = plan(robot, &problem, &Settings::default())?;
@@ -116,13 +122,15 @@ pub fn run(args: &PlanArgs) -> crate::Result<ExitCode> {
     let mut report = std::io::stdout().lock();
     writeln!(
         report,
-        "plan: {} steps of {:.4} s, {} iLQR iterations in {} rounds, {:.2?}; goal error {:.1e}",
+        "plan: {} steps of {:.4} s, {} iLQR iterations in {} rounds, {:.2?}; goal error {:.1e}, \
+         least clearance {:.3}",
         problem.steps,
         problem.duration / problem.steps as f64,
         planned.iterations,
         planned.costs.len(),
         elapsed,
-        planned.goal_error
+        planned.goal_error,
+        planned.least_clearance
     )?;
     let unit = robot.description().body_tree().actuator_unit();
     writeln!(
