@@ -38,9 +38,9 @@ pub const EFFORT_SCALE: f64 = 100.0;
 const FIRST_TOLERANCE: f64 = 1e-4;
 const FINEST_TOLERANCE: f64 = 1e-13;
 
-/// The default of [`Problem::least_clearance`]: about a sixth of a radian from a crank and
-/// its rods aligned (the reach term is the squared sine of their angle), a hundredth of the
-/// C5's `|r_ii|` at home. The C5's and the hexapod's plans of Section 9's move keep above it
+/// The default of [`Problem::least_clearance`]: a crank at least 0.1 rad (5.7°) from aligned
+/// with its rods (the reach term is the squared sine of their angle), a hundredth of the C5's
+/// `|r_ii|` at home. The C5's and the hexapod's plans of Section 9's move keep above it
 /// unconstrained (their least clearance is 0.025 and 0.097); the example Delta's does not.
 pub const LEAST_CLEARANCE: f64 = 0.01;
 
@@ -233,6 +233,14 @@ impl Model<'_> {
             .unwrap_or(f64::INFINITY)
     }
 
+    /// The least clearance over `states`.
+    fn least_clearance<const M: usize>(&self, states: &[SVector<f64, M>]) -> f64 {
+        states
+            .iter()
+            .map(|s| self.clearance(s))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// `∂c/∂s` of [`Model::clearance`] by central differences (zero in the twist's part).
     fn clearance_gradient<const M: usize>(&self, s: &SVector<f64, M>) -> SVector<f64, M> {
         SVector::from_fn(|j, _| {
@@ -413,14 +421,6 @@ impl<const N: usize, const M: usize> Lagrangian<N, M> {
             .map(|(k, s)| self.clearance_term(k, model.clearance(s)))
             .sum();
         effort + clearance + self.terminal(&states[states.len() - 1])
-    }
-
-    /// The least clearance over the states.
-    fn least_clearance_of(&self, model: &Model, states: &[SVector<f64, M>]) -> f64 {
-        states
-            .iter()
-            .map(|s| model.clearance(s))
-            .fold(f64::INFINITY, f64::min)
     }
 
     fn force_excess(&self, controls: &[SVector<f64, N>]) -> f64 {
@@ -737,7 +737,7 @@ fn solve<const N: usize, const M: usize>(
         costs.push(round);
         let goal_error = (states[n] - al.goal).amax();
         let force_excess = al.force_excess(&controls);
-        let least_clearance = al.least_clearance_of(model, &states);
+        let least_clearance = model.least_clearance(&states);
         let shortfall = problem.least_clearance - least_clearance;
         if goal_error <= settings.goal_tolerance
             && force_excess <= settings.force_tolerance
