@@ -8,6 +8,7 @@ mod support;
 
 mod calibration;
 mod chapter_model;
+mod ci_build;
 mod consistent_model;
 mod delta;
 mod derivatives;
