@@ -5,7 +5,7 @@
 
 use crate::math::{asin, atan2, sqrt};
 use crate::types::{Acceleration, Pose, State, Twist};
-use crate::{Error, Mechanism, ParallelRobot};
+use crate::{Error, Mechanism};
 use alloc::vec;
 use alloc::vec::Vec;
 
@@ -221,33 +221,17 @@ impl PlantState {
 }
 
 /// One classical Runge-Kutta step from time `t` to `t + dt`, the plant's motion given by
-/// `plant`'s forward dynamics under the actuator forces `forces(t, state)`, evaluated at every
-/// stage: a controller running in continuous time. For a sampled controller (a zero-order
-/// hold), return the same forces whatever the stage.
+/// `plant`'s forward dynamics under the actuator forces `forces(t, state)` (one per actuator),
+/// evaluated at every stage: a controller running in continuous time. For a sampled controller
+/// (a zero-order hold), return the same forces whatever the stage. The forward dynamics is in
+/// the platform's coordinates ([`Mechanism::coordinates_of`]), so any freedom steps alike; a
+/// platform that only translates keeps its orientation: its state's quaternion stays the
+/// identity.
 ///
 /// # Errors
-/// The first error of `forces`, or of [`ParallelRobot::forward_dynamics`] (a singular pose or a non-finite
-/// result on the way).
-pub fn rk4_step(
-    plant: &dyn ParallelRobot,
-    state: &PlantState,
-    t: f64,
-    dt: f64,
-    mut forces: impl FnMut(f64, &PlantState) -> Result<[f64; 6], Error>,
-) -> Result<PlantState, Error> {
-    rk4_step_by(state, t, dt, |time, s| {
-        let gamma = forces(time, s)?;
-        plant.forward_dynamics(&s.pose(), &s.twist, &gamma)
-    })
-}
-
-/// [`rk4_step`] for a robot of any freedom: the forces, one per actuator, and the forward
-/// dynamics in the platform's coordinates ([`Mechanism::coordinates_of`]). A platform that only
-/// translates keeps its orientation: its state's quaternion stays the identity.
-///
-/// # Errors
-/// The first error of `forces`, or of [`Mechanism::forward_dynamics`].
-pub fn rk4_step_of<M: Mechanism + ?Sized>(
+/// The first error of `forces`, or of [`Mechanism::forward_dynamics`] (a singular pose or a
+/// non-finite result on the way).
+pub fn rk4_step<M: Mechanism + ?Sized>(
     plant: &M,
     state: &PlantState,
     t: f64,

@@ -15,7 +15,7 @@
 //! `robot.into_mechanism()`), and [`Mechanism::spatial`] gives a [`SpatialRobot`] back for
 //! what only six freedoms have (the derivatives).
 
-use crate::dynamics::{rk4_step_of, PlantState};
+use crate::dynamics::{rk4_step, PlantState};
 #[cfg(feature = "identify")]
 use crate::identify::{BaseParameters, Friction};
 use crate::legged::{Freedoms, Platform, PoseOf, StateOf};
@@ -164,7 +164,7 @@ pub trait Mechanism: core::fmt::Debug + Send + Sync {
         let zero = vec![0.0; n];
         let start = self.state_of([pose, twist, &zero])?;
         let plant = PlantState::new(&start.pose, &start.twist);
-        let next = rk4_step_of(self, &plant, 0.0, dt, |_, _| Ok(gamma.to_vec()))?;
+        let next = rk4_step(self, &plant, 0.0, dt, |_, _| Ok(gamma.to_vec()))?;
         let [x, v, _] = self.coordinates_of(&next.with_acceleration(Acceleration::default()))?;
         put(pose, &x);
         put(twist, &v);

@@ -5,7 +5,7 @@
 use crate::support;
 
 use c5_runtime::control::ComputedTorque;
-use c5_runtime::dynamics::{rk4_step, rk4_step_of, PlantState};
+use c5_runtime::dynamics::{rk4_step, PlantState};
 use c5_runtime::reference as r;
 use c5_runtime::trajectory::{Fourier, LinearMove};
 use c5_runtime::Kernels;
@@ -200,7 +200,10 @@ fn drift(plant: &C5, start: &State, energy: impl Fn(&State) -> (f64, f64)) -> f6
     let dt = 1e-3;
     let (mut worst, mut scale): (f64, f64) = (0.0, k0);
     for k in 0..1000 {
-        state = rk4_step(plant, &state, k as f64 * dt, dt, |_, _| Ok([0.0; 6])).unwrap();
+        state = rk4_step(plant.as_mechanism(), &state, k as f64 * dt, dt, |_, _| {
+            Ok(vec![0.0; 6])
+        })
+        .unwrap();
         let (kinetic, potential) = energy(&state.with_acceleration(Acceleration::default()));
         worst = worst.max((kinetic + potential - e0).abs());
         scale = scale.max(kinetic);
@@ -261,7 +264,7 @@ fn track(
     let mut errors = Vec::new();
     for k in 0..1000 {
         let t = k as f64 * dt;
-        state = rk4_step_of(plant.as_mechanism(), &state, t, dt, |time, s| {
+        state = rk4_step(plant.as_mechanism(), &state, t, dt, |time, s| {
             law.forces(controller.as_mechanism(), &desired(time), s)
         })
         .unwrap();

@@ -6,7 +6,7 @@ use crate::simulate::plot;
 use crate::trajectory_csv;
 use crate::view;
 use c5_runtime::control::{orientation_error, ComputedTorque};
-use c5_runtime::dynamics::{compose, exp_rotation, rk4_step_of, rotation, rpy, PlantState};
+use c5_runtime::dynamics::{compose, exp_rotation, rk4_step, rotation, rpy, PlantState};
 use c5_runtime::platform::Freedom;
 use c5_runtime::sensors::{Encoders, RateEstimator};
 use c5_runtime::{Acceleration, Error, Mechanism, Model, Pose, State, Twist};
@@ -441,7 +441,7 @@ pub fn run(
         let gamma = setup.forces(&now, &state).map_err(|e| (t, e))?;
         let held = gamma.clone();
         samples.push(sample(setup, t, &now, &state, gamma).map_err(|e| (t, e))?);
-        state = rk4_step_of(setup.plant, &state, t, dt, |time, s| {
+        state = rk4_step(setup.plant, &state, t, dt, |time, s| {
             if setup.hold {
                 Ok(held.clone())
             } else {
@@ -530,7 +530,7 @@ pub fn run_measured(
         }
         samples.push(sample(setup, t, &now, &state, gamma.clone()).map_err(|e| (t, e))?);
         if let Some(&next) = times.get(k + 1) {
-            state = rk4_step_of(setup.plant, &state, t, next - t, |_, _| Ok(gamma.clone()))
+            state = rk4_step(setup.plant, &state, t, next - t, |_, _| Ok(gamma.clone()))
                 .map_err(|e| (t, e))?;
         }
     }
