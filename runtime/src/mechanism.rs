@@ -18,8 +18,6 @@ use crate::legged::{AccelerationOf, Freedoms, Platform, PoseOf, StateOf, TwistOf
 use crate::platform::Mechanism;
 use crate::scene::Scene;
 use crate::{Error, Evaluation, Limit, Model};
-#[cfg(feature = "derivatives")]
-use crate::{Pose, State, Twist, C5};
 use alloc::boxed::Box;
 use alloc::vec::Vec;
 use c5_robot::Description;
@@ -374,30 +372,6 @@ where
         gamma: &[f64; N],
     ) -> Result<ForwardDynamicsDerivatives<N>, Error>;
 }
-
-/// The derivatives of the mechanisms that have them, through their inherent methods.
-macro_rules! derivatives_impl {
-    ($($robot:ty),*) => {$(
-        #[cfg(feature = "derivatives")]
-        impl Derivatives<6> for $robot {
-            fn inverse_dynamics_derivatives(
-                &self,
-                state: &State,
-            ) -> Result<InverseDynamicsDerivatives<6>, Error> {
-                <$robot>::inverse_dynamics_derivatives(self, state)
-            }
-            fn forward_dynamics_derivatives(
-                &self,
-                pose: &Pose,
-                twist: &Twist,
-                gamma: &[f64; 6],
-            ) -> Result<ForwardDynamicsDerivatives<6>, Error> {
-                <$robot>::forward_dynamics_derivatives(self, pose, twist, gamma)
-            }
-        }
-    )*};
-}
-derivatives_impl!(C5);
 
 /// `robot`'s derivatives, refused by name where its mechanism has none generated.
 ///

@@ -103,17 +103,20 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         .into());
     }
     let freedom = plant.freedom();
-    // A shift alone, or a shift and a turn; a platform that only translates takes the shift.
-    let offset: [f64; 6] = match o.initial_offset.as_deref() {
-        None => [0.0; 6],
-        Some(&[dx, dy, dz]) => [dx, dy, dz, 0.0, 0.0, 0.0],
-        Some(v) => <[f64; 6]>::try_from(v).map_err(|_| {
-            format!(
+    // A shift alone, or a shift and a turn (a rotation vector); a platform that only translates
+    // takes the shift.
+    let (shift, turn): ([f64; 3], [f64; 3]) = match o.initial_offset.as_deref() {
+        None => ([0.0; 3], [0.0; 3]),
+        Some(&[dx, dy, dz]) => ([dx, dy, dz], [0.0; 3]),
+        Some(&[dx, dy, dz, rx, ry, rz]) => ([dx, dy, dz], [rx, ry, rz]),
+        Some(v) => {
+            return Err(format!(
                 "--initial-offset takes dx,dy,dz (m) and, for a platform that turns, optionally \
                  rx,ry,rz (rad): three or six numbers, got {}",
                 v.len()
             )
-        })?,
+            .into())
+        }
     };
     if !(o.bandwidth.is_finite() && o.bandwidth > 0.0) {
         return Err(format!("--bandwidth must be a positive number, got {}", o.bandwidth).into());
@@ -123,10 +126,10 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
             return Err(format!("--force-limit must be a positive number, got {limit}").into());
         }
     }
-    if offset.iter().any(|x| !x.is_finite()) {
+    if shift.iter().chain(&turn).any(|x| !x.is_finite()) {
         return Err("--initial-offset must hold finite numbers".into());
     }
-    if !freedom.turns() && offset[3..] != [0.0; 3] {
+    if !freedom.turns() && turn != [0.0; 3] {
         return Err(format!(
             "--initial-offset turns the platform, and the {}'s only translates: give rx,ry,rz = 0",
             plant.mechanism()
@@ -148,17 +151,14 @@ pub fn run_cmd(o: &TrackArgs) -> crate::Result<ExitCode> {
         }
     };
     let first = desired.at(times[0]);
-    let turned = compose(
-        &exp_rotation([offset[3], offset[4], offset[5]]),
-        &rotation(&first.pose),
-    );
+    let turned = compose(&exp_rotation(turn), &rotation(&first.pose));
     let [alpha, beta, gamma] = rpy(&turned);
     let c = first.pose.center;
     let start = Pose {
         alpha,
         beta,
         gamma,
-        center: [c[0] + offset[0], c[1] + offset[1], c[2] + offset[2]],
+        center: core::array::from_fn(|i| c[i] + shift[i]),
     };
     let mut law = ComputedTorque::critically_damped(o.bandwidth);
     // The actuators saturate at the robot's force limit unless told otherwise.

@@ -2,6 +2,8 @@
 //! [`ParallelRobot`] and [`SpatialRobot`]: its inherent calls, and the batch kernels for the
 //! calls over many states (feature `batch`).
 
+#[cfg(feature = "derivatives")]
+use crate::derivatives::{ForwardDynamicsDerivatives, InverseDynamicsDerivatives};
 #[cfg(feature = "identify")]
 use crate::identify::{BaseParameters, Friction};
 #[cfg(feature = "derivatives")]
@@ -197,5 +199,24 @@ impl ParallelRobot for C5 {
 impl SpatialRobot for C5 {
     fn clone_spatial(&self) -> Box<dyn SpatialRobot> {
         Box::new(self.clone())
+    }
+}
+
+/// The C5's exact derivatives, through its inherent methods.
+#[cfg(feature = "derivatives")]
+impl Derivatives<6> for C5 {
+    fn inverse_dynamics_derivatives(
+        &self,
+        state: &State,
+    ) -> Result<InverseDynamicsDerivatives<6>, Error> {
+        C5::inverse_dynamics_derivatives(self, state)
+    }
+    fn forward_dynamics_derivatives(
+        &self,
+        pose: &Pose,
+        twist: &Twist,
+        gamma: &[f64; 6],
+    ) -> Result<ForwardDynamicsDerivatives<6>, Error> {
+        C5::forward_dynamics_derivatives(self, pose, twist, gamma)
     }
 }
